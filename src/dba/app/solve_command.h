@@ -1,0 +1,29 @@
+// `dba solve`: read a problem, run LM, print the summary, write the outputs.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "dba/lm/levenberg_marquardt.h"
+
+namespace dba {
+
+struct SolveCommandOptions {
+  std::string input;
+  std::string output;       // empty: no output file
+  std::string report_path;  // empty: no JSON report
+  bool quiet = false;       // no per-iteration log
+  LmOptions lm;
+};
+
+// Parses the arguments after `solve`. Throws std::invalid_argument with a
+// message naming the bad argument. Sets *help when --help was given.
+SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
+                                        bool* help);
+void PrintSolveHelp(std::ostream& out);
+
+// Runs the command; returns the process exit status.
+int RunSolveCommand(const SolveCommandOptions& options, std::ostream& out);
+
+}  // namespace dba

@@ -1,0 +1,102 @@
+// Block-based sparse matrix compression (BSMC), paper section 4, DESIGN.md §3.
+//
+// A symmetric block matrix S stored as its upper triangle (diagonal blocks
+// included), one block as the storage unit:
+//
+//   block_size[i]    unknowns of block row/column i (may differ per block)
+//   row_begin[i]     first stored block of block row i (size n + 1)
+//   block_col[b]     block column of stored block b, sorted within a row
+//   value_offset[b]  start of block b in `values` (size nnzb + 1, 64-bit)
+//   values           all blocks back to back, each row-major c_i x c_j
+//
+// The structure is built once (symbolic phase, BuildFromPattern); each LM
+// iteration only refills `values` (numeric phase). Block (i, j), i <= j, is
+// found by binary search inside block row i: log2(s_i) comparisons for a row
+// with s_i blocks (paper Table 1).
+//
+// Thread safety: const methods are safe to call concurrently; writing distinct
+// blocks from different threads is safe, writing the same block is not.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace dba {
+
+// A block position (row, col) with row <= col packed in 64 bits, so a sorted
+// vector of them is sorted by row, then column.
+inline uint64_t PackBlock(int32_t row, int32_t col) {
+  return (static_cast<uint64_t>(static_cast<uint32_t>(row)) << 32) |
+         static_cast<uint32_t>(col);
+}
+inline int32_t PackedRow(uint64_t p) { return static_cast<int32_t>(p >> 32); }
+inline int32_t PackedCol(uint64_t p) {
+  return static_cast<int32_t>(p & 0xffffffffu);
+}
+
+class BsmcMatrix {
+ public:
+  BsmcMatrix() = default;
+
+  // Symbolic phase. `block_sizes[i]` is the size of block row i;
+  // `sorted_blocks` holds every stored block (row <= col) packed with
+  // PackBlock, sorted and without duplicates. Every diagonal block must be
+  // present. Values are zero.
+  static BsmcMatrix BuildFromPattern(std::vector<int32_t> block_sizes,
+                                     std::span<const uint64_t> sorted_blocks);
+
+  int32_t num_block_rows() const {
+    return static_cast<int32_t>(block_size_.size());
+  }
+  int64_t num_blocks() const { return static_cast<int64_t>(block_col_.size()); }
+  // Scalar size of the matrix (sum of block sizes).
+  int64_t num_rows() const { return scalar_offset_.back(); }
+  int64_t num_values() const { return static_cast<int64_t>(values_.size()); }
+
+  int32_t block_size(int32_t i) const { return block_size_[i]; }
+  // Offset of block row i in a scalar vector.
+  int64_t scalar_offset(int32_t i) const { return scalar_offset_[i]; }
+  int64_t row_begin(int32_t i) const { return row_begin_[i]; }
+  int64_t row_end(int32_t i) const { return row_begin_[i + 1]; }
+  int32_t block_col(int64_t b) const { return block_col_[b]; }
+  int64_t value_offset(int64_t b) const { return value_offset_[b]; }
+
+  // Paper's second operation: position (row, col) -> stored block id, or -1
+  // if the block is not stored. Requires row <= col.
+  int64_t FindBlock(int32_t row, int32_t col) const;
+  // Paper's first operation: stored block id -> block row (binary search over
+  // row_begin); the block column is block_col(b).
+  int32_t BlockRow(int64_t b) const;
+
+  double* block_values(int64_t b) { return values_.data() + value_offset_[b]; }
+  const double* block_values(int64_t b) const {
+    return values_.data() + value_offset_[b];
+  }
+  // The diagonal block of row i is the first block of the row.
+  int64_t diagonal_block(int32_t i) const { return row_begin_[i]; }
+
+  std::vector<double>& values() { return values_; }
+  const std::vector<double>& values() const { return values_; }
+  void SetZero();
+
+  // Bytes of the structure (block sizes, offsets, column ids) and of the
+  // values, as held (DESIGN.md §3, paper eq. 9).
+  int64_t StructureBytes() const;
+  int64_t ValueBytes() const { return num_values() * int64_t{sizeof(double)}; }
+  // Bytes of the same matrix in scalar CSR (paper eq. 8): both triangles,
+  // 8-byte values, 4-byte column indices, 8-byte row pointers (64-bit, since
+  // the number of non-zeros can pass 2^31). With `upper_only`, the CSR of the
+  // upper triangle only.
+  int64_t CsrBytes(bool upper_only = false) const;
+
+ private:
+  std::vector<int32_t> block_size_;
+  std::vector<int64_t> scalar_offset_{0};
+  std::vector<int64_t> row_begin_{0};
+  std::vector<int32_t> block_col_;
+  std::vector<int64_t> value_offset_{0};
+  std::vector<double> values_;
+};
+
+}  // namespace dba

@@ -1,0 +1,132 @@
+// Race-free multithreaded symmetric BSMC product; see symmetric_multiply.h.
+#include "dba/bsmc/symmetric_multiply.h"
+
+#include <omp.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+
+namespace dba {
+namespace {
+
+// y_i += B x_j and, unless diagonal, y_j += Bᵀ x_i for one r x c block.
+template <int R, int C>
+inline void ApplyBlock(const double* block, int r, int c, const double* x_j,
+                       const double* x_i, double* y_i, double* y_j) {
+  using MatR = Eigen::Matrix<double, R, C, Eigen::RowMajor>;
+  Eigen::Map<const MatR> B(block, r, c);
+  Eigen::Map<Eigen::Matrix<double, R, 1>>(y_i, r).noalias() +=
+      B * Eigen::Map<const Eigen::Matrix<double, C, 1>>(x_j, c);
+  if (y_j != nullptr) {
+    Eigen::Map<Eigen::Matrix<double, C, 1>>(y_j, c).noalias() +=
+        B.transpose() * Eigen::Map<const Eigen::Matrix<double, R, 1>>(x_i, r);
+  }
+}
+
+// Products of block rows [row0, row1). Transposed products for rows >= row1
+// go to spill (indexed from scalar row spill_begin).
+void MultiplyRows(const BsmcMatrix& m, int32_t row0, int32_t row1,
+                  const double* x, double* y, double* spill,
+                  int64_t spill_begin) {
+  const int64_t own_end = m.scalar_offset(row1);
+  for (int64_t s = m.scalar_offset(row0); s < own_end; ++s) y[s] = 0.0;
+  for (int32_t i = row0; i < row1; ++i) {
+    const int r = m.block_size(i);
+    const int64_t oi = m.scalar_offset(i);
+    for (int64_t b = m.row_begin(i); b < m.row_end(i); ++b) {
+      const int32_t j = m.block_col(b);
+      const int c = m.block_size(j);
+      const int64_t oj = m.scalar_offset(j);
+      double* y_j = nullptr;
+      if (j != i) y_j = oj < own_end ? y + oj : spill + (oj - spill_begin);
+      if (r == 9 && c == 9) {
+        ApplyBlock<9, 9>(m.block_values(b), r, c, x + oj, x + oi, y + oi, y_j);
+      } else {
+        ApplyBlock<Eigen::Dynamic, Eigen::Dynamic>(m.block_values(b), r, c,
+                                                   x + oj, x + oi, y + oi, y_j);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+SymmetricMultiplier::SymmetricMultiplier(const BsmcMatrix& matrix,
+                                         int num_threads)
+    : matrix_(matrix) {
+  const int32_t n = matrix.num_block_rows();
+  // A thread per at least kMinValuesPerThread values: below that, forking
+  // costs more than it saves.
+  constexpr int64_t kMinValuesPerThread = int64_t{1} << 17;
+  num_threads = static_cast<int>(std::clamp<int64_t>(
+      matrix.num_values() / kMinValuesPerThread, 1,
+      std::min<int64_t>(num_threads, std::max<int32_t>(n, 1))));
+  // Split rows so each thread gets about the same number of values.
+  row_split_.assign(num_threads + 1, n);
+  row_split_[0] = 0;
+  const double total = static_cast<double>(matrix.num_values());
+  int t = 1;
+  for (int32_t i = 0; i < n && t < num_threads; ++i) {
+    const double done =
+        static_cast<double>(i == n - 1 ? matrix.num_values()
+                                       : matrix.value_offset(matrix.row_end(i)));
+    if (done >= total * t / num_threads) row_split_[t++] = i + 1;
+  }
+  for (; t < num_threads; ++t) row_split_[t] = n;
+  // Each thread's spill covers [end of own rows, end of the largest column).
+  spill_begin_.resize(num_threads);
+  spill_.resize(num_threads);
+  for (int t2 = 0; t2 < num_threads; ++t2) {
+    const int32_t r0 = row_split_[t2], r1 = row_split_[t2 + 1];
+    int32_t max_col = r1 - 1;
+    for (int32_t i = r0; i < r1; ++i) {
+      max_col = std::max(max_col, matrix.block_col(matrix.row_end(i) - 1));
+    }
+    spill_begin_[t2] = matrix.scalar_offset(r1);
+    const int64_t spill_end = max_col >= r1 ? matrix.scalar_offset(max_col + 1)
+                                            : spill_begin_[t2];
+    spill_[t2].assign(spill_end - spill_begin_[t2], 0.0);
+  }
+}
+
+void SymmetricMultiplier::Multiply(const double* x, double* y) const {
+  const int num_threads = this->num_threads();
+  if (num_threads == 1) {
+    MultiplyRows(matrix_, 0, matrix_.num_block_rows(), x, y, nullptr, 0);
+    return;
+  }
+  const int64_t n = matrix_.num_rows();
+#pragma omp parallel num_threads(num_threads)
+  {
+    const int t = omp_get_thread_num();
+    std::vector<double>& spill = spill_[t];
+    std::fill(spill.begin(), spill.end(), 0.0);
+    MultiplyRows(matrix_, row_split_[t], row_split_[t + 1], x, y, spill.data(),
+                 spill_begin_[t]);
+#pragma omp barrier
+    // Add the spills: each scalar row s is summed by one thread, over the
+    // earlier threads in a fixed order.
+#pragma omp for schedule(static)
+    for (int64_t s = 0; s < n; ++s) {
+      for (int u = 0; u < num_threads; ++u) {
+        const int64_t k = s - spill_begin_[u];
+        if (k >= 0 && k < static_cast<int64_t>(spill_[u].size())) {
+          y[s] += spill_[u][k];
+        }
+      }
+    }
+  }
+}
+
+int64_t SymmetricMultiplier::spill_size() const {
+  int64_t total = 0;
+  for (const auto& s : spill_) total += static_cast<int64_t>(s.size());
+  return total;
+}
+
+void SymmetricMultiplySerial(const BsmcMatrix& matrix, const double* x,
+                             double* y) {
+  MultiplyRows(matrix, 0, matrix.num_block_rows(), x, y, nullptr, 0);
+}
+
+}  // namespace dba

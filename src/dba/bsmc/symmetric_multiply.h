@@ -1,0 +1,52 @@
+// Symmetric matrix-vector product y = S x for S in BSMC (upper triangle
+// stored), paper section 6.2: each stored block S_ij is read once and applied
+// twice, y_i += S_ij x_j and (i != j) y_j += S_ijᵀ x_i.
+//
+// Threads: block rows are split into contiguous ranges of about equal value
+// count, one per thread. A thread writes y_i for its own rows directly; the
+// transposed products land in rows j > i that may belong to a later thread, so
+// they go to the thread's spill buffer, which covers only the rows from the end
+// of its range to the largest column it touches. The buffers are sized once,
+// at construction (symbolic phase), and summed into y after a barrier. No
+// atomics, no locks, no full-length scratch per call; the sum order is fixed,
+// so the result does not depend on scheduling.
+//
+// Thread safety: one Multiply at a time per SymmetricMultiplier (it owns the
+// spill buffers); the matrix is only read.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "dba/bsmc/bsmc_matrix.h"
+
+namespace dba {
+
+class SymmetricMultiplier {
+ public:
+  // Splits the rows of `matrix`'s structure for `num_threads` threads. The
+  // multiplier keeps a reference: the matrix must outlive it and its structure
+  // must not change (values may).
+  SymmetricMultiplier(const BsmcMatrix& matrix, int num_threads);
+
+  // y = S x; x and y have matrix.num_rows() entries and must not alias.
+  void Multiply(const double* x, double* y) const;
+
+  int num_threads() const { return static_cast<int>(row_split_.size()) - 1; }
+  int64_t num_rows() const { return matrix_.num_rows(); }
+  const BsmcMatrix& matrix() const { return matrix_; }
+  // Scalar entries of all spill buffers (for memory accounting).
+  int64_t spill_size() const;
+
+ private:
+  const BsmcMatrix& matrix_;
+  std::vector<int32_t> row_split_;          // thread t owns [row_split_[t], row_split_[t+1])
+  std::vector<int64_t> spill_begin_;        // scalar row where thread t's spill starts
+  mutable std::vector<std::vector<double>> spill_;
+};
+
+// Reference: serial y = S x (for tests and for tiny matrices).
+void SymmetricMultiplySerial(const BsmcMatrix& matrix, const double* x,
+                             double* y);
+
+}  // namespace dba

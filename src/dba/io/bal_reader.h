@@ -1,0 +1,25 @@
+// Reading of BAL ("Bundle Adjustment in the Large") problem files.
+//
+// Format (whitespace-separated tokens; line breaks may fall anywhere):
+//   num_cameras num_points num_observations
+//   camera point x y            x num_observations
+//   9 camera parameters         x num_cameras
+//   3 point coordinates         x num_points
+// The file may be plain text or bzip2-compressed (detected by content).
+#pragma once
+
+#include <string>
+
+#include "dba/problem/bal_problem.h"
+
+namespace dba {
+
+// Reads the BAL problem at `path`, storing observations point-major (grouped
+// by point, file order within a point). Throws dba::InputError, naming file,
+// line and what was expected, on any malformed input: missing or non-numeric
+// tokens, non-positive counts, indices out of range, NaN/inf values, a point
+// without observations, or data left after the last point coordinate.
+// No geometric checks: points behind their camera are accepted.
+BalProblem ReadBal(const std::string& path);
+
+}  // namespace dba

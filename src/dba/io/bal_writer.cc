@@ -1,0 +1,170 @@
+// BAL text writer with atomic replace (write temporary, fsync, rename); see
+// bal_writer.h.
+#include "dba/io/bal_writer.h"
+
+#include <bzlib.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <string_view>
+
+namespace dba {
+namespace {
+
+constexpr size_t kFlushBytes = size_t{1} << 20;
+
+bool EndsWith(std::string_view s, std::string_view suffix) {
+  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
+}
+
+[[noreturn]] void Throw(const std::string& path, const std::string& what,
+                        int err) {
+  std::string msg = path + ": " + what;
+  if (err != 0) msg += std::string(": ") + std::strerror(err);
+  throw std::runtime_error(msg);
+}
+
+void CheckConsistent(const BalProblem& p) {
+  const int64_t n = p.num_observations();
+  bool ok = p.cameras.size() % kBalCameraSize == 0 &&
+            p.points.size() % kPointSize == 0 &&
+            static_cast<int64_t>(p.point_offsets.size()) == p.num_points() + 1 &&
+            p.point_offsets.front() == 0 && p.point_offsets.back() == n &&
+            static_cast<int64_t>(p.obs_pixel.size()) == 2 * n;
+  for (size_t k = 0; ok && k + 1 < p.point_offsets.size(); ++k) {
+    ok = p.point_offsets[k] <= p.point_offsets[k + 1];
+  }
+  for (int64_t j = 0; ok && j < n; ++j) {
+    ok = p.obs_camera[j] >= 0 && p.obs_camera[j] < p.num_cameras();
+  }
+  if (!ok) throw std::invalid_argument("WriteBal: inconsistent BalProblem arrays");
+}
+
+// Buffered output to a plain or bzip2 FILE; owns the temporary file, which
+// it removes unless Commit() succeeded.
+class Output {
+ public:
+  Output(const std::string& path, bool bz2)
+      : path_(path), tmp_(path + ".tmp." + std::to_string(::getpid())) {
+    file_ = std::fopen(tmp_.c_str(), "wb");
+    if (file_ == nullptr) Throw(path_, "cannot create '" + tmp_ + "'", errno);
+    if (bz2) {
+      int err = BZ_OK;
+      bz_ = BZ2_bzWriteOpen(&err, file_, 9, 0, 0);
+      if (err != BZ_OK) {
+        std::fclose(file_);  // no destructor runs for a throwing constructor
+        std::remove(tmp_.c_str());
+        Throw(path_, "cannot start bzip2 compression", 0);
+      }
+    }
+    buf_.reserve(kFlushBytes + 256);
+  }
+
+  ~Output() {
+    if (bz_ != nullptr) {
+      // libbz2 returns early, leaking its state, while the FILE has its error
+      // flag set; clear it so the abandoning close frees everything.
+      std::clearerr(file_);
+      int err;
+      BZ2_bzWriteClose64(&err, bz_, /*abandon=*/1, nullptr, nullptr, nullptr, nullptr);
+    }
+    if (file_ != nullptr) std::fclose(file_);
+    if (!committed_) std::remove(tmp_.c_str());
+  }
+
+  void Int(int64_t v, char sep) {
+    char s[24];
+    auto r = std::to_chars(s, s + sizeof s, v);
+    buf_.append(s, r.ptr);
+    Append(sep);
+  }
+
+  void Double(double v, char sep) {
+    if (!std::isfinite(v)) {
+      throw std::invalid_argument("WriteBal: refusing to write non-finite value");
+    }
+    char s[32];
+    auto r = std::to_chars(s, s + sizeof s, v);  // shortest round-trip form
+    buf_.append(s, r.ptr);
+    Append(sep);
+  }
+
+  // Flushes, closes, fsyncs and renames the temporary over the path.
+  void Commit() {
+    Flush();
+    if (bz_ != nullptr) {
+      int err = BZ_OK;
+      errno = 0;
+      BZ2_bzWriteClose64(&err, bz_, 0, nullptr, nullptr, nullptr, nullptr);
+      if (err != BZ_OK) Fail("bzip2 write failed", errno);  // bz_ still open
+      bz_ = nullptr;
+    }
+    if (std::fflush(file_) != 0) Fail("write failed", errno);
+    if (::fsync(::fileno(file_)) != 0) Fail("fsync failed", errno);
+    FILE* f = file_;
+    file_ = nullptr;
+    if (std::fclose(f) != 0) Fail("close failed", errno);
+    if (std::rename(tmp_.c_str(), path_.c_str()) != 0) {
+      Fail("cannot rename '" + tmp_ + "' over it", errno);
+    }
+    committed_ = true;
+  }
+
+ private:
+  void Append(char c) {
+    buf_.push_back(c);
+    if (buf_.size() >= kFlushBytes) Flush();
+  }
+
+  void Flush() {
+    if (buf_.empty()) return;
+    errno = 0;
+    if (bz_ != nullptr) {
+      int err = BZ_OK;
+      BZ2_bzWrite(&err, bz_, buf_.data(), static_cast<int>(buf_.size()));
+      if (err != BZ_OK) Fail("bzip2 write failed", errno);
+    } else if (std::fwrite(buf_.data(), 1, buf_.size(), file_) != buf_.size()) {
+      Fail("write failed", errno);
+    }
+    buf_.clear();
+  }
+
+  [[noreturn]] void Fail(const std::string& what, int err) {
+    Throw(path_, what, err);  // the destructor removes the temporary
+  }
+
+  std::string path_;
+  std::string tmp_;
+  FILE* file_ = nullptr;
+  BZFILE* bz_ = nullptr;
+  std::string buf_;
+  bool committed_ = false;
+};
+
+}  // namespace
+
+void WriteBal(const BalProblem& problem, const std::string& path) {
+  CheckConsistent(problem);
+  Output out(path, EndsWith(path, ".bz2"));
+  out.Int(problem.num_cameras(), ' ');
+  out.Int(problem.num_points(), ' ');
+  out.Int(problem.num_observations(), '\n');
+  for (int64_t k = 0; k < problem.num_points(); ++k) {
+    for (int64_t j = problem.point_offsets[k]; j < problem.point_offsets[k + 1]; ++j) {
+      out.Int(problem.obs_camera[j], ' ');
+      out.Int(k, ' ');
+      out.Double(problem.obs_pixel[2 * j], ' ');
+      out.Double(problem.obs_pixel[2 * j + 1], '\n');
+    }
+  }
+  for (double v : problem.cameras) out.Double(v, '\n');
+  for (double v : problem.points) out.Double(v, '\n');
+  out.Commit();
+}
+
+}  // namespace dba

@@ -1,0 +1,136 @@
+// Streaming line reader over plain or bzip2 text; see bz2_line_reader.h.
+#include "dba/io/bz2_line_reader.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <cstring>
+
+#include "dba/common/error.h"
+
+namespace dba {
+namespace {
+
+constexpr size_t kInputChunk = size_t{1} << 18;  // raw bytes per fread
+constexpr size_t kInitialBuffer = size_t{1} << 20;  // decoded text buffer
+
+std::string Bz2ErrorText(int code) {
+  switch (code) {
+    case BZ_DATA_ERROR: return "corrupt bzip2 data (checksum or format error)";
+    case BZ_DATA_ERROR_MAGIC: return "corrupt bzip2 data (bad stream header)";
+    case BZ_MEM_ERROR: return "out of memory while decompressing bzip2 data";
+    default: return "bzip2 decompression failed (libbz2 error " +
+                    std::to_string(code) + ")";
+  }
+}
+
+}  // namespace
+
+Bz2LineReader::Bz2LineReader(const std::string& path)
+    : path_(path), in_(kInputChunk), buf_(kInitialBuffer) {
+  file_ = std::fopen(path.c_str(), "rb");
+  if (file_ == nullptr) {
+    throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
+  }
+  try {
+    RefillInput();
+  } catch (...) {
+    std::fclose(file_);
+    throw;
+  }
+  bz2_ = strm_.avail_in >= 3 && std::memcmp(strm_.next_in, "BZh", 3) == 0;
+}
+
+Bz2LineReader::~Bz2LineReader() {
+  if (in_stream_) BZ2_bzDecompressEnd(&strm_);
+  if (file_ != nullptr) std::fclose(file_);
+}
+
+void Bz2LineReader::Fail(const std::string& what) const {
+  throw InputError(path_, line_ + 1, what);
+}
+
+void Bz2LineReader::RefillInput() {
+  size_t n = std::fread(in_.data(), 1, in_.size(), file_);
+  if (n < in_.size()) {
+    if (std::ferror(file_)) Fail(std::string("read error: ") + std::strerror(errno));
+    in_eof_ = true;
+  }
+  strm_.next_in = in_.data();
+  strm_.avail_in = static_cast<unsigned>(n);
+}
+
+size_t Bz2LineReader::Fill(char* dst, size_t cap) {
+  cap = std::min<size_t>(cap, UINT_MAX);
+  if (!bz2_) {
+    if (strm_.avail_in == 0 && !in_eof_) RefillInput();
+    size_t n = std::min<size_t>(cap, strm_.avail_in);
+    std::memcpy(dst, strm_.next_in, n);
+    strm_.next_in += n;
+    strm_.avail_in -= static_cast<unsigned>(n);
+    return n;
+  }
+  for (;;) {
+    if (strm_.avail_in == 0 && !in_eof_) RefillInput();
+    if (!in_stream_) {
+      if (strm_.avail_in == 0) return 0;  // every stream complete, end of file
+      strm_.bzalloc = nullptr;
+      strm_.bzfree = nullptr;
+      strm_.opaque = nullptr;
+      int rc = BZ2_bzDecompressInit(&strm_, 0, 0);
+      if (rc != BZ_OK) Fail(Bz2ErrorText(rc));
+      in_stream_ = true;
+    }
+    strm_.next_out = dst;
+    strm_.avail_out = static_cast<unsigned>(cap);
+    int rc = BZ2_bzDecompress(&strm_);
+    size_t produced = cap - strm_.avail_out;
+    if (rc == BZ_STREAM_END) {
+      BZ2_bzDecompressEnd(&strm_);
+      in_stream_ = false;
+      stream_ended_ = true;
+    } else if (rc == BZ_DATA_ERROR_MAGIC && stream_ended_) {
+      Fail("trailing data after the bzip2 stream is not bzip2");
+    } else if (rc != BZ_OK) {
+      Fail(Bz2ErrorText(rc));
+    } else if (produced == 0 && strm_.avail_in == 0 && in_eof_) {
+      Fail("truncated bzip2 data: unexpected end of file inside a stream");
+    }
+    if (produced > 0) return produced;
+  }
+}
+
+bool Bz2LineReader::ReadLine(std::string_view* line) {
+  size_t scan = begin_;  // bytes before `scan` are known to hold no '\n'
+  for (;;) {
+    const char* base = buf_.data();
+    const void* nl = std::memchr(base + scan, '\n', end_ - scan);
+    size_t len;
+    if (nl != nullptr) {
+      len = static_cast<const char*>(nl) - (base + begin_);
+    } else if (eof_) {
+      if (begin_ == end_) return false;
+      len = end_ - begin_;
+    } else {
+      // Keep the partial line at the front, grow if it fills the buffer.
+      size_t partial = end_ - begin_;
+      std::memmove(buf_.data(), base + begin_, partial);
+      begin_ = 0;
+      end_ = partial;
+      scan = partial;
+      if (end_ == buf_.size()) buf_.resize(2 * buf_.size());
+      size_t n = Fill(buf_.data() + end_, buf_.size() - end_);
+      if (n == 0) eof_ = true;
+      end_ += n;
+      continue;
+    }
+    std::string_view view(base + begin_, len);
+    begin_ = std::min(end_, begin_ + len + 1);
+    if (!view.empty() && view.back() == '\r') view.remove_suffix(1);
+    *line = view;
+    ++line_;
+    return true;
+  }
+}
+
+}  // namespace dba

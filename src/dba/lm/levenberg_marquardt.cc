@@ -1,0 +1,165 @@
+// The LM loop; see levenberg_marquardt.h.
+#include "dba/lm/levenberg_marquardt.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "dba/bsmc/symmetric_multiply.h"
+#include "dba/common/timer.h"
+#include "dba/solver/block_jacobi.h"
+
+namespace dba {
+namespace {
+
+double SquaredNorm(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x * x;
+  return s;
+}
+
+double MaxAbs(const std::vector<double>& v) {
+  double m = 0.0;
+  for (double x : v) m = std::max(m, std::abs(x));
+  return m;
+}
+
+}  // namespace
+
+const char* TerminationReasonName(TerminationReason reason) {
+  switch (reason) {
+    case TerminationReason::kFunctionTolerance: return "function_tolerance";
+    case TerminationReason::kGradientTolerance: return "gradient_tolerance";
+    case TerminationReason::kParameterTolerance: return "parameter_tolerance";
+    case TerminationReason::kMaxIterations: return "max_iterations";
+    case TerminationReason::kLambdaTooLarge: return "lambda_too_large";
+  }
+  return "unknown";
+}
+
+double LmSummary::Rms(double cost) const {
+  return num_observations > 0 ? std::sqrt(2.0 * cost / num_observations) : 0.0;
+}
+
+LmSummary SolveLevenbergMarquardt(
+    const LmOptions& options, int64_t num_observations,
+    std::vector<double>* cameras, PointWorkers* workers,
+    const std::function<void(const IterationSummary&)>& on_iteration) {
+  LmSummary summary;
+  summary.num_observations = num_observations;
+  Timer total_timer;
+  double lambda = options.initial_lambda;
+  double nu = 2.0;
+
+  Timer phase;
+  RcsSystem* sys = &workers->FormRcs(lambda);
+  summary.times.rcs_formation += phase.Seconds();
+  double cost = sys->cost;
+  summary.initial_cost = cost;
+  summary.final_cost = cost;
+
+  std::vector<double> delta_c(cameras->size()), candidate(cameras->size());
+  bool done = false;
+  while (!done) {
+    if (summary.iterations >= options.max_iterations) {
+      summary.termination = TerminationReason::kMaxIterations;
+      summary.termination_message = "reached the iteration limit";
+      break;
+    }
+    Timer iteration_timer;
+    IterationSummary it;
+    it.iteration = summary.iterations + 1;
+    it.cost = cost;
+    it.rms_pixels = summary.Rms(cost);
+    it.lambda = lambda;
+    it.gradient_max_norm =
+        std::max(MaxAbs(sys->camera_gradient), sys->max_abs_point_gradient);
+    if (it.gradient_max_norm <= options.gradient_tolerance) {
+      summary.termination = TerminationReason::kGradientTolerance;
+      summary.termination_message = "gradient max-norm below tolerance";
+      break;
+    }
+
+    // Camera damping, then PCG on the damped RCS.
+    phase.Reset();
+    DampCameraBlocks(lambda, options.damping, sys->camera_jtj_diagonal, &sys->S);
+    {
+      const SymmetricMultiplier multiplier(sys->S, options.num_threads);
+      const BlockJacobiPreconditioner preconditioner(sys->S, options.num_threads);
+      PcgOptions pcg = options.pcg;
+      pcg.num_threads = options.num_threads;
+      const PcgSummary pcg_summary = SolvePcg(multiplier, preconditioner,
+                                              sys->b.data(), delta_c.data(), pcg);
+      it.pcg_iterations = pcg_summary.iterations;
+      it.pcg_relative_residual = pcg_summary.relative_residual;
+      summary.total_pcg_iterations += pcg_summary.iterations;
+    }
+    summary.times.pcg += phase.Seconds();
+
+    // Back-substitution and evaluation of the step.
+    phase.Reset();
+    for (size_t i = 0; i < candidate.size(); ++i) {
+      candidate[i] = (*cameras)[i] + delta_c[i];
+    }
+    const StepEvaluation eval =
+        workers->EvaluateStep(lambda, delta_c, candidate);
+    summary.times.back_substitution += phase.Seconds();
+    ++summary.iterations;
+
+    const double step_norm =
+        std::sqrt(SquaredNorm(delta_c) + eval.point_step_squared_norm);
+    const double x_norm =
+        std::sqrt(SquaredNorm(*cameras) + eval.point_squared_norm);
+    const double model_decrease = cost - eval.model_cost;
+    const double actual_decrease = cost - eval.candidate_cost;
+    it.candidate_cost = eval.candidate_cost;
+    it.gain_ratio = model_decrease > 0 ? actual_decrease / model_decrease : 0.0;
+    it.step_accepted = std::isfinite(eval.candidate_cost) && model_decrease > 0 &&
+                       it.gain_ratio > options.min_relative_decrease;
+
+    if (step_norm <= options.parameter_tolerance * (x_norm + options.parameter_tolerance)) {
+      workers->FinishStep(false);
+      summary.termination = TerminationReason::kParameterTolerance;
+      summary.termination_message = "step size below tolerance";
+      done = true;
+    } else if (it.step_accepted) {
+      workers->FinishStep(true);
+      cameras->swap(candidate);
+      ++summary.accepted_iterations;
+      const double r = 2.0 * it.gain_ratio - 1.0;
+      lambda *= std::max(1.0 / 3.0, 1.0 - r * r * r);
+      nu = 2.0;
+      if (actual_decrease <= options.function_tolerance * cost) {
+        summary.termination = TerminationReason::kFunctionTolerance;
+        summary.termination_message = "relative cost decrease below tolerance";
+        done = true;
+      }
+      cost = eval.candidate_cost;
+    } else {
+      workers->FinishStep(false);
+      lambda *= nu;
+      nu *= 2.0;
+      if (lambda > options.max_lambda) {
+        summary.termination = TerminationReason::kLambdaTooLarge;
+        summary.termination_message = "no acceptable step: damping too large";
+        done = true;
+      }
+    }
+
+    if (!done) {
+      // Next linearization: at the new point after an accepted step, with
+      // the new λ after a rejected one.
+      phase.Reset();
+      sys = &workers->FormRcs(lambda);
+      summary.times.rcs_formation += phase.Seconds();
+      cost = sys->cost;
+    }
+    it.seconds = iteration_timer.Seconds();
+    summary.history.push_back(it);
+    if (on_iteration) on_iteration(it);
+  }
+  summary.final_cost = cost;
+  summary.times.total = total_timer.Seconds();
+  return summary;
+}
+
+}  // namespace dba

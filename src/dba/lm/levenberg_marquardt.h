@@ -1,0 +1,98 @@
+// The exact Levenberg-Marquardt loop (paper eq. 1, DESIGN.md §1):
+//
+//   (JᵀJ + λ D) δ = -Jᵀ r,   D = clamp(diag JᵀJ)
+//
+// solved through the RCS (eq. 4) by PCG (eq. 6-7) and point back-substitution
+// (eq. 5). Step control is a trust region on λ: the gain ratio
+//   ρ = (F(x) - F(x + δ)) / (F(x) - L(δ)),  L(δ) = ½ |r + J δ|²
+// accepts the step when ρ > min_relative_decrease, then
+//   λ ← λ · max(1/3, 1 - (2ρ - 1)³), ν ← 2;
+// a rejected step sets λ ← λ ν, ν ← 2ν (Nielsen's update).
+//
+// Thread safety: one solve at a time per PointWorkers.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "dba/lm/point_workers.h"
+#include "dba/rcs/eliminate_point.h"
+#include "dba/solver/pcg.h"
+
+namespace dba {
+
+struct LmOptions {
+  // Upper bound on LM iterations (accepted and rejected steps both count).
+  int max_iterations = 100;
+  // Stop when an accepted step lowers the cost by less than this fraction.
+  double function_tolerance = 1e-6;
+  // Stop when ‖g‖∞ ≤ gradient_tolerance, g = Jᵀ r.
+  double gradient_tolerance = 1e-10;
+  // Stop when ‖δ‖ ≤ parameter_tolerance (‖x‖ + parameter_tolerance).
+  double parameter_tolerance = 1e-8;
+  // Initial damping λ (Ceres's initial trust region radius 1e4 is λ = 1e-4).
+  double initial_lambda = 1e-4;
+  // Give up when λ grows past this after repeated rejections.
+  double max_lambda = 1e16;
+  // A step is accepted when ρ exceeds this.
+  double min_relative_decrease = 1e-3;
+  DampingBounds damping;
+  PcgOptions pcg;
+  int num_threads = 1;
+};
+
+enum class TerminationReason {
+  kFunctionTolerance,
+  kGradientTolerance,
+  kParameterTolerance,
+  kMaxIterations,
+  kLambdaTooLarge,  // no acceptable step found with ever stronger damping
+};
+const char* TerminationReasonName(TerminationReason reason);
+
+struct IterationSummary {
+  int iteration = 0;
+  double cost = 0.0;           // at the start of the iteration
+  double rms_pixels = 0.0;
+  double gradient_max_norm = 0.0;
+  double lambda = 0.0;         // damping used for this step
+  int pcg_iterations = 0;
+  double pcg_relative_residual = 0.0;
+  double candidate_cost = 0.0;
+  double gain_ratio = 0.0;
+  bool step_accepted = false;
+  double seconds = 0.0;        // wall time of this iteration
+};
+
+struct PhaseTimes {
+  double rcs_formation = 0.0;     // linearization, elimination, aggregation
+  double pcg = 0.0;               // damping, preconditioner, PCG
+  double back_substitution = 0.0; // back-substitution and step evaluation
+  double total = 0.0;
+};
+
+struct LmSummary {
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  int64_t num_observations = 0;
+  int iterations = 0;
+  int accepted_iterations = 0;
+  int total_pcg_iterations = 0;
+  TerminationReason termination = TerminationReason::kMaxIterations;
+  std::string termination_message;
+  PhaseTimes times;
+  std::vector<IterationSummary> history;
+
+  double Rms(double cost) const;  // sqrt(2 F / num_observations)
+};
+
+// Runs LM on the workers' points with `cameras` (global numbering, 9 per
+// camera) as the main node's copy of the cameras, updated in place.
+// `on_iteration` (optional) is called once per iteration, e.g. to log.
+LmSummary SolveLevenbergMarquardt(
+    const LmOptions& options, int64_t num_observations,
+    std::vector<double>* cameras, PointWorkers* workers,
+    const std::function<void(const IterationSummary&)>& on_iteration = {});
+
+}  // namespace dba

@@ -1,0 +1,33 @@
+// Single-process PointWorkers; see local_point_workers.h.
+#include "dba/lm/local_point_workers.h"
+
+namespace dba {
+
+LocalPointWorkers::LocalPointWorkers(BalProblem* problem,
+                                     const DampingBounds& bounds,
+                                     int num_threads)
+    : problem_(problem),
+      bounds_(bounds),
+      num_threads_(num_threads),
+      system_(RcsSystem::ForProblem(*problem)) {}
+
+RcsSystem& LocalPointWorkers::FormRcs(double lambda) {
+  dba::FormRcs(*problem_, lambda, bounds_, num_threads_, &system_);
+  return system_;
+}
+
+StepEvaluation LocalPointWorkers::EvaluateStep(
+    double lambda, const std::vector<double>& delta_c,
+    const std::vector<double>& candidate_cameras) {
+  candidate_cameras_ = candidate_cameras;
+  return BackSubstitute(*problem_, lambda, bounds_, delta_c, candidate_cameras,
+                        num_threads_, &candidate_points_);
+}
+
+void LocalPointWorkers::FinishStep(bool accept) {
+  if (!accept) return;
+  problem_->cameras.swap(candidate_cameras_);
+  problem_->points.swap(candidate_points_);
+}
+
+}  // namespace dba

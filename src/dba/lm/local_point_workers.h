@@ -1,0 +1,35 @@
+// PointWorkers for one process: the rank holds every point, and its sub-RCS
+// is the global RCS (no aggregation, no copy).
+//
+// Thread safety: one caller; the work inside uses `num_threads` threads.
+#pragma once
+
+#include "dba/lm/point_workers.h"
+#include "dba/problem/bal_problem.h"
+
+namespace dba {
+
+class LocalPointWorkers : public PointWorkers {
+ public:
+  // Builds the RCS structure (symbolic phase). `problem` must outlive this
+  // object; its cameras and points are updated in place on accepted steps.
+  LocalPointWorkers(BalProblem* problem, const DampingBounds& bounds,
+                    int num_threads);
+
+  RcsSystem& FormRcs(double lambda) override;
+  StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,
+                              const std::vector<double>& candidate_cameras) override;
+  void FinishStep(bool accept) override;
+
+  const RcsSystem& system() const { return system_; }
+
+ private:
+  BalProblem* problem_;
+  DampingBounds bounds_;
+  int num_threads_;
+  RcsSystem system_;
+  std::vector<double> candidate_cameras_;
+  std::vector<double> candidate_points_;
+};
+
+}  // namespace dba

@@ -1,0 +1,34 @@
+// Point back-substitution (paper eq. 5) fused with the evaluation of the step:
+// for each point, at the current parameters,
+//   δX_k = V_λ⁻¹ (-g_p - Σ_a W_aᵀ δc_a)
+//   model residual  r_a + J_c,a δc_a + J_p,a δX_k   (the linearized cost)
+//   candidate residual r_a(c_a + δc_a, X_k + δX_k)  (the true cost at the step)
+// Jacobians are recomputed, not stored (DESIGN.md §4).
+//
+// Thread safety: runs its own threads; the outputs are written per point.
+#pragma once
+
+#include <vector>
+
+#include "dba/problem/bal_problem.h"
+#include "dba/rcs/eliminate_point.h"
+
+namespace dba {
+
+struct StepEvaluation {
+  double model_cost = 0.0;      // ½ Σ |r + J δ|²
+  double candidate_cost = 0.0;  // ½ Σ |r(x + δ)|²
+  double point_step_squared_norm = 0.0;  // Σ |δX|²
+  double point_squared_norm = 0.0;       // Σ |X|²
+};
+
+// `delta_c` and `candidate_cameras` (= cameras + δc) are in the problem's
+// camera numbering; X + δX is written to `candidate_points`.
+StepEvaluation BackSubstitute(const BalProblem& problem, double lambda,
+                              const DampingBounds& bounds,
+                              const std::vector<double>& delta_c,
+                              const std::vector<double>& candidate_cameras,
+                              int num_threads,
+                              std::vector<double>* candidate_points);
+
+}  // namespace dba

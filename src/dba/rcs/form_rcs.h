@@ -1,0 +1,47 @@
+// Formation of the reduced camera system point by point (paper eq. 4,
+// section 5): S = Σ_k (sub-RCS of point k), b = Σ_k (rhs of point k).
+//
+// S holds U - W V_λ⁻¹ Wᵀ with U undamped: the camera damping λ D_c needs
+// diag(U) summed over all points (over all ranks in a distributed run), so it
+// is added afterwards (DampCameraBlocks), from `camera_jtj_diagonal`.
+//
+// Threads: points are processed in parallel; a point's blocks in block row i
+// are added under the lock of row i (striped spinlocks), one row at a time.
+//
+// Thread safety: FormRcs uses its own threads; do not call it concurrently on
+// the same RcsSystem.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "dba/bsmc/bsmc_matrix.h"
+#include "dba/problem/bal_problem.h"
+#include "dba/rcs/eliminate_point.h"
+
+namespace dba {
+
+// The linear system of one rank's points, cameras in that rank's numbering.
+struct RcsSystem {
+  BsmcMatrix S;                             // U - W V_λ⁻¹ Wᵀ, U undamped
+  std::vector<double> b;                    // -g_c + W V_λ⁻¹ g_p
+  std::vector<double> camera_gradient;      // g_c = J_cᵀ r
+  std::vector<double> camera_jtj_diagonal;  // diag(U) = diag(J_cᵀ J_c)
+  double cost = 0.0;                        // ½ Σ |r|²
+  double max_abs_point_gradient = 0.0;      // ‖g_p‖∞
+
+  // Symbolic phase: structure of S from the problem's visibility graph.
+  static RcsSystem ForProblem(const BalProblem& problem);
+};
+
+// Numeric phase: refills `system` at the problem's current parameters.
+void FormRcs(const BalProblem& problem, double lambda,
+             const DampingBounds& bounds, int num_threads, RcsSystem* system);
+
+// S_ii += λ clamp(diag U_ii) on every diagonal block (the camera part of the
+// Marquardt damping λ D).
+void DampCameraBlocks(double lambda, const DampingBounds& bounds,
+                      const std::vector<double>& camera_jtj_diagonal,
+                      BsmcMatrix* S);
+
+}  // namespace dba

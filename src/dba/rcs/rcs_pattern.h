@@ -1,0 +1,21 @@
+// Symbolic phase of the RCS (paper section 5): which blocks of
+// S = U - W V⁻¹ Wᵀ are non-zero. Block (i, j) exists iff cameras i and j see
+// a common point, or i == j.
+//
+// Thread safety: pure function.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace dba {
+
+// Sorted, unique packed (row <= col) blocks (see PackBlock) of the RCS over
+// `num_cameras` cameras, from the point-major visibility lists. Memory stays
+// O(number of RCS blocks + a chunk), not O(pairs of observations).
+std::vector<uint64_t> RcsBlockPattern(int64_t num_cameras,
+                                      std::span<const int64_t> point_offsets,
+                                      std::span<const int32_t> obs_camera);
+
+}  // namespace dba

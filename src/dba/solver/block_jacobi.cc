@@ -1,0 +1,56 @@
+// Block-Jacobi preconditioner (paper eq. 7); see block_jacobi.h.
+#include "dba/solver/block_jacobi.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+namespace dba {
+
+using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+BlockJacobiPreconditioner::BlockJacobiPreconditioner(const BsmcMatrix& S,
+                                                     int num_threads)
+    : S_(S), num_threads_(num_threads) {
+  const int32_t n = S.num_block_rows();
+  offset_.resize(n + 1);
+  offset_[0] = 0;
+  for (int32_t i = 0; i < n; ++i) {
+    offset_[i + 1] = offset_[i] + int64_t{S.block_size(i)} * S.block_size(i);
+  }
+  inverse_.resize(offset_[n]);
+#pragma omp parallel for num_threads(num_threads) schedule(static)
+  for (int32_t i = 0; i < n; ++i) {
+    const int c = S.block_size(i);
+    Eigen::Map<const RowMat> block(S.block_values(S.diagonal_block(i)), c, c);
+    Eigen::Map<RowMat> inv(inverse_.data() + offset_[i], c, c);
+    const RowMat identity = RowMat::Identity(c, c);
+    Eigen::LLT<RowMat> llt(block);
+    if (llt.info() == Eigen::Success) {
+      inv = llt.solve(identity);
+      continue;
+    }
+    Eigen::LDLT<RowMat> ldlt(block);
+    if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
+      inv = ldlt.solve(identity);
+      continue;
+    }
+    inv.setZero();
+    for (int d = 0; d < c; ++d) {
+      inv(d, d) = block(d, d) > 0 ? 1.0 / block(d, d) : 1.0;
+    }
+  }
+}
+
+void BlockJacobiPreconditioner::Apply(const double* r, double* z) const {
+  const int32_t n = S_.num_block_rows();
+#pragma omp parallel for num_threads(num_threads_) schedule(static) if (n > 256)
+  for (int32_t i = 0; i < n; ++i) {
+    const int c = S_.block_size(i);
+    const int64_t o = S_.scalar_offset(i);
+    Eigen::Map<const RowMat> inv(inverse_.data() + offset_[i], c, c);
+    Eigen::Map<Eigen::VectorXd>(z + o, c).noalias() =
+        inv * Eigen::Map<const Eigen::VectorXd>(r + o, c);
+  }
+}
+
+}  // namespace dba
