@@ -21,8 +21,13 @@ class InputError : public std::runtime_error {
   static std::string Format(const std::string& file, int64_t line,
                             const std::string& what) {
     std::string s = file;
-    if (line > 0) s += ":" + std::to_string(line);
-    return s + ": " + what;
+    if (line > 0) {
+      s += ':';
+      s += std::to_string(line);
+    }
+    s += ": ";
+    s += what;
+    return s;
   }
   std::string file_;
   int64_t line_;

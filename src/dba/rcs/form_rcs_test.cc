@@ -1,0 +1,100 @@
+// The RCS formed point by point in BSMC (paper eq. 4) against the Schur
+// complement of the dense damped normal equations.
+#include "dba/rcs/form_rcs.h"
+
+#include <gtest/gtest.h>
+
+#include "dba/testing/dense_reference.h"
+#include "dba/testing/synthetic_bal.h"
+
+namespace dba {
+namespace {
+
+testing::SyntheticBal PerturbedProblem(uint32_t seed) {
+  testing::SyntheticBalOptions o;
+  o.num_cameras = 7;
+  o.num_points = 60;
+  o.max_track = 5;
+  o.pixel_noise = 1.0;
+  o.rotation_perturbation = 0.01;
+  o.translation_perturbation = 0.05;
+  o.point_perturbation = 0.05;
+  o.intrinsics_perturbation = 0.01;
+  o.seed = seed;
+  return testing::MakeSyntheticBal(o);
+}
+
+double RelativeError(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  return (a - b).norm() / b.norm();
+}
+
+class FormRcsTest : public ::testing::TestWithParam<double> {};
+
+TEST_P(FormRcsTest, MatchesDenseSchurComplement) {
+  const double lambda = GetParam();
+  for (uint32_t seed = 1; seed <= 3; ++seed) {
+    BalProblem problem = PerturbedProblem(seed).problem;
+    const DampingBounds bounds;
+    RcsSystem sys = RcsSystem::ForProblem(problem);
+    FormRcs(problem, lambda, bounds, 2, &sys);
+    DampCameraBlocks(lambda, bounds, sys.camera_jtj_diagonal, &sys.S);
+
+    const testing::DenseNormalEquations dense =
+        testing::BuildDenseNormalEquations(problem, lambda, bounds);
+    const Eigen::MatrixXd S_ref = dense.ReducedCameraMatrix();
+    EXPECT_LT(RelativeError(testing::DenseFromBsmc(sys.S), S_ref), 1e-10)
+        << "seed " << seed;
+    const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(sys.b.data(), sys.b.size());
+    EXPECT_LT(RelativeError(b, dense.ReducedRhs()), 1e-10);
+    const Eigen::VectorXd g_c = Eigen::Map<const Eigen::VectorXd>(
+        sys.camera_gradient.data(), sys.camera_gradient.size());
+    EXPECT_LT(RelativeError(g_c, dense.g.head(dense.num_camera_params)), 1e-12);
+    EXPECT_NEAR(sys.cost, dense.cost, 1e-12 * dense.cost);
+    const Eigen::VectorXd g_p = dense.g.tail(dense.g.size() - dense.num_camera_params);
+    EXPECT_NEAR(sys.max_abs_point_gradient, g_p.cwiseAbs().maxCoeff(),
+                1e-12 * g_p.cwiseAbs().maxCoeff());
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Damping, FormRcsTest, ::testing::Values(1e-4, 1.0, 1e3));
+
+TEST(FormRcs, DuplicateCameraInATrackCountsBothObservations) {
+  BalProblem problem = PerturbedProblem(9).problem;
+  // Point 0 seen twice more by its first camera, at a shifted pixel.
+  const int32_t cam = problem.obs_camera[0];
+  problem.obs_camera.insert(problem.obs_camera.begin() + 1, cam);
+  problem.obs_pixel.insert(problem.obs_pixel.begin() + 2,
+                           {problem.obs_pixel[0] + 3.0, problem.obs_pixel[1] - 2.0});
+  for (size_t k = 1; k < problem.point_offsets.size(); ++k) ++problem.point_offsets[k];
+  const DampingBounds bounds;
+  RcsSystem sys = RcsSystem::ForProblem(problem);
+  FormRcs(problem, 0.1, bounds, 1, &sys);
+  DampCameraBlocks(0.1, bounds, sys.camera_jtj_diagonal, &sys.S);
+  const auto dense = testing::BuildDenseNormalEquations(problem, 0.1, bounds);
+  EXPECT_LT(RelativeError(testing::DenseFromBsmc(sys.S), dense.ReducedCameraMatrix()), 1e-10);
+}
+
+TEST(FormRcs, OneAndTwoThreadsAgree) {
+  BalProblem problem = PerturbedProblem(4).problem;
+  const DampingBounds bounds;
+  RcsSystem a = RcsSystem::ForProblem(problem), b = RcsSystem::ForProblem(problem);
+  FormRcs(problem, 1e-2, bounds, 1, &a);
+  FormRcs(problem, 1e-2, bounds, 2, &b);
+  const Eigen::MatrixXd Sa = testing::DenseFromBsmc(a.S), Sb = testing::DenseFromBsmc(b.S);
+  EXPECT_LT(RelativeError(Sa, Sb), 1e-14);
+  EXPECT_NEAR(a.cost, b.cost, 1e-14 * a.cost);
+}
+
+TEST(FormRcs, RefillingGivesTheSameValues) {
+  BalProblem problem = PerturbedProblem(5).problem;
+  const DampingBounds bounds;
+  RcsSystem sys = RcsSystem::ForProblem(problem);
+  FormRcs(problem, 1e-2, bounds, 1, &sys);
+  const std::vector<double> first = sys.S.values(), first_b = sys.b;
+  FormRcs(problem, 1e-2, bounds, 1, &sys);
+  EXPECT_EQ(sys.S.values(), first);
+  EXPECT_EQ(sys.b, first_b);
+}
+
+}  // namespace
+}  // namespace dba
