@@ -17,7 +17,7 @@
 #include "dba/io/atomic_file.h"
 #include "dba/io/bal_reader.h"
 #include "dba/io/bal_writer.h"
-#include "dba/lm/local_point_workers.h"
+#include "dba/lm/bundle_adjust.h"
 
 namespace dba {
 namespace {
@@ -159,15 +159,10 @@ int RunSolveCommand(const SolveCommandOptions& options, std::ostream& out) {
       << " cameras, " << problem.num_points() << " points, " << num_obs
       << " observations, " << options.lm.num_threads << " threads\n";
 
-  Timer setup_timer;
-  LocalPointWorkers workers(&problem, options.lm.damping, options.lm.num_threads);
-  const double setup_seconds = setup_timer.Seconds();
-  const BsmcMatrix& S = workers.system().S;
 
   if (!options.quiet) {
     out << "iter        cost     rms_px   max|grad|     lambda  pcg  accept    time_s\n";
   }
-  std::vector<double> cameras = problem.cameras;
   auto log = [&](const IterationSummary& it) {
     if (options.quiet) return;
     char line[160];
@@ -178,8 +173,10 @@ int RunSolveCommand(const SolveCommandOptions& options, std::ostream& out) {
                   it.seconds);
     out << line << std::flush;
   };
-  const LmSummary summary =
-      SolveLevenbergMarquardt(options.lm, num_obs, &cameras, &workers, log);
+  const BundleAdjustSummary ba = BundleAdjust(options.lm, &problem, log);
+  const LmSummary& summary = ba.lm;
+  const double setup_seconds = ba.symbolic_seconds;
+  const RcsFootprint& rcs = ba.rcs;
 
   Timer write_timer;
   if (!options.output.empty()) WriteBal(problem, options.output);
@@ -208,9 +205,10 @@ int RunSolveCommand(const SolveCommandOptions& options, std::ostream& out) {
                 write_seconds,
                 load_seconds + setup_seconds + summary.times.total + write_seconds);
   out << buf;
-  out << "  RCS (BSMC)          " << S.num_block_rows() << " block rows, "
-      << S.num_blocks() << " blocks, " << Bytes(S.StructureBytes() + S.ValueBytes())
-      << " (CSR: " << Bytes(S.CsrBytes()) << ")\n";
+  out << "  RCS (BSMC)          " << rcs.block_rows << " block rows, "
+      << rcs.blocks << " blocks, "
+      << Bytes(rcs.bsmc_structure_bytes + rcs.bsmc_value_bytes)
+      << " (CSR: " << Bytes(rcs.csr_bytes) << ")\n";
   std::snprintf(buf, sizeof buf, "  memory              peak %s, %.1f bytes/observation "
                 "(problem data %.1f bytes/observation)\n",
                 Bytes(peak).c_str(), double(peak) / std::max<int64_t>(num_obs, 1),
@@ -244,10 +242,10 @@ int RunSolveCommand(const SolveCommandOptions& options, std::ostream& out) {
     j["memory"] = {{"peak_bytes", peak},
                    {"peak_bytes_per_observation", double(peak) / std::max<int64_t>(num_obs, 1)},
                    {"problem_bytes", problem_bytes},
-                   {"rcs_bsmc_structure_bytes", S.StructureBytes()},
-                   {"rcs_bsmc_value_bytes", S.ValueBytes()},
-                   {"rcs_csr_bytes", S.CsrBytes()},
-                   {"rcs_blocks", S.num_blocks()}};
+                   {"rcs_bsmc_structure_bytes", rcs.bsmc_structure_bytes},
+                   {"rcs_bsmc_value_bytes", rcs.bsmc_value_bytes},
+                   {"rcs_csr_bytes", rcs.csr_bytes},
+                   {"rcs_blocks", rcs.blocks}};
     nlohmann::ordered_json history = nlohmann::ordered_json::array();
     for (const IterationSummary& it : summary.history) {
       history.push_back({{"iteration", it.iteration},

@@ -1,0 +1,25 @@
+// One-process bundle adjustment; see bundle_adjust.h.
+#include "dba/lm/bundle_adjust.h"
+
+#include "dba/common/timer.h"
+#include "dba/lm/local_point_workers.h"
+
+namespace dba {
+
+BundleAdjustSummary BundleAdjust(
+    const LmOptions& options, BalProblem* problem,
+    const std::function<void(const IterationSummary&)>& on_iteration) {
+  BundleAdjustSummary summary;
+  Timer symbolic;
+  LocalPointWorkers workers(problem, options.damping, options.num_threads);
+  summary.symbolic_seconds = symbolic.Seconds();
+  const BsmcMatrix& S = workers.system().S;
+  summary.rcs = {S.num_block_rows(), S.num_blocks(), S.StructureBytes(),
+                 S.ValueBytes(), S.CsrBytes()};
+  std::vector<double> cameras = problem->cameras;
+  summary.lm = SolveLevenbergMarquardt(options, problem->num_observations(),
+                                       &cameras, &workers, on_iteration);
+  return summary;
+}
+
+}  // namespace dba

@@ -1,0 +1,32 @@
+// One-process bundle adjustment of a BAL problem: LocalPointWorkers + LM.
+// Thread safety: one call per problem at a time.
+#pragma once
+
+#include <functional>
+
+#include "dba/lm/levenberg_marquardt.h"
+#include "dba/problem/bal_problem.h"
+
+namespace dba {
+
+// Size of the global RCS in BSMC next to the same matrix in CSR.
+struct RcsFootprint {
+  int64_t block_rows = 0;
+  int64_t blocks = 0;
+  int64_t bsmc_structure_bytes = 0;
+  int64_t bsmc_value_bytes = 0;
+  int64_t csr_bytes = 0;  // full symmetric CSR (paper eq. 8)
+};
+
+struct BundleAdjustSummary {
+  LmSummary lm;
+  double symbolic_seconds = 0.0;  // building the RCS structure
+  RcsFootprint rcs;
+};
+
+// Adjusts `problem`'s cameras and points in place.
+BundleAdjustSummary BundleAdjust(
+    const LmOptions& options, BalProblem* problem,
+    const std::function<void(const IterationSummary&)>& on_iteration = {});
+
+}  // namespace dba
