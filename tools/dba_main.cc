@@ -1,5 +1,5 @@
 // The dba command-line program: dispatches to the subcommands.
-#include <exception>
+#include <cstring>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -8,16 +8,27 @@
 
 namespace {
 
+struct Command {
+  const char* name;
+  const char* synopsis;
+  int (*main)(const std::vector<std::string>& args);
+};
+
+// One line per subcommand.
+const Command kCommands[] = {
+    {"solve", "solve INPUT [-o OUTPUT] [--report FILE.json]   bundle-adjust a problem",
+     dba::SolveMain},
+};
+
 void PrintUsage(std::ostream& out) {
   out << "Usage: dba COMMAND [args]\n"
          "\n"
          "dba is a bundle adjuster: exact Levenberg-Marquardt with the reduced\n"
          "camera system in block-based sparse matrix compression (BSMC).\n"
          "\n"
-         "Commands:\n"
-         "  solve INPUT [-o OUTPUT] [--report FILE.json]   bundle-adjust a BAL problem\n"
-         "\n"
-         "Run 'dba COMMAND --help' for the options of a command.\n";
+         "Commands:\n";
+  for (const Command& c : kCommands) out << "  " << c.synopsis << "\n";
+  out << "\nRun 'dba COMMAND --help' for the options of a command.\n";
 }
 
 }  // namespace
@@ -28,29 +39,12 @@ int main(int argc, char** argv) {
     PrintUsage(std::cout);
     return args.empty() ? 2 : 0;
   }
-  const std::string command = args[0];
-  args.erase(args.begin());
-  if (command == "solve") {
-    dba::SolveCommandOptions options;
-    try {
-      bool help = false;
-      options = dba::ParseSolveArguments(args, &help);
-      if (help) {
-        dba::PrintSolveHelp(std::cout);
-        return 0;
-      }
-    } catch (const std::exception& e) {
-      std::cerr << "dba solve: " << e.what() << "\n";
-      return 2;
-    }
-    try {
-      return dba::RunSolveCommand(options, std::cout);
-    } catch (const std::exception& e) {
-      std::cerr << "dba solve: error: " << e.what() << "\n";
-      return 1;
+  for (const Command& c : kCommands) {
+    if (args[0] == c.name) {
+      return c.main(std::vector<std::string>(args.begin() + 1, args.end()));
     }
   }
-  std::cerr << "dba: unknown command '" << command << "'\n";
+  std::cerr << "dba: unknown command '" << args[0] << "'\n";
   PrintUsage(std::cerr);
   return 2;
 }

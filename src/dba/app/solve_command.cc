@@ -267,4 +267,25 @@ int RunSolveCommand(const SolveCommandOptions& options, std::ostream& out) {
   return 0;
 }
 
+int SolveMain(const std::vector<std::string>& args) {
+  SolveCommandOptions options;
+  try {
+    bool help = false;
+    options = ParseSolveArguments(args, &help);
+    if (help) {
+      PrintSolveHelp(std::cout);
+      return 0;
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "dba solve: " << e.what() << "\n";
+    return 2;
+  }
+  try {
+    return RunSolveCommand(options, std::cout);
+  } catch (const std::exception& e) {
+    std::cerr << "dba solve: error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
 }  // namespace dba

@@ -26,4 +26,8 @@ void PrintSolveHelp(std::ostream& out);
 // Runs the command; returns the process exit status.
 int RunSolveCommand(const SolveCommandOptions& options, std::ostream& out);
 
+// `dba solve ARGS...`: parses, runs, reports errors; returns the exit status
+// (0 success, 1 failure, 2 bad arguments).
+int SolveMain(const std::vector<std::string>& args);
+
 }  // namespace dba
