@@ -7,6 +7,7 @@ packages=(
   build-essential cmake
   libeigen3-dev libbz2-dev bzip2 nlohmann-json3-dev
   libgtest-dev googletest libbenchmark-dev
+  openmpi-bin libopenmpi-dev
   time
 )
 

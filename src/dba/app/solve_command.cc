@@ -6,9 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
-#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <thread>
 
@@ -17,6 +15,7 @@
 #include "dba/io/atomic_file.h"
 #include "dba/io/bal_reader.h"
 #include "dba/io/bal_writer.h"
+#include "dba/app/solve_report.h"
 #include "dba/lm/bundle_adjust.h"
 
 namespace dba {
@@ -57,18 +56,6 @@ int ParseInt(const std::string& flag, const std::string& value, int min) {
   return static_cast<int>(v);
 }
 
-std::string Bytes(int64_t b) {
-  char buf[64];
-  if (b >= (int64_t{1} << 30)) {
-    std::snprintf(buf, sizeof buf, "%.2f GiB", b / double(int64_t{1} << 30));
-  } else if (b >= (1 << 20)) {
-    std::snprintf(buf, sizeof buf, "%.1f MiB", b / double(1 << 20));
-  } else {
-    std::snprintf(buf, sizeof buf, "%.1f KiB", b / 1024.0);
-  }
-  return buf;
-}
-
 }  // namespace
 
 void PrintSolveHelp(std::ostream& out) {
@@ -80,11 +67,15 @@ void PrintSolveHelp(std::ostream& out) {
          "in BSMC and solved by block-Jacobi PCG. Prints one line per iteration\n"
          "and a summary.\n"
          "\n"
+         "Distributed: started by mpirun or srun with N ranks, the points are split\n"
+         "over the ranks, each forms its sub-RCS, rank 0 aggregates and solves.\n"
+         "\n"
          "Options:\n"
          "  -o, --output FILE          write the adjusted problem as BAL (.bz2: compressed);\n"
          "                             written to a temporary name, renamed when complete\n"
          "  --report FILE.json         write the summary and per-iteration log as JSON\n"
-         "  -t, --threads N            threads (default: all cores, " << DefaultThreads() << " here)\n"
+         "  -t, --threads N            threads per rank (default: the node's cores divided\n"
+         "                             by its ranks; " << DefaultThreads() << " cores here)\n"
          "  --max-iterations N         LM iteration limit (default " << d.max_iterations << ")\n"
          "  --function-tolerance X     stop when a step lowers the cost by less than\n"
          "                             this fraction (default " << d.function_tolerance << ")\n"
@@ -93,6 +84,12 @@ void PrintSolveHelp(std::ostream& out) {
          "  --initial-lambda X         initial LM damping (default " << d.initial_lambda << ")\n"
          "  --pcg-tolerance X          PCG relative residual (default " << d.pcg.relative_tolerance << ")\n"
          "  --pcg-max-iterations N     PCG iteration limit (default " << d.pcg.max_iterations << ")\n"
+         "  --partition equal|cameras  how points are split over MPI ranks: 'equal' (the\n"
+         "                             paper's equal counts) or 'cameras' (grouped by the\n"
+         "                             cameras that see them; default)\n"
+         "  --main-rank auto|forms|coordinates\n"
+         "                             whether rank 0 also forms a sub-RCS (auto: yes for\n"
+         "                             up to 4 ranks)\n"
          "  -q, --quiet                no per-iteration log\n"
          "  -h, --help                 this text\n"
          "\n"
@@ -103,7 +100,7 @@ void PrintSolveHelp(std::ostream& out) {
 SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
                                         bool* help) {
   SolveCommandOptions o;
-  o.lm.num_threads = DefaultThreads();
+  o.lm.num_threads = 0;  // auto: the node's cores divided by its ranks
   *help = false;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
@@ -135,6 +132,15 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       o.lm.pcg.relative_tolerance = ParseDouble(a, value());
     } else if (a == "--pcg-max-iterations") {
       o.lm.pcg.max_iterations = ParseInt(a, value(), 1);
+    } else if (a == "--partition") {
+      o.distributed.partition = ParsePartitionScheme(value());
+    } else if (a == "--main-rank") {
+      const std::string& v = value();
+      using Role = DistributedOptions::MainRole;
+      if (v == "auto") o.distributed.main_role = Role::kAuto;
+      else if (v == "forms") o.distributed.main_role = Role::kForms;
+      else if (v == "coordinates") o.distributed.main_role = Role::kCoordinates;
+      else throw std::invalid_argument(a + ": expected auto, forms or coordinates, got '" + v + "'");
     } else if (a == "-q" || a == "--quiet") {
       o.quiet = true;
     } else if (!a.empty() && a[0] == '-') {
@@ -150,118 +156,58 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
   return o;
 }
 
-int RunSolveCommand(const SolveCommandOptions& options, std::ostream& out) {
-  Timer load_timer;
-  BalProblem problem = ReadBal(options.input);
-  const double load_seconds = load_timer.Seconds();
-  const int64_t num_obs = problem.num_observations();
-  out << "dba solve " << options.input << ": " << problem.num_cameras()
-      << " cameras, " << problem.num_points() << " points, " << num_obs
-      << " observations, " << options.lm.num_threads << " threads\n";
-
-
-  if (!options.quiet) {
-    out << "iter        cost     rms_px   max|grad|     lambda  pcg  accept    time_s\n";
+int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
+                    std::ostream& out) {
+  const bool main = comm->is_main();
+  LmOptions lm = options.lm;
+  if (lm.num_threads == 0) {
+    lm.num_threads = std::max(1, DefaultThreads() / comm->ranks_on_node());
+  }
+  SolveReport report;
+  report.input = options.input;
+  report.threads = lm.num_threads;
+  BalProblem problem;
+  if (main) {
+    Timer load_timer;
+    problem = ReadBal(options.input);
+    report.load_seconds = load_timer.Seconds();
+    report.num_cameras = problem.num_cameras();
+    report.num_points = problem.num_points();
+    report.num_observations = problem.num_observations();
+    report.problem_bytes = problem.MemoryBytes();
+    out << "dba solve " << options.input << ": " << report.num_cameras << " cameras, "
+        << report.num_points << " points, " << report.num_observations
+        << " observations, " << comm->size() << (comm->size() == 1 ? " rank, " : " ranks, ")
+        << lm.num_threads << " threads" << (comm->size() == 1 ? "" : " per rank") << "\n";
+    if (!options.quiet) out << IterationLogHeader() << std::flush;
   }
   auto log = [&](const IterationSummary& it) {
-    if (options.quiet) return;
-    char line[160];
-    std::snprintf(line, sizeof line,
-                  "%4d %12.6e %9.4f %11.3e %10.3e %4d %7s %9.3f\n",
-                  it.iteration, it.cost, it.rms_pixels, it.gradient_max_norm,
-                  it.lambda, it.pcg_iterations, it.step_accepted ? "yes" : "no",
-                  it.seconds);
-    out << line << std::flush;
+    if (!options.quiet) out << IterationLogLine(it) << std::flush;
   };
-  const BundleAdjustSummary ba = BundleAdjust(options.lm, &problem, log);
-  const LmSummary& summary = ba.lm;
-  const double setup_seconds = ba.symbolic_seconds;
-  const RcsFootprint& rcs = ba.rcs;
+  if (comm->size() == 1) {
+    report.solve.ba = BundleAdjust(lm, &problem, log);
+  } else {
+    report.solve = DistributedBundleAdjust(comm, lm, options.distributed, &problem, log);
+  }
+  if (!main) return 0;
 
   Timer write_timer;
-  if (!options.output.empty()) WriteBal(problem, options.output);
-  const double write_seconds = write_timer.Seconds();
-
-  const int64_t peak = PeakResidentBytes();
-  const int64_t problem_bytes = problem.MemoryBytes();
-  char buf[256];
-  out << "\nSummary\n";
-  std::snprintf(buf, sizeof buf, "  initial cost        %.6e  (RMS %.4f px)\n",
-                summary.initial_cost, summary.Rms(summary.initial_cost));
-  out << buf;
-  std::snprintf(buf, sizeof buf, "  final cost          %.6e  (RMS %.4f px)\n",
-                summary.final_cost, summary.Rms(summary.final_cost));
-  out << buf;
-  out << "  iterations          " << summary.iterations << " ("
-      << summary.accepted_iterations << " accepted, "
-      << summary.total_pcg_iterations << " PCG iterations)\n";
-  out << "  termination         " << TerminationReasonName(summary.termination)
-      << ": " << summary.termination_message << "\n";
-  std::snprintf(buf, sizeof buf,
-                "  time (s)            load %.3f  setup %.3f  rcs %.3f  pcg %.3f  "
-                "back-substitution %.3f  write %.3f  total %.3f\n",
-                load_seconds, setup_seconds, summary.times.rcs_formation,
-                summary.times.pcg, summary.times.back_substitution,
-                write_seconds,
-                load_seconds + setup_seconds + summary.times.total + write_seconds);
-  out << buf;
-  out << "  RCS (BSMC)          " << rcs.block_rows << " block rows, "
-      << rcs.blocks << " blocks, "
-      << Bytes(rcs.bsmc_structure_bytes + rcs.bsmc_value_bytes)
-      << " (CSR: " << Bytes(rcs.csr_bytes) << ")\n";
-  std::snprintf(buf, sizeof buf, "  memory              peak %s, %.1f bytes/observation "
-                "(problem data %.1f bytes/observation)\n",
-                Bytes(peak).c_str(), double(peak) / std::max<int64_t>(num_obs, 1),
-                double(problem_bytes) / std::max<int64_t>(num_obs, 1));
-  out << buf;
-  if (!options.output.empty()) out << "  output              " << options.output << "\n";
-
-  if (!options.report_path.empty()) {
-    nlohmann::ordered_json j;
-    j["input"] = options.input;
-    j["num_cameras"] = problem.num_cameras();
-    j["num_points"] = problem.num_points();
-    j["num_observations"] = num_obs;
-    j["threads"] = options.lm.num_threads;
-    j["initial_cost"] = summary.initial_cost;
-    j["final_cost"] = summary.final_cost;
-    j["initial_rms_px"] = summary.Rms(summary.initial_cost);
-    j["final_rms_px"] = summary.Rms(summary.final_cost);
-    j["iterations"] = summary.iterations;
-    j["accepted_iterations"] = summary.accepted_iterations;
-    j["pcg_iterations"] = summary.total_pcg_iterations;
-    j["termination"] = TerminationReasonName(summary.termination);
-    j["termination_message"] = summary.termination_message;
-    j["seconds"] = {{"load", load_seconds},
-                    {"setup", setup_seconds},
-                    {"rcs_formation", summary.times.rcs_formation},
-                    {"pcg", summary.times.pcg},
-                    {"back_substitution", summary.times.back_substitution},
-                    {"write", write_seconds},
-                    {"total", load_seconds + setup_seconds + summary.times.total + write_seconds}};
-    j["memory"] = {{"peak_bytes", peak},
-                   {"peak_bytes_per_observation", double(peak) / std::max<int64_t>(num_obs, 1)},
-                   {"problem_bytes", problem_bytes},
-                   {"rcs_bsmc_structure_bytes", rcs.bsmc_structure_bytes},
-                   {"rcs_bsmc_value_bytes", rcs.bsmc_value_bytes},
-                   {"rcs_csr_bytes", rcs.csr_bytes},
-                   {"rcs_blocks", rcs.blocks}};
-    nlohmann::ordered_json history = nlohmann::ordered_json::array();
-    for (const IterationSummary& it : summary.history) {
-      history.push_back({{"iteration", it.iteration},
-                         {"cost", it.cost},
-                         {"rms_px", it.rms_pixels},
-                         {"gradient_max_norm", it.gradient_max_norm},
-                         {"lambda", it.lambda},
-                         {"pcg_iterations", it.pcg_iterations},
-                         {"pcg_relative_residual", it.pcg_relative_residual},
-                         {"candidate_cost", it.candidate_cost},
-                         {"gain_ratio", it.gain_ratio},
-                         {"accepted", it.step_accepted},
-                         {"seconds", it.seconds}});
+  if (!options.output.empty()) {
+    if (comm->size() > 1) {
+      // The observations were handed to the ranks: read them again.
+      BalProblem full = ReadBal(options.input);
+      full.cameras.swap(problem.cameras);
+      full.points.swap(problem.points);
+      problem = std::move(full);
     }
-    j["history"] = history;
-    WriteFileAtomically(options.report_path, j.dump(2) + "\n");
+    WriteBal(problem, options.output);
+  }
+  report.write_seconds = write_timer.Seconds();
+  report.peak_memory_bytes = PeakResidentBytes();
+  PrintSolveReport(report, out);
+  if (!options.output.empty()) out << "  output              " << options.output << "\n";
+  if (!options.report_path.empty()) {
+    WriteFileAtomically(options.report_path, SolveReportJson(report));
     out << "  report              " << options.report_path << "\n";
   }
   return 0;
@@ -280,9 +226,11 @@ int SolveMain(const std::vector<std::string>& args) {
     std::cerr << "dba solve: " << e.what() << "\n";
     return 2;
   }
+  Communicator comm(nullptr, nullptr);
   try {
-    return RunSolveCommand(options, std::cout);
+    return RunSolveCommand(options, &comm, std::cout);
   } catch (const std::exception& e) {
+    if (comm.size() > 1) comm.Abort(e.what());  // ends every rank
     std::cerr << "dba solve: error: " << e.what() << "\n";
     return 1;
   }

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "dba/cluster/communicator.h"
+#include "dba/cluster/distributed_solve.h"
 #include "dba/lm/levenberg_marquardt.h"
 
 namespace dba {
@@ -14,7 +16,8 @@ struct SolveCommandOptions {
   std::string output;       // empty: no output file
   std::string report_path;  // empty: no JSON report
   bool quiet = false;       // no per-iteration log
-  LmOptions lm;
+  LmOptions lm;             // num_threads 0: the node's cores / its ranks
+  DistributedOptions distributed;
 };
 
 // Parses the arguments after `solve`. Throws std::invalid_argument with a
@@ -23,8 +26,10 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
                                         bool* help);
 void PrintSolveHelp(std::ostream& out);
 
-// Runs the command; returns the process exit status.
-int RunSolveCommand(const SolveCommandOptions& options, std::ostream& out);
+// Runs the command on every rank of `comm` (collective); only the main rank
+// prints and writes. Returns the process exit status; throws on failure.
+int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
+                    std::ostream& out);
 
 // `dba solve ARGS...`: parses, runs, reports errors; returns the exit status
 // (0 success, 1 failure, 2 bad arguments).

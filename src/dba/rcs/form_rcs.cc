@@ -44,15 +44,19 @@ void AddPointToRcs(const BalProblem& problem, int64_t k, const PointSystem& p,
 }  // namespace
 
 RcsSystem RcsSystem::ForProblem(const BalProblem& problem) {
-  RcsSystem sys;
   const int64_t n = problem.num_cameras();
-  const std::vector<uint64_t> pattern =
-      RcsBlockPattern(n, problem.point_offsets, problem.obs_camera);
-  sys.S = BsmcMatrix::BuildFromPattern(std::vector<int32_t>(n, kBalCameraSize),
-                                       pattern);
-  sys.b.assign(kBalCameraSize * n, 0.0);
-  sys.camera_gradient.assign(kBalCameraSize * n, 0.0);
-  sys.camera_jtj_diagonal.assign(kBalCameraSize * n, 0.0);
+  return ForPattern(std::vector<int32_t>(n, kBalCameraSize),
+                    RcsBlockPattern(n, problem.point_offsets, problem.obs_camera));
+}
+
+RcsSystem RcsSystem::ForPattern(std::vector<int32_t> block_sizes,
+                                std::span<const uint64_t> pattern) {
+  RcsSystem sys;
+  sys.S = BsmcMatrix::BuildFromPattern(std::move(block_sizes), pattern);
+  const int64_t rows = sys.S.num_rows();
+  sys.b.assign(rows, 0.0);
+  sys.camera_gradient.assign(rows, 0.0);
+  sys.camera_jtj_diagonal.assign(rows, 0.0);
   return sys;
 }
 

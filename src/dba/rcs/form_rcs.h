@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "dba/bsmc/bsmc_matrix.h"
@@ -32,6 +33,9 @@ struct RcsSystem {
 
   // Symbolic phase: structure of S from the problem's visibility graph.
   static RcsSystem ForProblem(const BalProblem& problem);
+  // Symbolic phase from a block pattern (sorted packed blocks, see PackBlock).
+  static RcsSystem ForPattern(std::vector<int32_t> block_sizes,
+                              std::span<const uint64_t> pattern);
 };
 
 // Numeric phase: refills `system` at the problem's current parameters.

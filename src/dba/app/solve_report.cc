@@ -1,0 +1,191 @@
+// Human and JSON summaries of a solve; see solve_report.h.
+#include "dba/app/solve_report.h"
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+namespace dba {
+namespace {
+
+std::string Bytes(int64_t b) {
+  char buf[64];
+  if (b >= (int64_t{1} << 30)) {
+    std::snprintf(buf, sizeof buf, "%.2f GiB", b / double(int64_t{1} << 30));
+  } else if (b >= (1 << 20)) {
+    std::snprintf(buf, sizeof buf, "%.1f MiB", b / double(1 << 20));
+  } else {
+    std::snprintf(buf, sizeof buf, "%.1f KiB", b / 1024.0);
+  }
+  return buf;
+}
+
+nlohmann::ordered_json TrafficJson(const TrafficStats& t) {
+  nlohmann::ordered_json j;
+  for (int i = 0; i < kNumTraffic; ++i) {
+    j[TrafficName(static_cast<Traffic>(i))] = {{"bytes", t.bytes[i]},
+                                               {"seconds", t.seconds[i]}};
+  }
+  j["total"] = {{"bytes", t.total_bytes()}, {"seconds", t.total_seconds()}};
+  return j;
+}
+
+}  // namespace
+
+double SolveReport::TotalSeconds() const {
+  return load_seconds + solve.distribution_seconds + solve.ba.symbolic_seconds +
+         solve.ba.lm.times.total + write_seconds;
+}
+
+std::string IterationLogHeader() {
+  return "iter        cost     rms_px   max|grad|     lambda  pcg  accept    time_s\n";
+}
+
+std::string IterationLogLine(const IterationSummary& it) {
+  char line[160];
+  std::snprintf(line, sizeof line, "%4d %12.6e %9.4f %11.3e %10.3e %4d %7s %9.3f\n",
+                it.iteration, it.cost, it.rms_pixels, it.gradient_max_norm, it.lambda,
+                it.pcg_iterations, it.step_accepted ? "yes" : "no", it.seconds);
+  return line;
+}
+
+void PrintSolveReport(const SolveReport& r, std::ostream& out) {
+  const LmSummary& lm = r.solve.ba.lm;
+  const RcsFootprint& rcs = r.solve.ba.rcs;
+  const double per_obs = 1.0 / std::max<int64_t>(r.num_observations, 1);
+  char buf[512];
+  out << "\nSummary\n";
+  std::snprintf(buf, sizeof buf,
+                "  initial cost        %.6e  (RMS %.4f px)\n"
+                "  final cost          %.6e  (RMS %.4f px)\n",
+                lm.initial_cost, lm.Rms(lm.initial_cost), lm.final_cost,
+                lm.Rms(lm.final_cost));
+  out << buf;
+  out << "  iterations          " << lm.iterations << " (" << lm.accepted_iterations
+      << " accepted, " << lm.total_pcg_iterations << " PCG iterations)\n";
+  out << "  termination         " << TerminationReasonName(lm.termination) << ": "
+      << lm.termination_message << "\n";
+  std::snprintf(buf, sizeof buf,
+                "  time (s)            load %.3f  distribute %.3f  setup %.3f  rcs %.3f  "
+                "pcg %.3f  back-substitution %.3f  write %.3f  total %.3f\n",
+                r.load_seconds, r.solve.distribution_seconds, r.solve.ba.symbolic_seconds,
+                lm.times.rcs_formation, lm.times.pcg, lm.times.back_substitution,
+                r.write_seconds, r.TotalSeconds());
+  out << buf;
+  out << "  RCS (BSMC)          " << rcs.block_rows << " block rows, " << rcs.blocks
+      << " blocks, " << Bytes(rcs.bsmc_structure_bytes + rcs.bsmc_value_bytes)
+      << " (CSR: " << Bytes(rcs.csr_bytes) << ")\n";
+  std::snprintf(buf, sizeof buf,
+                "  memory              peak %s, %.1f bytes/observation "
+                "(problem data %.1f bytes/observation)\n",
+                Bytes(r.peak_memory_bytes).c_str(), r.peak_memory_bytes * per_obs,
+                r.problem_bytes * per_obs);
+  out << buf;
+  if (r.solve.ranks > 1) {
+    const TrafficStats& t = r.solve.traffic;
+    out << "  ranks               " << r.solve.ranks << " ("
+        << PartitionSchemeName(r.solve.partition) << " partition, main rank "
+        << (r.solve.main_forms ? "forms a sub-RCS" : "coordinates only") << ")\n";
+    for (const RankReport& k : r.solve.rank_reports) {
+      std::snprintf(buf, sizeof buf,
+                    "    rank %-3d  %10ld points %11ld observations %7ld cameras  "
+                    "sub-RCS %8ld blocks %10s  peak %s\n",
+                    k.rank, static_cast<long>(k.points), static_cast<long>(k.observations),
+                    static_cast<long>(k.cameras), static_cast<long>(k.sub_rcs_blocks),
+                    Bytes(k.sub_rcs_bytes).c_str(), Bytes(k.peak_memory_bytes).c_str());
+      out << buf;
+    }
+    const double iters = std::max<size_t>(r.solve.per_iteration.size(), 1);
+    out << "  communication (main rank, sent + received)\n";
+    for (Traffic c : {Traffic::kDistribution, Traffic::kSubRcs, Traffic::kCameraUpdate,
+                      Traffic::kControl, Traffic::kResult}) {
+      const int i = static_cast<int>(c);
+      std::snprintf(buf, sizeof buf, "    %-14s %12s %9.3f s   per iteration %10s %8.4f s\n",
+                    TrafficName(c), Bytes(t.bytes[i]).c_str(), t.seconds[i],
+                    Bytes(static_cast<int64_t>(t.bytes[i] / iters)).c_str(),
+                    t.seconds[i] / iters);
+      out << buf;
+    }
+    std::snprintf(buf, sizeof buf, "    %-14s %12s %9.3f s   (%.1f%% of the solve)\n", "total",
+                  Bytes(t.total_bytes()).c_str(), t.total_seconds(),
+                  100.0 * t.total_seconds() / std::max(r.TotalSeconds(), 1e-9));
+    out << buf;
+  }
+}
+
+std::string SolveReportJson(const SolveReport& r) {
+  const LmSummary& lm = r.solve.ba.lm;
+  const RcsFootprint& rcs = r.solve.ba.rcs;
+  const double per_obs = 1.0 / std::max<int64_t>(r.num_observations, 1);
+  nlohmann::ordered_json j;
+  j["input"] = r.input;
+  j["num_cameras"] = r.num_cameras;
+  j["num_points"] = r.num_points;
+  j["num_observations"] = r.num_observations;
+  j["threads"] = r.threads;
+  j["ranks"] = r.solve.ranks;
+  j["initial_cost"] = lm.initial_cost;
+  j["final_cost"] = lm.final_cost;
+  j["initial_rms_px"] = lm.Rms(lm.initial_cost);
+  j["final_rms_px"] = lm.Rms(lm.final_cost);
+  j["iterations"] = lm.iterations;
+  j["accepted_iterations"] = lm.accepted_iterations;
+  j["pcg_iterations"] = lm.total_pcg_iterations;
+  j["termination"] = TerminationReasonName(lm.termination);
+  j["termination_message"] = lm.termination_message;
+  j["seconds"] = {{"load", r.load_seconds},
+                  {"distribution", r.solve.distribution_seconds},
+                  {"setup", r.solve.ba.symbolic_seconds},
+                  {"rcs_formation", lm.times.rcs_formation},
+                  {"pcg", lm.times.pcg},
+                  {"back_substitution", lm.times.back_substitution},
+                  {"write", r.write_seconds},
+                  {"total", r.TotalSeconds()}};
+  j["memory"] = {{"peak_bytes", r.peak_memory_bytes},
+                 {"peak_bytes_per_observation", r.peak_memory_bytes * per_obs},
+                 {"problem_bytes", r.problem_bytes},
+                 {"rcs_bsmc_structure_bytes", rcs.bsmc_structure_bytes},
+                 {"rcs_bsmc_value_bytes", rcs.bsmc_value_bytes},
+                 {"rcs_csr_bytes", rcs.csr_bytes},
+                 {"rcs_blocks", rcs.blocks}};
+  if (r.solve.ranks > 1) {
+    nlohmann::ordered_json d;
+    d["partition"] = PartitionSchemeName(r.solve.partition);
+    d["main_rank_forms_sub_rcs"] = r.solve.main_forms;
+    nlohmann::ordered_json ranks = nlohmann::ordered_json::array();
+    for (const RankReport& k : r.solve.rank_reports) {
+      ranks.push_back({{"rank", k.rank},
+                       {"points", k.points},
+                       {"observations", k.observations},
+                       {"cameras", k.cameras},
+                       {"sub_rcs_blocks", k.sub_rcs_blocks},
+                       {"sub_rcs_bytes", k.sub_rcs_bytes},
+                       {"peak_memory_bytes", k.peak_memory_bytes},
+                       {"traffic_bytes", k.traffic_bytes}});
+    }
+    d["ranks"] = ranks;
+    d["communication"] = TrafficJson(r.solve.traffic);
+    nlohmann::ordered_json per = nlohmann::ordered_json::array();
+    for (const TrafficStats& t : r.solve.per_iteration) per.push_back(TrafficJson(t));
+    d["communication_per_iteration"] = per;
+    j["distributed"] = d;
+  }
+  nlohmann::ordered_json history = nlohmann::ordered_json::array();
+  for (const IterationSummary& it : lm.history) {
+    history.push_back({{"iteration", it.iteration},
+                       {"cost", it.cost},
+                       {"rms_px", it.rms_pixels},
+                       {"gradient_max_norm", it.gradient_max_norm},
+                       {"lambda", it.lambda},
+                       {"pcg_iterations", it.pcg_iterations},
+                       {"pcg_relative_residual", it.pcg_relative_residual},
+                       {"candidate_cost", it.candidate_cost},
+                       {"gain_ratio", it.gain_ratio},
+                       {"accepted", it.step_accepted},
+                       {"seconds", it.seconds}});
+  }
+  j["history"] = history;
+  return j.dump(2) + "\n";
+}
+
+}  // namespace dba

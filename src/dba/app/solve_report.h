@@ -1,0 +1,34 @@
+// The summary of `dba solve`: printed for people, written as JSON for tools.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+
+#include "dba/cluster/distributed_solve.h"
+#include "dba/problem/bal_problem.h"
+
+namespace dba {
+
+struct SolveReport {
+  std::string input;
+  int64_t num_cameras = 0;
+  int64_t num_points = 0;
+  int64_t num_observations = 0;
+  int threads = 1;
+  double load_seconds = 0.0;
+  double write_seconds = 0.0;
+  int64_t peak_memory_bytes = 0;  // main rank
+  int64_t problem_bytes = 0;      // main rank's problem arrays before the solve
+  DistributedSummary solve;       // ranks == 1: a one-process solve
+
+  double TotalSeconds() const;
+};
+
+// One line per LM iteration, and its header.
+std::string IterationLogHeader();
+std::string IterationLogLine(const IterationSummary& it);
+
+void PrintSolveReport(const SolveReport& report, std::ostream& out);
+std::string SolveReportJson(const SolveReport& report);
+
+}  // namespace dba

@@ -1,0 +1,83 @@
+// Sub-RCS to global RCS aggregation; see aggregate_sub_rcs.h.
+#include "dba/cluster/aggregate_sub_rcs.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace dba {
+
+int64_t SubRcsMap::PackedSize(const BsmcMatrix& global) const {
+  int64_t cam = 0;
+  for (int32_t g : global_camera) cam += global.block_size(g);
+  return num_values + 3 * cam + 2;
+}
+
+SubRcsMap MapSubRcs(std::span<const uint64_t> local_blocks,
+                    std::vector<int32_t> global_camera, const BsmcMatrix& global) {
+  SubRcsMap map;
+  map.global_block.reserve(local_blocks.size());
+  for (uint64_t b : local_blocks) {
+    const int32_t gi = global_camera[PackedRow(b)], gj = global_camera[PackedCol(b)];
+    const int64_t gb = global.FindBlock(gi, gj);
+    if (gb < 0) throw std::logic_error("MapSubRcs: sub-RCS block missing from the global RCS");
+    map.global_block.push_back(gb);
+    map.num_values += global.value_offset(gb + 1) - global.value_offset(gb);
+  }
+  map.global_camera = std::move(global_camera);
+  return map;
+}
+
+void PackSubRcs(const RcsSystem& sub, std::vector<double>* message) {
+  message->clear();
+  message->reserve(sub.S.values().size() + 3 * sub.b.size() + 2);
+  message->insert(message->end(), sub.S.values().begin(), sub.S.values().end());
+  message->insert(message->end(), sub.b.begin(), sub.b.end());
+  message->insert(message->end(), sub.camera_gradient.begin(), sub.camera_gradient.end());
+  message->insert(message->end(), sub.camera_jtj_diagonal.begin(),
+                  sub.camera_jtj_diagonal.end());
+  message->push_back(sub.cost);
+  message->push_back(sub.max_abs_point_gradient);
+}
+
+void AggregateSubRcs(const SubRcsMap& map, std::span<const double> message,
+                     RcsSystem* global) {
+  BsmcMatrix& S = global->S;
+  const double* in = message.data();
+  for (int64_t gb : map.global_block) {
+    double* out = S.block_values(gb);
+    const int64_t n = S.value_offset(gb + 1) - S.value_offset(gb);
+    for (int64_t v = 0; v < n; ++v) out[v] += in[v];
+    in += n;
+  }
+  for (std::vector<double>* vec :
+       {&global->b, &global->camera_gradient, &global->camera_jtj_diagonal}) {
+    for (int32_t g : map.global_camera) {
+      const int64_t o = S.scalar_offset(g);
+      for (int d = 0; d < S.block_size(g); ++d) (*vec)[o + d] += *in++;
+    }
+  }
+  global->cost += in[0];
+  global->max_abs_point_gradient = std::max(global->max_abs_point_gradient, in[1]);
+}
+
+void ClearRcs(RcsSystem* global) {
+  global->S.SetZero();
+  std::fill(global->b.begin(), global->b.end(), 0.0);
+  std::fill(global->camera_gradient.begin(), global->camera_gradient.end(), 0.0);
+  std::fill(global->camera_jtj_diagonal.begin(), global->camera_jtj_diagonal.end(), 0.0);
+  global->cost = 0.0;
+  global->max_abs_point_gradient = 0.0;
+}
+
+std::vector<uint64_t> BlockPattern(const BsmcMatrix& m) {
+  std::vector<uint64_t> blocks;
+  blocks.reserve(m.num_blocks());
+  for (int32_t i = 0; i < m.num_block_rows(); ++i) {
+    for (int64_t b = m.row_begin(i); b < m.row_end(i); ++b) {
+      blocks.push_back(PackBlock(i, m.block_col(b)));
+    }
+  }
+  return blocks;
+}
+
+}  // namespace dba

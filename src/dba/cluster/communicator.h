@@ -1,0 +1,101 @@
+// The transport layer: the only place that talks MPI (DESIGN.md §2). Ranks
+// exchange typed arrays; every transfer is counted, in bytes and seconds, under
+// a traffic category, so the communication cost of a solve is measured (paper
+// Table 5).
+//
+// Messages longer than 2^30 elements are split, so 64-bit sizes are safe with
+// MPI's int counts.
+//
+// Thread safety: call from one thread per rank (MPI_THREAD_FUNNELED).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace dba {
+
+enum class Traffic { kDistribution, kSubRcs, kCameraUpdate, kControl, kResult };
+inline constexpr int kNumTraffic = 5;
+const char* TrafficName(Traffic t);
+
+struct TrafficStats {
+  int64_t bytes[kNumTraffic] = {};  // sent plus received by this rank
+  double seconds[kNumTraffic] = {};  // wall time inside transfers
+  int64_t total_bytes() const;
+  double total_seconds() const;
+};
+
+class Communicator {
+ public:
+  // True when this process was started by an MPI launcher (mpirun, srun).
+  static bool LaunchedByMpi();
+  // Initializes MPI when launched by MPI; otherwise a single rank without
+  // MPI. Aborts the job on failure.
+  Communicator(int* argc, char*** argv);
+  ~Communicator();
+  Communicator(const Communicator&) = delete;
+  Communicator& operator=(const Communicator&) = delete;
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  bool is_main() const { return rank_ == 0; }
+  // Ranks on this node (shared memory), for the threads-per-rank default.
+  int ranks_on_node() const { return ranks_on_node_; }
+
+  template <typename T>
+  void Send(int dest, Traffic t, std::span<const T> data) {
+    SendBytes(dest, t, data.data(), data.size_bytes());
+  }
+  template <typename T>
+  void Recv(int source, Traffic t, std::span<T> data) {
+    RecvBytes(source, t, data.data(), data.size_bytes());
+  }
+  // A vector with its length in front.
+  template <typename T>
+  void SendVector(int dest, Traffic t, const std::vector<T>& v) {
+    const uint64_t n = v.size();
+    SendBytes(dest, t, &n, sizeof n);
+    SendBytes(dest, t, v.data(), n * sizeof(T));
+  }
+  template <typename T>
+  std::vector<T> RecvVector(int source, Traffic t) {
+    uint64_t n = 0;
+    RecvBytes(source, t, &n, sizeof n);
+    std::vector<T> v(n);
+    RecvBytes(source, t, v.data(), n * sizeof(T));
+    return v;
+  }
+  // Broadcast from rank 0.
+  template <typename T>
+  void Broadcast(Traffic t, std::span<T> data) {
+    BroadcastBytes(t, data.data(), data.size_bytes());
+  }
+  template <typename T>
+  void Broadcast(Traffic t, T* value) {
+    BroadcastBytes(t, value, sizeof(T));
+  }
+  // Gathers `count` doubles from every rank at rank 0, in rank order.
+  std::vector<double> Gather(Traffic t, std::span<const double> local);
+
+  // Ends the whole job: prints "dba: rank R: error: MESSAGE" and aborts every
+  // rank with a non-zero status. Never returns.
+  [[noreturn]] void Abort(const std::string& message) const;
+
+  const TrafficStats& stats() const { return stats_; }
+
+ private:
+  void SendBytes(int dest, Traffic t, const void* data, uint64_t bytes);
+  void RecvBytes(int source, Traffic t, void* data, uint64_t bytes);
+  void BroadcastBytes(Traffic t, void* data, uint64_t bytes);
+
+  bool mpi_ = false;
+  int rank_ = 0;
+  int size_ = 1;
+  int ranks_on_node_ = 1;
+  TrafficStats stats_;
+};
+
+}  // namespace dba

@@ -1,0 +1,117 @@
+// Distributed bundle adjustment; see distributed_solve.h.
+#include "dba/cluster/distributed_solve.h"
+
+#include "dba/common/timer.h"
+
+namespace dba {
+namespace {
+
+void SendShare(Communicator* comm, int rank, const RankShare& s) {
+  const Traffic t = Traffic::kDistribution;
+  comm->SendVector(rank, t, s.global_camera);
+  comm->SendVector(rank, t, s.global_point);
+  comm->SendVector(rank, t, s.problem.cameras);
+  comm->SendVector(rank, t, s.problem.points);
+  comm->SendVector(rank, t, s.problem.point_offsets);
+  comm->SendVector(rank, t, s.problem.obs_camera);
+  comm->SendVector(rank, t, s.problem.obs_pixel);
+}
+
+RankShare RecvShare(Communicator* comm) {
+  const Traffic t = Traffic::kDistribution;
+  RankShare s;
+  s.global_camera = comm->RecvVector<int32_t>(0, t);
+  s.global_point = comm->RecvVector<int64_t>(0, t);
+  s.problem.cameras = comm->RecvVector<double>(0, t);
+  s.problem.points = comm->RecvVector<double>(0, t);
+  s.problem.point_offsets = comm->RecvVector<int64_t>(0, t);
+  s.problem.obs_camera = comm->RecvVector<int32_t>(0, t);
+  s.problem.obs_pixel = comm->RecvVector<double>(0, t);
+  return s;
+}
+
+template <typename T>
+void Release(std::vector<T>& v) {
+  std::vector<T>().swap(v);
+}
+
+}  // namespace
+
+DistributedSummary DistributedBundleAdjust(
+    Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
+    BalProblem* problem, const std::function<void(const IterationSummary&)>& on_iteration) {
+  DistributedSummary summary;
+  summary.ranks = comm->size();
+  summary.partition = distributed.partition;
+  summary.main_forms =
+      comm->size() == 1 ||
+      distributed.main_role == DistributedOptions::MainRole::kForms ||
+      (distributed.main_role == DistributedOptions::MainRole::kAuto &&
+       comm->size() <= DistributedOptions::kMainFormsUpTo);
+  // Everyone learns the decision (ranks may have been given other options).
+  int32_t main_forms = summary.main_forms ? 1 : 0;
+  comm->Broadcast(Traffic::kControl, &main_forms);
+  summary.main_forms = main_forms != 0;
+
+  if (!comm->is_main()) {
+    RankShare share = RecvShare(comm);
+    LocalPointWorkers workers(&share.problem, options.damping, options.num_threads);
+    RunPointRank(comm, &share, &workers);
+    return summary;
+  }
+
+  // Main rank: partition and send the shares.
+  Timer distribution;
+  const int first_rank = summary.main_forms ? 0 : 1;
+  const int groups = comm->size() - first_rank;
+  const std::vector<int32_t> group =
+      PartitionPoints(*problem, groups, distributed.partition);
+  RankShare own;
+  for (int g = 0; g < groups; ++g) {
+    const int rank = g + first_rank;
+    if (rank == 0) {
+      own = ExtractShare(*problem, group, g);
+    } else {
+      SendShare(comm, rank, ExtractShare(*problem, group, g));
+    }
+  }
+  // The observations now live on the ranks.
+  const int64_t num_observations = problem->num_observations();
+  Release(problem->point_offsets);
+  Release(problem->obs_camera);
+  Release(problem->obs_pixel);
+  summary.distribution_seconds = distribution.Seconds();
+
+  Timer symbolic;
+  std::unique_ptr<LocalPointWorkers> own_workers;
+  if (summary.main_forms) {
+    own_workers = std::make_unique<LocalPointWorkers>(&own.problem, options.damping,
+                                                      options.num_threads);
+  }
+  MpiPointWorkers workers(comm, problem->num_cameras(),
+                          summary.main_forms ? &own : nullptr, own_workers.get(),
+                          options.num_threads);
+  summary.ba.symbolic_seconds = symbolic.Seconds();
+  const BsmcMatrix& S = workers.global().S;
+  summary.ba.rcs = {S.num_block_rows(), S.num_blocks(), S.StructureBytes(),
+                    S.ValueBytes(), S.CsrBytes()};
+
+  TrafficStats before = comm->stats();
+  auto log = [&](const IterationSummary& it) {
+    TrafficStats delta;
+    for (int t = 0; t < kNumTraffic; ++t) {
+      delta.bytes[t] = comm->stats().bytes[t] - before.bytes[t];
+      delta.seconds[t] = comm->stats().seconds[t] - before.seconds[t];
+    }
+    before = comm->stats();
+    summary.per_iteration.push_back(delta);
+    if (on_iteration) on_iteration(it);
+  };
+  summary.ba.lm = SolveLevenbergMarquardt(options, num_observations, &problem->cameras,
+                                          &workers, log);
+  summary.rank_reports = workers.Finish(&problem->points);
+  summary.traffic = comm->stats();
+  return summary;
+}
+
+}  // namespace dba

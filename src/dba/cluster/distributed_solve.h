@@ -1,0 +1,46 @@
+// Distributed bundle adjustment (paper section 6, DESIGN.md §2): the main
+// rank partitions the points, sends each rank its share, and runs LM over
+// MpiPointWorkers; every other rank serves its share until the solve ends.
+//
+// Thread safety: collective over the communicator; one call per process.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "dba/cluster/communicator.h"
+#include "dba/cluster/mpi_point_workers.h"
+#include "dba/cluster/partition.h"
+#include "dba/lm/bundle_adjust.h"
+
+namespace dba {
+
+struct DistributedOptions {
+  PartitionScheme partition = PartitionScheme::kCameraLocality;
+  // Whether the main rank also forms a sub-RCS from a share of the points.
+  // Auto: yes for up to kMainFormsUpTo ranks, where an idle main rank would
+  // waste a large fraction of the machine.
+  enum class MainRole { kAuto, kForms, kCoordinates } main_role = MainRole::kAuto;
+  static constexpr int kMainFormsUpTo = 4;
+};
+
+struct DistributedSummary {
+  BundleAdjustSummary ba;
+  int ranks = 1;
+  bool main_forms = true;
+  PartitionScheme partition = PartitionScheme::kCameraLocality;
+  std::vector<RankReport> rank_reports;     // main rank only
+  TrafficStats traffic;                     // main rank's, whole solve
+  std::vector<TrafficStats> per_iteration;  // main rank's, per LM iteration
+  double distribution_seconds = 0.0;        // partition + sending the shares
+};
+
+// Collective. On the main rank `problem` is the whole problem; on return its
+// cameras and points are the adjusted ones and its observations have been
+// released (they live on the ranks during the solve). Ignored elsewhere.
+DistributedSummary DistributedBundleAdjust(
+    Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
+    BalProblem* problem,
+    const std::function<void(const IterationSummary&)>& on_iteration = {});
+
+}  // namespace dba

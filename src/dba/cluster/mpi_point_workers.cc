@@ -1,0 +1,220 @@
+// The distributed iteration protocol; see mpi_point_workers.h.
+#include "dba/cluster/mpi_point_workers.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+#include "dba/common/memory.h"
+
+namespace dba {
+namespace {
+
+enum class Op : int32_t { kForm = 1, kStep = 2, kFinish = 3, kEnd = 4 };
+
+struct Command {
+  Op op;
+  int32_t accept;
+  double lambda;
+};
+
+void BroadcastCommand(Communicator* comm, Command c) {
+  comm->Broadcast(Traffic::kControl, &c);
+}
+
+std::vector<double> LocalDelta(const std::vector<double>& global,
+                               const std::vector<int32_t>& cameras) {
+  std::vector<double> local(kBalCameraSize * cameras.size());
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    std::copy_n(global.data() + kBalCameraSize * int64_t{cameras[i]}, kBalCameraSize,
+                local.data() + kBalCameraSize * i);
+  }
+  return local;
+}
+
+std::vector<double> Add(const std::vector<double>& a, const std::vector<double>& b) {
+  std::vector<double> c(a.size());
+  for (size_t i = 0; i < a.size(); ++i) c[i] = a[i] + b[i];
+  return c;
+}
+
+std::vector<double> Pack(const StepEvaluation& e) {
+  return {e.model_cost, e.candidate_cost, e.point_step_squared_norm,
+          e.point_squared_norm};
+}
+
+}  // namespace
+
+void MaybeInjectFault(int rank, int formation) {
+  const char* spec = std::getenv("DBA_INJECT_FAULT");
+  if (spec == nullptr) return;
+  int fault_rank = -1, fault_formation = -1;
+  if (std::sscanf(spec, "%d:%d", &fault_rank, &fault_formation) == 2 &&
+      fault_rank == rank && fault_formation == formation) {
+    throw std::runtime_error("injected fault (DBA_INJECT_FAULT=" + std::string(spec) +
+                             ") at sub-RCS formation " + std::to_string(formation));
+  }
+}
+
+RankReport MakeRankReport(int rank, const RankShare& share,
+                          const LocalPointWorkers* workers, const Communicator& comm) {
+  RankReport r;
+  r.rank = rank;
+  r.points = share.problem.num_points();
+  r.observations = share.problem.num_observations();
+  r.cameras = static_cast<int64_t>(share.global_camera.size());
+  if (workers != nullptr) {
+    const BsmcMatrix& S = workers->system().S;
+    r.sub_rcs_blocks = S.num_blocks();
+    r.sub_rcs_bytes = S.StructureBytes() + S.ValueBytes();
+  }
+  r.peak_memory_bytes = PeakResidentBytes();
+  r.traffic_bytes = comm.stats().total_bytes();
+  return r;
+}
+
+MpiPointWorkers::MpiPointWorkers(Communicator* comm, int64_t num_cameras,
+                                 RankShare* own_share, LocalPointWorkers* own,
+                                 int num_threads)
+    : comm_(comm), own_share_(own_share), own_(own) {
+  (void)num_threads;
+  // Every rank's sub-RCS pattern in global numbering; the global pattern is
+  // their union (plus every diagonal block).
+  std::vector<std::vector<uint64_t>> local_patterns(comm->size());
+  std::vector<std::vector<int32_t>> cameras(comm->size());
+  if (own != nullptr) {
+    local_patterns[0] = BlockPattern(own->system().S);
+    cameras[0] = own_share->global_camera;
+  }
+  for (int r = 1; r < comm->size(); ++r) {
+    local_patterns[r] = comm->RecvVector<uint64_t>(r, Traffic::kDistribution);
+    cameras[r] = comm->RecvVector<int32_t>(r, Traffic::kDistribution);
+  }
+  std::vector<uint64_t> pattern;
+  for (int32_t i = 0; i < num_cameras; ++i) pattern.push_back(PackBlock(i, i));
+  for (int r = 0; r < comm->size(); ++r) {
+    for (uint64_t b : local_patterns[r]) {
+      pattern.push_back(PackBlock(cameras[r][PackedRow(b)], cameras[r][PackedCol(b)]));
+    }
+  }
+  std::sort(pattern.begin(), pattern.end());
+  pattern.erase(std::unique(pattern.begin(), pattern.end()), pattern.end());
+  global_ = RcsSystem::ForPattern(std::vector<int32_t>(num_cameras, kBalCameraSize), pattern);
+  maps_.resize(comm->size());
+  for (int r = 0; r < comm->size(); ++r) {
+    if (r == 0 && own == nullptr) continue;
+    maps_[r] = MapSubRcs(local_patterns[r], std::move(cameras[r]), global_.S);
+  }
+}
+
+RcsSystem& MpiPointWorkers::FormRcs(double lambda) {
+  BroadcastCommand(comm_, {Op::kForm, 0, lambda});
+  ++formations_;
+  ClearRcs(&global_);
+  if (own_ != nullptr) {
+    MaybeInjectFault(0, formations_);
+    PackSubRcs(own_->FormRcs(lambda), &message_);
+    AggregateSubRcs(maps_[0], message_, &global_);
+  }
+  for (int r = 1; r < comm_->size(); ++r) {
+    message_.resize(maps_[r].PackedSize(global_.S));
+    comm_->Recv(r, Traffic::kSubRcs, std::span<double>(message_));
+    AggregateSubRcs(maps_[r], message_, &global_);
+  }
+  return global_;
+}
+
+StepEvaluation MpiPointWorkers::EvaluateStep(double lambda,
+                                             const std::vector<double>& delta_c,
+                                             const std::vector<double>& candidate_cameras) {
+  (void)candidate_cameras;  // ranks add δc to their own copies of the cameras
+  BroadcastCommand(comm_, {Op::kStep, 0, lambda});
+  for (int r = 1; r < comm_->size(); ++r) {
+    const std::vector<double> local = LocalDelta(delta_c, maps_[r].global_camera);
+    comm_->Send(r, Traffic::kCameraUpdate, std::span<const double>(local));
+  }
+  std::vector<double> mine(4, 0.0);
+  if (own_ != nullptr) {
+    const std::vector<double> local = LocalDelta(delta_c, maps_[0].global_camera);
+    mine = Pack(own_->EvaluateStep(lambda, local, Add(own_share_->problem.cameras, local)));
+  }
+  const std::vector<double> all = comm_->Gather(Traffic::kControl, mine);
+  StepEvaluation e;
+  for (int r = 0; r < comm_->size(); ++r) {
+    e.model_cost += all[4 * r];
+    e.candidate_cost += all[4 * r + 1];
+    e.point_step_squared_norm += all[4 * r + 2];
+    e.point_squared_norm += all[4 * r + 3];
+  }
+  return e;
+}
+
+void MpiPointWorkers::FinishStep(bool accept) {
+  BroadcastCommand(comm_, {Op::kFinish, accept ? 1 : 0, 0.0});
+  if (own_ != nullptr) own_->FinishStep(accept);
+}
+
+std::vector<RankReport> MpiPointWorkers::Finish(std::vector<double>* points) {
+  BroadcastCommand(comm_, {Op::kEnd, 0, 0.0});
+  std::vector<RankReport> reports(comm_->size());
+  auto place = [&](const std::vector<int64_t>& ids, const std::vector<double>& xyz) {
+    for (size_t k = 0; k < ids.size(); ++k) {
+      std::copy_n(xyz.data() + kPointSize * k, kPointSize,
+                  points->data() + kPointSize * ids[k]);
+    }
+  };
+  if (own_share_ != nullptr) {
+    place(own_share_->global_point, own_share_->problem.points);
+  }
+  for (int r = 1; r < comm_->size(); ++r) {
+    const auto ids = comm_->RecvVector<int64_t>(r, Traffic::kResult);
+    const auto xyz = comm_->RecvVector<double>(r, Traffic::kResult);
+    place(ids, xyz);
+    comm_->Recv(r, Traffic::kResult, std::span<RankReport>(&reports[r], 1));
+  }
+  reports[0] = own_share_ != nullptr ? MakeRankReport(0, *own_share_, own_, *comm_)
+                                     : MakeRankReport(0, RankShare{}, nullptr, *comm_);
+  return reports;
+}
+
+void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* workers) {
+  comm->SendVector(0, Traffic::kDistribution, BlockPattern(workers->system().S));
+  comm->SendVector(0, Traffic::kDistribution, share->global_camera);
+  std::vector<double> message, delta(share->problem.cameras.size());
+  int formations = 0;
+  double lambda = 0.0;
+  for (;;) {
+    Command c{};
+    comm->Broadcast(Traffic::kControl, &c);
+    switch (c.op) {
+      case Op::kForm:
+        MaybeInjectFault(comm->rank(), ++formations);
+        PackSubRcs(workers->FormRcs(c.lambda), &message);
+        comm->Send(0, Traffic::kSubRcs, std::span<const double>(message));
+        break;
+      case Op::kStep: {
+        lambda = c.lambda;
+        comm->Recv(0, Traffic::kCameraUpdate, std::span<double>(delta));
+        const StepEvaluation e = workers->EvaluateStep(
+            lambda, delta, Add(share->problem.cameras, delta));
+        comm->Gather(Traffic::kControl, Pack(e));
+        break;
+      }
+      case Op::kFinish:
+        workers->FinishStep(c.accept != 0);
+        break;
+      case Op::kEnd: {
+        comm->SendVector(0, Traffic::kResult, share->global_point);
+        comm->SendVector(0, Traffic::kResult, share->problem.points);
+        const RankReport report = MakeRankReport(comm->rank(), *share, workers, *comm);
+        comm->Send(0, Traffic::kResult, std::span<const RankReport>(&report, 1));
+        return;
+      }
+      default:
+        throw std::runtime_error("unknown command from the main rank");
+    }
+  }
+}
+
+}  // namespace dba

@@ -1,0 +1,84 @@
+// PointWorkers spread over MPI ranks: the iteration protocol of DESIGN.md §2.
+//
+//   main rank (MpiPointWorkers)            every rank (RunPointRank, or the
+//                                          main rank's own share)
+//   FormRcs:   broadcast FORM(λ)      ─►   form sub-RCS (local ids) + rhs
+//              receive rank by rank   ◄─   packed values
+//              add into global BSMC (indexed add, one message at a time)
+//   EvaluateStep: broadcast STEP(λ),
+//              send δc of its cameras ─►   back-substitute, costs at the step
+//              gather partial sums    ◄─   4 numbers
+//   FinishStep: broadcast FINISH(accept) ─► keep or drop the candidate
+//
+// Sub-RCSs are summed in rank order, so a run is reproducible. The numerical
+// work is LocalPointWorkers on each rank's share; this file only moves data.
+//
+// Thread safety: one caller per rank.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "dba/cluster/aggregate_sub_rcs.h"
+#include "dba/cluster/communicator.h"
+#include "dba/cluster/rank_share.h"
+#include "dba/lm/local_point_workers.h"
+
+namespace dba {
+
+// What every rank reports about its share at the end of a solve.
+struct RankReport {
+  int rank = 0;
+  int64_t points = 0;
+  int64_t observations = 0;
+  int64_t cameras = 0;
+  int64_t sub_rcs_blocks = 0;
+  int64_t sub_rcs_bytes = 0;  // BSMC structure + values
+  int64_t peak_memory_bytes = 0;
+  int64_t traffic_bytes = 0;
+};
+
+// Fault injection for tests: DBA_INJECT_FAULT="RANK:N" makes rank RANK throw
+// at its N-th sub-RCS formation (1-based).
+void MaybeInjectFault(int rank, int formation);
+
+class MpiPointWorkers : public PointWorkers {
+ public:
+  // Symbolic phase on the main rank: receives every other rank's sub-RCS
+  // pattern and cameras, builds the global RCS over `num_cameras` cameras and
+  // the block maps. `own` (may be null) is the main rank's own share.
+  MpiPointWorkers(Communicator* comm, int64_t num_cameras, RankShare* own_share,
+                  LocalPointWorkers* own, int num_threads);
+
+  RcsSystem& FormRcs(double lambda) override;
+  StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,
+                              const std::vector<double>& candidate_cameras) override;
+  void FinishStep(bool accept) override;
+
+  // Ends the other ranks' loops; collects their final points into `points`
+  // (global numbering) and their reports.
+  std::vector<RankReport> Finish(std::vector<double>* points);
+
+  const RcsSystem& global() const { return global_; }
+
+ private:
+  Communicator* comm_;
+  RankShare* own_share_;
+  LocalPointWorkers* own_;
+  std::vector<SubRcsMap> maps_;  // per rank; maps_[0] is the main rank's own
+  RcsSystem global_;
+  std::vector<double> message_;
+  int formations_ = 0;
+};
+
+// The loop of a rank other than the main one: serves FORM, STEP and FINISH
+// until the main rank ends the solve, then sends its points and report.
+// Throws on failure (the caller aborts the job).
+void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* workers);
+
+// Report of this rank's share (peak memory read now).
+RankReport MakeRankReport(int rank, const RankShare& share,
+                          const LocalPointWorkers* workers, const Communicator& comm);
+
+}  // namespace dba
