@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# Distributed runs against the single-process run: on every BAL problem in
+# ../shared/data/bal, `mpirun -np N dba solve` for N = 1..4 with both point
+# partitions reaches the single-process final cost to 1e-9 relative. Then a
+# failing rank (injected fault) and bad input must end the whole job quickly
+# with a clear message, a non-zero status and no output file.
+# Usage: mpi_solve.sh PATH_TO_DBA PROJECT_ROOT
+set -uo pipefail
+dba=$1
+root=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+mpirun_n() { local n=$1; shift; timeout 300 mpirun --allow-run-as-root --oversubscribe --bind-to none -np "$n" "$@"; }
+final_cost() { grep -m1 '"final_cost"' "$1" | sed -E 's/.*: ([^,]*),?/\1/'; }
+passes=0
+failures=0
+fail() { echo "FAILED: $*" >&2; failures=$((failures + 1)); }
+
+for problem in "$root"/../shared/data/bal/*.bz2; do
+  name=$(basename "$problem")
+  "$dba" solve "$problem" -q --report "$tmp/single.json" >/dev/null || { fail "$name single process"; continue; }
+  single=$(final_cost "$tmp/single.json")
+  for n in 1 2 3 4; do
+    for partition in equal cameras; do
+      if ! mpirun_n "$n" "$dba" solve "$problem" -q --partition "$partition" \
+           --report "$tmp/mpi.json" >"$tmp/mpi.out" 2>&1; then
+        fail "$name -np $n --partition $partition exited non-zero"; cat "$tmp/mpi.out" >&2; continue
+      fi
+      distributed=$(final_cost "$tmp/mpi.json")
+      if awk -v a="$single" -v b="$distributed" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-9 * a) }'; then
+        passes=$((passes + 1))
+        echo "ok   $name -np $n --partition $partition: $distributed (single $single)"
+      else
+        fail "$name -np $n --partition $partition: final cost $distributed, single process $single"
+      fi
+    done
+  done
+done
+
+# The distributed summary reports every rank and the communication.
+problem=$root/../shared/data/bal/problem-21-11315-pre.txt.bz2
+mpirun_n 3 "$dba" solve "$problem" -q --main-rank coordinates -o "$tmp/out3.txt" \
+  --report "$tmp/r3.json" >"$tmp/out" 2>&1 || fail "-np 3 --main-rank coordinates"
+for want in "rank 0 " "rank 1 " "rank 2 " "sub_rcs" "camera_update" "distribution" "coordinates only"; do
+  if grep -qF -- "$want" "$tmp/out"; then passes=$((passes + 1)); else fail "summary lacks '$want'"; fi
+done
+if grep -q '"communication_per_iteration"' "$tmp/r3.json" && test -s "$tmp/out3.txt"; then
+  passes=$((passes + 1))
+else
+  fail "report or output of the distributed run missing"
+fi
+# The written result re-reads at the final cost of the run.
+"$dba" solve "$tmp/out3.txt" -q --max-iterations 0 --report "$tmp/reread.json" >/dev/null
+if awk -v a="$(final_cost "$tmp/r3.json")" -v b="$(final_cost "$tmp/reread.json")" \
+     'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-9 * a) }'; then
+  passes=$((passes + 1))
+else
+  fail "distributed output does not hold the adjusted parameters"
+fi
+
+# A rank that fails stops the whole job: clear message naming the rank, non-zero
+# status, within seconds, no output.
+start=$(date +%s)
+DBA_INJECT_FAULT=2:3 mpirun_n 3 "$dba" solve "$problem" -q -o "$tmp/fault.txt" >"$tmp/fault.out" 2>&1
+status=$?
+elapsed=$(( $(date +%s) - start ))
+if [ "$status" -ne 0 ] && [ "$status" -ne 124 ] && grep -q "rank 2: error: injected fault" "$tmp/fault.out" \
+   && [ ! -e "$tmp/fault.txt" ] && [ "$elapsed" -lt 60 ]; then
+  passes=$((passes + 1))
+else
+  fail "injected fault on rank 2: status $status after ${elapsed}s"; cat "$tmp/fault.out" >&2
+fi
+# Bad input read by the main rank stops every rank too.
+printf '2 1 2\n0 0 1.0 2.0\n1 0 1.0 abc\n' >"$tmp/bad.txt"
+mpirun_n 3 "$dba" solve "$tmp/bad.txt" -o "$tmp/bad_out.txt" >"$tmp/bad.out" 2>&1
+status=$?
+if [ "$status" -ne 0 ] && [ "$status" -ne 124 ] && grep -q "rank 0: error: .*bad.txt:3" "$tmp/bad.out" \
+   && [ ! -e "$tmp/bad_out.txt" ]; then
+  passes=$((passes + 1))
+else
+  fail "bad input under mpirun: status $status"; cat "$tmp/bad.out" >&2
+fi
+
+echo "$passes passed, $failures failed"
+test "$failures" -eq 0
