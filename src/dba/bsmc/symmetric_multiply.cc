@@ -15,11 +15,13 @@ inline void ApplyBlock(const double* block, int r, int c, const double* x_j,
                        const double* x_i, double* y_i, double* y_j) {
   using MatR = Eigen::Matrix<double, R, C, Eigen::RowMajor>;
   Eigen::Map<const MatR> B(block, r, c);
+  // lazyProduct keeps fixed-size blocks in registers instead of going
+  // through Eigen's general matrix-vector kernel.
   Eigen::Map<Eigen::Matrix<double, R, 1>>(y_i, r).noalias() +=
-      B * Eigen::Map<const Eigen::Matrix<double, C, 1>>(x_j, c);
+      B.lazyProduct(Eigen::Map<const Eigen::Matrix<double, C, 1>>(x_j, c));
   if (y_j != nullptr) {
     Eigen::Map<Eigen::Matrix<double, C, 1>>(y_j, c).noalias() +=
-        B.transpose() * Eigen::Map<const Eigen::Matrix<double, R, 1>>(x_i, r);
+        B.transpose().lazyProduct(Eigen::Map<const Eigen::Matrix<double, R, 1>>(x_i, r));
   }
 }
 

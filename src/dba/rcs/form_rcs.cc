@@ -28,9 +28,11 @@ void AddPointToRcs(const BalProblem& problem, int64_t k, const PointSystem& p,
       const int32_t cb = problem.obs_camera[begin + b];
       if (cb < ca) continue;
       Eigen::Map<Mat99> block(sys->S.block_values(sys->S.FindBlock(ca, cb)));
-      block.noalias() -= p.T[a] * p.W[b].transpose();
+      // lazyProduct: coefficient-wise kernels; Eigen's GEMM path is slower
+      // at these sizes.
+      block.noalias() -= p.T[a].lazyProduct(p.W[b].transpose());
       if (b == a) {
-        block.noalias() += p.J_c[a].transpose() * p.J_c[a];
+        block.noalias() += p.J_c[a].transpose().lazyProduct(p.J_c[a]);
       }
     }
     Eigen::Map<Vec9>(sys->b.data() + 9 * int64_t{ca}) += rhs;
