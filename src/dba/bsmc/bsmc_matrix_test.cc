@@ -1,0 +1,103 @@
+// BSMC structure: block lookup both ways, value layout, exact byte counts
+// against the array sizes and against a dense count of CSR non-zeros.
+#include "dba/bsmc/bsmc_matrix.h"
+
+#include <gtest/gtest.h>
+
+#include <climits>
+#include <set>
+
+#include "dba/testing/dense_reference.h"
+#include "dba/testing/random_bsmc.h"
+
+namespace dba {
+namespace {
+
+TEST(BsmcMatrix, FindBlockFindsEveryStoredBlockAndNoOther) {
+  for (uint32_t seed = 1; seed <= 5; ++seed) {
+    testing::RandomBsmcOptions o;
+    o.block_rows = 30;
+    o.seed = seed;
+    const BsmcMatrix m = testing::MakeRandomBsmc(o);
+    std::set<std::pair<int32_t, int32_t>> stored;
+    for (int32_t i = 0; i < m.num_block_rows(); ++i) {
+      for (int64_t b = m.row_begin(i); b < m.row_end(i); ++b) {
+        stored.insert({i, m.block_col(b)});
+        EXPECT_EQ(m.FindBlock(i, m.block_col(b)), b);
+        EXPECT_EQ(m.BlockRow(b), i);
+      }
+    }
+    for (int32_t i = 0; i < m.num_block_rows(); ++i) {
+      for (int32_t j = i; j < m.num_block_rows(); ++j) {
+        if (!stored.count({i, j})) EXPECT_EQ(m.FindBlock(i, j), -1) << i << "," << j;
+      }
+    }
+  }
+}
+
+TEST(BsmcMatrix, ValuesAreContiguousBlocksOfTheRightSize) {
+  testing::RandomBsmcOptions o;
+  o.seed = 7;
+  const BsmcMatrix m = testing::MakeRandomBsmc(o);
+  int64_t expected = 0;
+  for (int32_t i = 0; i < m.num_block_rows(); ++i) {
+    EXPECT_EQ(m.block_col(m.diagonal_block(i)), i);
+    for (int64_t b = m.row_begin(i); b < m.row_end(i); ++b) {
+      EXPECT_EQ(m.value_offset(b), expected);
+      expected += int64_t{m.block_size(i)} * m.block_size(m.block_col(b));
+    }
+  }
+  EXPECT_EQ(m.num_values(), expected);
+}
+
+TEST(BsmcMatrix, ByteCountsAreExact) {
+  testing::RandomBsmcOptions o;
+  o.block_rows = 25;
+  o.seed = 11;
+  const BsmcMatrix m = testing::MakeRandomBsmc(o);
+  const int64_t n = m.num_block_rows(), nnzb = m.num_blocks();
+  // block_size (4 n) + scalar_offset (8 (n+1)) + row_begin (8 (n+1)) +
+  // block_col (4 nnzb) + value_offset (8 (nnzb+1)).
+  EXPECT_EQ(m.StructureBytes(), 4 * n + 16 * (n + 1) + 4 * nnzb + 8 * (nnzb + 1));
+  EXPECT_EQ(m.ValueBytes(), 8 * m.num_values());
+  // CSR: count the non-zeros of the dense symmetric matrix (values are
+  // random, so no stored entry is zero).
+  const Eigen::MatrixXd dense = testing::DenseFromBsmc(m);
+  int64_t nnz = 0, nnz_upper = 0;
+  for (int64_t r = 0; r < dense.rows(); ++r) {
+    for (int64_t c = 0; c < dense.cols(); ++c) {
+      if (dense(r, c) != 0.0) ++nnz, nnz_upper += c >= r;
+    }
+  }
+  EXPECT_EQ(m.CsrBytes(false), nnz * 12 + (dense.rows() + 1) * 8);
+  EXPECT_EQ(m.CsrBytes(true), nnz_upper * 12 + (dense.rows() + 1) * 8);
+  EXPECT_LT(m.StructureBytes() + m.ValueBytes(), m.CsrBytes(false));
+}
+
+TEST(BsmcMatrix, RefusesBadPatterns) {
+  const std::vector<int32_t> sizes = {2, 2, 2};
+  auto build = [&](std::vector<uint64_t> p) { return BsmcMatrix::BuildFromPattern(sizes, p); };
+  EXPECT_NO_THROW(build({PackBlock(0, 0), PackBlock(0, 2), PackBlock(1, 1), PackBlock(2, 2)}));
+  EXPECT_THROW(build({PackBlock(0, 2), PackBlock(0, 0), PackBlock(1, 1), PackBlock(2, 2)}),
+               std::invalid_argument);  // unsorted
+  EXPECT_THROW(build({PackBlock(0, 0), PackBlock(0, 0), PackBlock(1, 1), PackBlock(2, 2)}),
+               std::invalid_argument);  // duplicate
+  EXPECT_THROW(build({PackBlock(0, 0), PackBlock(1, 0), PackBlock(1, 1), PackBlock(2, 2)}),
+               std::invalid_argument);  // lower triangle
+  EXPECT_THROW(build({PackBlock(0, 0), PackBlock(0, 1), PackBlock(2, 2)}),
+               std::invalid_argument);  // diagonal 1 missing
+}
+
+TEST(BsmcMatrix, PackedBlockIdsRoundTripNearInt32Max) {
+  for (int32_t row : {0, 1, INT32_MAX - 1, INT32_MAX}) {
+    for (int32_t col : {row, INT32_MAX}) {
+      const uint64_t p = PackBlock(row, col);
+      EXPECT_EQ(PackedRow(p), row);
+      EXPECT_EQ(PackedCol(p), col);
+    }
+  }
+  EXPECT_LT(PackBlock(INT32_MAX - 1, INT32_MAX), PackBlock(INT32_MAX, INT32_MAX));
+}
+
+}  // namespace
+}  // namespace dba
