@@ -1,11 +1,13 @@
-// BAL text parser: tokens via std::from_chars over the line buffer, then a
-// stable counting sort of the observations by point; see bal_reader.h.
+// BAL text parser: tokens via std::from_chars over the line buffer;
+// observations go straight to their point-major place when the file groups
+// them by point, else a stable counting sort follows; see bal_reader.h.
 #include "dba/io/bal_reader.h"
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <new>
 #include <string_view>
 #include <vector>
 
@@ -106,6 +108,17 @@ class Parser {
 
 std::string Str(int64_t v) { return std::to_string(v); }
 
+// push_back that grows the capacity by doubling but never past `limit` (the
+// header's count), so a truthful header leaves no slack to shrink away.
+template <typename T>
+void PushCapped(std::vector<T>& v, T value, int64_t limit) {
+  if (v.size() == v.capacity()) {
+    v.reserve(static_cast<size_t>(std::min<int64_t>(
+        limit, std::max<int64_t>(2 * static_cast<int64_t>(v.capacity()), 1024))));
+  }
+  v.push_back(value);
+}
+
 }  // namespace
 
 BalProblem ReadBal(const std::string& path) {
@@ -132,13 +145,28 @@ BalProblem ReadBal(const std::string& path) {
             Str(num_observations) + ": every point needs an observation");
   }
 
-  // Observations in file order.
-  std::vector<int32_t> file_camera;
-  std::vector<int64_t> file_point;
-  std::vector<double> file_pixel;
-  file_camera.reserve(std::min(num_observations, kMaxReserve));
-  file_point.reserve(std::min(num_observations, kMaxReserve));
-  file_pixel.reserve(2 * std::min(num_observations, kMaxReserve));
+  // Observations, written straight into their point-major place while the
+  // file lists them grouped by point (as BAL files do): then no copy of the
+  // observations is ever made. Only if a point index goes down do we start
+  // recording point indices, and sort at the end.
+  BalProblem problem;
+  std::vector<int64_t>& offsets = problem.point_offsets;
+  offsets.assign(1, 0);
+  offsets.reserve(std::min(num_points, kMaxReserve) + 1);
+  // Reserve what the header says: pages are only backed once written, so a
+  // header that lies costs address space, not memory. If even the address
+  // space is refused, grow as the data comes.
+  try {
+    problem.obs_camera.reserve(num_observations);
+    problem.obs_pixel.reserve(2 * num_observations);
+  } catch (const std::bad_alloc&) {
+    std::vector<int32_t>().swap(problem.obs_camera);
+    std::vector<double>().swap(problem.obs_pixel);
+  }
+  std::vector<int64_t> counts;        // observations per point, by point id
+  std::vector<int64_t> file_point;    // point of every observation, once unsorted
+  bool grouped = true;
+  int64_t last_point = -1;
   for (int64_t j = 0; j < num_observations; ++j) {
     auto what = [&] {
       return "observation " + Str(j) + " of " + Str(num_observations) +
@@ -154,13 +182,27 @@ BalProblem ReadBal(const std::string& path) {
       in.Fail("point index " + Str(k) + " of observation " + Str(j) +
               " is out of range [0, " + Str(num_points) + ")");
     }
-    file_camera.push_back(static_cast<int32_t>(c));
-    file_point.push_back(k);
-    file_pixel.push_back(in.Double(what));
-    file_pixel.push_back(in.Double(what));
+    PushCapped(problem.obs_camera, static_cast<int32_t>(c), num_observations);
+    PushCapped(problem.obs_pixel, in.Double(what), 2 * num_observations);
+    PushCapped(problem.obs_pixel, in.Double(what), 2 * num_observations);
+    if (grouped && k < last_point) {
+      // Not grouped after all: recover the (sorted) point ids so far.
+      grouped = false;
+      file_point.reserve(std::min(num_observations, kMaxReserve));
+      for (int64_t p = 0; p < static_cast<int64_t>(counts.size()); ++p) {
+        file_point.insert(file_point.end(), counts[p], p);
+      }
+    }
+    if (grouped) {
+      if (k >= static_cast<int64_t>(counts.size())) counts.resize(k + 1, 0);
+    } else {
+      file_point.push_back(k);
+      if (k >= static_cast<int64_t>(counts.size())) counts.resize(k + 1, 0);
+    }
+    ++counts[k];
+    last_point = k;
   }
 
-  BalProblem problem;
   // Cameras.
   problem.cameras.reserve(kBalCameraSize * std::min(num_cameras, kMaxReserve));
   for (int64_t i = 0; i < num_cameras; ++i) {
@@ -173,9 +215,10 @@ BalProblem ReadBal(const std::string& path) {
 
   // Points (num_points <= num_observations, which are now in memory, so these
   // allocations are backed by real data).
-  std::vector<int64_t>& offsets = problem.point_offsets;
+  counts.resize(num_points, 0);
   offsets.assign(num_points + 1, 0);
-  for (int64_t k : file_point) ++offsets[k + 1];
+  for (int64_t k = 0; k < num_points; ++k) offsets[k + 1] = counts[k];
+  std::vector<int64_t>().swap(counts);
   problem.points.resize(kPointSize * num_points);
   for (int64_t k = 0; k < num_points; ++k) {
     auto what = [&] {
@@ -190,16 +233,20 @@ BalProblem ReadBal(const std::string& path) {
             std::string(extra) + "' (do the header counts match the data?)");
   }
 
-  // Stable counting sort by point: offsets[k] .. offsets[k+1] is point k.
   for (int64_t k = 0; k < num_points; ++k) offsets[k + 1] += offsets[k];
-  std::vector<int64_t> next(offsets.begin(), offsets.end() - 1);
-  problem.obs_camera.resize(num_observations);
-  problem.obs_pixel.resize(2 * num_observations);
-  for (int64_t j = 0; j < num_observations; ++j) {
-    const int64_t d = next[file_point[j]]++;
-    problem.obs_camera[d] = file_camera[j];
-    problem.obs_pixel[2 * d] = file_pixel[2 * j];
-    problem.obs_pixel[2 * d + 1] = file_pixel[2 * j + 1];
+  if (!grouped) {
+    // Stable counting sort by point: offsets[k] .. offsets[k+1] is point k.
+    std::vector<int64_t> next(offsets.begin(), offsets.end() - 1);
+    std::vector<int32_t> camera(num_observations);
+    std::vector<double> pixel(2 * num_observations);
+    for (int64_t j = 0; j < num_observations; ++j) {
+      const int64_t d = next[file_point[j]]++;
+      camera[d] = problem.obs_camera[j];
+      pixel[2 * d] = problem.obs_pixel[2 * j];
+      pixel[2 * d + 1] = problem.obs_pixel[2 * j + 1];
+    }
+    problem.obs_camera.swap(camera);
+    problem.obs_pixel.swap(pixel);
   }
   return problem;
 }
