@@ -13,7 +13,7 @@
 #include "dba/common/memory.h"
 #include "dba/common/timer.h"
 #include "dba/io/atomic_file.h"
-#include "dba/io/bal_reader.h"
+#include "dba/io/read_problem.h"
 #include "dba/io/bal_writer.h"
 #include "dba/app/solve_report.h"
 #include "dba/lm/bundle_adjust.h"
@@ -169,7 +169,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   BalProblem problem;
   if (main) {
     Timer load_timer;
-    problem = ReadBal(options.input);
+    problem = ReadProblem(options.input);
     report.load_seconds = load_timer.Seconds();
     report.num_cameras = problem.num_cameras();
     report.num_points = problem.num_points();
@@ -195,12 +195,12 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   if (!options.output.empty()) {
     if (comm->size() > 1) {
       // The observations were handed to the ranks: read them again.
-      BalProblem full = ReadBal(options.input);
+      BalProblem full = ReadProblem(options.input);
       full.cameras.swap(problem.cameras);
       full.points.swap(problem.points);
       problem = std::move(full);
     }
-    WriteBal(problem, options.output);
+    WriteProblem(problem, options.output);
   }
   report.write_seconds = write_timer.Seconds();
   report.peak_memory_bytes = PeakResidentBytes();

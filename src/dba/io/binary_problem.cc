@@ -1,0 +1,349 @@
+// The dba binary problem format; see binary_problem.h.
+#include "dba/io/binary_problem.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+
+#include "dba/common/error.h"
+
+namespace dba {
+namespace {
+
+static_assert(std::endian::native == std::endian::little,
+              "the binary format is read and written on little-endian machines");
+
+constexpr char kMagic[8] = {'D', 'B', 'A', 'P', 'R', 'O', 'B', '\n'};
+constexpr uint32_t kVersion = 1;
+constexpr uint32_t kByteOrderMark = 0x01020304;
+constexpr uint32_t kBalModel = 1;
+constexpr int64_t kHeaderSize = 128;
+
+struct RawHeader {
+  char magic[8];
+  uint32_t version;
+  uint32_t byte_order;
+  uint32_t camera_model;
+  uint32_t camera_size;
+  uint64_t counts[3];
+  uint64_t sections[5];
+  uint64_t file_size;
+  char padding[kHeaderSize - 8 - 16 - 24 - 40 - 8];
+};
+static_assert(sizeof(RawHeader) == kHeaderSize);
+
+int64_t Align8(int64_t x) { return (x + 7) & ~int64_t{7}; }
+
+// A file descriptor that closes itself.
+class File {
+ public:
+  explicit File(const std::string& path) : path_(path), fd_(::open(path.c_str(), O_RDONLY)) {
+    if (fd_ < 0) throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
+  }
+  ~File() { ::close(fd_); }
+  File(const File&) = delete;
+  File& operator=(const File&) = delete;
+
+  int64_t Size() const {
+    const off_t end = ::lseek(fd_, 0, SEEK_END);
+    if (end < 0) throw InputError(path_, 0, std::string("cannot seek: ") + std::strerror(errno));
+    return end;
+  }
+  // Reads exactly `bytes` at `offset`.
+  void Read(int64_t offset, void* data, int64_t bytes, const char* what) const {
+    char* p = static_cast<char*>(data);
+    while (bytes > 0) {
+      const ssize_t n = ::pread(fd_, p, static_cast<size_t>(std::min<int64_t>(bytes, 1 << 30)),
+                                offset);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        throw InputError(path_, 0,
+                         std::string("truncated or unreadable while reading ") + what +
+                             " at byte " + std::to_string(offset) +
+                             (n < 0 ? std::string(": ") + std::strerror(errno) : ""));
+      }
+      p += n;
+      offset += n;
+      bytes -= n;
+    }
+  }
+  template <typename T>
+  std::vector<T> ReadArray(int64_t offset, int64_t count, const char* what) const {
+    std::vector<T> v(count);
+    Read(offset, v.data(), count * int64_t{sizeof(T)}, what);
+    return v;
+  }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  int fd_;
+};
+
+BinaryProblemHeader Layout(int64_t cameras, int64_t points, int64_t observations) {
+  BinaryProblemHeader h;
+  h.version = kVersion;
+  h.camera_model = kBalModel;
+  h.camera_size = kBalCameraSize;
+  h.num_cameras = cameras;
+  h.num_points = points;
+  h.num_observations = observations;
+  h.cameras_offset = kHeaderSize;
+  h.points_offset = h.cameras_offset + 8 * kBalCameraSize * cameras;
+  h.point_offsets_offset = h.points_offset + 8 * kPointSize * points;
+  h.obs_camera_offset = h.point_offsets_offset + 8 * (points + 1);
+  h.obs_pixel_offset = Align8(h.obs_camera_offset + 4 * observations);
+  h.file_size = h.obs_pixel_offset + 16 * observations;
+  return h;
+}
+
+void CheckFinite(const File& f, const std::vector<double>& v, const char* what) {
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (!std::isfinite(v[i])) {
+      throw InputError(f.path(), 0, std::string("non-finite value in ") + what + " at index " +
+                                        std::to_string(i));
+    }
+  }
+}
+
+void CheckOffsets(const File& f, const std::vector<int64_t>& offsets, int64_t first_point,
+                  int64_t num_observations) {
+  for (size_t k = 0; k + 1 < offsets.size(); ++k) {
+    if (offsets[k + 1] <= offsets[k] || offsets[k + 1] > num_observations) {
+      throw InputError(f.path(), 0,
+                       "point offsets not increasing or past the observation count at point " +
+                           std::to_string(first_point + static_cast<int64_t>(k)) +
+                           " (every point needs an observation)");
+    }
+  }
+}
+
+void CheckCameras(const File& f, std::span<const int32_t> cameras, int64_t num_cameras,
+                  int64_t first_observation) {
+  for (size_t j = 0; j < cameras.size(); ++j) {
+    if (cameras[j] < 0 || cameras[j] >= num_cameras) {
+      throw InputError(f.path(), 0,
+                       "camera index " + std::to_string(cameras[j]) + " of observation " +
+                           std::to_string(first_observation + static_cast<int64_t>(j)) +
+                           " is out of range [0, " + std::to_string(num_cameras) + ")");
+    }
+  }
+}
+
+}  // namespace
+
+bool IsBinaryProblem(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  if (fd < 0) return false;
+  char magic[8] = {};
+  const bool ok = ::pread(fd, magic, 8, 0) == 8 && std::memcmp(magic, kMagic, 8) == 0;
+  ::close(fd);
+  return ok;
+}
+
+BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
+  const File f(path);
+  const int64_t size = f.Size();
+  if (size < kHeaderSize) {
+    throw InputError(path, 0, "truncated: " + std::to_string(size) +
+                                  " bytes, shorter than the 128-byte header");
+  }
+  RawHeader raw;
+  f.Read(0, &raw, kHeaderSize, "the header");
+  if (std::memcmp(raw.magic, kMagic, 8) != 0) {
+    throw InputError(path, 0, "not a dba binary problem (bad magic)");
+  }
+  if (raw.byte_order != kByteOrderMark) {
+    throw InputError(path, 0, "written with another byte order (big-endian?)");
+  }
+  if (raw.version != kVersion) {
+    throw InputError(path, 0, "format version " + std::to_string(raw.version) +
+                                  ", this dba reads version " + std::to_string(kVersion));
+  }
+  if (raw.camera_model != kBalModel || raw.camera_size != kBalCameraSize) {
+    throw InputError(path, 0, "camera model " + std::to_string(raw.camera_model) + " of size " +
+                                  std::to_string(raw.camera_size) +
+                                  " is not supported (expected 1, BAL, size 9)");
+  }
+  const uint64_t limit = uint64_t{1} << 60;
+  if (raw.counts[0] == 0 || raw.counts[1] == 0 || raw.counts[2] == 0 || raw.counts[0] > (1u << 31) ||
+      raw.counts[1] > limit || raw.counts[2] > limit || raw.counts[1] > raw.counts[2]) {
+    throw InputError(path, 0, "implausible counts in the header");
+  }
+  const BinaryProblemHeader h = Layout(static_cast<int64_t>(raw.counts[0]),
+                                       static_cast<int64_t>(raw.counts[1]),
+                                       static_cast<int64_t>(raw.counts[2]));
+  const int64_t sections[5] = {h.cameras_offset, h.points_offset, h.point_offsets_offset,
+                               h.obs_camera_offset, h.obs_pixel_offset};
+  for (int s = 0; s < 5; ++s) {
+    if (static_cast<int64_t>(raw.sections[s]) != sections[s]) {
+      throw InputError(path, 0, "section table does not match the counts (corrupt header)");
+    }
+  }
+  if (static_cast<int64_t>(raw.file_size) != h.file_size || size != h.file_size) {
+    throw InputError(path, 0, "truncated or padded: " + std::to_string(size) +
+                                  " bytes, the header's counts need " +
+                                  std::to_string(h.file_size));
+  }
+  return h;
+}
+
+BalProblem ReadBinaryProblem(const std::string& path) {
+  const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
+  const File f(path);
+  BalProblem p;
+  p.cameras = f.ReadArray<double>(h.cameras_offset, kBalCameraSize * h.num_cameras, "cameras");
+  CheckFinite(f, p.cameras, "cameras");
+  p.points = f.ReadArray<double>(h.points_offset, kPointSize * h.num_points, "points");
+  CheckFinite(f, p.points, "points");
+  p.point_offsets = f.ReadArray<int64_t>(h.point_offsets_offset, h.num_points + 1, "point offsets");
+  if (p.point_offsets.front() != 0 || p.point_offsets.back() != h.num_observations) {
+    throw InputError(path, 0, "point offsets do not span the observations");
+  }
+  CheckOffsets(f, p.point_offsets, 0, h.num_observations);
+  p.obs_camera = f.ReadArray<int32_t>(h.obs_camera_offset, h.num_observations, "observation cameras");
+  CheckCameras(f, p.obs_camera, h.num_cameras, 0);
+  p.obs_pixel = f.ReadArray<double>(h.obs_pixel_offset, 2 * h.num_observations, "observation pixels");
+  CheckFinite(f, p.obs_pixel, "observation pixels");
+  return p;
+}
+
+void ForEachVisibilityChunk(
+    const std::string& path, int64_t max_observations_per_chunk,
+    const std::function<void(int64_t, std::span<const int64_t>, std::span<const int32_t>)>& fn) {
+  const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
+  const File f(path);
+  const int64_t points_per_read = 1 << 20;
+  std::vector<int32_t> cameras;
+  for (int64_t k0 = 0; k0 < h.num_points;) {
+    const int64_t n = std::min(points_per_read, h.num_points - k0);
+    std::vector<int64_t> offsets =
+        f.ReadArray<int64_t>(h.point_offsets_offset + 8 * k0, n + 1, "point offsets");
+    CheckOffsets(f, offsets, k0, h.num_observations);
+    // Split the read into chunks of at most max_observations_per_chunk
+    // (a single point may exceed it).
+    int64_t a = 0;
+    while (a < n) {
+      int64_t b = a + 1;
+      while (b < n && offsets[b + 1] - offsets[a] <= max_observations_per_chunk) ++b;
+      const int64_t obs0 = offsets[a], obs1 = offsets[b];
+      cameras.resize(obs1 - obs0);
+      f.Read(h.obs_camera_offset + 4 * obs0, cameras.data(), 4 * (obs1 - obs0),
+             "observation cameras");
+      CheckCameras(f, cameras, h.num_cameras, obs0);
+      fn(k0 + a, std::span<const int64_t>(offsets.data() + a, b - a + 1), cameras);
+      a = b;
+    }
+    k0 += n;
+  }
+}
+
+BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> point_group,
+                            int32_t group, std::vector<int64_t>* global_point) {
+  const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
+  if (static_cast<int64_t>(point_group.size()) != h.num_points) {
+    throw std::invalid_argument("ReadBinaryPoints: point_group has the wrong size");
+  }
+  const File f(path);
+  BalProblem p;
+  p.cameras = f.ReadArray<double>(h.cameras_offset, kBalCameraSize * h.num_cameras, "cameras");
+  CheckFinite(f, p.cameras, "cameras");
+  p.point_offsets.push_back(0);
+  global_point->clear();
+  std::vector<double> pixels, xyz;
+  ForEachVisibilityChunk(
+      path, int64_t{1} << 22,
+      [&](int64_t first, std::span<const int64_t> offsets, std::span<const int32_t> cameras) {
+        const int64_t n = static_cast<int64_t>(offsets.size()) - 1;
+        bool any = false;
+        for (int64_t k = 0; k < n && !any; ++k) any = point_group[first + k] == group;
+        if (!any) return;
+        const int64_t obs0 = offsets[0];
+        xyz.resize(3 * n);
+        f.Read(h.points_offset + 24 * first, xyz.data(), 24 * n, "points");
+        CheckFinite(f, xyz, "points");
+        pixels.resize(2 * (offsets[n] - obs0));
+        f.Read(h.obs_pixel_offset + 16 * obs0, pixels.data(), 16 * (offsets[n] - obs0),
+               "observation pixels");
+        for (int64_t k = 0; k < n; ++k) {
+          if (point_group[first + k] != group) continue;
+          global_point->push_back(first + k);
+          p.points.insert(p.points.end(), xyz.begin() + 3 * k, xyz.begin() + 3 * k + 3);
+          for (int64_t o = offsets[k]; o < offsets[k + 1]; ++o) {
+            p.obs_camera.push_back(cameras[o - obs0]);
+            const double x = pixels[2 * (o - obs0)], y = pixels[2 * (o - obs0) + 1];
+            if (!std::isfinite(x) || !std::isfinite(y)) {
+              throw InputError(path, 0, "non-finite pixel in observation " + std::to_string(o));
+            }
+            p.obs_pixel.push_back(x);
+            p.obs_pixel.push_back(y);
+          }
+          p.point_offsets.push_back(p.num_observations());
+        }
+      });
+  return p;
+}
+
+void WriteBinaryProblem(const BalProblem& p, const std::string& path) {
+  const BinaryProblemHeader h = Layout(p.num_cameras(), p.num_points(), p.num_observations());
+  RawHeader raw{};
+  std::memcpy(raw.magic, kMagic, 8);
+  raw.version = kVersion;
+  raw.byte_order = kByteOrderMark;
+  raw.camera_model = kBalModel;
+  raw.camera_size = kBalCameraSize;
+  raw.counts[0] = h.num_cameras;
+  raw.counts[1] = h.num_points;
+  raw.counts[2] = h.num_observations;
+  const int64_t sections[5] = {h.cameras_offset, h.points_offset, h.point_offsets_offset,
+                               h.obs_camera_offset, h.obs_pixel_offset};
+  for (int s = 0; s < 5; ++s) raw.sections[s] = sections[s];
+  raw.file_size = h.file_size;
+
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd < 0) {
+    throw std::runtime_error(path + ": cannot create '" + tmp + "': " + std::strerror(errno));
+  }
+  auto fail = [&](const char* what) {
+    const int err = errno;
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    throw std::runtime_error(path + ": " + what + ": " + std::strerror(err));
+  };
+  auto write = [&](const void* data, int64_t bytes) {
+    const char* c = static_cast<const char*>(data);
+    while (bytes > 0) {
+      const ssize_t n = ::write(fd, c, static_cast<size_t>(std::min<int64_t>(bytes, 1 << 30)));
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) fail("write failed");
+      c += n;
+      bytes -= n;
+    }
+  };
+  write(&raw, kHeaderSize);
+  write(p.cameras.data(), 8 * static_cast<int64_t>(p.cameras.size()));
+  write(p.points.data(), 8 * static_cast<int64_t>(p.points.size()));
+  write(p.point_offsets.data(), 8 * static_cast<int64_t>(p.point_offsets.size()));
+  write(p.obs_camera.data(), 4 * static_cast<int64_t>(p.obs_camera.size()));
+  const char zeros[8] = {};
+  write(zeros, h.obs_pixel_offset - (h.obs_camera_offset + 4 * h.num_observations));
+  write(p.obs_pixel.data(), 8 * static_cast<int64_t>(p.obs_pixel.size()));
+  if (::fsync(fd) != 0) fail("fsync failed");
+  if (::close(fd) != 0) {
+    ::unlink(tmp.c_str());
+    throw std::runtime_error(path + ": close failed: " + std::strerror(errno));
+  }
+  if (::rename(tmp.c_str(), path.c_str()) != 0) {
+    const int err = errno;
+    ::unlink(tmp.c_str());
+    throw std::runtime_error(path + ": cannot rename '" + tmp + "' over it: " + std::strerror(err));
+  }
+}
+
+}  // namespace dba
