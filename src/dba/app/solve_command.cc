@@ -167,14 +167,23 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   report.input = options.input;
   report.threads = lm.num_threads;
   BalProblem problem;
+  // Distributed runs on a binary file: every rank reads its own points.
+  const bool ranks_read_file = comm->size() > 1 && IsBinaryProblem(options.input);
   if (main) {
     Timer load_timer;
-    problem = ReadProblem(options.input);
+    if (ranks_read_file) {
+      const BinaryProblemHeader h = ReadBinaryProblemHeader(options.input);
+      report.num_cameras = h.num_cameras;
+      report.num_points = h.num_points;
+      report.num_observations = h.num_observations;
+    } else {
+      problem = ReadProblem(options.input);
+      report.num_cameras = problem.num_cameras();
+      report.num_points = problem.num_points();
+      report.num_observations = problem.num_observations();
+      report.problem_bytes = problem.MemoryBytes();
+    }
     report.load_seconds = load_timer.Seconds();
-    report.num_cameras = problem.num_cameras();
-    report.num_points = problem.num_points();
-    report.num_observations = problem.num_observations();
-    report.problem_bytes = problem.MemoryBytes();
     out << "dba solve " << options.input << ": " << report.num_cameras << " cameras, "
         << report.num_points << " points, " << report.num_observations
         << " observations, " << comm->size() << (comm->size() == 1 ? " rank, " : " ranks, ")
@@ -187,7 +196,9 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   if (comm->size() == 1) {
     report.solve.ba = BundleAdjust(lm, &problem, log);
   } else {
-    report.solve = DistributedBundleAdjust(comm, lm, options.distributed, &problem, log);
+    report.solve = DistributedBundleAdjust(comm, lm, options.distributed,
+                                           ranks_read_file ? options.input : std::string(),
+                                           &problem, log);
   }
   if (!main) return 0;
 

@@ -2,6 +2,7 @@
 #include "dba/cluster/distributed_solve.h"
 
 #include "dba/common/timer.h"
+#include "dba/io/binary_problem.h"
 
 namespace dba {
 namespace {
@@ -35,11 +36,51 @@ void Release(std::vector<T>& v) {
   std::vector<T>().swap(v);
 }
 
+// This rank's points read from the binary file, cameras renumbered locally.
+RankShare ReadShare(const std::string& path, const std::vector<int32_t>& group, int32_t g) {
+  RankShare share;
+  share.problem = ReadBinaryPoints(path, group, g, &share.global_point);
+  // Keep only the cameras the points touch, renumbered in global order.
+  BalProblem& p = share.problem;
+  std::vector<int32_t> local(p.num_cameras(), -1);
+  for (int32_t c : p.obs_camera) local[c] = 0;
+  std::vector<double> cameras;
+  for (int64_t i = 0; i < static_cast<int64_t>(local.size()); ++i) {
+    if (local[i] < 0) continue;
+    local[i] = static_cast<int32_t>(share.global_camera.size());
+    share.global_camera.push_back(static_cast<int32_t>(i));
+    cameras.insert(cameras.end(), p.camera(i), p.camera(i) + kBalCameraSize);
+  }
+  for (int32_t& c : p.obs_camera) c = local[c];
+  p.cameras.swap(cameras);
+  return share;
+}
+
+// Point groups of a binary input: computed by every rank for the equal
+// split, streamed by the main rank and broadcast for the camera-locality one.
+std::vector<int32_t> BinaryPointGroups(Communicator* comm, const std::string& path,
+                                       const BinaryProblemHeader& h, int groups,
+                                       PartitionScheme scheme) {
+  if (scheme == PartitionScheme::kEqual || groups == 1) {
+    return PartitionPoints(h.num_cameras, h.num_points, h.num_observations, groups,
+                           PartitionScheme::kEqual, {});
+  }
+  std::vector<int32_t> group(h.num_points);
+  if (comm->is_main()) {
+    group = PartitionPoints(
+        h.num_cameras, h.num_points, h.num_observations, groups, scheme,
+        [&](const VisibilityChunkFn& visit) { ForEachVisibilityChunk(path, 1 << 18, visit); });
+  }
+  comm->Broadcast(Traffic::kDistribution, std::span<int32_t>(group));
+  return group;
+}
+
 }  // namespace
 
 DistributedSummary DistributedBundleAdjust(
     Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
-    BalProblem* problem, const std::function<void(const IterationSummary&)>& on_iteration) {
+    const std::string& binary_input, BalProblem* problem,
+    const std::function<void(const IterationSummary&)>& on_iteration) {
   DistributedSummary summary;
   summary.ranks = comm->size();
   summary.partition = distributed.partition;
@@ -53,33 +94,56 @@ DistributedSummary DistributedBundleAdjust(
   comm->Broadcast(Traffic::kControl, &main_forms);
   summary.main_forms = main_forms != 0;
 
+  const bool from_file = !binary_input.empty();
+  BinaryProblemHeader header;
+  if (from_file) header = ReadBinaryProblemHeader(binary_input);
+  const int first_rank = summary.main_forms ? 0 : 1;
+  const int groups = comm->size() - first_rank;
+
   if (!comm->is_main()) {
-    RankShare share = RecvShare(comm);
+    RankShare share;
+    if (from_file) {
+      const std::vector<int32_t> group =
+          BinaryPointGroups(comm, binary_input, header, groups, distributed.partition);
+      share = ReadShare(binary_input, group, comm->rank() - first_rank);
+    } else {
+      share = RecvShare(comm);
+    }
     LocalPointWorkers workers(&share.problem, options.damping, options.num_threads);
     RunPointRank(comm, &share, &workers);
     return summary;
   }
 
-  // Main rank: partition and send the shares.
+  // Main rank: partition and hand out the shares.
   Timer distribution;
-  const int first_rank = summary.main_forms ? 0 : 1;
-  const int groups = comm->size() - first_rank;
-  const std::vector<int32_t> group =
-      PartitionPoints(*problem, groups, distributed.partition);
   RankShare own;
-  for (int g = 0; g < groups; ++g) {
-    const int rank = g + first_rank;
-    if (rank == 0) {
-      own = ExtractShare(*problem, group, g);
-    } else {
-      SendShare(comm, rank, ExtractShare(*problem, group, g));
+  int64_t num_observations = 0;
+  if (from_file) {
+    const std::vector<int32_t> group =
+        BinaryPointGroups(comm, binary_input, header, groups, distributed.partition);
+    if (summary.main_forms) own = ReadShare(binary_input, group, 0);
+    // The main rank keeps cameras and point coordinates, not observations.
+    *problem = BalProblem{};
+    problem->cameras = ReadBinaryCameras(binary_input);
+    problem->points = ReadBinaryPointCoordinates(binary_input);
+    num_observations = header.num_observations;
+  } else {
+    const std::vector<int32_t> group =
+        PartitionPoints(*problem, groups, distributed.partition);
+    for (int g = 0; g < groups; ++g) {
+      const int rank = g + first_rank;
+      if (rank == 0) {
+        own = ExtractShare(*problem, group, g);
+      } else {
+        SendShare(comm, rank, ExtractShare(*problem, group, g));
+      }
     }
+    // The observations now live on the ranks.
+    num_observations = problem->num_observations();
+    Release(problem->point_offsets);
+    Release(problem->obs_camera);
+    Release(problem->obs_pixel);
   }
-  // The observations now live on the ranks.
-  const int64_t num_observations = problem->num_observations();
-  Release(problem->point_offsets);
-  Release(problem->obs_camera);
-  Release(problem->obs_pixel);
   summary.distribution_seconds = distribution.Seconds();
 
   Timer symbolic;

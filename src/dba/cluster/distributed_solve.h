@@ -6,6 +6,7 @@
 #pragma once
 
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "dba/cluster/communicator.h"
@@ -35,12 +36,19 @@ struct DistributedSummary {
   double distribution_seconds = 0.0;        // partition + sending the shares
 };
 
-// Collective. On the main rank `problem` is the whole problem; on return its
-// cameras and points are the adjusted ones and its observations have been
-// released (they live on the ranks during the solve). Ignored elsewhere.
+// Collective. Two ways to get the points to the ranks:
+//  - `binary_input` empty: on the main rank `problem` is the whole problem;
+//    the main rank partitions it and sends each rank its share, then
+//    releases the observations.
+//  - `binary_input` a dba binary file: every rank reads only its own points
+//    and their observations from it; the main rank streams the visibility
+//    graph to partition (camera-locality scheme) and reads cameras and point
+//    coordinates into `problem`, never the observations.
+// On return the main rank's `problem` holds the adjusted cameras and points
+// (no observations). `problem` is ignored on the other ranks.
 DistributedSummary DistributedBundleAdjust(
     Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
-    BalProblem* problem,
+    const std::string& binary_input, BalProblem* problem,
     const std::function<void(const IterationSummary&)>& on_iteration = {});
 
 }  // namespace dba

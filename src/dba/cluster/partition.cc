@@ -2,6 +2,7 @@
 #include "dba/cluster/partition.h"
 
 #include <algorithm>
+#include <iterator>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
@@ -22,10 +23,40 @@ PartitionScheme ParsePartitionScheme(const std::string& name) {
                               "' (expected 'equal' or 'cameras')");
 }
 
+namespace {
+
+VisibilityStream WholeProblem(const BalProblem& problem) {
+  return [&problem](const VisibilityChunkFn& visit) {
+    visit(0, problem.point_offsets, problem.obs_camera);
+  };
+}
+
+}  // namespace
+
 std::vector<int32_t> CameraGraphOrder(const BalProblem& problem) {
-  const int64_t n = problem.num_cameras();
-  const std::vector<uint64_t> blocks =
-      RcsBlockPattern(n, problem.point_offsets, problem.obs_camera);
+  return CameraGraphOrder(problem.num_cameras(), WholeProblem(problem));
+}
+
+std::vector<int32_t> PartitionPoints(const BalProblem& problem, int num_groups,
+                                     PartitionScheme scheme) {
+  return PartitionPoints(problem.num_cameras(), problem.num_points(),
+                         problem.num_observations(), num_groups, scheme,
+                         WholeProblem(problem));
+}
+
+std::vector<int32_t> CameraGraphOrder(int64_t n, const VisibilityStream& stream) {
+  // The camera graph is the off-diagonal RCS pattern: union over chunks.
+  std::vector<uint64_t> blocks;
+  stream([&](int64_t, std::span<const int64_t> offsets, std::span<const int32_t> cameras) {
+    std::vector<int64_t> local(offsets.begin(), offsets.end());
+    for (int64_t& o : local) o -= offsets[0];
+    const std::vector<uint64_t> chunk = RcsBlockPattern(n, local, cameras);
+    std::vector<uint64_t> merged;
+    merged.reserve(blocks.size() + chunk.size());
+    std::set_union(blocks.begin(), blocks.end(), chunk.begin(), chunk.end(),
+                   std::back_inserter(merged));
+    blocks.swap(merged);
+  });
   // Symmetric adjacency lists (CSR) from the upper-triangular block pattern.
   std::vector<int64_t> begin(n + 1, 0);
   for (uint64_t b : blocks) {
@@ -65,9 +96,10 @@ std::vector<int32_t> CameraGraphOrder(const BalProblem& problem) {
   return order;
 }
 
-std::vector<int32_t> PartitionPoints(const BalProblem& problem, int num_groups,
-                                     PartitionScheme scheme) {
-  const int64_t num_points = problem.num_points();
+std::vector<int32_t> PartitionPoints(int64_t num_cameras, int64_t num_points,
+                                     int64_t num_observations, int num_groups,
+                                     PartitionScheme scheme,
+                                     const VisibilityStream& stream) {
   std::vector<int32_t> group(num_points, 0);
   if (num_groups <= 1) return group;
   if (scheme == PartitionScheme::kEqual) {
@@ -77,24 +109,27 @@ std::vector<int32_t> PartitionPoints(const BalProblem& problem, int num_groups,
     return group;
   }
   // Position of every camera in the graph order, and its observation count.
-  const std::vector<int32_t> order = CameraGraphOrder(problem);
-  const int64_t n = problem.num_cameras();
+  const std::vector<int32_t> order = CameraGraphOrder(num_cameras, stream);
+  const int64_t n = num_cameras;
   std::vector<int32_t> position(n);
   for (int64_t p = 0; p < n; ++p) position[order[p]] = static_cast<int32_t>(p);
   // Each point belongs to its first camera in the order; cut the order where
   // the observations of the points so assigned reach equal shares.
-  std::vector<int32_t> first(num_points);
+  // (`group` holds the first camera's position until the cut is known.)
+  std::vector<int32_t>& first = group;
   std::vector<int64_t> obs_at(n, 0);
-  for (int64_t k = 0; k < num_points; ++k) {
-    int32_t best = std::numeric_limits<int32_t>::max();
-    for (int64_t o = problem.point_offsets[k]; o < problem.point_offsets[k + 1]; ++o) {
-      best = std::min(best, position[problem.obs_camera[o]]);
+  stream([&](int64_t k0, std::span<const int64_t> offsets, std::span<const int32_t> cameras) {
+    for (size_t k = 0; k + 1 < offsets.size(); ++k) {
+      int32_t best = std::numeric_limits<int32_t>::max();
+      for (int64_t o = offsets[k]; o < offsets[k + 1]; ++o) {
+        best = std::min(best, position[cameras[o - offsets[0]]]);
+      }
+      first[k0 + k] = best;
+      obs_at[best] += offsets[k + 1] - offsets[k];
     }
-    first[k] = best;
-    obs_at[best] += problem.point_offsets[k + 1] - problem.point_offsets[k];
-  }
+  });
   std::vector<int32_t> group_of_position(n);
-  const int64_t total = problem.num_observations();
+  const int64_t total = num_observations;
   int64_t done = 0;
   for (int64_t p = 0; p < n; ++p) {
     // The group whose share contains the middle of this camera's observations.

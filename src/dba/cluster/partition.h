@@ -12,6 +12,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -28,9 +30,24 @@ PartitionScheme ParsePartitionScheme(const std::string& name);
 std::vector<int32_t> PartitionPoints(const BalProblem& problem, int num_groups,
                                      PartitionScheme scheme);
 
+// The visibility graph as a stream of chunks of whole points: calls
+// visit(first_point, offsets (n + 1 global observation indices), cameras of
+// observations offsets[0] .. offsets[n]) for consecutive chunks.
+using VisibilityChunkFn = std::function<void(int64_t, std::span<const int64_t>,
+                                             std::span<const int32_t>)>;
+using VisibilityStream = std::function<void(const VisibilityChunkFn&)>;
+
+// The same partition from a visibility stream (read twice for kCameraLocality,
+// not at all for kEqual), so the graph never has to be in memory at once.
+std::vector<int32_t> PartitionPoints(int64_t num_cameras, int64_t num_points,
+                                     int64_t num_observations, int num_groups,
+                                     PartitionScheme scheme,
+                                     const VisibilityStream& stream);
+
 // Cameras in breadth-first order over the camera graph (cameras adjacent when
 // they share a point), each component started from its lowest-degree camera,
 // neighbours visited by increasing degree.
 std::vector<int32_t> CameraGraphOrder(const BalProblem& problem);
+std::vector<int32_t> CameraGraphOrder(int64_t num_cameras, const VisibilityStream& stream);
 
 }  // namespace dba

@@ -213,12 +213,29 @@ BalProblem ReadBinaryProblem(const std::string& path) {
   return p;
 }
 
+std::vector<double> ReadBinaryCameras(const std::string& path) {
+  const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
+  const File f(path);
+  std::vector<double> v =
+      f.ReadArray<double>(h.cameras_offset, kBalCameraSize * h.num_cameras, "cameras");
+  CheckFinite(f, v, "cameras");
+  return v;
+}
+
+std::vector<double> ReadBinaryPointCoordinates(const std::string& path) {
+  const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
+  const File f(path);
+  std::vector<double> v = f.ReadArray<double>(h.points_offset, kPointSize * h.num_points, "points");
+  CheckFinite(f, v, "points");
+  return v;
+}
+
 void ForEachVisibilityChunk(
     const std::string& path, int64_t max_observations_per_chunk,
     const std::function<void(int64_t, std::span<const int64_t>, std::span<const int32_t>)>& fn) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
   const File f(path);
-  const int64_t points_per_read = 1 << 20;
+  const int64_t points_per_read = 1 << 18;
   std::vector<int32_t> cameras;
   for (int64_t k0 = 0; k0 < h.num_points;) {
     const int64_t n = std::min(points_per_read, h.num_points - k0);
@@ -257,7 +274,7 @@ BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> po
   global_point->clear();
   std::vector<double> pixels, xyz;
   ForEachVisibilityChunk(
-      path, int64_t{1} << 22,
+      path, int64_t{1} << 18,
       [&](int64_t first, std::span<const int64_t> offsets, std::span<const int32_t> cameras) {
         const int64_t n = static_cast<int64_t>(offsets.size()) - 1;
         bool any = false;
