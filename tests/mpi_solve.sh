@@ -37,6 +37,23 @@ for problem in "$root"/../shared/data/bal/*.bz2; do
   done
 done
 
+# From a binary file every rank reads its own points: same result.
+problem=$root/../shared/data/bal/problem-49-7776-pre.txt.bz2
+"$dba" convert "$problem" "$tmp/p49.dba" >/dev/null
+"$dba" solve "$problem" -q --report "$tmp/single.json" >/dev/null
+for n in 2 3; do
+  for partition in equal cameras; do
+    mpirun_n "$n" "$dba" solve "$tmp/p49.dba" -q --partition "$partition" --report "$tmp/bin.json" >/dev/null 2>&1 \
+      || fail "binary input -np $n --partition $partition exited non-zero"
+    if awk -v a="$(final_cost "$tmp/single.json")" -v b="$(final_cost "$tmp/bin.json")" \
+         'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-9 * a) }'; then
+      passes=$((passes + 1)); echo "ok   binary input -np $n --partition $partition"
+    else
+      fail "binary input -np $n --partition $partition: $(final_cost "$tmp/bin.json") vs $(final_cost "$tmp/single.json")"
+    fi
+  done
+done
+
 # The distributed summary reports every rank and the communication.
 problem=$root/../shared/data/bal/problem-21-11315-pre.txt.bz2
 mpirun_n 3 "$dba" solve "$problem" -q --main-rank coordinates -o "$tmp/out3.txt" \

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "dba/app/convert_command.h"
 #include "dba/app/solve_command.h"
 
 namespace {
@@ -18,6 +19,10 @@ struct Command {
 const Command kCommands[] = {
     {"solve", "solve INPUT [-o OUTPUT] [--report FILE.json]   bundle-adjust a problem",
      dba::SolveMain},
+    {"convert", "convert INPUT OUTPUT                          BAL text (.txt/.bz2) <-> binary (.dba)",
+     dba::ConvertMain},
+    {"info", "info FILE                                     counts, track and camera statistics, RCS size",
+     dba::InfoMain},
 };
 
 void PrintUsage(std::ostream& out) {

@@ -1,0 +1,123 @@
+// `dba convert` and `dba info`; see convert_command.h.
+#include "dba/app/convert_command.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+
+#include "dba/bsmc/bsmc_matrix.h"
+#include "dba/common/timer.h"
+#include "dba/io/read_problem.h"
+#include "dba/rcs/rcs_pattern.h"
+
+namespace dba {
+namespace {
+
+bool WantsHelp(const std::vector<std::string>& args) {
+  return std::find(args.begin(), args.end(), "--help") != args.end() ||
+         std::find(args.begin(), args.end(), "-h") != args.end();
+}
+
+struct Stats {
+  int64_t min = 0, max = 0;
+  double mean = 0;
+};
+
+template <typename F>
+Stats Statistics(int64_t n, F value) {
+  Stats s;
+  if (n == 0) return s;
+  s.min = s.max = value(0);
+  double sum = 0;
+  for (int64_t i = 0; i < n; ++i) {
+    const int64_t v = value(i);
+    s.min = std::min(s.min, v);
+    s.max = std::max(s.max, v);
+    sum += static_cast<double>(v);
+  }
+  s.mean = sum / static_cast<double>(n);
+  return s;
+}
+
+}  // namespace
+
+int ConvertMain(const std::vector<std::string>& args) {
+  if (WantsHelp(args) || args.size() != 2) {
+    (WantsHelp(args) ? std::cout : std::cerr)
+        << "Usage: dba convert INPUT OUTPUT\n"
+           "\n"
+           "Converts between BAL text (plain or .bz2) and the dba binary format,\n"
+           "losslessly. The input kind is detected by content; the output kind by\n"
+           "the extension: .dba is binary, .bz2 is compressed BAL, anything else\n"
+           "BAL text. The output is written to a temporary name and renamed.\n";
+    return WantsHelp(args) ? 0 : 2;
+  }
+  try {
+    Timer timer;
+    const BalProblem problem = ReadProblem(args[0]);
+    WriteProblem(problem, args[1]);
+    std::printf("%s -> %s: %ld cameras, %ld points, %ld observations, %.2f s\n",
+                args[0].c_str(), args[1].c_str(), static_cast<long>(problem.num_cameras()),
+                static_cast<long>(problem.num_points()),
+                static_cast<long>(problem.num_observations()), timer.Seconds());
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "dba convert: error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+int InfoMain(const std::vector<std::string>& args) {
+  if (WantsHelp(args) || args.size() != 1) {
+    (WantsHelp(args) ? std::cout : std::cerr)
+        << "Usage: dba info FILE\n"
+           "\n"
+           "Prints the counts of a problem (BAL text or binary), the statistics of\n"
+           "its track lengths (observations per point) and camera degrees\n"
+           "(observations per camera, cameras sharing a point with it), and the\n"
+           "size of its reduced camera system in BSMC next to CSR.\n";
+    return WantsHelp(args) ? 0 : 2;
+  }
+  try {
+    const BalProblem p = ReadProblem(args[0]);
+    const int64_t nc = p.num_cameras();
+    const Stats track = Statistics(p.num_points(), [&](int64_t k) {
+      return p.point_offsets[k + 1] - p.point_offsets[k];
+    });
+    std::vector<int64_t> per_camera(nc, 0);
+    for (int32_t c : p.obs_camera) ++per_camera[c];
+    const Stats obs = Statistics(nc, [&](int64_t i) { return per_camera[i]; });
+    const std::vector<uint64_t> pattern = RcsBlockPattern(nc, p.point_offsets, p.obs_camera);
+    std::vector<int64_t> neighbours(nc, 0);
+    for (uint64_t b : pattern) {
+      if (PackedRow(b) != PackedCol(b)) ++neighbours[PackedRow(b)], ++neighbours[PackedCol(b)];
+    }
+    const Stats degree = Statistics(nc, [&](int64_t i) { return neighbours[i]; });
+    const BsmcMatrix S =
+        BsmcMatrix::BuildFromPattern(std::vector<int32_t>(nc, kBalCameraSize), pattern);
+    const double sparsity = (2.0 * static_cast<double>(pattern.size()) - nc) /
+                            (static_cast<double>(nc) * static_cast<double>(nc));
+    std::printf("%s (%s)\n", args[0].c_str(), IsBinaryProblem(args[0]) ? "dba binary" : "BAL text");
+    std::printf("  cameras       %ld\n  points        %ld\n  observations  %ld\n",
+                static_cast<long>(nc), static_cast<long>(p.num_points()),
+                static_cast<long>(p.num_observations()));
+    std::printf("  track length (observations per point)   min %ld  mean %.2f  max %ld\n",
+                static_cast<long>(track.min), track.mean, static_cast<long>(track.max));
+    std::printf("  observations per camera                 min %ld  mean %.1f  max %ld\n",
+                static_cast<long>(obs.min), obs.mean, static_cast<long>(obs.max));
+    std::printf("  cameras sharing a point with a camera   min %ld  mean %.1f  max %ld\n",
+                static_cast<long>(degree.min), degree.mean, static_cast<long>(degree.max));
+    std::printf("  RCS: %ld blocks in the upper triangle, sparsity %.3g\n",
+                static_cast<long>(S.num_blocks()), sparsity);
+    std::printf("  RCS in BSMC: %.3f MiB (structure %.3f MiB, values %.3f MiB); CSR: %.3f MiB (%.2fx)\n",
+                (S.StructureBytes() + S.ValueBytes()) / 1048576.0, S.StructureBytes() / 1048576.0,
+                S.ValueBytes() / 1048576.0, S.CsrBytes() / 1048576.0,
+                static_cast<double>(S.CsrBytes()) / (S.StructureBytes() + S.ValueBytes()));
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "dba info: error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace dba

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# `dba convert` and `dba info`: BAL -> binary -> BAL is lossless (the solver
+# sees the same problem), info prints the counts, bad input is refused.
+# Usage: cli_convert.sh PATH_TO_DBA PROJECT_ROOT
+set -uo pipefail
+dba=$1
+root=$2
+data=$root/../shared/data/bal
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+passes=0
+failures=0
+check() { local name=$1; shift; if "$@"; then passes=$((passes + 1)); else echo "FAILED: $name" >&2; failures=$((failures + 1)); fi; }
+
+"$dba" convert "$data/problem-49-7776-pre.txt.bz2" "$tmp/p.dba" >/dev/null; check "convert to binary" test $? -eq 0
+"$dba" convert "$tmp/p.dba" "$tmp/p.txt" >/dev/null; check "convert back to text" test $? -eq 0
+"$dba" convert "$tmp/p.txt" "$tmp/p2.dba" >/dev/null
+check "binary -> text -> binary is byte-identical" cmp -s "$tmp/p.dba" "$tmp/p2.dba"
+bzcat "$data/problem-49-7776-pre.txt.bz2" | head -1 >"$tmp/header"
+check "text keeps the header" test "$(head -1 "$tmp/p.txt")" = "$(cat "$tmp/header")"
+"$dba" solve "$tmp/p.dba" -q --max-iterations 0 >"$tmp/s1"
+check "solver reads binary at the same initial cost" grep -q "initial cost        8.509125e+05" "$tmp/s1"
+
+"$dba" info "$tmp/p.dba" >"$tmp/info"; check "info exits 0" test $? -eq 0
+for want in "cameras       49" "points        7776" "observations  31843" "track length" "RCS in BSMC"; do
+  check "info shows '$want'" grep -qF "$want" "$tmp/info"
+done
+
+printf 'DBAPROB\nshort' >"$tmp/trunc.dba"
+"$dba" convert "$tmp/trunc.dba" "$tmp/out.txt" >"$tmp/err" 2>&1; check "truncated binary exits 1" test $? -eq 1
+check "truncated binary is named" grep -q "trunc.dba: truncated" "$tmp/err"
+check "no output after failure" test ! -e "$tmp/out.txt"
+"$dba" convert >/dev/null 2>&1; check "convert without arguments exits 2" test $? -eq 2
+"$dba" convert --help >"$tmp/help"; check "convert --help" grep -q "losslessly" "$tmp/help"
+
+echo "$passes passed, $failures failed"
+test "$failures" -eq 0
