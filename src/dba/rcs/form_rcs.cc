@@ -74,7 +74,13 @@ void FormRcs(const BalProblem& problem, double lambda,
 #pragma omp parallel num_threads(num_threads) reduction(+ : cost) reduction(max : max_g_p)
   {
     PointSystem p;
-#pragma omp for schedule(dynamic, 256)
+    // Contiguous ranges of points per thread: neighbouring points see the
+    // same cameras, so interleaved chunks would make the threads fight over
+    // the same RCS rows (locks and cache lines). Measured on 10M observations
+    // (1920 cameras): dynamic chunks of 256 took 6.5 s per formation with 2
+    // threads, slower than 2 single-threaded MPI ranks on half the points;
+    // contiguous ranges take 3.0 s.
+#pragma omp for schedule(static)
     for (int64_t k = 0; k < num_points; ++k) {
       LinearizePoint(problem, k, &p);
       EliminatePoint(lambda, bounds, &p);
