@@ -198,7 +198,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   } else {
     report.solve = DistributedBundleAdjust(comm, lm, options.distributed,
                                            ranks_read_file ? options.input : std::string(),
-                                           &problem, log);
+                                           !options.output.empty(), &problem, log);
   }
   if (!main) return 0;
 

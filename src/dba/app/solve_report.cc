@@ -24,9 +24,12 @@ nlohmann::ordered_json TrafficJson(const TrafficStats& t) {
   nlohmann::ordered_json j;
   for (int i = 0; i < kNumTraffic; ++i) {
     j[TrafficName(static_cast<Traffic>(i))] = {{"bytes", t.bytes[i]},
-                                               {"seconds", t.seconds[i]}};
+                                               {"seconds", t.seconds[i]},
+                                               {"wait_seconds", t.wait_seconds[i]}};
   }
-  j["total"] = {{"bytes", t.total_bytes()}, {"seconds", t.total_seconds()}};
+  j["total"] = {{"bytes", t.total_bytes()},
+                {"seconds", t.total_seconds()},
+                {"wait_seconds", t.total_wait_seconds()}};
   return j;
 }
 
@@ -96,18 +99,21 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
       out << buf;
     }
     const double iters = std::max<size_t>(r.solve.per_iteration.size(), 1);
-    out << "  communication (main rank, sent + received)\n";
+    out << "  communication (main rank, sent + received; waits for other ranks apart)\n";
     for (Traffic c : {Traffic::kDistribution, Traffic::kSubRcs, Traffic::kCameraUpdate,
                       Traffic::kControl, Traffic::kResult}) {
       const int i = static_cast<int>(c);
-      std::snprintf(buf, sizeof buf, "    %-14s %12s %9.3f s   per iteration %10s %8.4f s\n",
-                    TrafficName(c), Bytes(t.bytes[i]).c_str(), t.seconds[i],
+      std::snprintf(buf, sizeof buf,
+                    "    %-14s %12s %9.3f s  (waits %8.3f s)  per iteration %10s %8.4f s\n",
+                    TrafficName(c), Bytes(t.bytes[i]).c_str(), t.seconds[i], t.wait_seconds[i],
                     Bytes(static_cast<int64_t>(t.bytes[i] / iters)).c_str(),
                     t.seconds[i] / iters);
       out << buf;
     }
-    std::snprintf(buf, sizeof buf, "    %-14s %12s %9.3f s   (%.1f%% of the solve)\n", "total",
-                  Bytes(t.total_bytes()).c_str(), t.total_seconds(),
+    std::snprintf(buf, sizeof buf,
+                  "    %-14s %12s %9.3f s  (waits %8.3f s)  transfers are %.1f%% of the solve\n",
+                  "total", Bytes(t.total_bytes()).c_str(), t.total_seconds(),
+                  t.total_wait_seconds(),
                   100.0 * t.total_seconds() / std::max(r.TotalSeconds(), 1e-9));
     out << buf;
   }

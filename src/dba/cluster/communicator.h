@@ -23,9 +23,13 @@ const char* TrafficName(Traffic t);
 
 struct TrafficStats {
   int64_t bytes[kNumTraffic] = {};  // sent plus received by this rank
-  double seconds[kNumTraffic] = {};  // wall time inside transfers
+  double seconds[kNumTraffic] = {};  // wall time moving data (waits excluded)
+  // Wall time a receive spent waiting for the sender to be ready (the other
+  // rank still computing): load imbalance, not communication cost.
+  double wait_seconds[kNumTraffic] = {};
   int64_t total_bytes() const;
   double total_seconds() const;
+  double total_wait_seconds() const;
 };
 
 class Communicator {

@@ -79,7 +79,7 @@ std::vector<int32_t> BinaryPointGroups(Communicator* comm, const std::string& pa
 
 DistributedSummary DistributedBundleAdjust(
     Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
-    const std::string& binary_input, BalProblem* problem,
+    const std::string& binary_input, bool collect_points, BalProblem* problem,
     const std::function<void(const IterationSummary&)>& on_iteration) {
   DistributedSummary summary;
   summary.ranks = comm->size();
@@ -125,7 +125,7 @@ DistributedSummary DistributedBundleAdjust(
     // The main rank keeps cameras and point coordinates, not observations.
     *problem = BalProblem{};
     problem->cameras = ReadBinaryCameras(binary_input);
-    problem->points = ReadBinaryPointCoordinates(binary_input);
+    if (collect_points) problem->points.resize(kPointSize * header.num_points);
     num_observations = header.num_observations;
   } else {
     const std::vector<int32_t> group =
@@ -140,6 +140,7 @@ DistributedSummary DistributedBundleAdjust(
     }
     // The observations now live on the ranks.
     num_observations = problem->num_observations();
+    if (!collect_points) Release(problem->points);
     Release(problem->point_offsets);
     Release(problem->obs_camera);
     Release(problem->obs_pixel);
@@ -173,7 +174,7 @@ DistributedSummary DistributedBundleAdjust(
   };
   summary.ba.lm = SolveLevenbergMarquardt(options, num_observations, &problem->cameras,
                                           &workers, log);
-  summary.rank_reports = workers.Finish(&problem->points);
+  summary.rank_reports = workers.Finish(collect_points ? &problem->points : nullptr);
   summary.traffic = comm->stats();
   return summary;
 }

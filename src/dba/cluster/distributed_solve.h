@@ -44,11 +44,12 @@ struct DistributedSummary {
 //    and their observations from it; the main rank streams the visibility
 //    graph to partition (camera-locality scheme) and reads cameras and point
 //    coordinates into `problem`, never the observations.
-// On return the main rank's `problem` holds the adjusted cameras and points
-// (no observations). `problem` is ignored on the other ranks.
+// On return the main rank's `problem` holds the adjusted cameras and, if
+// `collect_points`, the adjusted points (no observations). `problem` is
+// ignored on the other ranks.
 DistributedSummary DistributedBundleAdjust(
     Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
-    const std::string& binary_input, BalProblem* problem,
+    const std::string& binary_input, bool collect_points, BalProblem* problem,
     const std::function<void(const IterationSummary&)>& on_iteration = {});
 
 }  // namespace dba

@@ -156,9 +156,11 @@ void MpiPointWorkers::FinishStep(bool accept) {
 }
 
 std::vector<RankReport> MpiPointWorkers::Finish(std::vector<double>* points) {
-  BroadcastCommand(comm_, {Op::kEnd, 0, 0.0});
+  const bool collect = points != nullptr;
+  BroadcastCommand(comm_, {Op::kEnd, collect ? 1 : 0, 0.0});
   std::vector<RankReport> reports(comm_->size());
   auto place = [&](const std::vector<int64_t>& ids, const std::vector<double>& xyz) {
+    if (!collect) return;
     for (size_t k = 0; k < ids.size(); ++k) {
       std::copy_n(xyz.data() + kPointSize * k, kPointSize,
                   points->data() + kPointSize * ids[k]);
@@ -168,9 +170,11 @@ std::vector<RankReport> MpiPointWorkers::Finish(std::vector<double>* points) {
     place(own_share_->global_point, own_share_->problem.points);
   }
   for (int r = 1; r < comm_->size(); ++r) {
-    const auto ids = comm_->RecvVector<int64_t>(r, Traffic::kResult);
-    const auto xyz = comm_->RecvVector<double>(r, Traffic::kResult);
-    place(ids, xyz);
+    if (collect) {
+      const auto ids = comm_->RecvVector<int64_t>(r, Traffic::kResult);
+      const auto xyz = comm_->RecvVector<double>(r, Traffic::kResult);
+      place(ids, xyz);
+    }
     comm_->Recv(r, Traffic::kResult, std::span<RankReport>(&reports[r], 1));
   }
   reports[0] = own_share_ != nullptr ? MakeRankReport(0, *own_share_, own_, *comm_)
@@ -205,8 +209,10 @@ void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* worke
         workers->FinishStep(c.accept != 0);
         break;
       case Op::kEnd: {
-        comm->SendVector(0, Traffic::kResult, share->global_point);
-        comm->SendVector(0, Traffic::kResult, share->problem.points);
+        if (c.accept != 0) {  // the main rank wants the points
+          comm->SendVector(0, Traffic::kResult, share->global_point);
+          comm->SendVector(0, Traffic::kResult, share->problem.points);
+        }
         const RankReport report = MakeRankReport(comm->rank(), *share, workers, *comm);
         comm->Send(0, Traffic::kResult, std::span<const RankReport>(&report, 1));
         return;

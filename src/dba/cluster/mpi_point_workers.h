@@ -56,8 +56,8 @@ class MpiPointWorkers : public PointWorkers {
                               const std::vector<double>& candidate_cameras) override;
   void FinishStep(bool accept) override;
 
-  // Ends the other ranks' loops; collects their final points into `points`
-  // (global numbering) and their reports.
+  // Ends the other ranks' loops and collects their reports; with `points`
+  // non-null also their final points (global numbering; resized to hold all).
   std::vector<RankReport> Finish(std::vector<double>* points);
 
   const RcsSystem& global() const { return global_; }

@@ -222,14 +222,6 @@ std::vector<double> ReadBinaryCameras(const std::string& path) {
   return v;
 }
 
-std::vector<double> ReadBinaryPointCoordinates(const std::string& path) {
-  const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
-  const File f(path);
-  std::vector<double> v = f.ReadArray<double>(h.points_offset, kPointSize * h.num_points, "points");
-  CheckFinite(f, v, "points");
-  return v;
-}
-
 void ForEachVisibilityChunk(
     const std::string& path, int64_t max_observations_per_chunk,
     const std::function<void(int64_t, std::span<const int64_t>, std::span<const int32_t>)>& fn) {
@@ -270,8 +262,27 @@ BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> po
   BalProblem p;
   p.cameras = f.ReadArray<double>(h.cameras_offset, kBalCameraSize * h.num_cameras, "cameras");
   CheckFinite(f, p.cameras, "cameras");
-  p.point_offsets.push_back(0);
+  // Count first (offsets only), so the arrays are allocated once, exactly.
+  int64_t my_points = 0, my_observations = 0;
+  for (int64_t k0 = 0; k0 < h.num_points; k0 += 1 << 18) {
+    const int64_t n = std::min<int64_t>(1 << 18, h.num_points - k0);
+    const std::vector<int64_t> offsets =
+        f.ReadArray<int64_t>(h.point_offsets_offset + 8 * k0, n + 1, "point offsets");
+    for (int64_t k = 0; k < n; ++k) {
+      if (point_group[k0 + k] != group) continue;
+      ++my_points;
+      my_observations += std::max<int64_t>(0, offsets[k + 1] - offsets[k]);
+    }
+  }
+  // (A corrupt file is refused below; cap the reservation by the header.)
+  my_observations = std::min(my_observations, h.num_observations);
+  p.points.reserve(kPointSize * my_points);
+  p.point_offsets.reserve(my_points + 1);
+  p.obs_camera.reserve(my_observations);
+  p.obs_pixel.reserve(2 * my_observations);
   global_point->clear();
+  global_point->reserve(my_points);
+  p.point_offsets.push_back(0);
   std::vector<double> pixels, xyz;
   ForEachVisibilityChunk(
       path, int64_t{1} << 18,

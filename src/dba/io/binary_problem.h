@@ -72,9 +72,8 @@ void ForEachVisibilityChunk(
 BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> point_group,
                             int32_t group, std::vector<int64_t>* global_point);
 
-// Only the cameras (9 per camera) or only the point coordinates (3 per point).
+// Only the cameras (9 per camera).
 std::vector<double> ReadBinaryCameras(const std::string& path);
-std::vector<double> ReadBinaryPointCoordinates(const std::string& path);
 
 // Writes `problem` to path.tmp.<pid>, then renames it over `path`.
 void WriteBinaryProblem(const BalProblem& problem, const std::string& path);
