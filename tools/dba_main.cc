@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "dba/app/convert_command.h"
+#include "dba/app/generate_command.h"
 #include "dba/app/solve_command.h"
 
 namespace {
@@ -23,6 +24,8 @@ const Command kCommands[] = {
      dba::ConvertMain},
     {"info", "info FILE                                     counts, track and camera statistics, RCS size",
      dba::InfoMain},
+    {"generate", "generate OUTPUT [--images N] [--truth FILE]    a synthetic UAV survey with ground truth",
+     dba::GenerateMain},
 };
 
 void PrintUsage(std::ostream& out) {

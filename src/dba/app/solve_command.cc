@@ -16,6 +16,7 @@
 #include "dba/io/read_problem.h"
 #include "dba/io/bal_writer.h"
 #include "dba/app/solve_report.h"
+#include "dba/synthetic/ground_truth.h"
 #include "dba/lm/bundle_adjust.h"
 
 namespace dba {
@@ -74,6 +75,10 @@ void PrintSolveHelp(std::ostream& out) {
          "  -o, --output FILE          write the adjusted problem as BAL (.bz2: compressed);\n"
          "                             written to a temporary name, renamed when complete\n"
          "  --report FILE.json         write the summary and per-iteration log as JSON\n"
+         "  --truth FILE               ground truth of a generated problem (dba generate\n"
+         "                             --truth): report the RMS against the noise-free\n"
+         "                             observations and the camera/point errors after a\n"
+         "                             similarity alignment\n"
          "  -t, --threads N            threads per rank (default: the node's cores divided\n"
          "                             by its ranks; " << DefaultThreads() << " cores here)\n"
          "  --max-iterations N         LM iteration limit (default " << d.max_iterations << ")\n"
@@ -115,6 +120,8 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       o.output = value();
     } else if (a == "--report") {
       o.report_path = value();
+    } else if (a == "--truth") {
+      o.truth_path = value();
     } else if (a == "-t" || a == "--threads") {
       o.lm.num_threads = ParseInt(a, value(), 1);
     } else if (a == "--max-iterations") {
@@ -198,7 +205,8 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   } else {
     report.solve = DistributedBundleAdjust(comm, lm, options.distributed,
                                            ranks_read_file ? options.input : std::string(),
-                                           !options.output.empty(), &problem, log);
+                                           !options.output.empty() || !options.truth_path.empty(),
+                                           &problem, log);
   }
   if (!main) return 0;
 
@@ -214,6 +222,11 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     WriteProblem(problem, options.output);
   }
   report.write_seconds = write_timer.Seconds();
+  if (!options.truth_path.empty()) {
+    report.truth = CompareWithGroundTruth(ReadProblem(options.truth_path), problem.cameras,
+                                          problem.points);
+    report.has_truth = true;
+  }
   report.peak_memory_bytes = PeakResidentBytes();
   PrintSolveReport(report, out);
   if (!options.output.empty()) out << "  output              " << options.output << "\n";

@@ -15,6 +15,7 @@ struct SolveCommandOptions {
   std::string input;
   std::string output;       // empty: no output file
   std::string report_path;  // empty: no JSON report
+  std::string truth_path;   // empty: no ground-truth comparison
   bool quiet = false;       // no per-iteration log
   LmOptions lm;             // num_threads 0: the node's cores / its ranks
   DistributedOptions distributed;

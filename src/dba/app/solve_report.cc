@@ -84,6 +84,14 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
                 Bytes(r.peak_memory_bytes).c_str(), r.peak_memory_bytes * per_obs,
                 r.problem_bytes * per_obs);
   out << buf;
+  if (r.has_truth) {
+    std::snprintf(buf, sizeof buf,
+                  "  ground truth        RMS to noise-free observations %.4f px; after a\n"
+                  "                      similarity (scale %.6f): camera centres %.4g, points %.4g (RMS)\n",
+                  r.truth.rms_to_noise_free_px, r.truth.similarity_scale,
+                  r.truth.camera_centre_rms, r.truth.point_rms);
+    out << buf;
+  }
   if (r.solve.ranks > 1) {
     const TrafficStats& t = r.solve.traffic;
     out << "  ranks               " << r.solve.ranks << " ("
@@ -154,6 +162,12 @@ std::string SolveReportJson(const SolveReport& r) {
                  {"rcs_bsmc_value_bytes", rcs.bsmc_value_bytes},
                  {"rcs_csr_bytes", rcs.csr_bytes},
                  {"rcs_blocks", rcs.blocks}};
+  if (r.has_truth) {
+    j["ground_truth"] = {{"rms_to_noise_free_px", r.truth.rms_to_noise_free_px},
+                         {"similarity_scale", r.truth.similarity_scale},
+                         {"camera_centre_rms", r.truth.camera_centre_rms},
+                         {"point_rms", r.truth.point_rms}};
+  }
   if (r.solve.ranks > 1) {
     nlohmann::ordered_json d;
     d["partition"] = PartitionSchemeName(r.solve.partition);

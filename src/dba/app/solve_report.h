@@ -6,6 +6,7 @@
 
 #include "dba/cluster/distributed_solve.h"
 #include "dba/problem/bal_problem.h"
+#include "dba/synthetic/ground_truth.h"
 
 namespace dba {
 
@@ -20,6 +21,8 @@ struct SolveReport {
   int64_t peak_memory_bytes = 0;  // main rank
   int64_t problem_bytes = 0;      // main rank's problem arrays before the solve
   DistributedSummary solve;       // ranks == 1: a one-process solve
+  bool has_truth = false;
+  GroundTruthErrors truth;        // against a generated problem's ground truth
 
   double TotalSeconds() const;
 };

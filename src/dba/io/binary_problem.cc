@@ -318,60 +318,122 @@ BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> po
 }
 
 void WriteBinaryProblem(const BalProblem& p, const std::string& path) {
-  const BinaryProblemHeader h = Layout(p.num_cameras(), p.num_points(), p.num_observations());
+  BinaryProblemWriter writer(path, p.num_cameras(), p.num_points(), p.num_observations());
+  writer.WriteCameras(p.cameras);
+  for (int64_t k = 0; k < p.num_points(); ++k) {
+    const int64_t o0 = p.point_offsets[k], o1 = p.point_offsets[k + 1];
+    writer.AppendPoint(p.point(k), std::span<const int32_t>(p.obs_camera.data() + o0, o1 - o0),
+                       std::span<const double>(p.obs_pixel.data() + 2 * o0, 2 * (o1 - o0)));
+  }
+  writer.Commit();
+}
+
+BinaryProblemWriter::BinaryProblemWriter(const std::string& path, int64_t num_cameras,
+                                         int64_t num_points, int64_t num_observations)
+    : path_(path),
+      tmp_(path + ".tmp." + std::to_string(::getpid())),
+      h_(Layout(num_cameras, num_points, num_observations)) {
+  fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd_ < 0) {
+    throw std::runtime_error(path + ": cannot create '" + tmp_ + "': " + std::strerror(errno));
+  }
   RawHeader raw{};
   std::memcpy(raw.magic, kMagic, 8);
   raw.version = kVersion;
   raw.byte_order = kByteOrderMark;
   raw.camera_model = kBalModel;
   raw.camera_size = kBalCameraSize;
-  raw.counts[0] = h.num_cameras;
-  raw.counts[1] = h.num_points;
-  raw.counts[2] = h.num_observations;
-  const int64_t sections[5] = {h.cameras_offset, h.points_offset, h.point_offsets_offset,
-                               h.obs_camera_offset, h.obs_pixel_offset};
+  raw.counts[0] = h_.num_cameras;
+  raw.counts[1] = h_.num_points;
+  raw.counts[2] = h_.num_observations;
+  const int64_t sections[5] = {h_.cameras_offset, h_.points_offset, h_.point_offsets_offset,
+                               h_.obs_camera_offset, h_.obs_pixel_offset};
   for (int s = 0; s < 5; ++s) raw.sections[s] = sections[s];
-  raw.file_size = h.file_size;
+  raw.file_size = h_.file_size;
+  Write(0, &raw, kHeaderSize);
+  offsets_.push_back(0);
+}
 
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  if (fd < 0) {
-    throw std::runtime_error(path + ": cannot create '" + tmp + "': " + std::strerror(errno));
+BinaryProblemWriter::~BinaryProblemWriter() {
+  if (fd_ >= 0) ::close(fd_);
+  if (!committed_) ::unlink(tmp_.c_str());
+}
+
+void BinaryProblemWriter::Fail(const std::string& what) {
+  const int err = errno;
+  throw std::runtime_error(path_ + ": " + what + (err ? std::string(": ") + std::strerror(err) : ""));
+}
+
+void BinaryProblemWriter::Write(int64_t offset, const void* data, int64_t bytes) {
+  const char* c = static_cast<const char*>(data);
+  while (bytes > 0) {
+    const ssize_t n = ::pwrite(fd_, c, static_cast<size_t>(std::min<int64_t>(bytes, 1 << 30)), offset);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) Fail("write failed");
+    c += n;
+    offset += n;
+    bytes -= n;
   }
-  auto fail = [&](const char* what) {
-    const int err = errno;
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    throw std::runtime_error(path + ": " + what + ": " + std::strerror(err));
-  };
-  auto write = [&](const void* data, int64_t bytes) {
-    const char* c = static_cast<const char*>(data);
-    while (bytes > 0) {
-      const ssize_t n = ::write(fd, c, static_cast<size_t>(std::min<int64_t>(bytes, 1 << 30)));
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) fail("write failed");
-      c += n;
-      bytes -= n;
-    }
-  };
-  write(&raw, kHeaderSize);
-  write(p.cameras.data(), 8 * static_cast<int64_t>(p.cameras.size()));
-  write(p.points.data(), 8 * static_cast<int64_t>(p.points.size()));
-  write(p.point_offsets.data(), 8 * static_cast<int64_t>(p.point_offsets.size()));
-  write(p.obs_camera.data(), 4 * static_cast<int64_t>(p.obs_camera.size()));
+}
+
+void BinaryProblemWriter::WriteCameras(std::span<const double> cameras) {
+  if (static_cast<int64_t>(cameras.size()) != kBalCameraSize * h_.num_cameras) {
+    throw std::invalid_argument("BinaryProblemWriter: wrong number of camera parameters");
+  }
+  Write(h_.cameras_offset, cameras.data(), 8 * static_cast<int64_t>(cameras.size()));
+  cameras_written_ = true;
+}
+
+void BinaryProblemWriter::AppendPoint(const double* xyz, std::span<const int32_t> cameras,
+                                      std::span<const double> pixels) {
+  const int64_t m = static_cast<int64_t>(cameras.size());
+  if (m == 0 || static_cast<int64_t>(pixels.size()) != 2 * m ||
+      points_ + 1 > h_.num_points || observations_ + m > h_.num_observations) {
+    throw std::invalid_argument("BinaryProblemWriter: point beyond the announced counts");
+  }
+  for (int32_t c : cameras) {
+    if (c < 0 || c >= h_.num_cameras) throw std::invalid_argument("BinaryProblemWriter: camera id out of range");
+  }
+  xyz_.insert(xyz_.end(), xyz, xyz + kPointSize);
+  cameras_.insert(cameras_.end(), cameras.begin(), cameras.end());
+  pixels_.insert(pixels_.end(), pixels.begin(), pixels.end());
+  ++points_;
+  observations_ += m;
+  offsets_.push_back(observations_);
+  if (cameras_.size() >= (size_t{1} << 18)) Flush();
+}
+
+void BinaryProblemWriter::Flush() {
+  const int64_t n = points_ - flushed_points_, m = observations_ - flushed_observations_;
+  Write(h_.points_offset + 24 * flushed_points_, xyz_.data(), 24 * n);
+  // offsets_[0] is the start of this batch, already written with the last one.
+  Write(h_.point_offsets_offset + 8 * flushed_points_, offsets_.data(), 8 * (n + 1));
+  Write(h_.obs_camera_offset + 4 * flushed_observations_, cameras_.data(), 4 * m);
+  Write(h_.obs_pixel_offset + 16 * flushed_observations_, pixels_.data(), 16 * m);
+  flushed_points_ = points_;
+  flushed_observations_ = observations_;
+  xyz_.clear();
+  cameras_.clear();
+  pixels_.clear();
+  offsets_.assign(1, observations_);
+}
+
+void BinaryProblemWriter::Commit() {
+  Flush();
+  if (!cameras_written_ || points_ != h_.num_points || observations_ != h_.num_observations) {
+    throw std::logic_error("BinaryProblemWriter: fewer points or observations than announced");
+  }
+  // Padding after the observation cameras, and the exact file size.
+  const int64_t pad = h_.obs_pixel_offset - (h_.obs_camera_offset + 4 * h_.num_observations);
   const char zeros[8] = {};
-  write(zeros, h.obs_pixel_offset - (h.obs_camera_offset + 4 * h.num_observations));
-  write(p.obs_pixel.data(), 8 * static_cast<int64_t>(p.obs_pixel.size()));
-  if (::fsync(fd) != 0) fail("fsync failed");
-  if (::close(fd) != 0) {
-    ::unlink(tmp.c_str());
-    throw std::runtime_error(path + ": close failed: " + std::strerror(errno));
-  }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int err = errno;
-    ::unlink(tmp.c_str());
-    throw std::runtime_error(path + ": cannot rename '" + tmp + "' over it: " + std::strerror(err));
-  }
+  if (pad > 0) Write(h_.obs_camera_offset + 4 * h_.num_observations, zeros, pad);
+  if (::ftruncate(fd_, h_.file_size) != 0) Fail("truncate failed");
+  if (::fsync(fd_) != 0) Fail("fsync failed");
+  const int fd = fd_;
+  fd_ = -1;
+  if (::close(fd) != 0) Fail("close failed");
+  if (::rename(tmp_.c_str(), path_.c_str()) != 0) Fail("cannot rename '" + tmp_ + "' over it");
+  committed_ = true;
 }
 
 }  // namespace dba

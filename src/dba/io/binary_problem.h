@@ -78,4 +78,38 @@ std::vector<double> ReadBinaryCameras(const std::string& path);
 // Writes `problem` to path.tmp.<pid>, then renames it over `path`.
 void WriteBinaryProblem(const BalProblem& problem, const std::string& path);
 
+// Streams a problem into the binary format when the counts are known ahead:
+// cameras once, then points one by one in order with their observations.
+// Everything goes to path.tmp.<pid>; Commit() checks that the counts were
+// met, syncs and renames; a writer destroyed without Commit() removes the
+// temporary. Memory: a buffer of a few MiB.
+class BinaryProblemWriter {
+ public:
+  BinaryProblemWriter(const std::string& path, int64_t num_cameras, int64_t num_points,
+                      int64_t num_observations);
+  ~BinaryProblemWriter();
+  BinaryProblemWriter(const BinaryProblemWriter&) = delete;
+  BinaryProblemWriter& operator=(const BinaryProblemWriter&) = delete;
+
+  void WriteCameras(std::span<const double> cameras);  // 9 per camera
+  void AppendPoint(const double* xyz, std::span<const int32_t> cameras,
+                   std::span<const double> pixels);  // 2 per observation
+  void Commit();
+
+ private:
+  void Flush();
+  void Write(int64_t offset, const void* data, int64_t bytes);
+  [[noreturn]] void Fail(const std::string& what);
+
+  std::string path_, tmp_;
+  int fd_ = -1;
+  BinaryProblemHeader h_;
+  int64_t points_ = 0, observations_ = 0;  // written so far (flushed or buffered)
+  int64_t flushed_points_ = 0, flushed_observations_ = 0;
+  std::vector<double> xyz_, pixels_;
+  std::vector<int64_t> offsets_;
+  std::vector<int32_t> cameras_;
+  bool cameras_written_ = false, committed_ = false;
+};
+
 }  // namespace dba

@@ -1,0 +1,223 @@
+// Synthetic UAV surveys; see uav_generator.h.
+#include "dba/synthetic/uav_generator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "dba/camera/bal_camera.h"
+#include "dba/common/timer.h"
+#include "dba/io/bal_writer.h"
+#include "dba/io/binary_problem.h"
+
+namespace dba {
+namespace {
+
+// splitmix64: independent, reproducible streams from (seed, index).
+uint64_t Mix(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+// Rolling terrain: enough relief (±25 m under a 100 m flight) that focal
+// length and flying height are not interchangeable for nadir images.
+double Terrain(double x, double y) { return 25.0 * std::sin(x / 60.0) * std::cos(y / 80.0); }
+
+struct Layout {
+  int64_t strips, per_strip, images;
+  double footprint, along, across;  // metres
+  double x0, x1, y0, y1, tile;      // ground area and tile size
+  int64_t tiles_x, tiles_y;
+  double points_per_tile;
+};
+
+Layout MakeLayout(const UavSurveyOptions& o) {
+  Layout l;
+  l.footprint = o.image_size / o.focal_px * o.flying_height;
+  l.along = l.footprint * (1.0 - o.forward_overlap);
+  l.across = l.footprint * (1.0 - o.side_overlap);
+  l.strips = std::max<int64_t>(1, std::llround(std::sqrt(o.images * l.along / l.across)));
+  l.per_strip = (o.images + l.strips - 1) / l.strips;
+  l.strips = (o.images + l.per_strip - 1) / l.per_strip;
+  l.images = o.images;
+  l.x0 = -l.footprint / 2;
+  l.x1 = (l.per_strip - 1) * l.along + l.footprint / 2;
+  l.y0 = -l.footprint / 2;
+  l.y1 = (l.strips - 1) * l.across + l.footprint / 2;
+  l.tile = std::min(l.along, l.across);
+  l.tiles_x = static_cast<int64_t>(std::ceil((l.x1 - l.x0) / l.tile));
+  l.tiles_y = static_cast<int64_t>(std::ceil((l.y1 - l.y0) / l.tile));
+  // Each image sees `features_per_image` points on average.
+  l.points_per_tile = o.features_per_image / (l.footprint * l.footprint) * l.tile * l.tile;
+  return l;
+}
+
+// True cameras (BAL: P = R X + t, looking down -z) and the initial ones.
+void MakeCameras(const UavSurveyOptions& o, const Layout& l, std::vector<double>* truth,
+                 std::vector<double>* initial) {
+  truth->resize(kBalCameraSize * l.images);
+  initial->resize(kBalCameraSize * l.images);
+  std::vector<double> focal_error(o.physical_cameras);
+  {
+    std::mt19937_64 rng(Mix(o.seed ^ 0xca3e7a5ULL));
+    std::normal_distribution<double> n01(0.0, 1.0);
+    for (double& e : focal_error) e = 1.0 + o.focal_perturbation * n01(rng);
+  }
+  for (int64_t i = 0; i < l.images; ++i) {
+    std::mt19937_64 rng(Mix(o.seed * 0x100000001b3ULL + static_cast<uint64_t>(i)));
+    std::normal_distribution<double> n01(0.0, 1.0);
+    const int64_t s = i / l.per_strip, m = i % l.per_strip;
+    const Vec3 centre(m * l.along + 1.0 * n01(rng), s * l.across + 1.0 * n01(rng),
+                      o.flying_height + 2.0 * n01(rng));
+    const Vec3 omega(0.05 * n01(rng), 0.05 * n01(rng), 0.05 * n01(rng));
+    const int cam = static_cast<int>(s % o.physical_cameras);
+    const double f = o.focal_px * (1.0 + 0.01 * cam), k1 = -0.05 + 0.01 * cam, k2 = 0.002;
+    double* t = truth->data() + kBalCameraSize * i;
+    const Vec3 tr = -AngleAxisToRotation(omega) * centre;
+    const double values[9] = {omega.x(), omega.y(), omega.z(), tr.x(), tr.y(), tr.z(), f, k1, k2};
+    std::copy(values, values + 9, t);
+    // Initial: perturbed rotation and centre, the physical camera's focal error.
+    const Vec3 omega0 = omega + o.rotation_perturbation * Vec3(n01(rng), n01(rng), n01(rng));
+    const Vec3 centre0 = centre + o.position_perturbation * Vec3(n01(rng), n01(rng), n01(rng));
+    const Vec3 tr0 = -AngleAxisToRotation(omega0) * centre0;
+    const double init[9] = {omega0.x(), omega0.y(), omega0.z(), tr0.x(), tr0.y(), tr0.z(),
+                            f * focal_error[cam], k1, k2};
+    std::copy(init, init + 9, initial->data() + kBalCameraSize * i);
+  }
+}
+
+// Calls emit(true X, initial X, cameras, true pixels, noisy pixels) for every
+// point with at least two observations, tile by tile.
+template <typename Emit>
+void ForEachPoint(const UavSurveyOptions& o, const Layout& l, const std::vector<double>& cameras,
+                  const std::function<void(double)>& progress, Emit emit) {
+  std::vector<int32_t> seen;
+  std::vector<double> clean, noisy;
+  const double half = o.image_size / 2;
+  for (int64_t ty = 0; ty < l.tiles_y; ++ty) {
+    if (progress) progress(static_cast<double>(ty) / l.tiles_y);
+    for (int64_t tx = 0; tx < l.tiles_x; ++tx) {
+      std::mt19937_64 rng(Mix(Mix(o.seed) + static_cast<uint64_t>(ty * l.tiles_x + tx)));
+      std::uniform_real_distribution<double> u01(0.0, 1.0);
+      std::normal_distribution<double> n01(0.0, 1.0);
+      int64_t count = static_cast<int64_t>(l.points_per_tile);
+      if (u01(rng) < l.points_per_tile - count) ++count;
+      for (int64_t q = 0; q < count; ++q) {
+        const double x = l.x0 + (tx + u01(rng)) * l.tile, y = l.y0 + (ty + u01(rng)) * l.tile;
+        const double X[3] = {x, y, Terrain(x, y)};
+        const double X0[3] = {X[0] + o.position_perturbation * n01(rng),
+                              X[1] + o.position_perturbation * n01(rng),
+                              X[2] + o.position_perturbation * n01(rng)};
+        seen.clear();
+        clean.clear();
+        noisy.clear();
+        // Candidate images: strips and positions whose footprint may hold X.
+        const double reach = 0.75 * l.footprint;
+        const int64_t s0 = std::max<int64_t>(0, static_cast<int64_t>(std::floor((y - reach) / l.across)));
+        const int64_t s1 = std::min<int64_t>(l.strips - 1, static_cast<int64_t>(std::ceil((y + reach) / l.across)));
+        const int64_t m0 = std::max<int64_t>(0, static_cast<int64_t>(std::floor((x - reach) / l.along)));
+        const int64_t m1 = std::min<int64_t>(l.per_strip - 1, static_cast<int64_t>(std::ceil((x + reach) / l.along)));
+        for (int64_t s = s0; s <= s1; ++s) {
+          for (int64_t m = m0; m <= m1; ++m) {
+            const int64_t i = s * l.per_strip + m;
+            if (i >= l.images) continue;
+            const double zero[2] = {0.0, 0.0};
+            const Vec2 px = BalResidual(cameras.data() + kBalCameraSize * i, X, zero);
+            if (!(std::abs(px.x()) < half && std::abs(px.y()) < half)) continue;
+            seen.push_back(static_cast<int32_t>(i));
+            clean.push_back(px.x());
+            clean.push_back(px.y());
+            noisy.push_back(px.x() + o.pixel_noise * n01(rng));
+            noisy.push_back(px.y() + o.pixel_noise * n01(rng));
+          }
+        }
+        if (seen.size() >= 2) emit(X, X0, seen, clean, noisy);
+      }
+    }
+  }
+  if (progress) progress(1.0);
+}
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& o, const std::string& path,
+                                   const std::string& truth_path,
+                                   const std::function<void(double)>& progress) {
+  if (o.images < 2 || o.features_per_image <= 0 || o.physical_cameras < 1 ||
+      !(o.forward_overlap > 0 && o.forward_overlap < 1) ||
+      !(o.side_overlap > 0 && o.side_overlap < 1) || o.pixel_noise < 0) {
+    throw std::invalid_argument(
+        "generate: need images >= 2, features > 0, cameras >= 1, overlaps in (0, 1), noise >= 0");
+  }
+  Timer timer;
+  const Layout l = MakeLayout(o);
+  std::vector<double> true_cameras, initial_cameras;
+  MakeCameras(o, l, &true_cameras, &initial_cameras);
+  UavSurveySummary summary;
+  summary.images = l.images;
+  summary.strips = l.strips;
+  summary.images_per_strip = l.per_strip;
+
+  auto half = [&](double base) {
+    return [&progress, base](double f) { if (progress) progress(base + 0.5 * f); };
+  };
+  if (EndsWith(path, ".dba")) {
+    // Pass 1 counts, pass 2 writes at the offsets the counts give.
+    ForEachPoint(o, l, true_cameras, half(0.0), [&](auto&, auto&, auto& seen, auto&, auto&) {
+      ++summary.points;
+      summary.observations += static_cast<int64_t>(seen.size());
+    });
+    BinaryProblemWriter out(path, l.images, summary.points, summary.observations);
+    std::unique_ptr<BinaryProblemWriter> truth;
+    if (!truth_path.empty()) {
+      truth = std::make_unique<BinaryProblemWriter>(truth_path, l.images, summary.points,
+                                                    summary.observations);
+      truth->WriteCameras(true_cameras);
+    }
+    out.WriteCameras(initial_cameras);
+    ForEachPoint(o, l, true_cameras, half(0.5),
+                 [&](const double* X, const double* X0, const std::vector<int32_t>& seen,
+                     const std::vector<double>& clean, const std::vector<double>& noisy) {
+                   out.AppendPoint(X0, seen, noisy);
+                   if (truth) truth->AppendPoint(X, seen, clean);
+                 });
+    out.Commit();
+    if (truth) truth->Commit();
+  } else {
+    // BAL text: in memory (small problems, for other tools).
+    BalProblem problem, truth;
+    problem.cameras = initial_cameras;
+    truth.cameras = true_cameras;
+    problem.point_offsets.push_back(0);
+    truth.point_offsets.push_back(0);
+    ForEachPoint(o, l, true_cameras, progress,
+                 [&](const double* X, const double* X0, const std::vector<int32_t>& seen,
+                     const std::vector<double>& clean, const std::vector<double>& noisy) {
+                   problem.points.insert(problem.points.end(), X0, X0 + 3);
+                   truth.points.insert(truth.points.end(), X, X + 3);
+                   problem.obs_camera.insert(problem.obs_camera.end(), seen.begin(), seen.end());
+                   problem.obs_pixel.insert(problem.obs_pixel.end(), noisy.begin(), noisy.end());
+                   truth.obs_pixel.insert(truth.obs_pixel.end(), clean.begin(), clean.end());
+                   problem.point_offsets.push_back(problem.num_observations());
+                 });
+    truth.obs_camera = problem.obs_camera;
+    truth.point_offsets = problem.point_offsets;
+    summary.points = problem.num_points();
+    summary.observations = problem.num_observations();
+    WriteBal(problem, path);
+    if (!truth_path.empty()) WriteBal(truth, truth_path);
+  }
+  summary.seconds = timer.Seconds();
+  return summary;
+}
+
+}  // namespace dba

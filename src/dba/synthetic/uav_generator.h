@@ -1,0 +1,62 @@
+// Synthetic UAV surveys with a known ground truth (issue 5), like the paper's
+// synthetic datasets: nadir images taken along parallel flight strips over
+// gently rolling terrain, each ground point observed by every image whose
+// footprint holds it, so track lengths follow from the forward and side
+// overlap and every image overlaps a bounded set of neighbours.
+//
+// Geometry (BAL camera model, camera looking down -z): flying height H above
+// the mean ground, focal f pixels, square images of `image_size` pixels, so a
+// footprint is image_size / f · H metres wide. Images along a strip are
+// (1 - forward_overlap) footprints apart, strips (1 - side_overlap) apart.
+// Ground points are drawn per terrain tile from a generator seeded by
+// (seed, tile), so the output does not depend on anything but the options.
+//
+// Streaming: the problem is written in two passes over the tiles (count, then
+// write at the computed offsets), so memory stays proportional to the images
+// plus one strip of tiles, never to the observations.
+//
+// Thread safety: GenerateUavSurvey is independent per call.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace dba {
+
+struct UavSurveyOptions {
+  int64_t images = 1000;
+  double features_per_image = 300;  // mean observations per image
+  double forward_overlap = 0.8;
+  double side_overlap = 0.6;
+  int physical_cameras = 1;          // images share f, k1, k2 of their camera
+  double pixel_noise = 1.0;          // σ of the observation noise (pixels)
+  double rotation_perturbation = 1e-3;     // σ of the initial angle-axis, rad
+  double position_perturbation = 0.5;      // σ of the initial camera and point positions, m
+  double focal_perturbation = 0.002;       // relative σ of the initial focal length
+  uint64_t seed = 1;
+  double flying_height = 100.0;  // metres above mean ground
+  double focal_px = 1000.0;
+  double image_size = 1000.0;    // pixels, square images
+};
+
+struct UavSurveySummary {
+  int64_t images = 0;
+  int64_t points = 0;
+  int64_t observations = 0;
+  int64_t strips = 0;
+  int64_t images_per_strip = 0;
+  double seconds = 0.0;
+};
+
+// Writes the noisy, perturbed problem to `path` (dba binary if it ends in
+// .dba, else BAL text; BAL text holds it in memory, so use it for small
+// sizes) and, if `truth_path` is not empty, the ground truth (true
+// parameters, noise-free observations) in the same format. Both are written
+// to temporary names and renamed when complete. `progress` (optional) is
+// told the fraction done.
+UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::string& path,
+                                   const std::string& truth_path,
+                                   const std::function<void(double)>& progress = {});
+
+}  // namespace dba

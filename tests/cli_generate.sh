@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# `dba generate`: help, argument errors, byte-identical output for a seed,
+# and `dba solve --truth` on what it made.
+# Usage: cli_generate.sh PATH_TO_DBA PROJECT_ROOT
+set -uo pipefail
+dba=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+passes=0
+failures=0
+check() { local name=$1; shift; if "$@"; then passes=$((passes + 1)); else echo "FAILED: $name" >&2; failures=$((failures + 1)); fi; }
+
+"$dba" generate --help >"$tmp/help"; check "generate --help exits 0" test $? -eq 0
+for opt in --images --features --forward-overlap --side-overlap --cameras --noise --seed --truth; do
+  check "help lists $opt" grep -qF -- "$opt" "$tmp/help"
+done
+"$dba" generate >/dev/null 2>&1; check "missing output exits 2" test $? -eq 2
+"$dba" generate "$tmp/x.dba" --images many >"$tmp/err" 2>&1; check "bad number exits 2" test $? -eq 2
+check "bad number is named" grep -q -- "--images" "$tmp/err"
+"$dba" generate "$tmp/x.dba" --side-overlap 1.5 >/dev/null 2>&1; check "bad overlap exits 1" test $? -eq 1
+check "nothing written after refusal" test ! -e "$tmp/x.dba"
+
+"$dba" generate "$tmp/a.dba" --images 80 --seed 3 --truth "$tmp/a.truth.dba" >"$tmp/out"
+check "generate exits 0" test $? -eq 0
+"$dba" generate "$tmp/b.dba" --images 80 --seed 3 >/dev/null
+check "same seed, same bytes" cmp -s "$tmp/a.dba" "$tmp/b.dba"
+check "summary line" grep -q "80 images in" "$tmp/out"
+"$dba" solve "$tmp/a.dba" -q --truth "$tmp/a.truth.dba" --report "$tmp/r.json" >"$tmp/solve"
+check "solve with truth exits 0" test $? -eq 0
+check "solve reports the ground truth" grep -q "RMS to noise-free observations" "$tmp/solve"
+check "report has ground_truth" grep -q '"rms_to_noise_free_px"' "$tmp/r.json"
+
+echo "$passes passed, $failures failed"
+test "$failures" -eq 0
