@@ -223,8 +223,8 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   }
   report.write_seconds = write_timer.Seconds();
   if (!options.truth_path.empty()) {
-    report.truth = CompareWithGroundTruth(ReadProblem(options.truth_path), problem.cameras,
-                                          problem.points);
+    report.truth = CompareWithGroundTruthFile(options.truth_path, problem.cameras,
+                                              problem.points);
     report.has_truth = true;
   }
   report.peak_memory_bytes = PeakResidentBytes();

@@ -222,13 +222,23 @@ std::vector<double> ReadBinaryCameras(const std::string& path) {
   return v;
 }
 
-void ForEachVisibilityChunk(
-    const std::string& path, int64_t max_observations_per_chunk,
-    const std::function<void(int64_t, std::span<const int64_t>, std::span<const int32_t>)>& fn) {
+std::vector<double> ReadBinaryPointCoordinates(const std::string& path) {
+  const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
+  const File f(path);
+  std::vector<double> v = f.ReadArray<double>(h.points_offset, kPointSize * h.num_points, "points");
+  CheckFinite(f, v, "points");
+  return v;
+}
+
+void ForEachObservationChunk(
+    const std::string& path, int64_t max_observations_per_chunk, bool with_pixels,
+    const std::function<void(int64_t, std::span<const int64_t>, std::span<const int32_t>,
+                             std::span<const double>)>& fn) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
   const File f(path);
   const int64_t points_per_read = 1 << 18;
   std::vector<int32_t> cameras;
+  std::vector<double> pixels;
   for (int64_t k0 = 0; k0 < h.num_points;) {
     const int64_t n = std::min(points_per_read, h.num_points - k0);
     std::vector<int64_t> offsets =
@@ -245,11 +255,27 @@ void ForEachVisibilityChunk(
       f.Read(h.obs_camera_offset + 4 * obs0, cameras.data(), 4 * (obs1 - obs0),
              "observation cameras");
       CheckCameras(f, cameras, h.num_cameras, obs0);
-      fn(k0 + a, std::span<const int64_t>(offsets.data() + a, b - a + 1), cameras);
+      if (with_pixels) {
+        pixels.resize(2 * (obs1 - obs0));
+        f.Read(h.obs_pixel_offset + 16 * obs0, pixels.data(), 16 * (obs1 - obs0),
+               "observation pixels");
+        CheckFinite(f, pixels, "observation pixels");
+      }
+      fn(k0 + a, std::span<const int64_t>(offsets.data() + a, b - a + 1), cameras, pixels);
       a = b;
     }
     k0 += n;
   }
+}
+
+void ForEachVisibilityChunk(
+    const std::string& path, int64_t max_observations_per_chunk,
+    const std::function<void(int64_t, std::span<const int64_t>, std::span<const int32_t>)>& fn) {
+  ForEachObservationChunk(path, max_observations_per_chunk, false,
+                          [&](int64_t first, std::span<const int64_t> offsets,
+                              std::span<const int32_t> cameras, std::span<const double>) {
+                            fn(first, offsets, cameras);
+                          });
 }
 
 BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> point_group,

@@ -66,14 +66,23 @@ void ForEachVisibilityChunk(
     const std::function<void(int64_t first_point, std::span<const int64_t> offsets,
                              std::span<const int32_t> cameras)>& fn);
 
+// The same, with the observed pixels of the chunk (2 per observation) when
+// `with_pixels` (else an empty span).
+void ForEachObservationChunk(
+    const std::string& path, int64_t max_observations_per_chunk, bool with_pixels,
+    const std::function<void(int64_t first_point, std::span<const int64_t> offsets,
+                             std::span<const int32_t> cameras,
+                             std::span<const double> pixels)>& fn);
+
 // Points with point_group[k] == group, their observations and all cameras
 // (global ids; see ExtractShare for the local renumbering), read in chunks.
 // `global_point` receives the global id of each point read.
 BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> point_group,
                             int32_t group, std::vector<int64_t>* global_point);
 
-// Only the cameras (9 per camera).
+// Only the cameras (9 per camera), or only the point coordinates (3 per point).
 std::vector<double> ReadBinaryCameras(const std::string& path);
+std::vector<double> ReadBinaryPointCoordinates(const std::string& path);
 
 // Writes `problem` to path.tmp.<pid>, then renames it over `path`.
 void WriteBinaryProblem(const BalProblem& problem, const std::string& path);

@@ -6,6 +6,8 @@
 #include <stdexcept>
 
 #include "dba/camera/bal_camera.h"
+#include "dba/io/binary_problem.h"
+#include "dba/io/read_problem.h"
 
 namespace dba {
 namespace {
@@ -21,26 +23,79 @@ Eigen::Matrix3Xd Centres(const std::vector<double>& cameras) {
   return c;
 }
 
+
+// Σ |r|² of the solved parameters against noise-free observations of
+// points [first, first + n).
+double SquaredResiduals(int64_t first, std::span<const int64_t> offsets,
+                        std::span<const int32_t> obs_camera, std::span<const double> pixels,
+                        const std::vector<double>& cameras, const std::vector<double>& points) {
+  double sum = 0.0;
+  for (size_t k = 0; k + 1 < offsets.size(); ++k) {
+    for (int64_t o = offsets[k]; o < offsets[k + 1]; ++o) {
+      const int64_t j = o - offsets[0];
+      sum += BalResidual(cameras.data() + kBalCameraSize * obs_camera[j],
+                         points.data() + kPointSize * (first + static_cast<int64_t>(k)),
+                         pixels.data() + 2 * j)
+                 .squaredNorm();
+    }
+  }
+  return sum;
+}
+
+void CheckSizes(const BalProblem& truth, const std::vector<double>& cameras,
+                const std::vector<double>& points) {
+  if (cameras.size() != truth.cameras.size() || points.size() != truth.points.size()) {
+    throw std::invalid_argument(
+        "the ground truth does not match the problem (different numbers of cameras or points)");
+  }
+}
+
+// Alignment errors; `truth` needs cameras and points only.
+GroundTruthErrors GeometryErrors(const BalProblem& truth, const std::vector<double>& cameras,
+                                 const std::vector<double>& points);
+
 }  // namespace
 
 GroundTruthErrors CompareWithGroundTruth(const BalProblem& truth,
                                          const std::vector<double>& cameras,
                                          const std::vector<double>& points) {
-  if (cameras.size() != truth.cameras.size() || points.size() != truth.points.size()) {
-    throw std::invalid_argument(
-        "the ground truth does not match the problem (different numbers of cameras or points)");
-  }
-  GroundTruthErrors e;
-  double sum = 0.0;
-  for (int64_t k = 0; k < truth.num_points(); ++k) {
-    for (int64_t o = truth.point_offsets[k]; o < truth.point_offsets[k + 1]; ++o) {
-      sum += BalResidual(cameras.data() + kBalCameraSize * truth.obs_camera[o],
-                         points.data() + kPointSize * k, truth.pixel(o))
-                 .squaredNorm();
-    }
-  }
+  CheckSizes(truth, cameras, points);
+  GroundTruthErrors e = GeometryErrors(truth, cameras, points);
+  const double sum = SquaredResiduals(0, truth.point_offsets, truth.obs_camera, truth.obs_pixel,
+                                      cameras, points);
   // Per observation, like the solver's RMS: sqrt(Σ |r|² / observations).
   e.rms_to_noise_free_px = std::sqrt(sum / std::max<int64_t>(truth.num_observations(), 1));
+  return e;
+}
+
+GroundTruthErrors CompareWithGroundTruthFile(const std::string& path,
+                                             const std::vector<double>& cameras,
+                                             const std::vector<double>& points) {
+  if (!IsBinaryProblem(path)) return CompareWithGroundTruth(ReadProblem(path), cameras, points);
+  const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
+  BalProblem truth;  // cameras and points only
+  truth.cameras = ReadBinaryCameras(path);
+  double sum = 0.0;
+  ForEachObservationChunk(path, 1 << 20, true,
+                          [&](int64_t first, std::span<const int64_t> offsets,
+                              std::span<const int32_t> c, std::span<const double> px) {
+                            if (static_cast<int64_t>(points.size()) == kPointSize * h.num_points) {
+                              sum += SquaredResiduals(first, offsets, c, px, cameras, points);
+                            }
+                          });
+  // Point coordinates of the truth, read in one go (3 doubles per point).
+  truth.points = ReadBinaryPointCoordinates(path);
+  CheckSizes(truth, cameras, points);
+  GroundTruthErrors e = GeometryErrors(truth, cameras, points);
+  e.rms_to_noise_free_px = std::sqrt(sum / std::max<int64_t>(h.num_observations, 1));
+  return e;
+}
+
+namespace {
+
+GroundTruthErrors GeometryErrors(const BalProblem& truth, const std::vector<double>& cameras,
+                                 const std::vector<double>& points) {
+  GroundTruthErrors e;
 
   const Eigen::Matrix3Xd solved = Centres(cameras), true_centres = Centres(truth.cameras);
   const Eigen::Matrix4d T = Eigen::umeyama(solved, true_centres, /*with_scaling=*/true);
@@ -57,5 +112,7 @@ GroundTruthErrors CompareWithGroundTruth(const BalProblem& truth,
   e.point_rms = std::sqrt(point_sum / std::max<int64_t>(truth.num_points(), 1));
   return e;
 }
+
+}  // namespace
 
 }  // namespace dba

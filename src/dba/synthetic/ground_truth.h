@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "dba/problem/bal_problem.h"
@@ -31,5 +32,12 @@ struct GroundTruthErrors {
 GroundTruthErrors CompareWithGroundTruth(const BalProblem& truth,
                                          const std::vector<double>& cameras,
                                          const std::vector<double>& points);
+
+// The same from a ground-truth file; a binary one is streamed (only its
+// cameras and points are held), so large problems do not need twice the
+// memory.
+GroundTruthErrors CompareWithGroundTruthFile(const std::string& truth_path,
+                                             const std::vector<double>& cameras,
+                                             const std::vector<double>& points);
 
 }  // namespace dba

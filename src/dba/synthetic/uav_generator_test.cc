@@ -86,6 +86,12 @@ TEST(UavGenerator, SolvedToTheInjectedNoiseAndTheTruth) {
   options.num_threads = 2;
   const LmSummary s = BundleAdjust(options, &p).lm;
   const GroundTruthErrors after = CompareWithGroundTruth(truth, p.cameras, p.points);
+  // The streaming comparison from the file gives the same figures.
+  const GroundTruthErrors streamed =
+      CompareWithGroundTruthFile(Tmp("s.truth.dba"), p.cameras, p.points);
+  EXPECT_NEAR(streamed.rms_to_noise_free_px, after.rms_to_noise_free_px,
+              1e-12 * after.rms_to_noise_free_px);
+  EXPECT_DOUBLE_EQ(streamed.camera_centre_rms, after.camera_centre_rms);
   // At the optimum the RMS (per observation, sqrt(2F/n)) is the noise's,
   // σ√2, less what the p parameters absorb: σ√2 · sqrt(1 - p / 2n).
   const double n = static_cast<double>(p.num_observations());
