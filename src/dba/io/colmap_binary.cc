@@ -1,0 +1,318 @@
+// COLMAP binary models: reading and writing; see colmap_binary.h.
+#include "dba/io/colmap_binary.h"
+
+#include <bit>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <string_view>
+
+#include "dba/common/error.h"
+
+namespace dba {
+namespace {
+
+static_assert(std::endian::native == std::endian::little,
+              "COLMAP binary I/O assumes a little-endian host");
+
+using colmap_internal::AtomicOutputFile;
+using colmap_internal::JoinPath;
+
+constexpr uint64_t kInvalidPoint3D = std::numeric_limits<uint64_t>::max();
+
+// A binary file read through a buffer, tracking the byte offset; every error
+// names the file and the offset.
+class BinaryIn {
+ public:
+  explicit BinaryIn(std::string path) : path_(std::move(path)), buffer_(new char[kBufferSize]) {
+    file_ = std::fopen(path_.c_str(), "rb");
+    if (file_ == nullptr) throw InputError(path_, 0, "cannot open file");
+    if (std::fseek(file_, 0, SEEK_END) != 0) Fail("cannot seek");
+    const long size = std::ftell(file_);
+    if (size < 0 || std::fseek(file_, 0, SEEK_SET) != 0) Fail("cannot seek");
+    size_ = static_cast<uint64_t>(size);
+  }
+  ~BinaryIn() { std::fclose(file_); }
+  BinaryIn(const BinaryIn&) = delete;
+  BinaryIn& operator=(const BinaryIn&) = delete;
+
+  const std::string& path() const { return path_; }
+  uint64_t offset() const { return offset_; }
+  uint64_t remaining() const { return size_ - offset_; }
+
+  [[noreturn]] void Fail(const std::string& what) const {
+    throw InputError(path_, 0, "at byte " + std::to_string(offset_) + ": " + what);
+  }
+
+  // The entry being read, named in error messages ("image #3 (id 7)"); kept
+  // as numbers so that nothing is formatted unless an error occurs.
+  void SetEntry(const char* kind, uint64_t index) {
+    kind_ = kind, index_ = index, has_id_ = false;
+  }
+  void SetEntryId(uint64_t id) { id_ = id, has_id_ = true; }
+  std::string Entry() const {
+    if (kind_ == nullptr) return "";
+    std::string s = std::string(kind_) + " #" + std::to_string(index_);
+    if (has_id_) s += " (id " + std::to_string(id_) + ")";
+    return s + " ";
+  }
+
+  // Reads `n` bytes holding the current entry's `what`; a short file is
+  // reported as truncated.
+  void Read(void* out, size_t n, const char* what) {
+    if (n > remaining()) {
+      Fail("file truncated: " + Entry() + what + " needs " + std::to_string(n) +
+           " bytes, only " + std::to_string(remaining()) + " left (file size " +
+           std::to_string(size_) + ")");
+    }
+    char* dst = static_cast<char*>(out);
+    while (n > 0) {
+      if (pos_ == end_) Refill();
+      const size_t k = std::min(n, end_ - pos_);
+      std::memcpy(dst, buffer_.get() + pos_, k);
+      pos_ += k, dst += k, n -= k, offset_ += k;
+    }
+  }
+  template <typename T>
+  T Get(const char* what) {
+    T v;
+    Read(&v, sizeof v, what);
+    return v;
+  }
+  // A NUL-terminated string.
+  std::string String(const char* what) {
+    std::string s;
+    for (;;) {
+      if (remaining() == 0) {
+        Fail("file truncated: " + Entry() + what + " has no terminating NUL byte");
+      }
+      if (pos_ == end_) Refill();
+      const char* begin = buffer_.get() + pos_;
+      const void* nul = std::memchr(begin, '\0', end_ - pos_);
+      const size_t k = nul != nullptr ? static_cast<const char*>(nul) - begin : end_ - pos_;
+      s.append(begin, k);
+      pos_ += k, offset_ += k;
+      if (nul != nullptr) {
+        ++pos_, ++offset_;
+        return s;
+      }
+    }
+  }
+  // A count of entries of `entry_bytes` each (at least) that must fit in the
+  // rest of the file: guards against allocating for a corrupt count.
+  uint64_t Count(const char* what, uint64_t entry_bytes) {
+    const uint64_t at = offset_;
+    const uint64_t n = Get<uint64_t>(what);
+    if (entry_bytes > 0 && n > remaining() / entry_bytes) {
+      throw InputError(path_, 0,
+                       "at byte " + std::to_string(at) + ": " + Entry() + what + " is " +
+                           std::to_string(n) + " but only " + std::to_string(remaining()) +
+                           " bytes follow (at least " + std::to_string(entry_bytes) +
+                           " per entry): file truncated or corrupt");
+    }
+    return n;
+  }
+  void ExpectEnd(const char* after) {
+    kind_ = nullptr;
+    if (remaining() != 0) {
+      Fail(std::to_string(remaining()) + " unexpected bytes after " + after);
+    }
+  }
+
+ private:
+  static constexpr size_t kBufferSize = 1 << 20;
+  void Refill() {
+    pos_ = 0;
+    end_ = std::fread(buffer_.get(), 1, kBufferSize, file_);
+    if (end_ == 0) Fail("read error or file shrank while reading");
+  }
+  std::string path_;
+  std::FILE* file_ = nullptr;
+  std::unique_ptr<char[]> buffer_;
+  size_t pos_ = 0;
+  size_t end_ = 0;
+  uint64_t offset_ = 0;
+  uint64_t size_ = 0;
+  const char* kind_ = nullptr;
+  uint64_t index_ = 0;
+  uint64_t id_ = 0;
+  bool has_id_ = false;
+};
+
+void ReadCameras(const std::string& path, ColmapModel* model) {
+  BinaryIn in(path);
+  const uint64_t n = in.Count("the number of cameras", 24);
+  model->cameras.resize(n);
+  for (uint64_t i = 0; i < n; ++i) {
+    ColmapCamera& c = model->cameras[i];
+    in.SetEntry("camera", i);
+    c.camera_id = in.Get<uint32_t>("camera_id");
+    in.SetEntryId(c.camera_id);
+    const uint64_t model_at = in.offset();
+    c.model_id = in.Get<int32_t>("model_id");
+    const ColmapCameraModelInfo* m = FindColmapCameraModel(c.model_id);
+    if (m == nullptr) {
+      throw InputError(path, 0,
+                       "at byte " + std::to_string(model_at) + ": " + in.Entry() +
+                           "unknown camera model id " + std::to_string(c.model_id) +
+                           " (COLMAP's ids are 0 to " +
+                           std::to_string(ColmapCameraModels().size() - 1) + ")");
+    }
+    c.width = in.Get<uint64_t>("width");
+    c.height = in.Get<uint64_t>("height");
+    c.params.resize(m->num_params);
+    const std::string what = std::string(m->name) + " parameters (" + m->params_info + ")";
+    in.Read(c.params.data(), sizeof(double) * c.params.size(), what.c_str());
+  }
+  in.ExpectEnd("the last camera");
+}
+
+void ReadImages(const std::string& path, ColmapModel* model) {
+  BinaryIn in(path);
+  // Smallest image: id, qvec, tvec, camera_id, name NUL, point count.
+  const uint64_t n = in.Count("the number of images", 4 + 56 + 4 + 1 + 8);
+  model->images.resize(n);
+  for (uint64_t i = 0; i < n; ++i) {
+    ColmapImage& im = model->images[i];
+    in.SetEntry("image", i);
+    im.image_id = in.Get<uint32_t>("image_id");
+    in.SetEntryId(im.image_id);
+    in.Read(im.qvec.data(), sizeof im.qvec, "qvec");
+    in.Read(im.tvec.data(), sizeof im.tvec, "tvec");
+    im.camera_id = in.Get<uint32_t>("camera_id");
+    im.name = in.String("name");
+    const uint64_t np = in.Count("number of 2D points", 24);
+    im.points2D.resize(np);
+    for (uint64_t k = 0; k < np; ++k) {
+      unsigned char raw[24];
+      in.Read(raw, sizeof raw, "2D points");
+      ColmapPoint2D& p = im.points2D[k];
+      uint64_t id;
+      std::memcpy(&p.x, raw, 8);
+      std::memcpy(&p.y, raw + 8, 8);
+      std::memcpy(&id, raw + 16, 8);
+      if (id == kInvalidPoint3D) {
+        p.point3D_id = kColmapNoPoint3D;
+      } else if (id > static_cast<uint64_t>(std::numeric_limits<int64_t>::max())) {
+        in.Fail(in.Entry() + "2D point " + std::to_string(k) + ": point3D_id " +
+                std::to_string(id) + " is out of range");
+      } else {
+        p.point3D_id = static_cast<int64_t>(id);
+      }
+    }
+  }
+  in.ExpectEnd("the last image");
+}
+
+void ReadPoints3D(const std::string& path, ColmapModel* model) {
+  BinaryIn in(path);
+  // Smallest point: id, xyz, rgb, error, track length.
+  const uint64_t n = in.Count("the number of points", 8 + 24 + 3 + 8 + 8);
+  model->points3D.resize(n);
+  for (uint64_t i = 0; i < n; ++i) {
+    ColmapPoint3D& p = model->points3D[i];
+    in.SetEntry("point3D", i);
+    const uint64_t id = in.Get<uint64_t>("point3D_id");
+    if (id > static_cast<uint64_t>(std::numeric_limits<int64_t>::max())) {
+      in.Fail(in.Entry() + "point3D_id " + std::to_string(id) + " is out of range");
+    }
+    p.point3D_id = static_cast<int64_t>(id);
+    in.SetEntryId(id);
+    in.Read(p.xyz.data(), sizeof p.xyz, "xyz");
+    in.Read(p.rgb.data(), sizeof p.rgb, "rgb");
+    p.error = in.Get<double>("error");
+    const uint64_t nt = in.Count("track length", 8);
+    p.track.resize(nt);
+    static_assert(sizeof(ColmapTrackElement) == 8);
+    in.Read(p.track.data(), 8 * nt, "track");
+  }
+  in.ExpectEnd("the last point");
+}
+
+// Little-endian values into an output file.
+class BinaryOut {
+ public:
+  explicit BinaryOut(const std::string& path) : file_(path) {}
+  template <typename T>
+  void Put(T v) {
+    file_.Write(&v, sizeof v);
+  }
+  void Bytes(const void* p, size_t n) { file_.Write(p, n); }
+  void Commit() { file_.Commit(); }
+
+ private:
+  AtomicOutputFile file_;
+};
+
+void WriteCameras(const ColmapModel& model, const std::string& path) {
+  BinaryOut out(path);
+  out.Put<uint64_t>(model.cameras.size());
+  for (const ColmapCamera& c : model.cameras) {
+    out.Put<uint32_t>(c.camera_id);
+    out.Put<int32_t>(c.model_id);
+    out.Put<uint64_t>(c.width);
+    out.Put<uint64_t>(c.height);
+    out.Bytes(c.params.data(), sizeof(double) * c.params.size());
+  }
+  out.Commit();
+}
+
+void WriteImages(const ColmapModel& model, const std::string& path) {
+  BinaryOut out(path);
+  out.Put<uint64_t>(model.images.size());
+  for (const ColmapImage& im : model.images) {
+    out.Put<uint32_t>(im.image_id);
+    out.Bytes(im.qvec.data(), sizeof im.qvec);
+    out.Bytes(im.tvec.data(), sizeof im.tvec);
+    out.Put<uint32_t>(im.camera_id);
+    out.Bytes(im.name.c_str(), im.name.size() + 1);
+    out.Put<uint64_t>(im.points2D.size());
+    for (const ColmapPoint2D& p : im.points2D) {
+      unsigned char raw[24];
+      const uint64_t id = p.point3D_id == kColmapNoPoint3D
+                              ? kInvalidPoint3D
+                              : static_cast<uint64_t>(p.point3D_id);
+      std::memcpy(raw, &p.x, 8);
+      std::memcpy(raw + 8, &p.y, 8);
+      std::memcpy(raw + 16, &id, 8);
+      out.Bytes(raw, sizeof raw);
+    }
+  }
+  out.Commit();
+}
+
+void WritePoints3D(const ColmapModel& model, const std::string& path) {
+  BinaryOut out(path);
+  out.Put<uint64_t>(model.points3D.size());
+  for (const ColmapPoint3D& p : model.points3D) {
+    out.Put<uint64_t>(static_cast<uint64_t>(p.point3D_id));
+    out.Bytes(p.xyz.data(), sizeof p.xyz);
+    out.Bytes(p.rgb.data(), sizeof p.rgb);
+    out.Put<double>(p.error);
+    out.Put<uint64_t>(p.track.size());
+    out.Bytes(p.track.data(), 8 * p.track.size());
+  }
+  out.Commit();
+}
+
+}  // namespace
+
+ColmapModel ReadColmapBinary(const std::string& dir) {
+  ColmapModel model;
+  ReadCameras(JoinPath(dir, "cameras.bin"), &model);
+  ReadImages(JoinPath(dir, "images.bin"), &model);
+  ReadPoints3D(JoinPath(dir, "points3D.bin"), &model);
+  colmap_internal::ValidateColmapModel(model, dir, ".bin", nullptr);
+  return model;
+}
+
+void WriteColmapBinary(const ColmapModel& model, const std::string& dir) {
+  colmap_internal::CheckWritable(model, false);
+  colmap_internal::EnsureDirectory(dir);
+  WriteCameras(model, JoinPath(dir, "cameras.bin"));
+  WriteImages(model, JoinPath(dir, "images.bin"));
+  WritePoints3D(model, JoinPath(dir, "points3D.bin"));
+}
+
+}  // namespace dba

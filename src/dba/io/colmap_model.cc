@@ -1,0 +1,556 @@
+// COLMAP sparse models: camera model table, validation, format detection and
+// the intrinsics mapping; see colmap_model.h.
+#include "dba/io/colmap_model.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "dba/common/error.h"
+#include "dba/io/colmap_binary.h"
+#include "dba/io/colmap_text.h"
+
+namespace dba {
+namespace {
+
+// COLMAP's camera models (src/colmap/sensor/models.h), in id order.
+constexpr ColmapCameraModelInfo kModels[] = {
+    {0, "SIMPLE_PINHOLE", 3, "f, cx, cy"},
+    {1, "PINHOLE", 4, "fx, fy, cx, cy"},
+    {2, "SIMPLE_RADIAL", 4, "f, cx, cy, k"},
+    {3, "RADIAL", 5, "f, cx, cy, k1, k2"},
+    {4, "OPENCV", 8, "fx, fy, cx, cy, k1, k2, p1, p2"},
+    {5, "OPENCV_FISHEYE", 8, "fx, fy, cx, cy, k1, k2, k3, k4"},
+    {6, "FULL_OPENCV", 12, "fx, fy, cx, cy, k1, k2, p1, p2, k3, k4, k5, k6"},
+    {7, "FOV", 5, "fx, fy, cx, cy, omega"},
+    {8, "SIMPLE_RADIAL_FISHEYE", 4, "f, cx, cy, k"},
+    {9, "RADIAL_FISHEYE", 5, "f, cx, cy, k1, k2"},
+    {10, "THIN_PRISM_FISHEYE", 12, "fx, fy, cx, cy, k1, k2, p1, p2, k3, k4, sx1, sy1"},
+    {11, "RAD_TAN_THIN_PRISM_FISHEYE", 16,
+     "fx, fy, cx, cy, k0, k1, k2, k3, k4, k5, p0, p1, s0, s1, s2, s3"},
+    {12, "SIMPLE_DIVISION", 4, "f, cx, cy, k"},
+    {13, "DIVISION", 5, "fx, fy, cx, cy, k"},
+    {14, "SIMPLE_FISHEYE", 3, "f, cx, cy"},
+    {15, "FISHEYE", 4, "fx, fy, cx, cy"},
+    {16, "EUCM", 6, "fx, fy, cx, cy, alpha, beta"},
+    {17, "EQUIRECTANGULAR", 2, "w, h"},
+};
+
+constexpr int32_t kSimplePinhole = 0;
+constexpr int32_t kPinhole = 1;
+constexpr int32_t kSimpleRadial = 2;
+constexpr int32_t kRadial = 3;
+
+uint64_t Bits(double v) { return std::bit_cast<uint64_t>(v); }
+
+std::string Num(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+}  // namespace
+
+std::span<const ColmapCameraModelInfo> ColmapCameraModels() { return kModels; }
+
+const ColmapCameraModelInfo* FindColmapCameraModel(std::string_view name) {
+  for (const auto& m : kModels) {
+    if (name == m.name) return &m;
+  }
+  return nullptr;
+}
+
+const ColmapCameraModelInfo* FindColmapCameraModel(int32_t id) {
+  if (id < 0 || id >= static_cast<int32_t>(std::size(kModels))) return nullptr;
+  return &kModels[id];
+}
+
+std::string ColmapCamera::ModelName() const {
+  const ColmapCameraModelInfo* m = FindColmapCameraModel(model_id);
+  return m != nullptr ? std::string(m->name) : "UNKNOWN(" + std::to_string(model_id) + ")";
+}
+
+int64_t ColmapModel::NumObservations() const {
+  int64_t n = 0;
+  for (const auto& p : points3D) n += static_cast<int64_t>(p.track.size());
+  return n;
+}
+
+int64_t ColmapModel::NumPoints2DWithPoint3D() const {
+  int64_t n = 0;
+  for (const auto& im : images) {
+    for (const auto& p : im.points2D) n += p.point3D_id != kColmapNoPoint3D;
+  }
+  return n;
+}
+
+// ---------------------------------------------------------------------------
+
+std::string FirstColmapModelDifference(const ColmapModel& a, const ColmapModel& b) {
+  auto same = [](double x, double y) { return Bits(x) == Bits(y); };
+  if (a.cameras.size() != b.cameras.size()) {
+    return "camera count " + std::to_string(a.cameras.size()) + " vs " +
+           std::to_string(b.cameras.size());
+  }
+  for (size_t i = 0; i < a.cameras.size(); ++i) {
+    const ColmapCamera& x = a.cameras[i];
+    const ColmapCamera& y = b.cameras[i];
+    const std::string at = "camera #" + std::to_string(i) + " (id " +
+                           std::to_string(x.camera_id) + "): ";
+    if (x.camera_id != y.camera_id) return at + "camera_id differs";
+    if (x.model_id != y.model_id) return at + "model " + x.ModelName() + " vs " + y.ModelName();
+    if (x.width != y.width || x.height != y.height) return at + "size differs";
+    if (x.params.size() != y.params.size()) return at + "parameter count differs";
+    for (size_t k = 0; k < x.params.size(); ++k) {
+      if (!same(x.params[k], y.params[k])) {
+        return at + "param " + std::to_string(k) + ": " + Num(x.params[k]) + " vs " +
+               Num(y.params[k]);
+      }
+    }
+  }
+  if (a.images.size() != b.images.size()) {
+    return "image count " + std::to_string(a.images.size()) + " vs " +
+           std::to_string(b.images.size());
+  }
+  for (size_t i = 0; i < a.images.size(); ++i) {
+    const ColmapImage& x = a.images[i];
+    const ColmapImage& y = b.images[i];
+    const std::string at =
+        "image #" + std::to_string(i) + " (id " + std::to_string(x.image_id) + "): ";
+    if (x.image_id != y.image_id) return at + "image_id differs";
+    for (int k = 0; k < 4; ++k) {
+      if (!same(x.qvec[k], y.qvec[k])) {
+        return at + "qvec[" + std::to_string(k) + "]: " + Num(x.qvec[k]) + " vs " +
+               Num(y.qvec[k]);
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (!same(x.tvec[k], y.tvec[k])) {
+        return at + "tvec[" + std::to_string(k) + "]: " + Num(x.tvec[k]) + " vs " +
+               Num(y.tvec[k]);
+      }
+    }
+    if (x.camera_id != y.camera_id) return at + "camera_id differs";
+    if (x.name != y.name) return at + "name '" + x.name + "' vs '" + y.name + "'";
+    if (x.points2D.size() != y.points2D.size()) {
+      return at + "point2D count " + std::to_string(x.points2D.size()) + " vs " +
+             std::to_string(y.points2D.size());
+    }
+    for (size_t k = 0; k < x.points2D.size(); ++k) {
+      const ColmapPoint2D& p = x.points2D[k];
+      const ColmapPoint2D& q = y.points2D[k];
+      if (!same(p.x, q.x) || !same(p.y, q.y) || p.point3D_id != q.point3D_id) {
+        return at + "point2D " + std::to_string(k) + ": (" + Num(p.x) + ", " + Num(p.y) +
+               ", " + std::to_string(p.point3D_id) + ") vs (" + Num(q.x) + ", " + Num(q.y) +
+               ", " + std::to_string(q.point3D_id) + ")";
+      }
+    }
+  }
+  if (a.points3D.size() != b.points3D.size()) {
+    return "point3D count " + std::to_string(a.points3D.size()) + " vs " +
+           std::to_string(b.points3D.size());
+  }
+  for (size_t i = 0; i < a.points3D.size(); ++i) {
+    const ColmapPoint3D& x = a.points3D[i];
+    const ColmapPoint3D& y = b.points3D[i];
+    const std::string at =
+        "point3D #" + std::to_string(i) + " (id " + std::to_string(x.point3D_id) + "): ";
+    if (x.point3D_id != y.point3D_id) return at + "point3D_id differs";
+    for (int k = 0; k < 3; ++k) {
+      if (!same(x.xyz[k], y.xyz[k])) {
+        return at + "xyz[" + std::to_string(k) + "]: " + Num(x.xyz[k]) + " vs " +
+               Num(y.xyz[k]);
+      }
+    }
+    if (x.rgb != y.rgb) return at + "rgb differs";
+    if (!same(x.error, y.error)) return at + "error " + Num(x.error) + " vs " + Num(y.error);
+    if (x.track != y.track) return at + "track differs";
+  }
+  return "";
+}
+
+// ---------------------------------------------------------------------------
+
+namespace colmap_internal {
+
+void ValidateColmapModel(const ColmapModel& model, const std::string& dir,
+                         const std::string& extension, const ColmapSourceLines* lines) {
+  const std::string cameras_file = JoinPath(dir, "cameras" + extension);
+  const std::string images_file = JoinPath(dir, "images" + extension);
+  const std::string points_file = JoinPath(dir, "points3D" + extension);
+  auto line_of = [&](const std::vector<int64_t> ColmapSourceLines::*member, size_t i) -> int64_t {
+    if (lines == nullptr) return 0;
+    const std::vector<int64_t>& v = lines->*member;
+    return i < v.size() ? v[i] : 0;
+  };
+  // In binary files entries have no line: name them by position.
+  auto entry = [&](const char* kind, size_t i, const std::string& id) {
+    std::string s = kind;
+    if (lines == nullptr) s += " #" + std::to_string(i) + " (id " + id + ")";
+    else s += " " + id;
+    return s + ": ";
+  };
+  auto finite = [](const double* v, size_t n) {
+    for (size_t i = 0; i < n; ++i) {
+      if (!std::isfinite(v[i])) return false;
+    }
+    return true;
+  };
+
+  std::unordered_map<uint32_t, size_t> camera_index;
+  camera_index.reserve(model.cameras.size());
+  for (size_t i = 0; i < model.cameras.size(); ++i) {
+    const ColmapCamera& c = model.cameras[i];
+    const int64_t line = line_of(&ColmapSourceLines::cameras, i);
+    auto at = [&] { return entry("camera", i, std::to_string(c.camera_id)); };
+    if (!camera_index.emplace(c.camera_id, i).second) {
+      throw InputError(cameras_file, line, at() + "camera_id appears twice");
+    }
+    const ColmapCameraModelInfo* m = FindColmapCameraModel(c.model_id);
+    if (m == nullptr) {
+      throw InputError(cameras_file, line,
+                       at() + "unknown camera model id " + std::to_string(c.model_id));
+    }
+    if (c.params.size() != static_cast<size_t>(m->num_params)) {
+      throw InputError(cameras_file, line,
+                       at() + m->name + " has " + std::to_string(m->num_params) +
+                           " parameters (" + m->params_info + "), the camera has " +
+                           std::to_string(c.params.size()));
+    }
+    if (!finite(c.params.data(), c.params.size())) {
+      throw InputError(cameras_file, line, at() + "non-finite camera parameter");
+    }
+  }
+
+  std::unordered_map<uint32_t, size_t> image_index;
+  image_index.reserve(model.images.size());
+  std::vector<size_t> image_offset(model.images.size() + 1, 0);
+  for (size_t i = 0; i < model.images.size(); ++i) {
+    const ColmapImage& im = model.images[i];
+    const int64_t line = line_of(&ColmapSourceLines::images, i);
+    auto at = [&] { return entry("image", i, std::to_string(im.image_id)); };
+    if (!image_index.emplace(im.image_id, i).second) {
+      throw InputError(images_file, line, at() + "image_id appears twice");
+    }
+    if (!camera_index.contains(im.camera_id)) {
+      throw InputError(images_file, line,
+                       at() + "camera_id " + std::to_string(im.camera_id) +
+                           " is not in " + cameras_file);
+    }
+    if (!finite(im.qvec.data(), 4) || !finite(im.tvec.data(), 3)) {
+      throw InputError(images_file, line, at() + "non-finite qvec or tvec");
+    }
+    for (size_t k = 0; k < im.points2D.size(); ++k) {
+      const ColmapPoint2D& p = im.points2D[k];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+        throw InputError(images_file, line > 0 ? line + 1 : 0,
+                         at() + "point2D " + std::to_string(k) + " is not finite");
+      }
+      if (p.point3D_id < kColmapNoPoint3D) {
+        throw InputError(images_file, line > 0 ? line + 1 : 0,
+                         at() + "point2D " + std::to_string(k) + " has point3D_id " +
+                             std::to_string(p.point3D_id) + " (expected -1 or >= 0)");
+      }
+    }
+    image_offset[i + 1] = image_offset[i] + im.points2D.size();
+  }
+
+  // visited[image_offset[i] + k]: some track lists 2D point k of image i.
+  std::vector<uint8_t> visited(image_offset.back(), 0);
+  std::unordered_map<int64_t, size_t> point_index;
+  point_index.reserve(model.points3D.size());
+  for (size_t i = 0; i < model.points3D.size(); ++i) {
+    const ColmapPoint3D& p = model.points3D[i];
+    const int64_t line = line_of(&ColmapSourceLines::points3D, i);
+    auto at = [&] { return entry("point3D", i, std::to_string(p.point3D_id)); };
+    if (p.point3D_id < 0) {
+      throw InputError(points_file, line, at() + "point3D_id must be >= 0");
+    }
+    if (!point_index.emplace(p.point3D_id, i).second) {
+      throw InputError(points_file, line, at() + "point3D_id appears twice");
+    }
+    if (!finite(p.xyz.data(), 3) || !std::isfinite(p.error)) {
+      throw InputError(points_file, line, at() + "non-finite xyz or error");
+    }
+    for (size_t t = 0; t < p.track.size(); ++t) {
+      const ColmapTrackElement& e = p.track[t];
+      auto el = [&] {
+        return at() + "track element " + std::to_string(t) + " (image " +
+               std::to_string(e.image_id) + ", point2D_idx " + std::to_string(e.point2D_idx) +
+               "): ";
+      };
+      auto it = image_index.find(e.image_id);
+      if (it == image_index.end()) {
+        throw InputError(points_file, line, el() + "no such image in " + images_file);
+      }
+      const ColmapImage& im = model.images[it->second];
+      if (e.point2D_idx >= im.points2D.size()) {
+        throw InputError(points_file, line,
+                         el() + "the image has only " + std::to_string(im.points2D.size()) +
+                             " 2D points");
+      }
+      const int64_t back = im.points2D[e.point2D_idx].point3D_id;
+      if (back != p.point3D_id) {
+        throw InputError(points_file, line,
+                         el() + "that 2D point refers to point3D_id " + std::to_string(back) +
+                             ", not back to this point");
+      }
+      uint8_t& seen = visited[image_offset[it->second] + e.point2D_idx];
+      if (seen) throw InputError(points_file, line, el() + "listed twice");
+      seen = 1;
+    }
+  }
+
+  for (size_t i = 0; i < model.images.size(); ++i) {
+    const ColmapImage& im = model.images[i];
+    const int64_t line = line_of(&ColmapSourceLines::images, i);
+    auto at = [&] { return entry("image", i, std::to_string(im.image_id)); };
+    for (size_t k = 0; k < im.points2D.size(); ++k) {
+      const int64_t id = im.points2D[k].point3D_id;
+      if (id == kColmapNoPoint3D || visited[image_offset[i] + k]) continue;
+      const std::string what = point_index.contains(id)
+                                   ? " whose track does not list this 2D point"
+                                   : " which is not in " + points_file;
+      throw InputError(images_file, line > 0 ? line + 1 : 0,
+                       at() + "point2D " + std::to_string(k) + " refers to point3D_id " +
+                           std::to_string(id) + what);
+    }
+  }
+}
+
+std::string JoinPath(const std::string& dir, const std::string& name) {
+  if (dir.empty()) return name;
+  if (dir.back() == '/') return dir + name;
+  return dir + "/" + name;
+}
+
+void EnsureDirectory(const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw std::runtime_error(dir + ": cannot create directory: " + ec.message());
+  if (!std::filesystem::is_directory(dir, ec)) {
+    throw std::runtime_error(dir + ": not a directory");
+  }
+}
+
+void CheckWritable(const ColmapModel& model, bool text) {
+  for (const ColmapCamera& c : model.cameras) {
+    const ColmapCameraModelInfo* m = FindColmapCameraModel(c.model_id);
+    if (m == nullptr) {
+      throw std::invalid_argument("COLMAP camera " + std::to_string(c.camera_id) +
+                                  ": unknown camera model id " + std::to_string(c.model_id));
+    }
+    if (c.params.size() != static_cast<size_t>(m->num_params)) {
+      throw std::invalid_argument("COLMAP camera " + std::to_string(c.camera_id) + ": " +
+                                  m->name + " needs " + std::to_string(m->num_params) +
+                                  " parameters, has " + std::to_string(c.params.size()));
+    }
+  }
+  for (const ColmapImage& im : model.images) {
+    const std::string& n = im.name;
+    const std::string_view bad = text ? std::string_view("\0\r\n", 3) : std::string_view("\0", 1);
+    auto blank = [](char ch) { return ch == ' ' || ch == '\t' || ch == '\v' || ch == '\f'; };
+    const bool unreadable =
+        n.find_first_of(bad) != std::string::npos ||
+        (text && (n.empty() || blank(n.front()) || blank(n.back())));
+    if (unreadable) {
+      throw std::invalid_argument(
+          "COLMAP image " + std::to_string(im.image_id) + ": name '" + n + "' cannot be written " +
+          (text ? "as text (empty, NUL/CR/LF, or leading or trailing blanks)" : "(NUL byte)"));
+    }
+  }
+}
+
+AtomicOutputFile::AtomicOutputFile(const std::string& path)
+    : path_(path), tmp_(path + ".tmp." + std::to_string(::getpid())) {
+  file_ = std::fopen(tmp_.c_str(), "wb");
+  if (file_ == nullptr) Fail("cannot create temporary file");
+  buffer_.reserve(1 << 20);
+}
+
+AtomicOutputFile::~AtomicOutputFile() {
+  if (file_ != nullptr) std::fclose(file_);
+  if (!committed_) std::remove(tmp_.c_str());
+}
+
+void AtomicOutputFile::Fail(const char* what) {
+  const int err = errno;
+  if (file_ != nullptr) std::fclose(file_);
+  file_ = nullptr;
+  std::remove(tmp_.c_str());
+  throw std::runtime_error(path_ + ": " + what + ": " + std::strerror(err));
+}
+
+void AtomicOutputFile::Write(const void* data, size_t size) {
+  const char* p = static_cast<const char*>(data);
+  if (buffer_.size() + size > buffer_.capacity()) {
+    if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size()) {
+      Fail("write failed");
+    }
+    buffer_.clear();
+    if (size >= buffer_.capacity()) {
+      if (std::fwrite(p, 1, size, file_) != size) Fail("write failed");
+      return;
+    }
+  }
+  buffer_.insert(buffer_.end(), p, p + size);
+}
+
+void AtomicOutputFile::Commit() {
+  if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size()) {
+    Fail("write failed");
+  }
+  buffer_.clear();
+  if (std::fflush(file_) != 0) Fail("write failed");
+  if (::fsync(::fileno(file_)) != 0) Fail("fsync failed");
+  const int rc = std::fclose(file_);
+  file_ = nullptr;
+  if (rc != 0) Fail("close failed");
+  if (std::rename(tmp_.c_str(), path_.c_str()) != 0) Fail("rename failed");
+  committed_ = true;
+}
+
+}  // namespace colmap_internal
+
+void ValidateColmapModel(const ColmapModel& model, const std::string& dir,
+                         const std::string& extension) {
+  colmap_internal::ValidateColmapModel(model, dir, extension, nullptr);
+}
+
+// ---------------------------------------------------------------------------
+
+std::optional<ColmapFormat> DetectColmapFormat(const std::string& dir) {
+  auto all = [&](const char* ext) {
+    for (const char* stem : {"cameras", "images", "points3D"}) {
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(
+              colmap_internal::JoinPath(dir, std::string(stem) + ext), ec)) {
+        return false;
+      }
+    }
+    return true;
+  };
+  if (all(".bin")) return ColmapFormat::kBinary;
+  if (all(".txt")) return ColmapFormat::kText;
+  return std::nullopt;
+}
+
+ColmapModel ReadColmapModel(const std::string& dir) {
+  std::error_code ec;
+  if (!std::filesystem::exists(dir, ec)) {
+    throw InputError(dir, 0, "no such directory (expected a COLMAP sparse model directory)");
+  }
+  if (!std::filesystem::is_directory(dir, ec)) {
+    throw InputError(dir, 0,
+                     "not a directory (expected a COLMAP sparse model directory holding "
+                     "cameras, images and points3D as .txt or .bin)");
+  }
+  const std::optional<ColmapFormat> format = DetectColmapFormat(dir);
+  if (format == ColmapFormat::kBinary) return ReadColmapBinary(dir);
+  if (format == ColmapFormat::kText) return ReadColmapText(dir);
+
+  std::string found;
+  for (const char* name : {"cameras.txt", "images.txt", "points3D.txt", "cameras.bin",
+                           "images.bin", "points3D.bin"}) {
+    if (std::filesystem::is_regular_file(colmap_internal::JoinPath(dir, name), ec)) {
+      found += found.empty() ? "" : ", ";
+      found += name;
+    }
+  }
+  std::string what =
+      "no complete COLMAP model: expected cameras.txt, images.txt and points3D.txt, or "
+      "cameras.bin, images.bin and points3D.bin; found " +
+      (found.empty() ? std::string("none of them") : found);
+  const std::string nested = colmap_internal::JoinPath(dir, "sparse/0");
+  if (DetectColmapFormat(nested).has_value()) what += " (did you mean " + nested + "?)";
+  throw InputError(dir, 0, what);
+}
+
+// ---------------------------------------------------------------------------
+
+std::string SupportedColmapCameraModels() {
+  return "SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL";
+}
+
+ColmapIntrinsics IntrinsicsFromColmapCamera(const ColmapCamera& camera,
+                                            const std::string& file) {
+  const std::string at = "camera " + std::to_string(camera.camera_id) + ": ";
+  const std::vector<double>& p = camera.params;
+  auto need = [&](size_t n) {
+    if (p.size() != n) {
+      throw InputError(file, 0,
+                       at + camera.ModelName() + " needs " + std::to_string(n) +
+                           " parameters, the camera has " + std::to_string(p.size()));
+    }
+  };
+  ColmapIntrinsics in;
+  switch (camera.model_id) {
+    case kSimplePinhole:
+      need(3);
+      in.f = p[0], in.cx = p[1], in.cy = p[2];
+      return in;
+    case kPinhole: {
+      need(4);
+      const double fx = p[0], fy = p[1];
+      if (std::abs(fx - fy) > kColmapPinholeFocalTolerance * std::max(std::abs(fx), std::abs(fy))) {
+        throw InputError(file, 0,
+                         at + "PINHOLE with fx = " + Num(fx) + " and fy = " + Num(fy) +
+                             ": the shared-intrinsics model has one focal length, so fx "
+                             "and fy must agree to 1e-9 relative");
+      }
+      in.f = 0.5 * (fx + fy), in.cx = p[2], in.cy = p[3];
+      return in;
+    }
+    case kSimpleRadial:
+      need(4);
+      in.f = p[0], in.cx = p[1], in.cy = p[2], in.k1 = p[3];
+      in.has_k1 = true;
+      return in;
+    case kRadial:
+      need(5);
+      in.f = p[0], in.cx = p[1], in.cy = p[2], in.k1 = p[3], in.k2 = p[4];
+      in.has_k1 = in.has_k2 = true;
+      return in;
+    default:
+      throw InputError(file, 0,
+                       at + "camera model " + camera.ModelName() +
+                           " is not supported (the photogrammetric model has f, cx, cy, "
+                           "k1, k2); supported COLMAP camera models: " +
+                           SupportedColmapCameraModels());
+  }
+}
+
+void SetColmapCameraIntrinsics(const ColmapIntrinsics& in, ColmapCamera* camera) {
+  const std::string at = "COLMAP camera " + std::to_string(camera->camera_id) + " (" +
+                         camera->ModelName() + "): ";
+  const bool k1 = camera->model_id == kSimpleRadial || camera->model_id == kRadial;
+  const bool k2 = camera->model_id == kRadial;
+  if (!k1 && in.k1 != 0) throw std::invalid_argument(at + "cannot hold k1 = " + Num(in.k1));
+  if (!k2 && in.k2 != 0) throw std::invalid_argument(at + "cannot hold k2 = " + Num(in.k2));
+  switch (camera->model_id) {
+    case kSimplePinhole:
+      camera->params = {in.f, in.cx, in.cy};
+      return;
+    case kPinhole:
+      camera->params = {in.f, in.f, in.cx, in.cy};
+      return;
+    case kSimpleRadial:
+      camera->params = {in.f, in.cx, in.cy, in.k1};
+      return;
+    case kRadial:
+      camera->params = {in.f, in.cx, in.cy, in.k1, in.k2};
+      return;
+    default:
+      throw std::invalid_argument(at + "unsupported camera model; supported: " +
+                                  SupportedColmapCameraModels());
+  }
+}
+
+}  // namespace dba

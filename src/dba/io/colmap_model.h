@@ -1,0 +1,232 @@
+// COLMAP sparse models in memory: cameras, images (poses and 2D points) and
+// points3D (positions, colours and tracks), held exactly as the files hold
+// them so that read -> write reproduces them (same entries, same order, same
+// values bit for bit).
+//
+// Files (COLMAP's layouts, see colmap_text.h and colmap_binary.h):
+//   cameras.{txt,bin}   CAMERA_ID MODEL WIDTH HEIGHT PARAMS[]
+//   images.{txt,bin}    IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME,
+//                       POINTS2D[] as (X, Y, POINT3D_ID)
+//   points3D.{txt,bin}  POINT3D_ID X Y Z R G B ERROR, TRACK[] as
+//                       (IMAGE_ID, POINT2D_IDX)
+// Conventions: the quaternion is (qw, qx, qy, qz) and with tvec maps world ->
+// camera, x_cam = R(q) X + t; pixel coordinates have the origin at the
+// top-left corner of the top-left pixel.
+//
+// Ids have COLMAP's widths: camera_id and image_id are 32-bit unsigned,
+// point3D_id 64-bit (stored here as int64_t with -1 = "no 3D point"; a file
+// holding a point3D_id >= 2^63 other than COLMAP's invalid marker is refused).
+//
+// COLMAP >= 3.12 may also write rigs and frames files beside these; they are
+// not read (the three files above hold everything bundle adjustment needs).
+//
+// Thread safety: all functions are pure or touch only the files they name;
+// distinct models/directories may be used from different threads.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <cstdio>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace dba {
+
+// COLMAP's camera models (sensor/models.h): id, name, parameter count and the
+// order of the parameters.
+struct ColmapCameraModelInfo {
+  int32_t id;
+  const char* name;
+  int num_params;
+  const char* params_info;
+};
+
+// All models COLMAP defines, in id order (ids 0..17).
+std::span<const ColmapCameraModelInfo> ColmapCameraModels();
+// nullptr when COLMAP has no such model.
+const ColmapCameraModelInfo* FindColmapCameraModel(std::string_view name);
+const ColmapCameraModelInfo* FindColmapCameraModel(int32_t id);
+
+inline constexpr int64_t kColmapNoPoint3D = -1;
+
+struct ColmapCamera {
+  uint32_t camera_id = 0;
+  int32_t model_id = -1;  // see ColmapCameraModels()
+  uint64_t width = 0;
+  uint64_t height = 0;
+  std::vector<double> params;  // exactly the model's parameter count
+
+  // The model's name ("SIMPLE_RADIAL"), or "UNKNOWN(<id>)".
+  std::string ModelName() const;
+  bool operator==(const ColmapCamera&) const = default;
+};
+
+struct ColmapPoint2D {
+  double x = 0;
+  double y = 0;
+  int64_t point3D_id = kColmapNoPoint3D;
+  bool operator==(const ColmapPoint2D&) const = default;
+};
+
+struct ColmapImage {
+  uint32_t image_id = 0;
+  std::array<double, 4> qvec{1, 0, 0, 0};  // qw, qx, qy, qz (world -> camera)
+  std::array<double, 3> tvec{0, 0, 0};
+  uint32_t camera_id = 0;
+  std::string name;
+  std::vector<ColmapPoint2D> points2D;  // all of them, with or without 3D point
+  bool operator==(const ColmapImage&) const = default;
+};
+
+struct ColmapTrackElement {
+  uint32_t image_id = 0;
+  uint32_t point2D_idx = 0;  // index into that image's points2D
+  bool operator==(const ColmapTrackElement&) const = default;
+};
+
+struct ColmapPoint3D {
+  int64_t point3D_id = 0;
+  std::array<double, 3> xyz{0, 0, 0};
+  std::array<uint8_t, 3> rgb{0, 0, 0};
+  double error = 0;  // mean reprojection error in pixels (COLMAP: -1 = unknown)
+  std::vector<ColmapTrackElement> track;
+  bool operator==(const ColmapPoint3D&) const = default;
+};
+
+// Entries in file order; ids need not be sorted or contiguous.
+struct ColmapModel {
+  std::vector<ColmapCamera> cameras;
+  std::vector<ColmapImage> images;
+  std::vector<ColmapPoint3D> points3D;
+
+  // Sum of track lengths (the residual pairs of bundle adjustment).
+  int64_t NumObservations() const;
+  // 2D points that have a 3D point (equals NumObservations() in a valid model).
+  int64_t NumPoints2DWithPoint3D() const;
+  bool operator==(const ColmapModel&) const = default;
+};
+
+// The first difference between two models, compared field by field with
+// doubles compared bit for bit (so -0.0 != 0.0); "" when they are identical.
+// For tests and diagnostics.
+std::string FirstColmapModelDifference(const ColmapModel& a, const ColmapModel& b);
+
+// Checks the model's structure and throws dba::InputError naming `dir`'s file
+// (cameras/images/points3D + `extension`) on the first problem: duplicate ids,
+// a camera model COLMAP does not define or a wrong parameter count, an image
+// whose camera is missing, non-finite numbers (params, qvec, tvec, 2D points,
+// xyz, error), a track element naming a missing image or a point2D_idx out of
+// range or a 2D point that does not point back, a duplicated track element, a
+// 2D point naming a missing 3D point or one whose track does not list it.
+// The readers call it; no geometric checks.
+void ValidateColmapModel(const ColmapModel& model, const std::string& dir,
+                         const std::string& extension);
+
+// ---------------------------------------------------------------------------
+// Directory-level reading.
+
+enum class ColmapFormat { kText, kBinary };
+
+// The format of the model in `dir`: binary when cameras.bin, images.bin and
+// points3D.bin all exist (COLMAP's own preference), else text when
+// cameras.txt, images.txt and points3D.txt all exist, else nullopt.
+std::optional<ColmapFormat> DetectColmapFormat(const std::string& dir);
+
+// Reads the model in `dir` (the directory holding the three files, e.g.
+// <project>/sparse/0), text or binary as DetectColmapFormat says, and
+// validates it. Throws dba::InputError when `dir` holds no complete model
+// (naming what is missing) or on any malformed content.
+ColmapModel ReadColmapModel(const std::string& dir);
+
+// ---------------------------------------------------------------------------
+// Mapping COLMAP cameras onto dba's photogrammetric intrinsics (f, cx, cy, k1,
+// k2; camera/photo_camera.h): SIMPLE_PINHOLE (f, cx, cy), PINHOLE (fx, fy, cx,
+// cy with fx == fy), SIMPLE_RADIAL (f, cx, cy, k), RADIAL (f, cx, cy, k1, k2).
+// Parameters the model lacks are zero and must stay fixed at zero.
+
+struct ColmapIntrinsics {
+  double f = 0;
+  double cx = 0;
+  double cy = 0;
+  double k1 = 0;
+  double k2 = 0;
+  // f, cx and cy exist in every supported model.
+  bool has_k1 = false;
+  bool has_k2 = false;
+};
+
+// Relative tolerance within which PINHOLE's fx and fy count as one focal
+// length: |fx - fy| <= kColmapPinholeFocalTolerance * max(|fx|, |fy|).
+inline constexpr double kColmapPinholeFocalTolerance = 1e-9;
+
+// "SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL".
+std::string SupportedColmapCameraModels();
+
+// Throws dba::InputError(file, 0, ...) for any other model (naming it and
+// listing the supported ones) and for PINHOLE with fx != fy (beyond the
+// tolerance; f = (fx + fy) / 2 otherwise). `file` names where the camera came
+// from, e.g. "<dir>/cameras.bin".
+ColmapIntrinsics IntrinsicsFromColmapCamera(const ColmapCamera& camera,
+                                            const std::string& file = "COLMAP cameras");
+
+// The inverse: writes `intrinsics` into the camera's params in its own model's
+// layout (PINHOLE gets fx = fy = f). Throws std::invalid_argument for an
+// unsupported model or a non-zero k1/k2 the model cannot hold.
+void SetColmapCameraIntrinsics(const ColmapIntrinsics& intrinsics, ColmapCamera* camera);
+
+// ---------------------------------------------------------------------------
+// Shared by the text and binary readers/writers; not for general use.
+namespace colmap_internal {
+
+// "<dir>/<name>" (no separator doubled).
+std::string JoinPath(const std::string& dir, const std::string& name);
+
+// The line of each entry in its text file (cameras, images: the image's first
+// line, points3D), so that validation errors can name it; empty vectors for
+// binary files.
+struct ColmapSourceLines {
+  std::vector<int64_t> cameras;
+  std::vector<int64_t> images;
+  std::vector<int64_t> points3D;
+};
+
+// ValidateColmapModel with line numbers (`lines` may be null).
+void ValidateColmapModel(const ColmapModel& model, const std::string& dir,
+                         const std::string& extension, const ColmapSourceLines* lines);
+
+// Creates `dir` (and parents) if missing; std::runtime_error on failure.
+void EnsureDirectory(const std::string& dir);
+
+// Checks what a writer needs before it writes anything: known camera models
+// with the right parameter count, image names free of NUL bytes and, for
+// text, non-empty and free of CR, LF and leading/trailing blanks (they would
+// not read back). std::invalid_argument otherwise.
+void CheckWritable(const ColmapModel& model, bool text);
+
+// A file written through a buffer to `path.tmp.<pid>` and renamed over `path`
+// by Commit() after fsync; destroyed uncommitted, it removes the temporary.
+class AtomicOutputFile {
+ public:
+  explicit AtomicOutputFile(const std::string& path);
+  ~AtomicOutputFile();
+  AtomicOutputFile(const AtomicOutputFile&) = delete;
+  AtomicOutputFile& operator=(const AtomicOutputFile&) = delete;
+
+  void Write(const void* data, size_t size);
+  void Write(std::string_view s) { Write(s.data(), s.size()); }
+  void Commit();
+
+ private:
+  [[noreturn]] void Fail(const char* what);
+  std::string path_;
+  std::string tmp_;
+  std::FILE* file_ = nullptr;
+  std::vector<char> buffer_;
+  bool committed_ = false;
+};
+
+}  // namespace colmap_internal
+}  // namespace dba

@@ -1,0 +1,348 @@
+// COLMAP text models: reading and writing; see colmap_text.h.
+#include "dba/io/colmap_text.h"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <memory>
+
+#include "dba/common/error.h"
+
+namespace dba {
+namespace {
+
+using colmap_internal::AtomicOutputFile;
+using colmap_internal::JoinPath;
+
+bool IsBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+std::string_view Trim(std::string_view s) {
+  while (!s.empty() && IsBlank(s.front())) s.remove_prefix(1);
+  while (!s.empty() && IsBlank(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+std::string Quote(std::string_view tok) {
+  std::string q(1, '\'');
+  q.append(tok.substr(0, 40));
+  q.append(tok.size() > 40 ? "...'" : "'");
+  return q;
+}
+
+// A text file read line by line, counting lines from 1.
+class LineFile {
+ public:
+  explicit LineFile(std::string path) : path_(std::move(path)) {
+    buffer_ = std::make_unique<char[]>(kBufferSize);
+    in_.rdbuf()->pubsetbuf(buffer_.get(), kBufferSize);
+    in_.open(path_, std::ios::binary);
+    if (!in_) throw InputError(path_, 0, "cannot open file");
+  }
+  const std::string& path() const { return path_; }
+  int64_t line_number() const { return line_number_; }
+
+  // The next line without its line end; false at the end of the file.
+  bool Next(std::string_view* line) {
+    if (!std::getline(in_, line_)) {
+      if (in_.bad()) throw InputError(path_, line_number_, "read error");
+      return false;
+    }
+    ++line_number_;
+    *line = line_;
+    return true;
+  }
+  // The next line that is neither empty nor a comment.
+  bool NextData(std::string_view* line) {
+    while (Next(line)) {
+      std::string_view t = Trim(*line);
+      if (!t.empty() && t.front() != '#') {
+        *line = t;
+        return true;
+      }
+    }
+    return false;
+  }
+  [[noreturn]] void Fail(const std::string& what) const {
+    throw InputError(path_, line_number_, what);
+  }
+
+ private:
+  static constexpr size_t kBufferSize = 1 << 20;
+  std::string path_;
+  std::unique_ptr<char[]> buffer_;
+  std::ifstream in_;
+  std::string line_;
+  int64_t line_number_ = 0;
+};
+
+// Blank-separated tokens of one line; errors name the file and line.
+class Tokens {
+ public:
+  Tokens(const LineFile& file, std::string_view line) : file_(file), rest_(line) {}
+
+  bool Done() {
+    SkipBlanks();
+    return rest_.empty();
+  }
+  std::string_view Next(const char* what) {
+    SkipBlanks();
+    if (rest_.empty()) file_.Fail(std::string("expected ") + what + ", found the end of the line");
+    size_t n = 0;
+    while (n < rest_.size() && !IsBlank(rest_[n])) ++n;
+    std::string_view tok = rest_.substr(0, n);
+    rest_.remove_prefix(n);
+    return tok;
+  }
+  // Everything left on the line, trimmed.
+  std::string_view Rest() const { return Trim(rest_); }
+
+  double Double(const char* what) {
+    const std::string_view tok = Next(what);
+    double v = 0;
+    const auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+    if (ec != std::errc() || end != tok.data() + tok.size()) {
+      file_.Fail(std::string("expected ") + what + " (a number), found " + Quote(tok));
+    }
+    if (!std::isfinite(v)) file_.Fail(std::string(what) + " is not finite: " + Quote(tok));
+    return v;
+  }
+  uint64_t Unsigned(const char* what, uint64_t max) {
+    const std::string_view tok = Next(what);
+    uint64_t v = 0;
+    const auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+    if (ec != std::errc() || end != tok.data() + tok.size() || v > max) {
+      file_.Fail(std::string("expected ") + what + " (an integer from 0 to " +
+                 std::to_string(max) + "), found " + Quote(tok));
+    }
+    return v;
+  }
+  // A point3D_id in images.txt: -1 (or COLMAP's invalid id 2^64-1) for none.
+  int64_t Point3DRef(const char* what) {
+    const std::string_view tok = Next(what);
+    int64_t v = 0;
+    const auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+    if (ec == std::errc() && end == tok.data() + tok.size() && v >= -1) return v;
+    uint64_t u = 0;
+    const auto [end2, ec2] = std::from_chars(tok.data(), tok.data() + tok.size(), u);
+    if (ec2 == std::errc() && end2 == tok.data() + tok.size() &&
+        u == std::numeric_limits<uint64_t>::max()) {
+      return kColmapNoPoint3D;
+    }
+    file_.Fail(std::string("expected ") + what + " (-1 or a point3D_id), found " + Quote(tok));
+  }
+
+ private:
+  void SkipBlanks() {
+    while (!rest_.empty() && IsBlank(rest_.front())) rest_.remove_prefix(1);
+  }
+  const LineFile& file_;
+  std::string_view rest_;
+};
+
+constexpr uint64_t kMaxU32 = std::numeric_limits<uint32_t>::max();
+constexpr uint64_t kMaxI64 = std::numeric_limits<int64_t>::max();
+
+void ReadCameras(const std::string& path, ColmapModel* model,
+                 colmap_internal::ColmapSourceLines* lines) {
+  LineFile file(path);
+  std::string_view line;
+  while (file.NextData(&line)) {
+    Tokens t(file, line);
+    ColmapCamera c;
+    c.camera_id = static_cast<uint32_t>(t.Unsigned("CAMERA_ID", kMaxU32));
+    const std::string_view name = t.Next("MODEL");
+    const ColmapCameraModelInfo* m = FindColmapCameraModel(name);
+    if (m == nullptr) {
+      std::string known;
+      for (const auto& info : ColmapCameraModels()) {
+        known += known.empty() ? "" : ", ";
+        known += info.name;
+      }
+      file.Fail("unknown camera model " + Quote(name) + "; COLMAP's models are " + known);
+    }
+    c.model_id = m->id;
+    c.width = t.Unsigned("WIDTH", std::numeric_limits<uint64_t>::max());
+    c.height = t.Unsigned("HEIGHT", std::numeric_limits<uint64_t>::max());
+    c.params.reserve(m->num_params);
+    while (!t.Done()) c.params.push_back(t.Double("camera parameter"));
+    if (c.params.size() != static_cast<size_t>(m->num_params)) {
+      file.Fail(std::string(m->name) + " has " + std::to_string(m->num_params) +
+                " parameters (" + m->params_info + "), the line has " +
+                std::to_string(c.params.size()));
+    }
+    model->cameras.push_back(std::move(c));
+    lines->cameras.push_back(file.line_number());
+  }
+}
+
+void ReadImages(const std::string& path, ColmapModel* model,
+                colmap_internal::ColmapSourceLines* lines) {
+  LineFile file(path);
+  std::string_view line;
+  while (file.NextData(&line)) {
+    Tokens t(file, line);
+    ColmapImage im;
+    im.image_id = static_cast<uint32_t>(t.Unsigned("IMAGE_ID", kMaxU32));
+    static const char* const kQ[] = {"QW", "QX", "QY", "QZ"};
+    static const char* const kT[] = {"TX", "TY", "TZ"};
+    for (int k = 0; k < 4; ++k) im.qvec[k] = t.Double(kQ[k]);
+    for (int k = 0; k < 3; ++k) im.tvec[k] = t.Double(kT[k]);
+    im.camera_id = static_cast<uint32_t>(t.Unsigned("CAMERA_ID", kMaxU32));
+    im.name = std::string(t.Rest());
+    if (im.name.empty()) file.Fail("expected NAME after CAMERA_ID");
+    lines->images.push_back(file.line_number());
+
+    // The POINTS2D line follows directly (it may be empty); COLMAP accepts a
+    // file that ends before it, meaning no 2D points.
+    if (file.Next(&line)) {
+      Tokens p(file, line);
+      while (!p.Done()) {
+        ColmapPoint2D pt;
+        pt.x = p.Double("X of a 2D point");
+        pt.y = p.Double("Y of a 2D point");
+        pt.point3D_id = p.Point3DRef("POINT3D_ID of a 2D point");
+        im.points2D.push_back(pt);
+      }
+    }
+    model->images.push_back(std::move(im));
+  }
+}
+
+void ReadPoints3D(const std::string& path, ColmapModel* model,
+                  colmap_internal::ColmapSourceLines* lines) {
+  LineFile file(path);
+  std::string_view line;
+  while (file.NextData(&line)) {
+    Tokens t(file, line);
+    ColmapPoint3D p;
+    p.point3D_id = static_cast<int64_t>(t.Unsigned("POINT3D_ID", kMaxI64));
+    p.xyz[0] = t.Double("X");
+    p.xyz[1] = t.Double("Y");
+    p.xyz[2] = t.Double("Z");
+    static const char* const kRgb[] = {"R", "G", "B"};
+    for (int k = 0; k < 3; ++k) p.rgb[k] = static_cast<uint8_t>(t.Unsigned(kRgb[k], 255));
+    p.error = t.Double("ERROR");
+    while (!t.Done()) {
+      ColmapTrackElement e;
+      e.image_id = static_cast<uint32_t>(t.Unsigned("IMAGE_ID of a track element", kMaxU32));
+      e.point2D_idx =
+          static_cast<uint32_t>(t.Unsigned("POINT2D_IDX of a track element", kMaxU32));
+      p.track.push_back(e);
+    }
+    model->points3D.push_back(std::move(p));
+    lines->points3D.push_back(file.line_number());
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Writing.
+
+class TextOut {
+ public:
+  explicit TextOut(const std::string& path) : file_(path) {}
+  TextOut& operator<<(std::string_view s) {
+    file_.Write(s);
+    return *this;
+  }
+  TextOut& operator<<(char c) {
+    file_.Write(&c, 1);
+    return *this;
+  }
+  TextOut& operator<<(double v) { return Number(v); }
+  TextOut& operator<<(uint64_t v) { return Number(v); }
+  TextOut& operator<<(int64_t v) { return Number(v); }
+  TextOut& operator<<(uint32_t v) { return Number(v); }
+  void Commit() { file_.Commit(); }
+
+ private:
+  template <typename T>
+  TextOut& Number(T v) {
+    char buf[32];
+    const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);  // shortest round trip
+    file_.Write(buf, static_cast<size_t>(end - buf));
+    return *this;
+  }
+  AtomicOutputFile file_;
+};
+
+double Mean(int64_t total, size_t count) {
+  return count == 0 ? 0.0 : static_cast<double>(total) / static_cast<double>(count);
+}
+
+void WriteCameras(const ColmapModel& model, const std::string& path) {
+  TextOut out(path);
+  out << "# Camera list with one line of data per camera:\n"
+      << "#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n"
+      << "# Number of cameras: " << uint64_t{model.cameras.size()} << '\n';
+  for (const ColmapCamera& c : model.cameras) {
+    out << c.camera_id << ' ' << FindColmapCameraModel(c.model_id)->name << ' ' << c.width
+        << ' ' << c.height;
+    for (double p : c.params) out << ' ' << p;
+    out << '\n';
+  }
+  out.Commit();
+}
+
+void WriteImages(const ColmapModel& model, const std::string& path) {
+  TextOut out(path);
+  out << "# Image list with two lines of data per image:\n"
+      << "#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n"
+      << "#   POINTS2D[] as (X, Y, POINT3D_ID)\n"
+      << "# Number of images: " << uint64_t{model.images.size()}
+      << ", mean observations per image: "
+      << Mean(model.NumPoints2DWithPoint3D(), model.images.size()) << '\n';
+  for (const ColmapImage& im : model.images) {
+    out << im.image_id;
+    for (double q : im.qvec) out << ' ' << q;
+    for (double v : im.tvec) out << ' ' << v;
+    out << ' ' << im.camera_id << ' ' << std::string_view(im.name) << '\n';
+    bool first = true;
+    for (const ColmapPoint2D& p : im.points2D) {
+      if (!first) out << ' ';
+      first = false;
+      out << p.x << ' ' << p.y << ' ' << p.point3D_id;
+    }
+    out << '\n';
+  }
+  out.Commit();
+}
+
+void WritePoints3D(const ColmapModel& model, const std::string& path) {
+  TextOut out(path);
+  out << "# 3D point list with one line of data per point:\n"
+      << "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, TRACK[] as (IMAGE_ID, POINT2D_IDX)\n"
+      << "# Number of points: " << uint64_t{model.points3D.size()}
+      << ", mean track length: " << Mean(model.NumObservations(), model.points3D.size())
+      << '\n';
+  for (const ColmapPoint3D& p : model.points3D) {
+    out << p.point3D_id << ' ' << p.xyz[0] << ' ' << p.xyz[1] << ' ' << p.xyz[2] << ' '
+        << uint32_t{p.rgb[0]} << ' ' << uint32_t{p.rgb[1]} << ' ' << uint32_t{p.rgb[2]} << ' '
+        << p.error;
+    for (const ColmapTrackElement& e : p.track) out << ' ' << e.image_id << ' ' << e.point2D_idx;
+    out << '\n';
+  }
+  out.Commit();
+}
+
+}  // namespace
+
+ColmapModel ReadColmapText(const std::string& dir) {
+  ColmapModel model;
+  colmap_internal::ColmapSourceLines lines;
+  ReadCameras(JoinPath(dir, "cameras.txt"), &model, &lines);
+  ReadImages(JoinPath(dir, "images.txt"), &model, &lines);
+  ReadPoints3D(JoinPath(dir, "points3D.txt"), &model, &lines);
+  colmap_internal::ValidateColmapModel(model, dir, ".txt", &lines);
+  return model;
+}
+
+void WriteColmapText(const ColmapModel& model, const std::string& dir) {
+  colmap_internal::CheckWritable(model, true);
+  colmap_internal::EnsureDirectory(dir);
+  WriteCameras(model, JoinPath(dir, "cameras.txt"));
+  WriteImages(model, JoinPath(dir, "images.txt"));
+  WritePoints3D(model, JoinPath(dir, "points3D.txt"));
+}
+
+}  // namespace dba
