@@ -7,6 +7,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "dba/app/arguments.h"
 #include "dba/common/memory.h"
 #include "dba/synthetic/uav_generator.h"
 
@@ -37,18 +38,6 @@ void PrintHelp(std::ostream& out) {
          "  -h, --help              this text\n";
 }
 
-double Number(const std::string& flag, const std::string& v) {
-  size_t used = 0;
-  double x = 0;
-  try {
-    x = std::stod(v, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != v.size()) throw std::invalid_argument(flag + ": expected a number, got '" + v + "'");
-  return x;
-}
-
 }  // namespace
 
 int GenerateMain(const std::vector<std::string>& args) {
@@ -65,19 +54,19 @@ int GenerateMain(const std::vector<std::string>& args) {
         PrintHelp(std::cout);
         return 0;
       } else if (a == "--images") {
-        o.images = static_cast<int64_t>(Number(a, value()));
+        o.images = ParseIntegerArgument(a, value(), 2);
       } else if (a == "--features") {
-        o.features_per_image = Number(a, value());
+        o.features_per_image = ParseNumberArgument(a, value(), 1e-9);
       } else if (a == "--forward-overlap") {
-        o.forward_overlap = Number(a, value());
+        o.forward_overlap = ParseNumberArgument(a, value());
       } else if (a == "--side-overlap") {
-        o.side_overlap = Number(a, value());
+        o.side_overlap = ParseNumberArgument(a, value());
       } else if (a == "--cameras") {
-        o.physical_cameras = static_cast<int>(Number(a, value()));
+        o.physical_cameras = static_cast<int>(ParseIntegerArgument(a, value(), 1, 1000000));
       } else if (a == "--noise") {
-        o.pixel_noise = Number(a, value());
+        o.pixel_noise = ParseNumberArgument(a, value());
       } else if (a == "--seed") {
-        o.seed = static_cast<uint64_t>(Number(a, value()));
+        o.seed = static_cast<uint64_t>(ParseIntegerArgument(a, value(), 0));
       } else if (a == "--truth") {
         truth = value();
       } else if (!a.empty() && a[0] == '-') {

@@ -15,6 +15,7 @@
 #include "dba/io/atomic_file.h"
 #include "dba/io/read_problem.h"
 #include "dba/io/bal_writer.h"
+#include "dba/app/arguments.h"
 #include "dba/app/solve_report.h"
 #include "dba/synthetic/ground_truth.h"
 #include "dba/lm/bundle_adjust.h"
@@ -25,36 +26,6 @@ namespace {
 int DefaultThreads() {
   const unsigned n = std::thread::hardware_concurrency();
   return n == 0 ? 1 : static_cast<int>(n);
-}
-
-double ParseDouble(const std::string& flag, const std::string& value) {
-  size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(value, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != value.size() || !std::isfinite(v) || v < 0) {
-    throw std::invalid_argument(flag + ": expected a non-negative number, got '" +
-                                value + "'");
-  }
-  return v;
-}
-
-int ParseInt(const std::string& flag, const std::string& value, int min) {
-  size_t used = 0;
-  long v = 0;
-  try {
-    v = std::stol(value, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != value.size() || v < min || v > 1000000000L) {
-    throw std::invalid_argument(flag + ": expected an integer >= " +
-                                std::to_string(min) + ", got '" + value + "'");
-  }
-  return static_cast<int>(v);
 }
 
 }  // namespace
@@ -123,22 +94,22 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
     } else if (a == "--truth") {
       o.truth_path = value();
     } else if (a == "-t" || a == "--threads") {
-      o.lm.num_threads = ParseInt(a, value(), 1);
+      o.lm.num_threads = static_cast<int>(ParseIntegerArgument(a, value(), 1, 1000000000));
     } else if (a == "--max-iterations") {
-      o.lm.max_iterations = ParseInt(a, value(), 0);
+      o.lm.max_iterations = static_cast<int>(ParseIntegerArgument(a, value(), 0, 1000000000));
     } else if (a == "--function-tolerance") {
-      o.lm.function_tolerance = ParseDouble(a, value());
+      o.lm.function_tolerance = ParseNumberArgument(a, value());
     } else if (a == "--gradient-tolerance") {
-      o.lm.gradient_tolerance = ParseDouble(a, value());
+      o.lm.gradient_tolerance = ParseNumberArgument(a, value());
     } else if (a == "--parameter-tolerance") {
-      o.lm.parameter_tolerance = ParseDouble(a, value());
+      o.lm.parameter_tolerance = ParseNumberArgument(a, value());
     } else if (a == "--initial-lambda") {
-      o.lm.initial_lambda = ParseDouble(a, value());
+      o.lm.initial_lambda = ParseNumberArgument(a, value());
       if (o.lm.initial_lambda <= 0) throw std::invalid_argument(a + ": must be > 0");
     } else if (a == "--pcg-tolerance") {
-      o.lm.pcg.relative_tolerance = ParseDouble(a, value());
+      o.lm.pcg.relative_tolerance = ParseNumberArgument(a, value());
     } else if (a == "--pcg-max-iterations") {
-      o.lm.pcg.max_iterations = ParseInt(a, value(), 1);
+      o.lm.pcg.max_iterations = static_cast<int>(ParseIntegerArgument(a, value(), 1, 1000000000));
     } else if (a == "--partition") {
       o.distributed.partition = ParsePartitionScheme(value());
     } else if (a == "--main-rank") {

@@ -154,8 +154,7 @@ DistributedSummary DistributedBundleAdjust(
                                                       options.num_threads);
   }
   MpiPointWorkers workers(comm, problem->num_cameras(),
-                          summary.main_forms ? &own : nullptr, own_workers.get(),
-                          options.num_threads);
+                          summary.main_forms ? &own : nullptr, own_workers.get());
   summary.ba.symbolic_seconds = symbolic.Seconds();
   const BsmcMatrix& S = workers.global().S;
   summary.ba.rcs = {S.num_block_rows(), S.num_blocks(), S.StructureBytes(),

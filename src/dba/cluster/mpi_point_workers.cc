@@ -75,10 +75,8 @@ RankReport MakeRankReport(int rank, const RankShare& share,
 }
 
 MpiPointWorkers::MpiPointWorkers(Communicator* comm, int64_t num_cameras,
-                                 RankShare* own_share, LocalPointWorkers* own,
-                                 int num_threads)
+                                 RankShare* own_share, LocalPointWorkers* own)
     : comm_(comm), own_share_(own_share), own_(own) {
-  (void)num_threads;
   // Every rank's sub-RCS pattern in global numbering; the global pattern is
   // their union (plus every diagonal block).
   std::vector<std::vector<uint64_t>> local_patterns(comm->size());

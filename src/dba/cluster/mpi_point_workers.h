@@ -49,7 +49,7 @@ class MpiPointWorkers : public PointWorkers {
   // pattern and cameras, builds the global RCS over `num_cameras` cameras and
   // the block maps. `own` (may be null) is the main rank's own share.
   MpiPointWorkers(Communicator* comm, int64_t num_cameras, RankShare* own_share,
-                  LocalPointWorkers* own, int num_threads);
+                  LocalPointWorkers* own);
 
   RcsSystem& FormRcs(double lambda) override;
   StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,
