@@ -166,3 +166,51 @@ TEST(BinaryProblem, FailedWriteLeavesNothing) {
 
 }  // namespace
 }  // namespace dba
+
+namespace dba {
+namespace {
+
+// 64-bit sizes (DESIGN.md §5): a header announcing 3 billion observations over
+// a sparse file of the matching size (nothing is allocated on disk or in
+// memory) is accepted, its section offsets are exact, and reading the
+// all-zero offsets fails cleanly instead of overflowing.
+TEST(BinaryProblem, CountsPastTwoToThe31) {
+  BalProblem p;
+  p.cameras.assign(9, 0.0);
+  p.points = {0, 0, 0};
+  p.point_offsets = {0, 1};
+  p.obs_camera = {0};
+  p.obs_pixel = {0, 0};
+  const std::string path = ::testing::TempDir() + "/huge.dba";
+  WriteBinaryProblem(p, path);
+  // Rewrite the counts and section table for 3e9 observations of 1e9 points.
+  const int64_t cameras = 3000000, points = 1000000000, observations = 3000000000;
+  const int64_t cams = 128, pts = cams + 72 * cameras, offs = pts + 24 * points,
+                obs_cam = offs + 8 * (points + 1), obs_px = obs_cam + 4 * observations,
+                size = obs_px + 16 * observations;
+  ASSERT_GT(size, int64_t{1} << 36);  // about 62 GB, all of it a hole
+  std::string header = ReadBytes(path).substr(0, 128);
+  const uint64_t fields[9] = {static_cast<uint64_t>(cameras), static_cast<uint64_t>(points),
+                              static_cast<uint64_t>(observations), static_cast<uint64_t>(cams),
+                              static_cast<uint64_t>(pts), static_cast<uint64_t>(offs),
+                              static_cast<uint64_t>(obs_cam), static_cast<uint64_t>(obs_px),
+                              static_cast<uint64_t>(size)};
+  std::memcpy(header.data() + 24, fields, sizeof fields);
+  WriteBytes(path, header);
+  std::filesystem::resize_file(path, static_cast<uintmax_t>(size));  // sparse
+  const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
+  EXPECT_EQ(h.num_observations, observations);
+  EXPECT_EQ(h.obs_pixel_offset, obs_px);
+  EXPECT_EQ(h.file_size, size);
+  try {
+    ForEachVisibilityChunk(path, 1 << 10, [](int64_t, auto, auto) {});
+    FAIL() << "zero offsets accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("point offsets not increasing"), std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace dba
