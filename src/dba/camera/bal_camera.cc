@@ -4,19 +4,16 @@
 #include <cmath>
 
 namespace dba {
-namespace {
 
-Mat3 Skew(const Vec3& v) {
+Mat3 SkewSymmetric(const Vec3& v) {
   Mat3 m;
   m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
   return m;
 }
 
-}  // namespace
-
 Mat3 AngleAxisToRotation(const Vec3& omega) {
   const double theta2 = omega.squaredNorm();
-  const Mat3 K = Skew(omega);
+  const Mat3 K = SkewSymmetric(omega);
   if (theta2 < 1e-16) {
     // Second-order Taylor expansion: R = I + K + K²/2.
     return Mat3::Identity() + K + 0.5 * K * K;
@@ -29,7 +26,7 @@ Mat3 AngleAxisToRotation(const Vec3& omega) {
 
 Mat3 SO3LeftJacobian(const Vec3& omega) {
   const double theta2 = omega.squaredNorm();
-  const Mat3 K = Skew(omega);
+  const Mat3 K = SkewSymmetric(omega);
   double a, b;
   if (theta2 < 1e-8) {
     // Taylor: (1 - cos θ)/θ² = 1/2 - θ²/24, (θ - sin θ)/θ³ = 1/6 - θ²/120.
@@ -76,7 +73,7 @@ Vec2 BalResidualAndJacobians(const double* camera, const double* point,
   const Eigen::Matrix<double, 2, 3> du_dP = du_dp * dp_dP;
 
   if (J_c != nullptr) {
-    J_c->block<2, 3>(0, 0) = -du_dP * Skew(RX) * SO3LeftJacobian(omega);
+    J_c->block<2, 3>(0, 0) = -du_dP * SkewSymmetric(RX) * SO3LeftJacobian(omega);
     J_c->block<2, 3>(0, 3) = du_dP;
     J_c->col(6) = d * p;
     J_c->col(7) = f * r2 * p;

@@ -29,6 +29,9 @@ using Vec3 = Eigen::Vector3d;
 using CameraJacobian = Eigen::Matrix<double, 2, 9, Eigen::RowMajor>;
 using PointJacobian = Eigen::Matrix<double, 2, 3, Eigen::RowMajor>;
 
+// [v]ₓ, the matrix of the cross product: [v]ₓ w = v × w.
+Mat3 SkewSymmetric(const Vec3& v);
+
 // Rodrigues: rotation matrix of the angle-axis vector ω.
 Mat3 AngleAxisToRotation(const Vec3& omega);
 

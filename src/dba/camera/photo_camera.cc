@@ -2,15 +2,6 @@
 #include "dba/camera/photo_camera.h"
 
 namespace dba {
-namespace {
-
-Mat3 Skew(const Vec3& v) {
-  Mat3 m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
-}  // namespace
 
 Vec2 PhotoResidual(const double* pose, const double* intrinsics, const double* point,
                    const double* observed) {
@@ -41,7 +32,7 @@ Vec2 PhotoResidualAndJacobians(const double* pose, const double* intrinsics,
     dp_dP << inv_z, 0.0, -P.x() * inv_z * inv_z, 0.0, inv_z, -P.y() * inv_z * inv_z;
     const Eigen::Matrix<double, 2, 3> du_dP = du_dp * dp_dP;
     if (J_pose != nullptr) {
-      J_pose->block<2, 3>(0, 0) = -du_dP * Skew(RX) * SO3LeftJacobian(omega);
+      J_pose->block<2, 3>(0, 0) = -du_dP * SkewSymmetric(RX) * SO3LeftJacobian(omega);
       J_pose->block<2, 3>(0, 3) = du_dP;
     }
     if (J_point != nullptr) *J_point = du_dP * R;
