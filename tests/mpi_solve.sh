@@ -54,6 +54,17 @@ for n in 2 3; do
   done
 done
 
+# Binary in, binary out: the result streams through without re-reading.
+mpirun_n 2 "$dba" solve "$tmp/p49.dba" -q -o "$tmp/p49.out.dba" --report "$tmp/bin_out.json" >/dev/null 2>&1 \
+  || fail "binary output under mpirun exited non-zero"
+"$dba" solve "$tmp/p49.out.dba" -q --max-iterations 0 --report "$tmp/bin_reread.json" >/dev/null
+if awk -v a="$(final_cost "$tmp/bin_out.json")" -v b="$(final_cost "$tmp/bin_reread.json")" \
+     'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-9 * a) }'; then
+  passes=$((passes + 1))
+else
+  fail "binary output does not hold the adjusted parameters"
+fi
+
 # The distributed summary reports every rank and the communication.
 problem=$root/../shared/data/bal/problem-21-11315-pre.txt.bz2
 mpirun_n 3 "$dba" solve "$problem" -q --main-rank coordinates -o "$tmp/out3.txt" \

@@ -183,14 +183,22 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
 
   Timer write_timer;
   if (!options.output.empty()) {
-    if (comm->size() > 1) {
-      // The observations were handed to the ranks: read them again.
-      BalProblem full = ReadProblem(options.input);
-      full.cameras.swap(problem.cameras);
-      full.points.swap(problem.points);
-      problem = std::move(full);
+    const bool binary_out = options.output.size() >= 4 &&
+                            options.output.compare(options.output.size() - 4, 4, ".dba") == 0;
+    if (comm->size() > 1 && ranks_read_file && binary_out) {
+      // Binary to binary: stream the observations from the input.
+      WriteBinaryWithNewParameters(options.input, options.output, problem.cameras,
+                                   problem.points);
+    } else {
+      if (comm->size() > 1) {
+        // The observations were handed to the ranks: read them again.
+        BalProblem full = ReadProblem(options.input);
+        full.cameras.swap(problem.cameras);
+        full.points.swap(problem.points);
+        problem = std::move(full);
+      }
+      WriteProblem(problem, options.output);
     }
-    WriteProblem(problem, options.output);
   }
   report.write_seconds = write_timer.Seconds();
   if (!options.truth_path.empty()) {

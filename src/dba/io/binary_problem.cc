@@ -354,6 +354,31 @@ void WriteBinaryProblem(const BalProblem& p, const std::string& path) {
   writer.Commit();
 }
 
+void WriteBinaryWithNewParameters(const std::string& input, const std::string& output,
+                                  const std::vector<double>& cameras,
+                                  const std::vector<double>& points) {
+  const BinaryProblemHeader h = ReadBinaryProblemHeader(input);
+  if (static_cast<int64_t>(cameras.size()) != kBalCameraSize * h.num_cameras ||
+      static_cast<int64_t>(points.size()) != kPointSize * h.num_points) {
+    throw std::invalid_argument("WriteBinaryWithNewParameters: parameter counts differ from " +
+                                input);
+  }
+  const File in(input);
+  BinaryProblemWriter out(output, h.num_cameras, h.num_points, h.num_observations);
+  out.WriteCameras(cameras);
+  std::vector<double> xyz;
+  ForEachObservationChunk(input, 1 << 20, true,
+                          [&](int64_t first, std::span<const int64_t> offsets,
+                              std::span<const int32_t> c, std::span<const double> px) {
+                            for (size_t k = 0; k + 1 < offsets.size(); ++k) {
+                              const int64_t a = offsets[k] - offsets[0], b = offsets[k + 1] - offsets[0];
+                              out.AppendPoint(points.data() + kPointSize * (first + static_cast<int64_t>(k)),
+                                              c.subspan(a, b - a), px.subspan(2 * a, 2 * (b - a)));
+                            }
+                          });
+  out.Commit();
+}
+
 BinaryProblemWriter::BinaryProblemWriter(const std::string& path, int64_t num_cameras,
                                          int64_t num_points, int64_t num_observations)
     : path_(path),

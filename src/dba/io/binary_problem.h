@@ -87,6 +87,13 @@ std::vector<double> ReadBinaryPointCoordinates(const std::string& path);
 // Writes `problem` to path.tmp.<pid>, then renames it over `path`.
 void WriteBinaryProblem(const BalProblem& problem, const std::string& path);
 
+// Writes `output` as a copy of the binary problem `input` with its cameras
+// and point coordinates replaced, streaming the observations through a
+// buffer (they are never all in memory). Atomic like WriteBinaryProblem.
+void WriteBinaryWithNewParameters(const std::string& input, const std::string& output,
+                                  const std::vector<double>& cameras,
+                                  const std::vector<double>& points);
+
 // Streams a problem into the binary format when the counts are known ahead:
 // cameras once, then points one by one in order with their observations.
 // Everything goes to path.tmp.<pid>; Commit() checks that the counts were

@@ -214,3 +214,28 @@ TEST(BinaryProblem, CountsPastTwoToThe31) {
 
 }  // namespace
 }  // namespace dba
+
+namespace dba {
+namespace {
+
+TEST(BinaryProblem, RewriteWithNewParametersKeepsTheObservations) {
+  const BalProblem bal = ReadBal(DBA_SHARED_DATA_DIR "/bal/problem-21-11315-pre.txt.bz2");
+  const std::string in = ::testing::TempDir() + "/params_in.dba";
+  const std::string out = ::testing::TempDir() + "/params_out.dba";
+  WriteBinaryProblem(bal, in);
+  std::vector<double> cameras = bal.cameras, points = bal.points;
+  for (double& c : cameras) c += 1.0;
+  for (double& x : points) x *= 2.0;
+  WriteBinaryWithNewParameters(in, out, cameras, points);
+  const BalProblem back = ReadBinaryProblem(out);
+  EXPECT_EQ(back.cameras, cameras);
+  EXPECT_EQ(back.points, points);
+  EXPECT_EQ(back.point_offsets, bal.point_offsets);
+  EXPECT_EQ(back.obs_camera, bal.obs_camera);
+  EXPECT_EQ(back.obs_pixel, bal.obs_pixel);
+  points.pop_back();
+  EXPECT_THROW(WriteBinaryWithNewParameters(in, out, cameras, points), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dba
