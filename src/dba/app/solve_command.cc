@@ -166,7 +166,15 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
         << report.num_points << " points, " << report.num_observations
         << " observations, " << comm->size() << (comm->size() == 1 ? " rank, " : " ranks, ")
         << lm.num_threads << " threads" << (comm->size() == 1 ? "" : " per rank") << "\n";
-    if (!options.quiet) out << IterationLogHeader() << std::flush;
+    if (!options.quiet) {
+      // Large problems spend a while here before the first iteration line.
+      char line[160];
+      std::snprintf(line, sizeof line,
+                    "loaded in %.1f s; building the RCS structure, then one line per "
+                    "LM iteration\n",
+                    report.load_seconds);
+      out << line << IterationLogHeader() << std::flush;
+    }
   }
   auto log = [&](const IterationSummary& it) {
     if (!options.quiet) out << IterationLogLine(it) << std::flush;
