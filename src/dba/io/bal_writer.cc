@@ -3,15 +3,15 @@
 #include "dba/io/bal_writer.h"
 
 #include <bzlib.h>
-#include <unistd.h>
 
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <stdexcept>
 #include <string_view>
+
+#include "dba/io/temporary_file.h"
 
 namespace dba {
 namespace {
@@ -20,13 +20,6 @@ constexpr size_t kFlushBytes = size_t{1} << 20;
 
 bool EndsWith(std::string_view s, std::string_view suffix) {
   return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
-}
-
-[[noreturn]] void Throw(const std::string& path, const std::string& what,
-                        int err) {
-  std::string msg = path + ": " + what;
-  if (err != 0) msg += std::string(": ") + std::strerror(err);
-  throw std::runtime_error(msg);
 }
 
 void CheckConsistent(const BalProblem& p) {
@@ -45,22 +38,15 @@ void CheckConsistent(const BalProblem& p) {
   if (!ok) throw std::invalid_argument("WriteBal: inconsistent BalProblem arrays");
 }
 
-// Buffered output to a plain or bzip2 FILE; owns the temporary file, which
-// it removes unless Commit() succeeded.
+// Buffered output to a plain or bzip2 file, through a TemporaryFile that is
+// renamed over the path by Commit() and removed otherwise.
 class Output {
  public:
-  Output(const std::string& path, bool bz2)
-      : path_(path), tmp_(path + ".tmp." + std::to_string(::getpid())) {
-    file_ = std::fopen(tmp_.c_str(), "wb");
-    if (file_ == nullptr) Throw(path_, "cannot create '" + tmp_ + "'", errno);
+  Output(const std::string& path, bool bz2) : out_(path) {
     if (bz2) {
       int err = BZ_OK;
-      bz_ = BZ2_bzWriteOpen(&err, file_, 9, 0, 0);
-      if (err != BZ_OK) {
-        std::fclose(file_);  // no destructor runs for a throwing constructor
-        std::remove(tmp_.c_str());
-        Throw(path_, "cannot start bzip2 compression", 0);
-      }
+      bz_ = BZ2_bzWriteOpen(&err, out_.file(), 9, 0, 0);
+      if (err != BZ_OK) out_.Fail("cannot start bzip2 compression", 0);
     }
     buf_.reserve(kFlushBytes + 256);
   }
@@ -69,12 +55,10 @@ class Output {
     if (bz_ != nullptr) {
       // libbz2 returns early, leaking its state, while the FILE has its error
       // flag set; clear it so the abandoning close frees everything.
-      std::clearerr(file_);
+      std::clearerr(out_.file());
       int err;
       BZ2_bzWriteClose64(&err, bz_, /*abandon=*/1, nullptr, nullptr, nullptr, nullptr);
     }
-    if (file_ != nullptr) std::fclose(file_);
-    if (!committed_) std::remove(tmp_.c_str());
   }
 
   void Int(int64_t v, char sep) {
@@ -101,18 +85,10 @@ class Output {
       int err = BZ_OK;
       errno = 0;
       BZ2_bzWriteClose64(&err, bz_, 0, nullptr, nullptr, nullptr, nullptr);
-      if (err != BZ_OK) Fail("bzip2 write failed", errno);  // bz_ still open
+      if (err != BZ_OK) out_.Fail("bzip2 write failed", errno);  // bz_ still open
       bz_ = nullptr;
     }
-    if (std::fflush(file_) != 0) Fail("write failed", errno);
-    if (::fsync(::fileno(file_)) != 0) Fail("fsync failed", errno);
-    FILE* f = file_;
-    file_ = nullptr;
-    if (std::fclose(f) != 0) Fail("close failed", errno);
-    if (std::rename(tmp_.c_str(), path_.c_str()) != 0) {
-      Fail("cannot rename '" + tmp_ + "' over it", errno);
-    }
-    committed_ = true;
+    out_.Commit();
   }
 
  private:
@@ -127,23 +103,16 @@ class Output {
     if (bz_ != nullptr) {
       int err = BZ_OK;
       BZ2_bzWrite(&err, bz_, buf_.data(), static_cast<int>(buf_.size()));
-      if (err != BZ_OK) Fail("bzip2 write failed", errno);
-    } else if (std::fwrite(buf_.data(), 1, buf_.size(), file_) != buf_.size()) {
-      Fail("write failed", errno);
+      if (err != BZ_OK) out_.Fail("bzip2 write failed", errno);
+    } else if (std::fwrite(buf_.data(), 1, buf_.size(), out_.file()) != buf_.size()) {
+      out_.Fail("write failed", errno);
     }
     buf_.clear();
   }
 
-  [[noreturn]] void Fail(const std::string& what, int err) {
-    Throw(path_, what, err);  // the destructor removes the temporary
-  }
-
-  std::string path_;
-  std::string tmp_;
-  FILE* file_ = nullptr;
+  TemporaryFile out_;
   BZFILE* bz_ = nullptr;
   std::string buf_;
-  bool committed_ = false;
 };
 
 }  // namespace

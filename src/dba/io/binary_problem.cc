@@ -11,6 +11,7 @@
 #include <cstring>
 
 #include "dba/common/error.h"
+#include "dba/io/temporary_file.h"
 
 namespace dba {
 namespace {
@@ -381,13 +382,7 @@ void WriteBinaryWithNewParameters(const std::string& input, const std::string& o
 
 BinaryProblemWriter::BinaryProblemWriter(const std::string& path, int64_t num_cameras,
                                          int64_t num_points, int64_t num_observations)
-    : path_(path),
-      tmp_(path + ".tmp." + std::to_string(::getpid())),
-      h_(Layout(num_cameras, num_points, num_observations)) {
-  fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  if (fd_ < 0) {
-    throw std::runtime_error(path + ": cannot create '" + tmp_ + "': " + std::strerror(errno));
-  }
+    : out_(path), h_(Layout(num_cameras, num_points, num_observations)) {
   RawHeader raw{};
   std::memcpy(raw.magic, kMagic, 8);
   raw.version = kVersion;
@@ -405,22 +400,13 @@ BinaryProblemWriter::BinaryProblemWriter(const std::string& path, int64_t num_ca
   offsets_.push_back(0);
 }
 
-BinaryProblemWriter::~BinaryProblemWriter() {
-  if (fd_ >= 0) ::close(fd_);
-  if (!committed_) ::unlink(tmp_.c_str());
-}
-
-void BinaryProblemWriter::Fail(const std::string& what) {
-  const int err = errno;
-  throw std::runtime_error(path_ + ": " + what + (err ? std::string(": ") + std::strerror(err) : ""));
-}
-
 void BinaryProblemWriter::Write(int64_t offset, const void* data, int64_t bytes) {
   const char* c = static_cast<const char*>(data);
   while (bytes > 0) {
-    const ssize_t n = ::pwrite(fd_, c, static_cast<size_t>(std::min<int64_t>(bytes, 1 << 30)), offset);
+    const ssize_t n =
+        ::pwrite(out_.fd(), c, static_cast<size_t>(std::min<int64_t>(bytes, 1 << 30)), offset);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) Fail("write failed");
+    if (n <= 0) out_.Fail("write failed", errno);
     c += n;
     offset += n;
     bytes -= n;
@@ -478,13 +464,8 @@ void BinaryProblemWriter::Commit() {
   const int64_t pad = h_.obs_pixel_offset - (h_.obs_camera_offset + 4 * h_.num_observations);
   const char zeros[8] = {};
   if (pad > 0) Write(h_.obs_camera_offset + 4 * h_.num_observations, zeros, pad);
-  if (::ftruncate(fd_, h_.file_size) != 0) Fail("truncate failed");
-  if (::fsync(fd_) != 0) Fail("fsync failed");
-  const int fd = fd_;
-  fd_ = -1;
-  if (::close(fd) != 0) Fail("close failed");
-  if (::rename(tmp_.c_str(), path_.c_str()) != 0) Fail("cannot rename '" + tmp_ + "' over it");
-  committed_ = true;
+  if (::ftruncate(out_.fd(), h_.file_size) != 0) out_.Fail("truncate failed", errno);
+  out_.Commit();
 }
 
 }  // namespace dba

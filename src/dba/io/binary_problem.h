@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "dba/io/temporary_file.h"
 #include "dba/problem/bal_problem.h"
 
 namespace dba {
@@ -103,9 +104,6 @@ class BinaryProblemWriter {
  public:
   BinaryProblemWriter(const std::string& path, int64_t num_cameras, int64_t num_points,
                       int64_t num_observations);
-  ~BinaryProblemWriter();
-  BinaryProblemWriter(const BinaryProblemWriter&) = delete;
-  BinaryProblemWriter& operator=(const BinaryProblemWriter&) = delete;
 
   void WriteCameras(std::span<const double> cameras);  // 9 per camera
   void AppendPoint(const double* xyz, std::span<const int32_t> cameras,
@@ -115,17 +113,15 @@ class BinaryProblemWriter {
  private:
   void Flush();
   void Write(int64_t offset, const void* data, int64_t bytes);
-  [[noreturn]] void Fail(const std::string& what);
 
-  std::string path_, tmp_;
-  int fd_ = -1;
+  TemporaryFile out_;
   BinaryProblemHeader h_;
   int64_t points_ = 0, observations_ = 0;  // written so far (flushed or buffered)
   int64_t flushed_points_ = 0, flushed_observations_ = 0;
   std::vector<double> xyz_, pixels_;
   std::vector<int64_t> offsets_;
   std::vector<int32_t> cameras_;
-  bool cameras_written_ = false, committed_ = false;
+  bool cameras_written_ = false;
 };
 
 }  // namespace dba
