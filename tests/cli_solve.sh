@@ -52,6 +52,11 @@ check "no output after failure" test ! -e "$tmp/o2.txt"
 check "no report after failure" test ! -e "$tmp/r2.json"
 check "no temporary left" test -z "$(ls "$tmp" | grep tmp)"
 
+# A directory is refused with what it is.
+"$dba" solve "$root/../shared/data/colmap/fountain_p11/sparse/0" >"$tmp/out" 2>&1
+check "COLMAP directory exits 1" test $? -eq 1
+check "COLMAP directory is recognized" contains "$tmp/out" "a COLMAP model"
+
 # A real solve: summary, output and report.
 "$dba" solve "$data/balbianello-5-544-from-bundler.txt.bz2" -t 2 \
   -o "$tmp/adjusted.txt" --report "$tmp/report.json" >"$tmp/out" 2>&1

@@ -9,9 +9,8 @@
 
 namespace dba {
 
-inline BalProblem ReadProblem(const std::string& path) {
-  return IsBinaryProblem(path) ? ReadBinaryProblem(path) : ReadBal(path);
-}
+// A directory is refused with a message that says what it holds.
+BalProblem ReadProblem(const std::string& path);
 
 // Writes BAL text (.txt, .bz2 compressed) or, for a .dba path, the binary
 // format.
