@@ -3,14 +3,10 @@
 # sees the same problem), info prints the counts, bad input is refused.
 # Usage: cli_convert.sh PATH_TO_DBA PROJECT_ROOT
 set -uo pipefail
+source "$(dirname "$0")/lib/check.sh"
 dba=$1
 root=$2
 data=$root/../shared/data/bal
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-passes=0
-failures=0
-check() { local name=$1; shift; if "$@"; then passes=$((passes + 1)); else echo "FAILED: $name" >&2; failures=$((failures + 1)); fi; }
 
 "$dba" convert "$data/problem-49-7776-pre.txt.bz2" "$tmp/p.dba" >/dev/null; check "convert to binary" test $? -eq 0
 "$dba" convert "$tmp/p.dba" "$tmp/p.txt" >/dev/null; check "convert back to text" test $? -eq 0
@@ -33,5 +29,4 @@ check "no output after failure" test ! -e "$tmp/out.txt"
 "$dba" convert >/dev/null 2>&1; check "convert without arguments exits 2" test $? -eq 2
 "$dba" convert --help >"$tmp/help"; check "convert --help" grep -q "losslessly" "$tmp/help"
 
-echo "$passes passed, $failures failed"
-test "$failures" -eq 0
+finish

@@ -3,12 +3,8 @@
 # and `dba solve --truth` on what it made.
 # Usage: cli_generate.sh PATH_TO_DBA PROJECT_ROOT
 set -uo pipefail
+source "$(dirname "$0")/lib/check.sh"
 dba=$1
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-passes=0
-failures=0
-check() { local name=$1; shift; if "$@"; then passes=$((passes + 1)); else echo "FAILED: $name" >&2; failures=$((failures + 1)); fi; }
 
 "$dba" generate --help >"$tmp/help"; check "generate --help exits 0" test $? -eq 0
 for opt in --images --features --forward-overlap --side-overlap --cameras --noise --seed --truth; do
@@ -30,5 +26,4 @@ check "solve with truth exits 0" test $? -eq 0
 check "solve reports the ground truth" grep -q "RMS to noise-free observations" "$tmp/solve"
 check "report has ground_truth" grep -q '"rms_to_noise_free_px"' "$tmp/r.json"
 
-echo "$passes passed, $failures failed"
-test "$failures" -eq 0
+finish

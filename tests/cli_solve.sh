@@ -3,24 +3,10 @@
 # status, message, no output left behind), and a real solve with output and
 # JSON report. Usage: cli_solve.sh PATH_TO_DBA PROJECT_ROOT
 set -uo pipefail
+source "$(dirname "$0")/lib/check.sh"
 dba=$1
 root=$2
 data=$root/../shared/data/bal
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-failures=0
-passes=0
-check() {  # check NAME CONDITION...
-  local name=$1
-  shift
-  if "$@"; then
-    passes=$((passes + 1))
-  else
-    echo "FAILED: $name" >&2
-    failures=$((failures + 1))
-  fi
-}
-contains() { grep -qF -- "$2" "$1"; }
 
 # Help tells the truth: every option the parser knows is listed.
 "$dba" --help >"$tmp/help" 2>&1; check "dba --help exits 0" test $? -eq 0
@@ -75,5 +61,4 @@ check "report has history" grep -q '"history"' "$tmp/report.json"
 check "output re-reads" test $? -eq 0
 check "output is at the optimum" grep -qE "initial cost +1\.25169" "$tmp/out2"
 
-echo "$passes passed, $failures failed"
-test "$failures" -eq 0
+finish

@@ -15,6 +15,7 @@
 #include "dba/io/bal_reader.h"
 #include "dba/io/bal_writer.h"
 #include "dba/io/read_problem.h"
+#include "dba/testing/temp_files.h"
 
 namespace dba {
 namespace {
@@ -33,13 +34,10 @@ void ExpectSame(const BalProblem& a, const BalProblem& b) {
   EXPECT_TRUE(bits(a.obs_pixel, b.obs_pixel));
 }
 
-std::string ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+std::string ReadBytes(const std::string& path) { return testing::ReadFileBytes(path); }
 
 void WriteBytes(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
+  ASSERT_TRUE(testing::WriteFileBytes(path, bytes)) << path;
 }
 
 TEST(BinaryProblem, RoundTripsEverySharedBalProblemExactly) {

@@ -2,6 +2,7 @@
 // shared binary model byte for byte, binary -> text -> binary too, text models
 // survive text -> binary -> text, and damaged files are refused with the file
 // and byte offset.
+#include "dba/testing/temp_files.h"
 #include "dba/io/colmap_binary.h"
 
 #include <gtest/gtest.h>
@@ -33,32 +34,16 @@ std::string SharedDir(const char* folder) {
 
 // A fresh directory, private to this process and removed when it exits.
 std::string TempDir(const std::string& name) {
-  struct Root {
-    std::string path = testing::TempDir() + "/colmap_binary_test_" + std::to_string(::getpid());
-    ~Root() {
-      std::error_code ec;
-      fs::remove_all(path, ec);
-    }
-  };
-  static Root root;
-  const std::string dir = root.path + "/" + name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return dba::testing::FreshTempDir(::testing::TempDir(), name);
 }
 
 std::string ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  EXPECT_TRUE(in) << path;
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+  EXPECT_TRUE(std::filesystem::exists(path)) << path;
+  return dba::testing::ReadFileBytes(path);
 }
 
 void WriteBytes(const std::string& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << bytes;
-  EXPECT_TRUE(out.good()) << path;
+  EXPECT_TRUE(dba::testing::WriteFileBytes(path, bytes)) << path;
 }
 
 // Index of the first differing byte, or -1 when equal.

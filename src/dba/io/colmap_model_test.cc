@@ -2,6 +2,7 @@
 // format detection on every shared model (counts as in data/README.md §3,
 // every track pointing back), validation errors, and the mapping of COLMAP
 // cameras onto the photogrammetric intrinsics (f, cx, cy, k1, k2).
+#include "dba/testing/temp_files.h"
 #include "dba/io/colmap_model.h"
 
 #include <gtest/gtest.h>
@@ -46,18 +47,7 @@ std::string SharedDir(const char* folder) {
 
 // A fresh directory, private to this process and removed when it exits.
 std::string TempDir(const std::string& name) {
-  struct Root {
-    std::string path = testing::TempDir() + "/colmap_model_test_" + std::to_string(::getpid());
-    ~Root() {
-      std::error_code ec;
-      fs::remove_all(path, ec);
-    }
-  };
-  static Root root;
-  const std::string dir = root.path + "/" + name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return dba::testing::FreshTempDir(::testing::TempDir(), name);
 }
 
 // Runs `f`, expecting an InputError whose message contains every one of

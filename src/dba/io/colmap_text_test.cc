@@ -1,6 +1,7 @@
 // Tests of the COLMAP text reader and writer: read -> write -> read is exact
 // on every shared model (binary ones included), the written files have
 // COLMAP's headers and layout, and malformed input is refused with file:line.
+#include "dba/testing/temp_files.h"
 #include "dba/io/colmap_text.h"
 
 #include <gtest/gtest.h>
@@ -32,32 +33,16 @@ std::string SharedDir(const char* folder) {
 
 // A fresh directory, private to this process and removed when it exits.
 std::string TempDir(const std::string& name) {
-  struct Root {
-    std::string path = testing::TempDir() + "/colmap_text_test_" + std::to_string(::getpid());
-    ~Root() {
-      std::error_code ec;
-      fs::remove_all(path, ec);
-    }
-  };
-  static Root root;
-  const std::string dir = root.path + "/" + name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return dba::testing::FreshTempDir(::testing::TempDir(), name);
 }
 
 std::string ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  EXPECT_TRUE(in) << path;
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+  EXPECT_TRUE(std::filesystem::exists(path)) << path;
+  return dba::testing::ReadFileBytes(path);
 }
 
 void WriteBytes(const std::string& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << bytes;
-  EXPECT_TRUE(out.good()) << path;
+  EXPECT_TRUE(dba::testing::WriteFileBytes(path, bytes)) << path;
 }
 
 std::vector<std::string> Lines(const std::string& text) {

@@ -12,16 +12,14 @@
 #include "dba/io/read_problem.h"
 #include "dba/lm/bundle_adjust.h"
 #include "dba/synthetic/ground_truth.h"
+#include "dba/testing/temp_files.h"
 
 namespace dba {
 namespace {
 
 std::string Tmp(const std::string& name) { return ::testing::TempDir() + "/" + name; }
 
-std::string Bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+std::string Bytes(const std::string& path) { return testing::ReadFileBytes(path); }
 
 UavSurveyOptions Small() {
   UavSurveyOptions o;
