@@ -7,7 +7,8 @@
 # observations. Needs minutes to hours (1M images): not part of CI.
 #
 #   bash bench/scale.sh [IMAGES...]   (default: 10000 100000)
-#   env: FEATURES (300), FORWARD (0.6), SIDE (0.3), WORK (/tmp/dba-scale)
+#   env: FEATURES (300), FORWARD (0.6), SIDE (0.3), WORK (/tmp/dba-scale),
+#        SOLVE_ARGS (extra `dba solve` options, e.g. "--pcg-tolerance 1e-2")
 set -euo pipefail
 cd "$(dirname "$0")/.."
 sizes=("$@")
@@ -16,6 +17,7 @@ features=${FEATURES:-300}
 forward=${FORWARD:-0.6}
 side=${SIDE:-0.3}
 work=${WORK:-/tmp/dba-scale}
+read -r -a solve_args <<<"${SOLVE_ARGS:-}"
 mkdir -p "$work"
 bash scripts/install-deps.sh
 bash scripts/build.sh >/dev/null
@@ -31,7 +33,7 @@ for n in "${sizes[@]}"; do
   /usr/bin/time -v ./build/dba generate "$p" --images "$n" --features "$features" \
     --forward-overlap "$forward" --side-overlap "$side" --truth "$work/uav-$n.truth.dba" \
     >"$work/gen-$n.out" 2>"$work/gen-$n.time"
-  /usr/bin/time -v ./build/dba solve "$p" -q --truth "$work/uav-$n.truth.dba" \
+  /usr/bin/time -v ./build/dba solve "$p" -q "${solve_args[@]}" --truth "$work/uav-$n.truth.dba" \
     --report "$work/solve-$n.json" >"$work/solve-$n.out" 2>"$work/solve-$n.time"
   r=$work/solve-$n.json
   iters=$(json "$r" iterations)
