@@ -1,4 +1,15 @@
-// A bundle-adjustment problem with the BAL camera model, held point-major.
+// A bundle-adjustment problem, held point-major, with one of two camera
+// models (camera/bal_camera.h, camera/photo_camera.h):
+//
+//   kBal    one camera per image, 9 parameters (ω, t, f, k1, k2)
+//   kPhoto  per image a pose (ω, t: 6 parameters) and per physical camera an
+//           intrinsic group (f, cx, cy, k1, k2: 5 parameters) shared by the
+//           images taken with it (the paper's 6 exterior + 5 interior
+//           unknowns)
+//
+// All camera-side parameters live in one vector `cameras`: the images' 9 or 6
+// parameters each, then (kPhoto) the intrinsic groups' 5 each. The LM loop
+// steps that vector as a whole.
 //
 // This is also the share of one rank in the distributed design (DESIGN.md §2):
 // a rank holds its points, their observations and the cameras they touch, with
@@ -16,10 +27,30 @@ namespace dba {
 
 inline constexpr int kBalCameraSize = 9;  // angle-axis r[3], t[3], f, k1, k2
 inline constexpr int kPointSize = 3;
+inline constexpr int kPhotoPoseSize = 6;        // ω[3], t[3]
+inline constexpr int kPhotoIntrinsicsSize = 5;  // f, cx, cy, k1, k2
+
+enum class CameraModel : int32_t { kBal = 0, kPhoto = 1 };
+
+// Bits of the intrinsic parameters (kPhoto), for intrinsics_free.
+enum IntrinsicBit : uint8_t {
+  kIntrinsicF = 1, kIntrinsicCx = 2, kIntrinsicCy = 4, kIntrinsicK1 = 8, kIntrinsicK2 = 16,
+  kAllIntrinsics = 31,
+};
 
 struct BalProblem {
-  // Camera parameters, kBalCameraSize per camera.
+  CameraModel model = CameraModel::kBal;
+  // Camera-side parameters: camera_size() per camera (image), then, for
+  // kPhoto, kPhotoIntrinsicsSize per intrinsic group.
   std::vector<double> cameras;
+  // kPhoto: the intrinsic group of each camera (size num_cameras()).
+  std::vector<int32_t> camera_intrinsics;
+  // What is held fixed (fixed parameters are not unknowns of the solve).
+  // fixed_cameras: empty, or one flag per camera (the whole pose/camera).
+  // intrinsics_free: kPhoto, empty (all free) or per group a mask of
+  // IntrinsicBit: the parameters that are unknowns.
+  std::vector<uint8_t> fixed_cameras;
+  std::vector<uint8_t> intrinsics_free;
   // Point coordinates, kPointSize per point.
   std::vector<double> points;
   // Observations of point k are [point_offsets[k], point_offsets[k+1]).
@@ -29,8 +60,21 @@ struct BalProblem {
   std::vector<int32_t> obs_camera;
   std::vector<double> obs_pixel;
 
+  int camera_size() const {
+    return model == CameraModel::kBal ? kBalCameraSize : kPhotoPoseSize;
+  }
+  // Cameras (images); for kPhoto the poses, not the intrinsic groups.
   int64_t num_cameras() const {
-    return static_cast<int64_t>(cameras.size()) / kBalCameraSize;
+    return model == CameraModel::kBal
+               ? static_cast<int64_t>(cameras.size()) / kBalCameraSize
+               : static_cast<int64_t>(camera_intrinsics.size());
+  }
+  // Intrinsic groups (kPhoto; 0 for kBal).
+  int64_t num_intrinsics() const {
+    return model == CameraModel::kBal
+               ? 0
+               : (static_cast<int64_t>(cameras.size()) - kPhotoPoseSize * num_cameras()) /
+                     kPhotoIntrinsicsSize;
   }
   int64_t num_points() const {
     return static_cast<int64_t>(points.size()) / kPointSize;
@@ -39,9 +83,18 @@ struct BalProblem {
     return static_cast<int64_t>(obs_camera.size());
   }
 
-  double* camera(int64_t i) { return cameras.data() + kBalCameraSize * i; }
-  const double* camera(int64_t i) const {
-    return cameras.data() + kBalCameraSize * i;
+  double* camera(int64_t i) { return cameras.data() + camera_size() * i; }
+  const double* camera(int64_t i) const { return cameras.data() + camera_size() * i; }
+  // Intrinsic group g (kPhoto).
+  double* intrinsics(int64_t g) {
+    return cameras.data() + kPhotoPoseSize * num_cameras() + kPhotoIntrinsicsSize * g;
+  }
+  const double* intrinsics(int64_t g) const {
+    return cameras.data() + kPhotoPoseSize * num_cameras() + kPhotoIntrinsicsSize * g;
+  }
+  bool camera_fixed(int64_t i) const { return !fixed_cameras.empty() && fixed_cameras[i]; }
+  uint8_t intrinsics_free_mask(int64_t g) const {
+    return intrinsics_free.empty() ? uint8_t{kAllIntrinsics} : intrinsics_free[g];
   }
   double* point(int64_t k) { return points.data() + kPointSize * k; }
   const double* point(int64_t k) const { return points.data() + kPointSize * k; }
@@ -51,6 +104,8 @@ struct BalProblem {
   int64_t MemoryBytes() const {
     return static_cast<int64_t>(cameras.capacity() * sizeof(double) +
                                 points.capacity() * sizeof(double) +
+                                camera_intrinsics.capacity() * sizeof(int32_t) +
+                                fixed_cameras.capacity() + intrinsics_free.capacity() +
                                 point_offsets.capacity() * sizeof(int64_t) +
                                 obs_camera.capacity() * sizeof(int32_t) +
                                 obs_pixel.capacity() * sizeof(double));
