@@ -8,22 +8,22 @@ namespace dba {
 
 int64_t SubRcsMap::PackedSize(const BsmcMatrix& global) const {
   int64_t cam = 0;
-  for (int32_t g : global_camera) cam += global.block_size(g);
+  for (int32_t g : global_row) cam += global.block_size(g);
   return num_values + 3 * cam + 2;
 }
 
 SubRcsMap MapSubRcs(std::span<const uint64_t> local_blocks,
-                    std::vector<int32_t> global_camera, const BsmcMatrix& global) {
+                    std::vector<int32_t> global_row, const BsmcMatrix& global) {
   SubRcsMap map;
   map.global_block.reserve(local_blocks.size());
   for (uint64_t b : local_blocks) {
-    const int32_t gi = global_camera[PackedRow(b)], gj = global_camera[PackedCol(b)];
+    const int32_t gi = global_row[PackedRow(b)], gj = global_row[PackedCol(b)];
     const int64_t gb = global.FindBlock(gi, gj);
     if (gb < 0) throw std::logic_error("MapSubRcs: sub-RCS block missing from the global RCS");
     map.global_block.push_back(gb);
     map.num_values += global.value_offset(gb + 1) - global.value_offset(gb);
   }
-  map.global_camera = std::move(global_camera);
+  map.global_row = std::move(global_row);
   return map;
 }
 
@@ -51,7 +51,7 @@ void AggregateSubRcs(const SubRcsMap& map, std::span<const double> message,
   }
   for (std::vector<double>* vec :
        {&global->b, &global->camera_gradient, &global->camera_jtj_diagonal}) {
-    for (int32_t g : map.global_camera) {
+    for (int32_t g : map.global_row) {
       const int64_t o = S.scalar_offset(g);
       for (int d = 0; d < S.block_size(g); ++d) (*vec)[o + d] += *in++;
     }

@@ -1,7 +1,8 @@
 // Aggregation of sub-RCSs into the global RCS (paper section 6.1): the global
 // RCS is the sum of the sub-RCSs of all point groups,
 //   S = Σ_r P_rᵀ S_r P_r,   b = Σ_r P_rᵀ b_r,
-// where P_r maps rank r's local cameras to global ones. The map from each
+// where P_r maps rank r's local RCS rows (cameras, intrinsic groups) to
+// global ones. The map from each
 // sub-RCS block to its global block is built once (symbolic phase), so every
 // iteration's aggregation is an indexed add, not a search.
 //
@@ -18,21 +19,21 @@
 namespace dba {
 
 // A sub-RCS as the main node sees it: its blocks' global ids, in the order
-// of the sub-RCS's values, and its cameras' global ids.
+// of the sub-RCS's values, and its rows' global rows.
 struct SubRcsMap {
   std::vector<int64_t> global_block;
-  std::vector<int32_t> global_camera;
+  std::vector<int32_t> global_row;
   int64_t num_values = 0;  // doubles of the sub-RCS matrix values
 
   // Doubles in a packed sub-system message: the matrix values, then b, g_c
-  // and diag(U) (a block size per camera each), then cost and max |g_p|.
+  // and diag(U) (a block size per row each), then cost and max |g_p|.
   int64_t PackedSize(const BsmcMatrix& global) const;
 };
 
 // Maps a sub-RCS pattern (packed local blocks, sorted) to the global matrix.
 // Throws std::logic_error if a block is missing from the global matrix.
 SubRcsMap MapSubRcs(std::span<const uint64_t> local_blocks,
-                    std::vector<int32_t> global_camera, const BsmcMatrix& global);
+                    std::vector<int32_t> global_row, const BsmcMatrix& global);
 
 // Packs a rank's system into one message: S values, b, g_c, diag(U), cost,
 // max |g_p|.

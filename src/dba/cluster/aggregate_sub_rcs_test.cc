@@ -48,8 +48,7 @@ TEST_P(AggregateSubRcsTest, SumOfSubRcsEqualsTheGlobalRcs) {
   }
   std::sort(pattern.begin(), pattern.end());
   pattern.erase(std::unique(pattern.begin(), pattern.end()), pattern.end());
-  RcsSystem global = RcsSystem::ForPattern(
-      std::vector<int32_t>(problem.num_cameras(), kBalCameraSize), pattern);
+  RcsSystem global = RcsSystem::ForPattern(UnknownLayout(problem), pattern);
   EXPECT_EQ(global.S.num_blocks(), direct.S.num_blocks());
 
   ClearRcs(&global);

@@ -9,9 +9,15 @@ namespace {
 
 void SendShare(Communicator* comm, int rank, const RankShare& s) {
   const Traffic t = Traffic::kDistribution;
+  int32_t model = static_cast<int32_t>(s.problem.model);
+  comm->Send(rank, t, std::span<const int32_t>(&model, 1));
   comm->SendVector(rank, t, s.global_camera);
+  comm->SendVector(rank, t, s.global_intrinsics);
   comm->SendVector(rank, t, s.global_point);
   comm->SendVector(rank, t, s.problem.cameras);
+  comm->SendVector(rank, t, s.problem.camera_intrinsics);
+  comm->SendVector(rank, t, s.problem.fixed_cameras);
+  comm->SendVector(rank, t, s.problem.intrinsics_free);
   comm->SendVector(rank, t, s.problem.points);
   comm->SendVector(rank, t, s.problem.point_offsets);
   comm->SendVector(rank, t, s.problem.obs_camera);
@@ -21,9 +27,16 @@ void SendShare(Communicator* comm, int rank, const RankShare& s) {
 RankShare RecvShare(Communicator* comm) {
   const Traffic t = Traffic::kDistribution;
   RankShare s;
+  int32_t model = 0;
+  comm->Recv(0, t, std::span<int32_t>(&model, 1));
+  s.problem.model = static_cast<CameraModel>(model);
   s.global_camera = comm->RecvVector<int32_t>(0, t);
+  s.global_intrinsics = comm->RecvVector<int32_t>(0, t);
   s.global_point = comm->RecvVector<int64_t>(0, t);
   s.problem.cameras = comm->RecvVector<double>(0, t);
+  s.problem.camera_intrinsics = comm->RecvVector<int32_t>(0, t);
+  s.problem.fixed_cameras = comm->RecvVector<uint8_t>(0, t);
+  s.problem.intrinsics_free = comm->RecvVector<uint8_t>(0, t);
   s.problem.points = comm->RecvVector<double>(0, t);
   s.problem.point_offsets = comm->RecvVector<int64_t>(0, t);
   s.problem.obs_camera = comm->RecvVector<int32_t>(0, t);
@@ -40,19 +53,7 @@ void Release(std::vector<T>& v) {
 RankShare ReadShare(const std::string& path, const std::vector<int32_t>& group, int32_t g) {
   RankShare share;
   share.problem = ReadBinaryPoints(path, group, g, &share.global_point);
-  // Keep only the cameras the points touch, renumbered in global order.
-  BalProblem& p = share.problem;
-  std::vector<int32_t> local(p.num_cameras(), -1);
-  for (int32_t c : p.obs_camera) local[c] = 0;
-  std::vector<double> cameras;
-  for (int64_t i = 0; i < static_cast<int64_t>(local.size()); ++i) {
-    if (local[i] < 0) continue;
-    local[i] = static_cast<int32_t>(share.global_camera.size());
-    share.global_camera.push_back(static_cast<int32_t>(i));
-    cameras.insert(cameras.end(), p.camera(i), p.camera(i) + kBalCameraSize);
-  }
-  for (int32_t& c : p.obs_camera) c = local[c];
-  p.cameras.swap(cameras);
+  KeepTouchedCameras(&share);
   return share;
 }
 
@@ -153,7 +154,7 @@ DistributedSummary DistributedBundleAdjust(
     own_workers = std::make_unique<LocalPointWorkers>(&own.problem, options.damping,
                                                       options.num_threads);
   }
-  MpiPointWorkers workers(comm, problem->num_cameras(),
+  MpiPointWorkers workers(comm, UnknownLayout(*problem),
                           summary.main_forms ? &own : nullptr, own_workers.get());
   summary.ba.symbolic_seconds = symbolic.Seconds();
   const BsmcMatrix& S = workers.global().S;

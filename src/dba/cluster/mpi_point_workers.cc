@@ -23,20 +23,23 @@ void BroadcastCommand(Communicator* comm, Command c) {
   comm->Broadcast(Traffic::kControl, &c);
 }
 
-std::vector<double> LocalDelta(const std::vector<double>& global,
-                               const std::vector<int32_t>& cameras) {
-  std::vector<double> local(kBalCameraSize * cameras.size());
-  for (size_t i = 0; i < cameras.size(); ++i) {
-    std::copy_n(global.data() + kBalCameraSize * int64_t{cameras[i]}, kBalCameraSize,
-                local.data() + kBalCameraSize * i);
+// The slices of the global δc that belong to a share's rows, in its order.
+std::vector<double> LocalDelta(const std::vector<double>& global, const UnknownLayout& layout,
+                               const std::vector<int32_t>& rows) {
+  std::vector<double> local;
+  for (int32_t r : rows) {
+    const double* d = global.data() + layout.row_offset(r);
+    local.insert(local.end(), d, d + layout.block_size(r));
   }
   return local;
 }
 
-std::vector<double> Add(const std::vector<double>& a, const std::vector<double>& b) {
-  std::vector<double> c(a.size());
-  for (size_t i = 0; i < a.size(); ++i) c[i] = a[i] + b[i];
-  return c;
+// A share's cameras ⊞ its δc.
+std::vector<double> Plus(const LocalPointWorkers& workers, const std::vector<double>& cameras,
+                         const std::vector<double>& delta) {
+  std::vector<double> out(cameras.size());
+  workers.system().layout.Plus(cameras.data(), delta.data(), out.data());
+  return out;
 }
 
 std::vector<double> Pack(const StepEvaluation& e) {
@@ -74,35 +77,36 @@ RankReport MakeRankReport(int rank, const RankShare& share,
   return r;
 }
 
-MpiPointWorkers::MpiPointWorkers(Communicator* comm, int64_t num_cameras,
+MpiPointWorkers::MpiPointWorkers(Communicator* comm, UnknownLayout layout,
                                  RankShare* own_share, LocalPointWorkers* own)
     : comm_(comm), own_share_(own_share), own_(own) {
   // Every rank's sub-RCS pattern in global numbering; the global pattern is
   // their union (plus every diagonal block).
   std::vector<std::vector<uint64_t>> local_patterns(comm->size());
-  std::vector<std::vector<int32_t>> cameras(comm->size());
+  std::vector<std::vector<int32_t>> rows(comm->size());
   if (own != nullptr) {
     local_patterns[0] = BlockPattern(own->system().S);
-    cameras[0] = own_share->global_camera;
+    rows[0] = layout.RowsOfEntities(own->system().layout.RowEntities(
+        own_share->global_camera, own_share->global_intrinsics));
   }
   for (int r = 1; r < comm->size(); ++r) {
     local_patterns[r] = comm->RecvVector<uint64_t>(r, Traffic::kDistribution);
-    cameras[r] = comm->RecvVector<int32_t>(r, Traffic::kDistribution);
+    rows[r] = layout.RowsOfEntities(comm->RecvVector<int64_t>(r, Traffic::kDistribution));
   }
   std::vector<uint64_t> pattern;
-  for (int32_t i = 0; i < num_cameras; ++i) pattern.push_back(PackBlock(i, i));
+  for (int32_t i = 0; i < layout.num_rows(); ++i) pattern.push_back(PackBlock(i, i));
   for (int r = 0; r < comm->size(); ++r) {
     for (uint64_t b : local_patterns[r]) {
-      pattern.push_back(PackBlock(cameras[r][PackedRow(b)], cameras[r][PackedCol(b)]));
+      pattern.push_back(PackBlock(rows[r][PackedRow(b)], rows[r][PackedCol(b)]));
     }
   }
   std::sort(pattern.begin(), pattern.end());
   pattern.erase(std::unique(pattern.begin(), pattern.end()), pattern.end());
-  global_ = RcsSystem::ForPattern(std::vector<int32_t>(num_cameras, kBalCameraSize), pattern);
+  global_ = RcsSystem::ForPattern(std::move(layout), pattern);
   maps_.resize(comm->size());
   for (int r = 0; r < comm->size(); ++r) {
     if (r == 0 && own == nullptr) continue;
-    maps_[r] = MapSubRcs(local_patterns[r], std::move(cameras[r]), global_.S);
+    maps_[r] = MapSubRcs(local_patterns[r], std::move(rows[r]), global_.S);
   }
 }
 
@@ -129,13 +133,13 @@ StepEvaluation MpiPointWorkers::EvaluateStep(double lambda,
   (void)candidate_cameras;  // ranks add δc to their own copies of the cameras
   BroadcastCommand(comm_, {Op::kStep, 0, lambda});
   for (int r = 1; r < comm_->size(); ++r) {
-    const std::vector<double> local = LocalDelta(delta_c, maps_[r].global_camera);
+    const std::vector<double> local = LocalDelta(delta_c, global_.layout, maps_[r].global_row);
     comm_->Send(r, Traffic::kCameraUpdate, std::span<const double>(local));
   }
   std::vector<double> mine(4, 0.0);
   if (own_ != nullptr) {
-    const std::vector<double> local = LocalDelta(delta_c, maps_[0].global_camera);
-    mine = Pack(own_->EvaluateStep(lambda, local, Add(own_share_->problem.cameras, local)));
+    const std::vector<double> local = LocalDelta(delta_c, global_.layout, maps_[0].global_row);
+    mine = Pack(own_->EvaluateStep(lambda, local, Plus(*own_, own_share_->problem.cameras, local)));
   }
   const std::vector<double> all = comm_->Gather(Traffic::kControl, mine);
   StepEvaluation e;
@@ -182,8 +186,10 @@ std::vector<RankReport> MpiPointWorkers::Finish(std::vector<double>* points) {
 
 void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* workers) {
   comm->SendVector(0, Traffic::kDistribution, BlockPattern(workers->system().S));
-  comm->SendVector(0, Traffic::kDistribution, share->global_camera);
-  std::vector<double> message, delta(share->problem.cameras.size());
+  comm->SendVector(0, Traffic::kDistribution,
+                   workers->system().layout.RowEntities(share->global_camera,
+                                                        share->global_intrinsics));
+  std::vector<double> message, delta(workers->system().layout.num_unknowns());
   int formations = 0;
   double lambda = 0.0;
   for (;;) {
@@ -199,7 +205,7 @@ void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* worke
         lambda = c.lambda;
         comm->Recv(0, Traffic::kCameraUpdate, std::span<double>(delta));
         const StepEvaluation e = workers->EvaluateStep(
-            lambda, delta, Add(share->problem.cameras, delta));
+            lambda, delta, Plus(*workers, share->problem.cameras, delta));
         comm->Gather(Traffic::kControl, Pack(e));
         break;
       }

@@ -6,7 +6,7 @@
 //              receive rank by rank   ◄─   packed values
 //              add into global BSMC (indexed add, one message at a time)
 //   EvaluateStep: broadcast STEP(λ),
-//              send δc of its cameras ─►   back-substitute, costs at the step
+//              send δc of its rows    ─►   back-substitute, costs at the step
 //              gather partial sums    ◄─   4 numbers
 //   FinishStep: broadcast FINISH(accept) ─► keep or drop the candidate
 //
@@ -46,9 +46,10 @@ void MaybeInjectFault(int rank, int formation);
 class MpiPointWorkers : public PointWorkers {
  public:
   // Symbolic phase on the main rank: receives every other rank's sub-RCS
-  // pattern and cameras, builds the global RCS over `num_cameras` cameras and
-  // the block maps. `own` (may be null) is the main rank's own share.
-  MpiPointWorkers(Communicator* comm, int64_t num_cameras, RankShare* own_share,
+  // pattern and the global ids of its rows, builds the global RCS over the
+  // unknowns of `layout` (the whole problem's) and the block maps. `own` (may
+  // be null) is the main rank's own share.
+  MpiPointWorkers(Communicator* comm, UnknownLayout layout, RankShare* own_share,
                   LocalPointWorkers* own);
 
   RcsSystem& FormRcs(double lambda) override;

@@ -6,33 +6,63 @@ namespace dba {
 RankShare ExtractShare(const BalProblem& full, std::span<const int32_t> point_group,
                        int32_t group) {
   RankShare s;
-  std::vector<int32_t> local_of(full.num_cameras(), -1);
-  for (int64_t k = 0; k < full.num_points(); ++k) {
-    if (point_group[k] != group) continue;
-    for (int64_t o = full.point_offsets[k]; o < full.point_offsets[k + 1]; ++o) {
-      local_of[full.obs_camera[o]] = 0;
-    }
-  }
-  for (int64_t i = 0; i < full.num_cameras(); ++i) {
-    if (local_of[i] < 0) continue;
-    local_of[i] = static_cast<int32_t>(s.global_camera.size());
-    s.global_camera.push_back(static_cast<int32_t>(i));
-    s.problem.cameras.insert(s.problem.cameras.end(), full.camera(i),
-                             full.camera(i) + kBalCameraSize);
-  }
-  s.problem.point_offsets.push_back(0);
+  BalProblem& p = s.problem;
+  p.model = full.model;
+  p.cameras = full.cameras;
+  p.camera_intrinsics = full.camera_intrinsics;
+  p.fixed_cameras = full.fixed_cameras;
+  p.intrinsics_free = full.intrinsics_free;
+  p.point_offsets.push_back(0);
   for (int64_t k = 0; k < full.num_points(); ++k) {
     if (point_group[k] != group) continue;
     s.global_point.push_back(k);
-    s.problem.points.insert(s.problem.points.end(), full.point(k), full.point(k) + kPointSize);
+    p.points.insert(p.points.end(), full.point(k), full.point(k) + kPointSize);
     for (int64_t o = full.point_offsets[k]; o < full.point_offsets[k + 1]; ++o) {
-      s.problem.obs_camera.push_back(local_of[full.obs_camera[o]]);
-      s.problem.obs_pixel.push_back(full.obs_pixel[2 * o]);
-      s.problem.obs_pixel.push_back(full.obs_pixel[2 * o + 1]);
+      p.obs_camera.push_back(full.obs_camera[o]);
+      p.obs_pixel.push_back(full.obs_pixel[2 * o]);
+      p.obs_pixel.push_back(full.obs_pixel[2 * o + 1]);
     }
-    s.problem.point_offsets.push_back(s.problem.num_observations());
+    p.point_offsets.push_back(p.num_observations());
   }
+  KeepTouchedCameras(&s);
   return s;
+}
+
+void KeepTouchedCameras(RankShare* share) {
+  BalProblem& p = share->problem;
+  BalProblem old;  // the camera side as it was
+  old.model = p.model;
+  old.cameras.swap(p.cameras);
+  old.camera_intrinsics.swap(p.camera_intrinsics);
+  old.fixed_cameras.swap(p.fixed_cameras);
+  old.intrinsics_free.swap(p.intrinsics_free);
+  const bool photo = old.model == CameraModel::kPhoto;
+  std::vector<int32_t> local_camera(old.num_cameras(), -1);
+  std::vector<int32_t> local_group(old.num_intrinsics(), -1);
+  for (int32_t c : p.obs_camera) local_camera[c] = 0;
+  share->global_camera.clear();
+  share->global_intrinsics.clear();
+  for (int64_t i = 0; i < old.num_cameras(); ++i) {
+    if (local_camera[i] < 0) continue;
+    local_camera[i] = static_cast<int32_t>(share->global_camera.size());
+    share->global_camera.push_back(static_cast<int32_t>(i));
+    p.cameras.insert(p.cameras.end(), old.camera(i), old.camera(i) + old.camera_size());
+    if (!old.fixed_cameras.empty()) p.fixed_cameras.push_back(old.fixed_cameras[i]);
+    if (photo) local_group[old.camera_intrinsics[i]] = 0;
+  }
+  for (int32_t& c : p.obs_camera) c = local_camera[c];
+  if (!photo) return;
+  for (int64_t g = 0; g < old.num_intrinsics(); ++g) {
+    if (local_group[g] < 0) continue;
+    local_group[g] = static_cast<int32_t>(share->global_intrinsics.size());
+    share->global_intrinsics.push_back(static_cast<int32_t>(g));
+    p.cameras.insert(p.cameras.end(), old.intrinsics(g),
+                     old.intrinsics(g) + kPhotoIntrinsicsSize);
+    if (!old.intrinsics_free.empty()) p.intrinsics_free.push_back(old.intrinsics_free[g]);
+  }
+  for (int32_t c : share->global_camera) {
+    p.camera_intrinsics.push_back(local_group[old.camera_intrinsics[c]]);
+  }
 }
 
 }  // namespace dba

@@ -1,6 +1,7 @@
 // One rank's share of a problem (DESIGN.md §2): its points, their
-// observations and the cameras they touch, renumbered locally in increasing
-// global order (so a local block (i <= j) maps to a global block (i' <= j')).
+// observations and the cameras (and intrinsic groups) they touch, renumbered
+// locally in increasing global order, so that a local RCS block (i <= j) maps
+// to a global block (i' <= j').
 //
 // Thread safety: pure function.
 #pragma once
@@ -14,13 +15,19 @@
 namespace dba {
 
 struct RankShare {
-  BalProblem problem;                 // local camera ids
-  std::vector<int32_t> global_camera;  // local camera -> global camera
-  std::vector<int64_t> global_point;   // local point -> global point
+  BalProblem problem;                     // local camera and group ids
+  std::vector<int32_t> global_camera;     // local camera -> global camera
+  std::vector<int32_t> global_intrinsics; // local group -> global group (kPhoto)
+  std::vector<int64_t> global_point;      // local point -> global point
 };
 
 // The points with point_group[k] == group, in global order.
 RankShare ExtractShare(const BalProblem& full, std::span<const int32_t> point_group,
                        int32_t group);
+
+// Keeps only the cameras that `share.problem`'s observations touch (and
+// their intrinsic groups), renumbered in increasing order; fills
+// global_camera and global_intrinsics with the old ids.
+void KeepTouchedCameras(RankShare* share);
 
 }  // namespace dba

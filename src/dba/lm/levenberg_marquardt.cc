@@ -57,7 +57,9 @@ LmSummary SolveLevenbergMarquardt(
   summary.initial_cost = cost;
   summary.final_cost = cost;
 
-  std::vector<double> delta_c(cameras->size()), candidate(cameras->size());
+  // δc has one value per unknown (fixed parameters are not unknowns); the
+  // candidate is cameras ⊞ δc (rcs/unknown_layout.h).
+  std::vector<double> delta_c(sys->layout.num_unknowns()), candidate(cameras->size());
   bool done = false;
   while (!done) {
     if (summary.iterations >= options.max_iterations) {
@@ -97,9 +99,7 @@ LmSummary SolveLevenbergMarquardt(
 
     // Back-substitution and evaluation of the step.
     phase.Reset();
-    for (size_t i = 0; i < candidate.size(); ++i) {
-      candidate[i] = (*cameras)[i] + delta_c[i];
-    }
+    sys->layout.Plus(cameras->data(), delta_c.data(), candidate.data());
     const StepEvaluation eval =
         workers->EvaluateStep(lambda, delta_c, candidate);
     summary.times.back_substitution += phase.Seconds();

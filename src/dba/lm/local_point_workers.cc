@@ -20,7 +20,7 @@ StepEvaluation LocalPointWorkers::EvaluateStep(
     double lambda, const std::vector<double>& delta_c,
     const std::vector<double>& candidate_cameras) {
   candidate_cameras_ = candidate_cameras;
-  return BackSubstitute(*problem_, lambda, bounds_, delta_c, candidate_cameras,
+  return BackSubstitute(*problem_, system_.layout, lambda, bounds_, delta_c, candidate_cameras,
                         num_threads_, &candidate_points_);
 }
 

@@ -5,30 +5,52 @@
 #include <omp.h>
 
 namespace dba {
+namespace {
 
-StepEvaluation BackSubstitute(const BalProblem& problem, double lambda,
-                              const DampingBounds& bounds,
-                              const std::vector<double>& delta_c,
-                              const std::vector<double>& candidate_cameras,
-                              int num_threads,
-                              std::vector<double>* candidate_points) {
-  candidate_points->resize(problem.points.size());
+template <class Model>
+StepEvaluation BackSubstituteWith(const BalProblem& problem, const UnknownLayout& layout,
+                                  double lambda, const DampingBounds& bounds,
+                                  const std::vector<double>& delta_c,
+                                  const std::vector<double>& candidate_cameras,
+                                  int num_threads, std::vector<double>* candidate_points) {
+  constexpr int kC = Model::kCamera;
+  constexpr int kI = PointSystem<Model>::kI;
+  using CameraVec = Eigen::Matrix<double, kC, 1>;
+  using IntrinsicsVec = Eigen::Matrix<double, kI, 1>;
+  // δ of an intrinsics row, padded with zeros to the packed Jacobian's width.
+  auto intrinsics_delta = [&](int32_t row) {
+    IntrinsicsVec d = IntrinsicsVec::Zero();
+    const int64_t o = layout.row_offset(row);
+    for (int j = 0; j < layout.block_size(row); ++j) d[j] = delta_c[o + j];
+    return d;
+  };
   double model_cost = 0.0, candidate_cost = 0.0, step_sq = 0.0, x_sq = 0.0;
   const int64_t num_points = problem.num_points();
 #pragma omp parallel num_threads(num_threads) \
     reduction(+ : model_cost, candidate_cost, step_sq, x_sq)
   {
-    PointSystem p;
+    PointSystem<Model> p;
 #pragma omp for schedule(dynamic, 256)
     for (int64_t k = 0; k < num_points; ++k) {
-      LinearizePoint(problem, k, &p);
+      LinearizePoint(problem, layout, k, &p);
       EliminatePoint(lambda, bounds, &p);
       const int64_t begin = problem.point_offsets[k];
+      // Model residuals start as r + Σ_e J_e δ_e; J_p δX is added below.
       Vec3 rhs = -p.g_p;
       for (int a = 0; a < p.num_obs; ++a) {
-        const int64_t ca = problem.obs_camera[begin + a];
-        rhs.noalias() -= p.W[a].transpose() *
-                         Eigen::Map<const Vec9>(delta_c.data() + 9 * ca);
+        if (p.camera_row[a] >= 0) {
+          const auto dc = Eigen::Map<const CameraVec>(delta_c.data() +
+                                                      layout.row_offset(p.camera_row[a]));
+          rhs.noalias() -= p.W_c[a].transpose() * dc;
+          p.r[a].noalias() += p.J_c[a] * dc;
+        }
+        if constexpr (Model::kIntrinsics > 0) {
+          if (p.intrinsics_row[a] >= 0) {
+            const IntrinsicsVec di = intrinsics_delta(p.intrinsics_row[a]);
+            rhs.noalias() -= p.W_i[a].transpose() * di;
+            p.r[a].noalias() += p.J_i[a] * di;
+          }
+        }
       }
       const Vec3 dX = p.V_inv * rhs;
       const Vec3 X = Eigen::Map<const Vec3>(problem.point(k));
@@ -37,15 +59,10 @@ StepEvaluation BackSubstitute(const BalProblem& problem, double lambda,
       step_sq += dX.squaredNorm();
       x_sq += X.squaredNorm();
       for (int a = 0; a < p.num_obs; ++a) {
-        const int64_t obs = begin + a;
-        const int64_t ca = problem.obs_camera[obs];
-        const Vec2 model = p.r[a] +
-                           p.J_c[a] * Eigen::Map<const Vec9>(delta_c.data() + 9 * ca) +
-                           p.J_p[a] * dX;
-        model_cost += 0.5 * model.squaredNorm();
-        const Vec2 r_new = BalResidual(candidate_cameras.data() + 9 * ca,
-                                       X_new.data(), problem.pixel(obs));
-        candidate_cost += 0.5 * r_new.squaredNorm();
+        model_cost += 0.5 * (p.r[a] + p.J_p[a] * dX).squaredNorm();
+        candidate_cost += 0.5 * ObservationResidual(problem, candidate_cameras.data(),
+                                                    begin + a, X_new.data())
+                                    .squaredNorm();
       }
     }
   }
@@ -55,6 +72,22 @@ StepEvaluation BackSubstitute(const BalProblem& problem, double lambda,
   e.point_step_squared_norm = step_sq;
   e.point_squared_norm = x_sq;
   return e;
+}
+
+}  // namespace
+
+StepEvaluation BackSubstitute(const BalProblem& problem, const UnknownLayout& layout,
+                              double lambda, const DampingBounds& bounds,
+                              const std::vector<double>& delta_c,
+                              const std::vector<double>& candidate_cameras, int num_threads,
+                              std::vector<double>* candidate_points) {
+  candidate_points->resize(problem.points.size());
+  if (problem.model == CameraModel::kBal) {
+    return BackSubstituteWith<BalModel>(problem, layout, lambda, bounds, delta_c,
+                                        candidate_cameras, num_threads, candidate_points);
+  }
+  return BackSubstituteWith<PhotoModel>(problem, layout, lambda, bounds, delta_c,
+                                        candidate_cameras, num_threads, candidate_points);
 }
 
 }  // namespace dba

@@ -1,7 +1,7 @@
 // Point back-substitution (paper eq. 5) fused with the evaluation of the step:
 // for each point, at the current parameters,
-//   δX_k = V_λ⁻¹ (-g_p - Σ_a W_aᵀ δc_a)
-//   model residual  r_a + J_c,a δc_a + J_p,a δX_k   (the linearized cost)
+//   δX_k = V_λ⁻¹ (-g_p - Σ_a Σ_e W_e,aᵀ δ_e)   (e: the observation's blocks)
+//   model residual  r_a + Σ_e J_e,a δ_e + J_p,a δX_k   (the linearized cost)
 //   candidate residual r_a(c_a + δc_a, X_k + δX_k)  (the true cost at the step)
 // Jacobians are recomputed, not stored (DESIGN.md §4).
 //
@@ -12,6 +12,7 @@
 
 #include "dba/problem/bal_problem.h"
 #include "dba/rcs/eliminate_point.h"
+#include "dba/rcs/unknown_layout.h"
 
 namespace dba {
 
@@ -22,9 +23,11 @@ struct StepEvaluation {
   double point_squared_norm = 0.0;       // Σ |X|²
 };
 
-// `delta_c` and `candidate_cameras` (= cameras + δc) are in the problem's
-// camera numbering; X + δX is written to `candidate_points`.
-StepEvaluation BackSubstitute(const BalProblem& problem, double lambda,
+// `delta_c` holds one value per unknown of `layout` (the problem's own);
+// `candidate_cameras` = cameras ⊞ δc, laid out as problem.cameras.
+// X + δX is written to `candidate_points`.
+StepEvaluation BackSubstitute(const BalProblem& problem, const UnknownLayout& layout,
+                              double lambda,
                               const DampingBounds& bounds,
                               const std::vector<double>& delta_c,
                               const std::vector<double>& candidate_cameras,

@@ -29,7 +29,7 @@ TEST(BackSubstitute, RecoversTheFullNewtonStepAndItsCosts) {
   std::vector<double> candidate_cameras = problem.cameras;
   for (int i = 0; i < nc; ++i) candidate_cameras[i] += delta_c[i];
   std::vector<double> candidate_points;
-  const StepEvaluation e = BackSubstitute(problem, lambda, bounds, delta_c,
+  const StepEvaluation e = BackSubstitute(problem, UnknownLayout(problem), lambda, bounds, delta_c,
                                           candidate_cameras, 2, &candidate_points);
 
   // δX from eq. 5 equals the point part of the full solution.

@@ -4,42 +4,109 @@
 #include <Eigen/LU>
 
 namespace dba {
+namespace {
 
-void LinearizePoint(const BalProblem& problem, int64_t k, PointSystem* sys) {
+template <class Model>
+void Resize(int m, PointSystem<Model>* sys) {
+  if (static_cast<int>(sys->J_c.size()) >= m) return;
+  sys->camera_row.resize(m);
+  sys->intrinsics_row.resize(m);
+  sys->J_c.resize(m);
+  sys->J_i.resize(m);
+  sys->J_p.resize(m);
+  sys->r.resize(m);
+  sys->W_c.resize(m);
+  sys->T_c.resize(m);
+  sys->W_i.resize(m);
+  sys->T_i.resize(m);
+}
+
+// Residual and Jacobians of one observation; the intrinsics Jacobian packed
+// to the group's free parameters.
+template <class Model>
+Vec2 Linearize(const BalProblem& problem, const UnknownLayout& layout, int64_t obs,
+               const double* X, int a, PointSystem<Model>* sys) {
+  const int32_t i = problem.obs_camera[obs];
+  sys->camera_row[a] = layout.camera_row(i);
+  if constexpr (Model::kIntrinsics == 0) {
+    sys->intrinsics_row[a] = -1;
+    return BalResidualAndJacobians(problem.camera(i), X, problem.pixel(obs), &sys->J_c[a],
+                                   &sys->J_p[a]);
+  } else {
+    const int32_t g = problem.camera_intrinsics[i];
+    const int32_t row = layout.intrinsics_row(g);
+    sys->intrinsics_row[a] = row;
+    IntrinsicsJacobian full;
+    const Vec2 r = PhotoResidualAndJacobians(problem.camera(i), problem.intrinsics(g), X,
+                                             problem.pixel(obs), &sys->J_c[a],
+                                             row >= 0 ? &full : nullptr, &sys->J_p[a]);
+    if (row >= 0) {
+      const auto& index = layout.intrinsics_free_index(g);
+      const int n = layout.block_size(row);
+      auto& J = sys->J_i[a];
+      for (int j = 0; j < n; ++j) J.col(j) = full.col(index[j]);
+      for (int j = n; j < Model::kIntrinsics; ++j) J.col(j).setZero();
+    }
+    return r;
+  }
+}
+
+}  // namespace
+
+template <class Model>
+void LinearizePoint(const BalProblem& problem, const UnknownLayout& layout, int64_t k,
+                    PointSystem<Model>* sys) {
   const int64_t begin = problem.point_offsets[k];
   const int m = static_cast<int>(problem.point_offsets[k + 1] - begin);
   sys->num_obs = m;
-  if (static_cast<int>(sys->J_c.size()) < m) {
-    sys->J_c.resize(m);
-    sys->J_p.resize(m);
-    sys->r.resize(m);
-    sys->W.resize(m);
-    sys->T.resize(m);
-  }
+  Resize(m, sys);
   const double* X = problem.point(k);
   sys->V.setZero();
   sys->g_p.setZero();
   sys->cost = 0.0;
   for (int a = 0; a < m; ++a) {
-    const int64_t obs = begin + a;
-    sys->r[a] = BalResidualAndJacobians(problem.camera(problem.obs_camera[obs]),
-                                        X, problem.pixel(obs), &sys->J_c[a],
-                                        &sys->J_p[a]);
+    sys->r[a] = Linearize(problem, layout, begin + a, X, a, sys);
     sys->cost += 0.5 * sys->r[a].squaredNorm();
     sys->V.noalias() += sys->J_p[a].transpose() * sys->J_p[a];
     sys->g_p.noalias() += sys->J_p[a].transpose() * sys->r[a];
-    sys->W[a].noalias() = sys->J_c[a].transpose() * sys->J_p[a];
+    if (sys->camera_row[a] >= 0) {
+      sys->W_c[a].noalias() = sys->J_c[a].transpose() * sys->J_p[a];
+    }
+    if (sys->intrinsics_row[a] >= 0) {
+      sys->W_i[a].noalias() = sys->J_i[a].transpose() * sys->J_p[a];
+    }
   }
 }
 
-void EliminatePoint(double lambda, const DampingBounds& bounds,
-                    PointSystem* sys) {
+template <class Model>
+void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys) {
   Eigen::Matrix3d V_damped = sys->V;
   for (int d = 0; d < 3; ++d) V_damped(d, d) += lambda * bounds.Clamp(sys->V(d, d));
   sys->V_inv = V_damped.inverse();
   for (int a = 0; a < sys->num_obs; ++a) {
-    sys->T[a].noalias() = sys->W[a] * sys->V_inv;
+    if (sys->camera_row[a] >= 0) sys->T_c[a].noalias() = sys->W_c[a] * sys->V_inv;
+    if (sys->intrinsics_row[a] >= 0) sys->T_i[a].noalias() = sys->W_i[a] * sys->V_inv;
   }
 }
+
+Vec2 ObservationResidual(const BalProblem& problem, const double* cameras, int64_t obs,
+                         const double* X) {
+  const int32_t i = problem.obs_camera[obs];
+  if (problem.model == CameraModel::kBal) {
+    return BalResidual(cameras + kBalCameraSize * int64_t{i}, X, problem.pixel(obs));
+  }
+  const int64_t g = problem.camera_intrinsics[i];
+  return PhotoResidual(cameras + kPhotoPoseSize * int64_t{i},
+                       cameras + kPhotoPoseSize * problem.num_cameras() +
+                           kPhotoIntrinsicsSize * g,
+                       X, problem.pixel(obs));
+}
+
+template void LinearizePoint(const BalProblem&, const UnknownLayout&, int64_t,
+                             PointSystem<BalModel>*);
+template void LinearizePoint(const BalProblem&, const UnknownLayout&, int64_t,
+                             PointSystem<PhotoModel>*);
+template void EliminatePoint(double, const DampingBounds&, PointSystem<BalModel>*);
+template void EliminatePoint(double, const DampingBounds&, PointSystem<PhotoModel>*);
 
 }  // namespace dba

@@ -1,16 +1,24 @@
 // Linearization and Schur elimination of one 3D point (paper eq. 3-5).
 //
-// For point k with observations a = 1..m by cameras c_a:
-//   J_c,a = ∂r_a/∂c (2x9), J_p,a = ∂r_a/∂X_k (2x3), r_a residual
+// For point k with observations a = 1..m, each observation touches up to two
+// camera-side blocks of unknowns (rcs/unknown_layout.h): its camera c_a (the
+// 9 BAL parameters, or a 6-parameter pose) and, in the photogrammetric model,
+// its intrinsic group g_a (the group's free parameters, ≤ 5). Either may be
+// held fixed, and then has no block. With e ranging over an observation's
+// blocks:
+//   J_e,a = ∂r_a/∂(block e) (2 x |e|), J_p,a = ∂r_a/∂X_k (2x3), r_a residual
 //   V     = Σ_a J_p,aᵀ J_p,a                      (3x3, undamped)
 //   g_p   = Σ_a J_p,aᵀ r_a
-//   W_a   = J_c,aᵀ J_p,a                           (9x3)
+//   W_e,a = J_e,aᵀ J_p,a                           (|e| x 3)
 //   V_λ   = V + λ D_p,  D_p = clamp(diag V)        (Marquardt damping)
-//   T_a   = W_a V_λ⁻¹
-// The point's sub-RCS (eq. 4) is the dense block over its cameras
-//   S_ab = δ_ab J_c,aᵀ J_c,a - T_a W_bᵀ
-// and its right-hand side contribution b_a = -J_c,aᵀ r_a + T_a g_p.
-// Back-substitution (eq. 5): δX = V_λ⁻¹ (-g_p - Σ_a W_aᵀ δc_a).
+//   T_e,a = W_e,a V_λ⁻¹
+// The point's sub-RCS (eq. 4) is the dense block over its blocks
+//   S_ef += [a == b] J_e,aᵀ J_f,b - T_e,a W_f,bᵀ
+// and its right-hand side contribution b_e += -J_e,aᵀ r_a + T_e,a g_p.
+// Back-substitution (eq. 5): δX = V_λ⁻¹ (-g_p - Σ_a Σ_e W_e,aᵀ δ_e).
+//
+// The intrinsics Jacobian keeps only the free parameters, packed into its
+// first columns (the rest zero), so fixed ones are not unknowns.
 //
 // Thread safety: a PointSystem is scratch for one thread.
 #pragma once
@@ -20,13 +28,11 @@
 #include <vector>
 
 #include "dba/camera/bal_camera.h"
+#include "dba/camera/photo_camera.h"
 #include "dba/problem/bal_problem.h"
+#include "dba/rcs/unknown_layout.h"
 
 namespace dba {
-
-using Mat93 = Eigen::Matrix<double, 9, 3>;
-using Mat99 = Eigen::Matrix<double, 9, 9, Eigen::RowMajor>;
-using Vec9 = Eigen::Matrix<double, 9, 1>;
 
 // Bounds of the Marquardt scaling D = clamp(diag(JᵀJ)).
 struct DampingBounds {
@@ -38,13 +44,36 @@ struct DampingBounds {
   }
 };
 
+// The camera models as the kernels see them: unknowns of the camera block
+// and of the intrinsics block (0: the model has none).
+struct BalModel {
+  static constexpr int kCamera = kBalCameraSize;
+  static constexpr int kIntrinsics = 0;
+};
+struct PhotoModel {
+  static constexpr int kCamera = kPhotoPoseSize;
+  static constexpr int kIntrinsics = kPhotoIntrinsicsSize;
+};
+
+template <class Model>
 struct PointSystem {
+  static constexpr int kC = Model::kCamera;
+  // (a placeholder width when the model has no intrinsics block)
+  static constexpr int kI = Model::kIntrinsics > 0 ? Model::kIntrinsics : 2;
+  using CameraJac = Eigen::Matrix<double, 2, kC, Eigen::RowMajor>;
+  using IntrinsicsJac = Eigen::Matrix<double, 2, kI, Eigen::RowMajor>;
+  using CameraW = Eigen::Matrix<double, kC, 3>;
+  using IntrinsicsW = Eigen::Matrix<double, kI, 3>;
+
   int num_obs = 0;
-  std::vector<CameraJacobian> J_c;
+  std::vector<int32_t> camera_row;      // -1: camera held fixed
+  std::vector<int32_t> intrinsics_row;  // -1: none, or all held fixed
+  std::vector<CameraJac> J_c;
+  std::vector<IntrinsicsJac> J_i;       // free columns first, rest zero
   std::vector<PointJacobian> J_p;
   std::vector<Vec2> r;
-  std::vector<Mat93> W;
-  std::vector<Mat93> T;  // W_a V_λ⁻¹
+  std::vector<CameraW> W_c, T_c;        // W_c,a and W_c,a V_λ⁻¹
+  std::vector<IntrinsicsW> W_i, T_i;
   Eigen::Matrix3d V;
   Eigen::Matrix3d V_inv;  // V_λ⁻¹
   Vec3 g_p;
@@ -52,11 +81,18 @@ struct PointSystem {
 };
 
 // Residuals, Jacobians, V, g_p, W and the cost of point k at the problem's
-// current parameters.
-void LinearizePoint(const BalProblem& problem, int64_t k, PointSystem* sys);
+// current parameters; `problem.model` must match Model.
+template <class Model>
+void LinearizePoint(const BalProblem& problem, const UnknownLayout& layout, int64_t k,
+                    PointSystem<Model>* sys);
 
-// Damps V with λ, inverts it and forms T_a = W_a V_λ⁻¹.
-void EliminatePoint(double lambda, const DampingBounds& bounds,
-                    PointSystem* sys);
+// Damps V with λ, inverts it and forms T = W V_λ⁻¹.
+template <class Model>
+void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys);
+
+// Residual of observation `obs` at camera-side parameters `cameras` (laid
+// out as problem.cameras) and the point at X.
+Vec2 ObservationResidual(const BalProblem& problem, const double* cameras, int64_t obs,
+                         const double* X);
 
 }  // namespace dba

@@ -12,49 +12,132 @@
 namespace dba {
 namespace {
 
-// Adds point k's sub-RCS and rhs into the system, row by row under the row
-// locks. Block (c_a, c_b) with c_a < c_b receives -T_a W_bᵀ; the diagonal
-// block of c_a receives J_c,aᵀ J_c,a and -T_a W_bᵀ for every b seen by the
-// same camera (b = a included).
-void AddPointToRcs(const BalProblem& problem, int64_t k, const PointSystem& p,
-                   StripedLocks& locks, RcsSystem* sys) {
-  const int64_t begin = problem.point_offsets[k];
-  for (int a = 0; a < p.num_obs; ++a) {
-    const int32_t ca = problem.obs_camera[begin + a];
-    const Vec9 g_c = p.J_c[a].transpose() * p.r[a];
-    const Vec9 rhs = -g_c + p.T[a] * p.g_p;
-    locks.Lock(ca);
-    for (int b = 0; b < p.num_obs; ++b) {
-      const int32_t cb = problem.obs_camera[begin + b];
-      if (cb < ca) continue;
-      Eigen::Map<Mat99> block(sys->S.block_values(sys->S.FindBlock(ca, cb)));
-      // lazyProduct: coefficient-wise kernels; Eigen's GEMM path is slower
-      // at these sizes.
-      block.noalias() -= p.T[a].lazyProduct(p.W[b].transpose());
-      if (b == a) {
-        block.noalias() += p.J_c[a].transpose().lazyProduct(p.J_c[a]);
-      }
-    }
-    Eigen::Map<Vec9>(sys->b.data() + 9 * int64_t{ca}) += rhs;
-    Eigen::Map<Vec9>(sys->camera_gradient.data() + 9 * int64_t{ca}) += g_c;
-    Eigen::Map<Vec9>(sys->camera_jtj_diagonal.data() + 9 * int64_t{ca}) +=
-        p.J_c[a].colwise().squaredNorm().transpose();
-    locks.Unlock(ca);
+// block(rows x n, row-major, in S) += m.leftCols(n): the intrinsics blocks
+// keep only their free columns.
+template <int kRows, typename M>
+void AddLeftCols(double* block, int n, const M& m) {
+  if (n == M::ColsAtCompileTime) {
+    Eigen::Map<Eigen::Matrix<double, kRows, M::ColsAtCompileTime, Eigen::RowMajor>>(block) += m;
+  } else {
+    Eigen::Map<Eigen::Matrix<double, kRows, Eigen::Dynamic, Eigen::RowMajor>>(block, kRows, n) +=
+        m.leftCols(n);
   }
+}
+
+// Adds point k's sub-RCS and rhs into the system, row by row under the row
+// locks. For observation a with camera row c_a and intrinsics row g_a:
+//   row c_a: S(c_a, c_b) -= T_c,a W_c,bᵀ for c_b >= c_a, S(c_a, g_b) -= T_c,a W_i,bᵀ,
+//            plus J_c,aᵀ J_c,a on the diagonal and J_c,aᵀ J_i,a in (c_a, g_a);
+//   row g_a: S(g_a, g_b) -= T_i,a W_i,bᵀ for g_b >= g_a, plus J_i,aᵀ J_i,a.
+// A row repeated within the point (a camera seeing it twice, the group every
+// observation shares) gets both -T_a W_bᵀ and -T_b W_aᵀ on its diagonal
+// block, as the dense product does. Intrinsic rows come after camera rows, so
+// every block written is in the upper triangle.
+template <class Model>
+void AddPointToRcs(const PointSystem<Model>& p, StripedLocks& locks, RcsSystem* sys) {
+  constexpr int kC = Model::kCamera;
+  BsmcMatrix& S = sys->S;
+  for (int a = 0; a < p.num_obs; ++a) {
+    const int32_t ca = p.camera_row[a];
+    if (ca >= 0) {
+      const Eigen::Matrix<double, kC, 1> g_c = p.J_c[a].transpose() * p.r[a];
+      locks.Lock(ca);
+      for (int b = 0; b < p.num_obs; ++b) {
+        const int32_t cb = p.camera_row[b];
+        if (cb >= ca) {
+          Eigen::Map<Eigen::Matrix<double, kC, kC, Eigen::RowMajor>> block(
+              S.block_values(S.FindBlock(ca, cb)));
+          // lazyProduct: coefficient-wise kernels; Eigen's GEMM path is
+          // slower at these sizes.
+          block.noalias() -= p.T_c[a].lazyProduct(p.W_c[b].transpose());
+          if (b == a) block.noalias() += p.J_c[a].transpose().lazyProduct(p.J_c[a]);
+        }
+        if constexpr (Model::kIntrinsics > 0) {
+          const int32_t gb = p.intrinsics_row[b];
+          if (gb >= 0) {
+            double* block = S.block_values(S.FindBlock(ca, gb));
+            const int n = S.block_size(gb);
+            AddLeftCols<kC>(block, n, -p.T_c[a].lazyProduct(p.W_i[b].transpose()));
+            if (b == a) AddLeftCols<kC>(block, n, p.J_c[a].transpose().lazyProduct(p.J_i[a]));
+          }
+        }
+      }
+      const int64_t o = S.scalar_offset(ca);
+      Eigen::Map<Eigen::Matrix<double, kC, 1>>(sys->b.data() + o) += -g_c + p.T_c[a] * p.g_p;
+      Eigen::Map<Eigen::Matrix<double, kC, 1>>(sys->camera_gradient.data() + o) += g_c;
+      Eigen::Map<Eigen::Matrix<double, kC, 1>>(sys->camera_jtj_diagonal.data() + o) +=
+          p.J_c[a].colwise().squaredNorm().transpose();
+      locks.Unlock(ca);
+    }
+    if constexpr (Model::kIntrinsics > 0) {
+      constexpr int kI = Model::kIntrinsics;
+      const int32_t ga = p.intrinsics_row[a];
+      if (ga < 0) continue;
+      const int na = S.block_size(ga);
+      const Eigen::Matrix<double, kI, 1> g_i = p.J_i[a].transpose() * p.r[a];
+      const Eigen::Matrix<double, kI, 1> rhs = -g_i + p.T_i[a] * p.g_p;
+      const Eigen::Matrix<double, kI, 1> diag = p.J_i[a].colwise().squaredNorm().transpose();
+      locks.Lock(ga);
+      for (int b = 0; b < p.num_obs; ++b) {
+        const int32_t gb = p.intrinsics_row[b];
+        if (gb < ga) continue;  // also skips -1
+        const int nb = S.block_size(gb);
+        Eigen::Matrix<double, kI, kI> m = -p.T_i[a].lazyProduct(p.W_i[b].transpose());
+        if (b == a) m.noalias() += p.J_i[a].transpose().lazyProduct(p.J_i[a]);
+        Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+            S.block_values(S.FindBlock(ga, gb)), na, nb) += m.topLeftCorner(na, nb);
+      }
+      const int64_t o = S.scalar_offset(ga);
+      for (int d = 0; d < na; ++d) {
+        sys->b[o + d] += rhs[d];
+        sys->camera_gradient[o + d] += g_i[d];
+        sys->camera_jtj_diagonal[o + d] += diag[d];
+      }
+      locks.Unlock(ga);
+    }
+  }
+}
+
+template <class Model>
+void FormRcsWith(const BalProblem& problem, double lambda, const DampingBounds& bounds,
+                 int num_threads, RcsSystem* sys) {
+  StripedLocks locks;
+  double cost = 0.0, max_g_p = 0.0;
+  const int64_t num_points = problem.num_points();
+#pragma omp parallel num_threads(num_threads) reduction(+ : cost) reduction(max : max_g_p)
+  {
+    PointSystem<Model> p;
+    // Contiguous ranges of points per thread: neighbouring points see the
+    // same cameras, so interleaved chunks would make the threads fight over
+    // the same RCS rows (locks and cache lines). Measured on 10M observations
+    // (1920 cameras): dynamic chunks of 256 took 6.5 s per formation with 2
+    // threads, slower than 2 single-threaded MPI ranks on half the points;
+    // contiguous ranges take 3.0 s.
+#pragma omp for schedule(static)
+    for (int64_t k = 0; k < num_points; ++k) {
+      LinearizePoint(problem, sys->layout, k, &p);
+      EliminatePoint(lambda, bounds, &p);
+      AddPointToRcs(p, locks, sys);
+      cost += p.cost;
+      max_g_p = std::max(max_g_p, p.g_p.cwiseAbs().maxCoeff());
+    }
+  }
+  sys->cost = cost;
+  sys->max_abs_point_gradient = max_g_p;
 }
 
 }  // namespace
 
 RcsSystem RcsSystem::ForProblem(const BalProblem& problem) {
-  const int64_t n = problem.num_cameras();
-  return ForPattern(std::vector<int32_t>(n, kBalCameraSize),
-                    RcsBlockPattern(n, problem.point_offsets, problem.obs_camera));
+  UnknownLayout layout(problem);
+  const std::vector<uint64_t> pattern = RcsBlockPattern(problem, layout);
+  return ForPattern(std::move(layout), pattern);
 }
 
-RcsSystem RcsSystem::ForPattern(std::vector<int32_t> block_sizes,
-                                std::span<const uint64_t> pattern) {
+RcsSystem RcsSystem::ForPattern(UnknownLayout layout, std::span<const uint64_t> pattern) {
   RcsSystem sys;
-  sys.S = BsmcMatrix::BuildFromPattern(std::move(block_sizes), pattern);
+  sys.S = BsmcMatrix::BuildFromPattern(layout.block_sizes(), pattern);
+  sys.layout = std::move(layout);
   const int64_t rows = sys.S.num_rows();
   sys.b.assign(rows, 0.0);
   sys.camera_gradient.assign(rows, 0.0);
@@ -68,29 +151,11 @@ void FormRcs(const BalProblem& problem, double lambda,
   std::fill(sys->b.begin(), sys->b.end(), 0.0);
   std::fill(sys->camera_gradient.begin(), sys->camera_gradient.end(), 0.0);
   std::fill(sys->camera_jtj_diagonal.begin(), sys->camera_jtj_diagonal.end(), 0.0);
-  StripedLocks locks;
-  double cost = 0.0, max_g_p = 0.0;
-  const int64_t num_points = problem.num_points();
-#pragma omp parallel num_threads(num_threads) reduction(+ : cost) reduction(max : max_g_p)
-  {
-    PointSystem p;
-    // Contiguous ranges of points per thread: neighbouring points see the
-    // same cameras, so interleaved chunks would make the threads fight over
-    // the same RCS rows (locks and cache lines). Measured on 10M observations
-    // (1920 cameras): dynamic chunks of 256 took 6.5 s per formation with 2
-    // threads, slower than 2 single-threaded MPI ranks on half the points;
-    // contiguous ranges take 3.0 s.
-#pragma omp for schedule(static)
-    for (int64_t k = 0; k < num_points; ++k) {
-      LinearizePoint(problem, k, &p);
-      EliminatePoint(lambda, bounds, &p);
-      AddPointToRcs(problem, k, p, locks, sys);
-      cost += p.cost;
-      max_g_p = std::max(max_g_p, p.g_p.cwiseAbs().maxCoeff());
-    }
+  if (problem.model == CameraModel::kBal) {
+    FormRcsWith<BalModel>(problem, lambda, bounds, num_threads, sys);
+  } else {
+    FormRcsWith<PhotoModel>(problem, lambda, bounds, num_threads, sys);
   }
-  sys->cost = cost;
-  sys->max_abs_point_gradient = max_g_p;
 }
 
 void DampCameraBlocks(double lambda, const DampingBounds& bounds,

@@ -5,6 +5,9 @@
 // diag(U) summed over all points (over all ranks in a distributed run), so it
 // is added afterwards (DampCameraBlocks), from `camera_jtj_diagonal`.
 //
+// Rows are the unknowns of rcs/unknown_layout.h: cameras (or poses) first,
+// then intrinsic groups.
+//
 // Threads: points are processed in parallel; a point's blocks in block row i
 // are added under the lock of row i (striped spinlocks), one row at a time.
 //
@@ -19,11 +22,13 @@
 #include "dba/bsmc/bsmc_matrix.h"
 #include "dba/problem/bal_problem.h"
 #include "dba/rcs/eliminate_point.h"
+#include "dba/rcs/unknown_layout.h"
 
 namespace dba {
 
 // The linear system of one rank's points, cameras in that rank's numbering.
 struct RcsSystem {
+  UnknownLayout layout;                     // rows of S: which parameters move
   BsmcMatrix S;                             // U - W V_λ⁻¹ Wᵀ, U undamped
   std::vector<double> b;                    // -g_c + W V_λ⁻¹ g_p
   std::vector<double> camera_gradient;      // g_c = J_cᵀ r
@@ -31,11 +36,12 @@ struct RcsSystem {
   double cost = 0.0;                        // ½ Σ |r|²
   double max_abs_point_gradient = 0.0;      // ‖g_p‖∞
 
-  // Symbolic phase: structure of S from the problem's visibility graph.
+  // Symbolic phase: unknowns and structure of S from the problem's
+  // visibility graph.
   static RcsSystem ForProblem(const BalProblem& problem);
-  // Symbolic phase from a block pattern (sorted packed blocks, see PackBlock).
-  static RcsSystem ForPattern(std::vector<int32_t> block_sizes,
-                              std::span<const uint64_t> pattern);
+  // Symbolic phase from a block pattern over the layout's rows (sorted packed
+  // blocks, see PackBlock).
+  static RcsSystem ForPattern(UnknownLayout layout, std::span<const uint64_t> pattern);
 };
 
 // Numeric phase: refills `system` at the problem's current parameters.

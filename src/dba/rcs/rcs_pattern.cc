@@ -13,21 +13,23 @@ void SortUnique(std::vector<uint64_t>& v) {
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
-}  // namespace
-
-std::vector<uint64_t> RcsBlockPattern(int64_t num_cameras,
-                                      std::span<const int64_t> point_offsets,
-                                      std::span<const int32_t> obs_camera) {
+// Every diagonal block, then each point's pairs of rows; `rows_of(k, rows)`
+// fills the rows touched by point k (any order, repeats allowed).
+template <typename RowsOf>
+std::vector<uint64_t> PatternOf(int32_t num_rows, int64_t num_points, RowsOf rows_of) {
   std::vector<uint64_t> blocks;
-  for (int32_t i = 0; i < num_cameras; ++i) blocks.push_back(PackBlock(i, i));
+  for (int32_t i = 0; i < num_rows; ++i) blocks.push_back(PackBlock(i, i));
   // Compact whenever the buffer has grown well past the unique set.
   size_t compact_at = 2 * blocks.size() + (size_t{1} << 20);
-  const int64_t num_points = static_cast<int64_t>(point_offsets.size()) - 1;
+  std::vector<int32_t> rows;
   for (int64_t k = 0; k < num_points; ++k) {
-    for (int64_t a = point_offsets[k]; a < point_offsets[k + 1]; ++a) {
-      for (int64_t b = a + 1; b < point_offsets[k + 1]; ++b) {
-        const int32_t i = obs_camera[a], j = obs_camera[b];
-        if (i != j) blocks.push_back(i < j ? PackBlock(i, j) : PackBlock(j, i));
+    rows.clear();
+    rows_of(k, rows);
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    for (size_t a = 0; a < rows.size(); ++a) {
+      for (size_t b = a + 1; b < rows.size(); ++b) {
+        blocks.push_back(PackBlock(rows[a], rows[b]));
       }
     }
     if (blocks.size() >= compact_at) {
@@ -38,6 +40,36 @@ std::vector<uint64_t> RcsBlockPattern(int64_t num_cameras,
   SortUnique(blocks);
   blocks.shrink_to_fit();
   return blocks;
+}
+
+}  // namespace
+
+std::vector<uint64_t> RcsBlockPattern(int64_t num_cameras,
+                                      std::span<const int64_t> point_offsets,
+                                      std::span<const int32_t> obs_camera) {
+  return PatternOf(static_cast<int32_t>(num_cameras),
+                   static_cast<int64_t>(point_offsets.size()) - 1,
+                   [&](int64_t k, std::vector<int32_t>& rows) {
+                     for (int64_t a = point_offsets[k]; a < point_offsets[k + 1]; ++a) {
+                       rows.push_back(obs_camera[a]);
+                     }
+                   });
+}
+
+std::vector<uint64_t> RcsBlockPattern(const BalProblem& problem, const UnknownLayout& layout) {
+  const bool photo = problem.model == CameraModel::kPhoto;
+  return PatternOf(layout.num_rows(), problem.num_points(),
+                   [&](int64_t k, std::vector<int32_t>& rows) {
+                     for (int64_t a = problem.point_offsets[k]; a < problem.point_offsets[k + 1];
+                          ++a) {
+                       const int32_t i = problem.obs_camera[a];
+                       if (layout.camera_row(i) >= 0) rows.push_back(layout.camera_row(i));
+                       if (photo) {
+                         const int32_t g = layout.intrinsics_row(problem.camera_intrinsics[i]);
+                         if (g >= 0) rows.push_back(g);
+                       }
+                     }
+                   });
 }
 
 }  // namespace dba

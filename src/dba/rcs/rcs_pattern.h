@@ -1,6 +1,7 @@
 // Symbolic phase of the RCS (paper section 5): which blocks of
-// S = U - W V⁻¹ Wᵀ are non-zero. Block (i, j) exists iff cameras i and j see
-// a common point, or i == j.
+// S = U - W V⁻¹ Wᵀ are non-zero. Block (i, j) exists iff rows i and j are
+// touched by a common point, or i == j. A point touches the rows of the
+// cameras that see it and (photogrammetric model) of their intrinsic groups.
 //
 // Thread safety: pure function.
 #pragma once
@@ -8,6 +9,9 @@
 #include <cstdint>
 #include <span>
 #include <vector>
+
+#include "dba/problem/bal_problem.h"
+#include "dba/rcs/unknown_layout.h"
 
 namespace dba {
 
@@ -17,5 +21,9 @@ namespace dba {
 std::vector<uint64_t> RcsBlockPattern(int64_t num_cameras,
                                       std::span<const int64_t> point_offsets,
                                       std::span<const int32_t> obs_camera);
+
+// The RCS pattern over the unknowns of `layout` (rows of fixed cameras and
+// groups absent).
+std::vector<uint64_t> RcsBlockPattern(const BalProblem& problem, const UnknownLayout& layout);
 
 }  // namespace dba

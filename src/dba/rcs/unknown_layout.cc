@@ -1,0 +1,83 @@
+// Rows and sizes of the RCS unknowns; see unknown_layout.h.
+#include "dba/rcs/unknown_layout.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace dba {
+
+UnknownLayout::UnknownLayout(const BalProblem& problem) {
+  const int64_t num_cameras = problem.num_cameras();
+  const int cs = problem.camera_size();
+  num_parameters_ = static_cast<int64_t>(problem.cameras.size());
+  camera_row_.assign(num_cameras, -1);
+  for (int64_t i = 0; i < num_cameras; ++i) {
+    if (problem.camera_fixed(i)) continue;
+    camera_row_[i] = static_cast<int32_t>(block_sizes_.size());
+    block_sizes_.push_back(cs);
+    param_offset_.push_back(cs * i);
+    row_entity_.push_back(static_cast<int32_t>(i));
+    row_offset_.push_back(row_offset_.back() + cs);
+  }
+  num_camera_rows_ = num_rows();
+  const int64_t num_groups = problem.num_intrinsics();
+  intrinsics_row_.assign(num_groups, -1);
+  free_index_.resize(num_groups);
+  for (int64_t g = 0; g < num_groups; ++g) {
+    const uint8_t mask = problem.intrinsics_free_mask(g);
+    auto& index = free_index_[g];
+    index.fill(-1);
+    int n = 0;
+    for (int d = 0; d < kPhotoIntrinsicsSize; ++d) {
+      if (mask & (1u << d)) index[n++] = static_cast<int8_t>(d);
+    }
+    if (n == 0) continue;
+    intrinsics_row_[g] = static_cast<int32_t>(block_sizes_.size());
+    block_sizes_.push_back(n);
+    param_offset_.push_back(kPhotoPoseSize * num_cameras + kPhotoIntrinsicsSize * g);
+    row_entity_.push_back(static_cast<int32_t>(g));
+    row_offset_.push_back(row_offset_.back() + n);
+  }
+}
+
+void UnknownLayout::Plus(const double* x, const double* delta, double* out) const {
+  if (out != x) std::copy(x, x + num_parameters_, out);
+  for (int32_t r = 0; r < num_rows(); ++r) {
+    const double* d = delta + row_offset_[r];
+    double* p = out + param_offset_[r];
+    if (r < num_camera_rows_) {
+      for (int j = 0; j < block_sizes_[r]; ++j) p[j] += d[j];
+    } else {
+      const auto& index = free_index_[row_entity_[r]];
+      for (int j = 0; j < block_sizes_[r]; ++j) p[index[j]] += d[j];
+    }
+  }
+}
+
+std::vector<int64_t> UnknownLayout::RowEntities(
+    const std::vector<int32_t>& global_camera,
+    const std::vector<int32_t>& global_intrinsics) const {
+  std::vector<int64_t> entities(num_rows());
+  for (int32_t r = 0; r < num_rows(); ++r) {
+    const int32_t id = row_entity_[r];
+    entities[r] = r < num_camera_rows_ ? int64_t{global_camera[id]}
+                                       : -1 - int64_t{global_intrinsics[id]};
+  }
+  return entities;
+}
+
+std::vector<int32_t> UnknownLayout::RowsOfEntities(const std::vector<int64_t>& entities) const {
+  std::vector<int32_t> rows(entities.size());
+  for (size_t r = 0; r < entities.size(); ++r) {
+    const int64_t e = entities[r];
+    const int64_t g = -1 - e;
+    rows[r] = e >= 0 ? (e < static_cast<int64_t>(camera_row_.size()) ? camera_row_[e] : -1)
+                     : (g < static_cast<int64_t>(intrinsics_row_.size()) ? intrinsics_row_[g] : -1);
+    if (rows[r] < 0) {
+      throw std::logic_error("UnknownLayout: a share's unknown is not an unknown of the problem");
+    }
+  }
+  return rows;
+}
+
+}  // namespace dba

@@ -1,0 +1,77 @@
+// The unknowns of the reduced camera system: which camera-side parameters the
+// solve moves, and where they sit in the RCS (DESIGN.md §3).
+//
+// Block rows of the RCS, in this order:
+//   1. every camera (image) that is not held fixed, in camera order:
+//      9 unknowns (kBal) or a 6-unknown pose (kPhoto);
+//   2. (kPhoto) every intrinsic group with at least one free parameter, in
+//      group order: as many unknowns as it has free parameters (≤ 5).
+// Intrinsic rows come last, so a block (camera row, intrinsic row) is always
+// in the stored upper triangle. Fixed parameters are not unknowns: they have
+// no row and no column, and a step never changes them.
+//
+// A step δ (one value per unknown) applies to the camera-side parameters x as
+//   x ⊞ δ:  x[param_offset(r) + free_index(r, j)] += δ[row_offset(r) + j].
+//
+// Thread safety: immutable after construction.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "dba/problem/bal_problem.h"
+
+namespace dba {
+
+class UnknownLayout {
+ public:
+  UnknownLayout() = default;
+  explicit UnknownLayout(const BalProblem& problem);
+
+  int32_t num_rows() const { return static_cast<int32_t>(block_sizes_.size()); }
+  int64_t num_unknowns() const { return row_offset_.back(); }
+  int64_t num_parameters() const { return num_parameters_; }
+  const std::vector<int32_t>& block_sizes() const { return block_sizes_; }
+  int32_t block_size(int32_t r) const { return block_sizes_[r]; }
+  int64_t row_offset(int32_t r) const { return row_offset_[r]; }
+  int64_t param_offset(int32_t r) const { return param_offset_[r]; }
+
+  // Block row of camera i / intrinsic group g, or -1 when held fixed.
+  int32_t camera_row(int64_t i) const { return camera_row_[i]; }
+  int32_t intrinsics_row(int64_t g) const {
+    return intrinsics_row_.empty() ? -1 : intrinsics_row_[g];
+  }
+  // Rows [0, num_camera_rows()) are cameras, the rest intrinsic groups.
+  int32_t num_camera_rows() const { return num_camera_rows_; }
+  // Free parameter j of intrinsic group g, as an index into its 5
+  // parameters (free parameters in increasing order).
+  const std::array<int8_t, kPhotoIntrinsicsSize>& intrinsics_free_index(int64_t g) const {
+    return free_index_[g];
+  }
+
+  // out = x ⊞ δ (out may alias x).
+  void Plus(const double* x, const double* delta, double* out) const;
+  // Where a share's rows sit in the whole problem (distributed runs): for a
+  // share whose camera c is `global_camera[c]` and whose group g is
+  // `global_intrinsics[g]` in the problem, each row's entity in the problem's
+  // numbering: camera id i >= 0, or group g as -1 - g.
+  std::vector<int64_t> RowEntities(const std::vector<int32_t>& global_camera,
+                                   const std::vector<int32_t>& global_intrinsics) const;
+  // This layout's rows of those entities; throws std::logic_error when an
+  // entity has no row here.
+  std::vector<int32_t> RowsOfEntities(const std::vector<int64_t>& entities) const;
+
+ private:
+  int64_t num_parameters_ = 0;
+  int32_t num_camera_rows_ = 0;
+  std::vector<int32_t> camera_row_;
+  std::vector<int32_t> intrinsics_row_;
+  std::vector<std::array<int8_t, kPhotoIntrinsicsSize>> free_index_;
+  std::vector<int32_t> block_sizes_;
+  std::vector<int64_t> row_offset_{0};
+  std::vector<int64_t> param_offset_;
+  std::vector<int32_t> row_entity_;  // camera id (camera rows) or group id
+};
+
+}  // namespace dba
