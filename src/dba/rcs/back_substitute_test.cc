@@ -7,6 +7,7 @@
 #include "dba/camera/bal_camera.h"
 #include "dba/testing/dense_reference.h"
 #include "dba/testing/synthetic_bal.h"
+#include "dba/testing/synthetic_photo.h"
 
 namespace dba {
 namespace {
@@ -54,6 +55,57 @@ TEST(BackSubstitute, RecoversTheFullNewtonStepAndItsCosts) {
   const Eigen::VectorXd X = Eigen::Map<const Eigen::VectorXd>(problem.points.data(),
                                                               problem.points.size());
   EXPECT_NEAR(e.point_squared_norm, X.squaredNorm(), 1e-12 * X.squaredNorm());
+}
+
+
+// The photogrammetric model with a fixed image and a fixed principal point:
+// δX and the costs against the dense solution over the free unknowns.
+TEST(BackSubstitute, PhotoModelWithFixedParameters) {
+  testing::SyntheticPhotoOptions o;
+  o.geometry.num_cameras = 6;
+  o.geometry.num_points = 50;
+  o.geometry.pixel_noise = 0.5;
+  o.geometry.rotation_perturbation = 0.01;
+  o.geometry.point_perturbation = 0.05;
+  o.num_groups = 2;
+  o.focal_perturbation = 0.01;
+  o.distortion_perturbation = 0.01;
+  BalProblem problem = testing::MakeSyntheticPhoto(o).problem;
+  problem.fixed_cameras = {0, 0, 1, 0, 0, 0};
+  problem.intrinsics_free = {kIntrinsicF | kIntrinsicK1 | kIntrinsicK2, kAllIntrinsics};
+  const double lambda = 0.3;
+  const DampingBounds bounds;
+  const auto dense = testing::BuildDenseNormalEquations(problem, lambda, bounds);
+  const Eigen::VectorXd step = dense.SolveStep();
+  const int nc = dense.num_camera_params;
+  const UnknownLayout layout(problem);
+  ASSERT_EQ(layout.num_unknowns(), nc);
+  ASSERT_EQ(nc, 5 * 6 + 3 + 5);
+
+  std::vector<double> delta_c(step.data(), step.data() + nc);
+  std::vector<double> candidate_cameras(problem.cameras.size());
+  layout.Plus(problem.cameras.data(), delta_c.data(), candidate_cameras.data());
+  // Fixed parameters do not move.
+  for (int d = 0; d < 6; ++d) EXPECT_EQ(candidate_cameras[6 * 2 + d], problem.camera(2)[d]);
+  const int64_t g0 = 6 * 6;
+  EXPECT_EQ(candidate_cameras[g0 + 1], problem.cameras[g0 + 1]);
+  EXPECT_EQ(candidate_cameras[g0 + 2], problem.cameras[g0 + 2]);
+  EXPECT_NE(candidate_cameras[g0 + 3], problem.cameras[g0 + 3]);
+  std::vector<double> candidate_points;
+  const StepEvaluation e = BackSubstitute(problem, layout, lambda, bounds, delta_c,
+                                          candidate_cameras, 2, &candidate_points);
+  const Eigen::VectorXd dX = step.tail(step.size() - nc);
+  for (int64_t j = 0; j < dX.size(); ++j) {
+    EXPECT_NEAR(candidate_points[j] - problem.points[j], dX[j],
+                1e-9 * (1 + dX.cwiseAbs().maxCoeff()));
+  }
+  const double model = 0.5 * (dense.r + dense.J * step).squaredNorm();
+  EXPECT_NEAR(e.model_cost, model, 1e-10 * dense.cost);
+  BalProblem moved = problem;
+  moved.cameras = candidate_cameras;
+  moved.points = candidate_points;
+  const double candidate = testing::BuildDenseNormalEquations(moved, 0.0, bounds).cost;
+  EXPECT_NEAR(e.candidate_cost, candidate, 1e-12 * candidate);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include "dba/testing/dense_reference.h"
 #include "dba/testing/synthetic_bal.h"
+#include "dba/testing/synthetic_photo.h"
 
 namespace dba {
 namespace {
@@ -94,6 +95,86 @@ TEST(FormRcs, RefillingGivesTheSameValues) {
   FormRcs(problem, 1e-2, bounds, 1, &sys);
   EXPECT_EQ(sys.S.values(), first);
   EXPECT_EQ(sys.b, first_b);
+}
+
+
+// The photogrammetric model: pose blocks (6) and intrinsic blocks (≤ 5) of
+// different sizes in one BSMC matrix, with pose-pose, pose-intrinsics and
+// intrinsics-intrinsics blocks, against the dense Schur complement, for each
+// way of holding parameters fixed.
+struct PhotoCase {
+  const char* name;
+  uint8_t intrinsics_free;       // mask for every group
+  std::vector<int> fixed_images;
+};
+
+class PhotoFormRcsTest : public ::testing::TestWithParam<PhotoCase> {};
+
+BalProblem PhotoProblem(const PhotoCase& c, uint32_t seed) {
+  testing::SyntheticPhotoOptions o;
+  o.geometry.num_cameras = 7;
+  o.geometry.num_points = 60;
+  o.geometry.max_track = 5;
+  o.geometry.pixel_noise = 1.0;
+  o.geometry.rotation_perturbation = 0.01;
+  o.geometry.translation_perturbation = 0.05;
+  o.geometry.point_perturbation = 0.05;
+  o.geometry.seed = seed;
+  o.num_groups = 3;
+  o.focal_perturbation = 0.01;
+  o.principal_perturbation = 2.0;
+  o.distortion_perturbation = 0.01;
+  BalProblem p = testing::MakeSyntheticPhoto(o).problem;
+  p.intrinsics_free.assign(p.num_intrinsics(), c.intrinsics_free);
+  p.fixed_cameras.assign(p.num_cameras(), 0);
+  for (int i : c.fixed_images) p.fixed_cameras[i] = 1;
+  return p;
+}
+
+TEST_P(PhotoFormRcsTest, MatchesDenseSchurComplement) {
+  const PhotoCase& c = GetParam();
+  for (double lambda : {1e-4, 1.0}) {
+    for (uint32_t seed = 1; seed <= 2; ++seed) {
+      const BalProblem problem = PhotoProblem(c, seed);
+      const DampingBounds bounds;
+      RcsSystem sys = RcsSystem::ForProblem(problem);
+      FormRcs(problem, lambda, bounds, 2, &sys);
+      DampCameraBlocks(lambda, bounds, sys.camera_jtj_diagonal, &sys.S);
+      const auto dense = testing::BuildDenseNormalEquations(problem, lambda, bounds);
+      ASSERT_EQ(sys.S.num_rows(), dense.num_camera_params);
+      EXPECT_LT(RelativeError(testing::DenseFromBsmc(sys.S), dense.ReducedCameraMatrix()), 1e-10)
+          << c.name << " seed " << seed << " lambda " << lambda;
+      const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(sys.b.data(), sys.b.size());
+      EXPECT_LT(RelativeError(b, dense.ReducedRhs()), 1e-10);
+      const Eigen::VectorXd g_c = Eigen::Map<const Eigen::VectorXd>(
+          sys.camera_gradient.data(), sys.camera_gradient.size());
+      EXPECT_LT(RelativeError(g_c, dense.g.head(dense.num_camera_params)), 1e-12);
+      EXPECT_NEAR(sys.cost, dense.cost, 1e-12 * dense.cost);
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Fixings, PhotoFormRcsTest,
+    ::testing::Values(PhotoCase{"all_free", kAllIntrinsics, {}},
+                      PhotoCase{"principal_point_fixed",
+                                kIntrinsicF | kIntrinsicK1 | kIntrinsicK2, {}},
+                      PhotoCase{"only_focal_free", kIntrinsicF, {2}},
+                      PhotoCase{"intrinsics_fixed", 0, {}},
+                      PhotoCase{"two_images_fixed", kAllIntrinsics, {0, 4}}),
+    [](const ::testing::TestParamInfo<PhotoCase>& info) { return info.param.name; });
+
+TEST(FormRcs, PhotoRowsAndBlockSizes) {
+  const BalProblem problem =
+      PhotoProblem({"", kIntrinsicF | kIntrinsicK1, {1}}, 3);
+  const RcsSystem sys = RcsSystem::ForProblem(problem);
+  // 6 free poses of 6, then 3 groups of 2 free parameters.
+  ASSERT_EQ(sys.S.num_block_rows(), 9);
+  for (int32_t r = 0; r < 6; ++r) EXPECT_EQ(sys.S.block_size(r), 6);
+  for (int32_t r = 6; r < 9; ++r) EXPECT_EQ(sys.S.block_size(r), 2);
+  EXPECT_EQ(sys.S.num_rows(), 6 * 6 + 3 * 2);
+  EXPECT_EQ(sys.layout.camera_row(1), -1);
+  EXPECT_EQ(sys.layout.camera_row(2), 1);
 }
 
 }  // namespace

@@ -5,6 +5,8 @@
 #include <Eigen/LU>
 
 #include "dba/camera/bal_camera.h"
+#include "dba/camera/photo_camera.h"
+#include "dba/rcs/unknown_layout.h"
 
 namespace dba::testing {
 
@@ -12,21 +14,42 @@ DenseNormalEquations BuildDenseNormalEquations(const BalProblem& problem,
                                                double lambda,
                                                const DampingBounds& bounds) {
   DenseNormalEquations d;
-  const int64_t nc = problem.num_cameras(), np = problem.num_points();
+  const UnknownLayout layout(problem);
+  const int64_t np = problem.num_points();
   const int64_t no = problem.num_observations();
-  d.num_camera_params = static_cast<int>(9 * nc);
-  const int64_t cols = 9 * nc + 3 * np;
+  const int64_t nc = layout.num_unknowns();
+  d.num_camera_params = static_cast<int>(nc);
+  const int64_t cols = nc + 3 * np;
   d.J = Eigen::MatrixXd::Zero(2 * no, cols);
   d.r.resize(2 * no);
   for (int64_t k = 0; k < np; ++k) {
     for (int64_t obs = problem.point_offsets[k]; obs < problem.point_offsets[k + 1]; ++obs) {
       const int32_t i = problem.obs_camera[obs];
-      CameraJacobian J_c;
+      const int32_t row = layout.camera_row(i);
       PointJacobian J_p;
-      const Vec2 r = BalResidualAndJacobians(problem.camera(i), problem.point(k),
-                                             problem.pixel(obs), &J_c, &J_p);
-      d.J.block(2 * obs, 9 * i, 2, 9) = J_c;
-      d.J.block(2 * obs, 9 * nc + 3 * k, 2, 3) = J_p;
+      Vec2 r;
+      if (problem.model == CameraModel::kBal) {
+        CameraJacobian J_c;
+        r = BalResidualAndJacobians(problem.camera(i), problem.point(k), problem.pixel(obs),
+                                    &J_c, &J_p);
+        if (row >= 0) d.J.block(2 * obs, layout.row_offset(row), 2, 9) = J_c;
+      } else {
+        // Columns of the free parameters only: the pose's 6, and each free
+        // intrinsic parameter of the image's group in increasing order.
+        const int32_t g = problem.camera_intrinsics[i];
+        PoseJacobian J_pose;
+        IntrinsicsJacobian J_in;
+        r = PhotoResidualAndJacobians(problem.camera(i), problem.intrinsics(g),
+                                      problem.point(k), problem.pixel(obs), &J_pose, &J_in,
+                                      &J_p);
+        if (row >= 0) d.J.block(2 * obs, layout.row_offset(row), 2, 6) = J_pose;
+        const int32_t grow = layout.intrinsics_row(g);
+        int64_t col = grow >= 0 ? layout.row_offset(grow) : -1;
+        for (int p = 0; p < kPhotoIntrinsicsSize && col >= 0; ++p) {
+          if (problem.intrinsics_free_mask(g) & (1u << p)) d.J.block(2 * obs, col++, 2, 1) = J_in.col(p);
+        }
+      }
+      d.J.block(2 * obs, nc + 3 * k, 2, 3) = J_p;
       d.r.segment<2>(2 * obs) = r;
     }
   }

@@ -1,6 +1,8 @@
 // Dense references for tests: the full Jacobian, the damped normal equations
 // (paper eq. 1 and 3) and their Schur complement (eq. 4), computed the
-// textbook way with dense matrices. Only for small problems.
+// textbook way with dense matrices. Only for small problems. Columns: the
+// camera-side unknowns in UnknownLayout order (fixed parameters have none),
+// then the points.
 #pragma once
 
 #include <Eigen/Core>
@@ -12,7 +14,7 @@
 namespace dba::testing {
 
 struct DenseNormalEquations {
-  Eigen::MatrixXd J;        // 2 num_obs x (9 num_cameras + 3 num_points)
+  Eigen::MatrixXd J;        // 2 num_obs x (camera-side unknowns + 3 num_points)
   Eigen::VectorXd r;        // residuals
   Eigen::MatrixXd H;        // JᵀJ + λ D,  D = clamp(diag JᵀJ)
   Eigen::VectorXd g;        // Jᵀ r
