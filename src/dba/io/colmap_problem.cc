@@ -1,0 +1,305 @@
+// COLMAP model <-> photogrammetric problem; see colmap_problem.h.
+#include "dba/io/colmap_problem.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+
+#include "dba/camera/photo_camera.h"
+#include "dba/common/error.h"
+
+namespace dba {
+namespace {
+
+// Angle-axis of the quaternion (w, x, y, z) after normalising it; the
+// rotation angle is in [0, π] (q and -q are the same rotation).
+Vec3 QuaternionToAngleAxis(const std::array<double, 4>& qvec) {
+  double w = qvec[0];
+  Vec3 v(qvec[1], qvec[2], qvec[3]);
+  const double norm = std::sqrt(w * w + v.squaredNorm());
+  w /= norm;
+  v /= norm;
+  if (w < 0) {
+    w = -w;
+    v = -v;
+  }
+  const double s = v.norm();  // sin(θ/2)
+  if (s == 0) return Vec3::Zero();
+  const double theta = 2.0 * std::atan2(s, w);
+  return v * (theta / s);
+}
+
+// Unit quaternion (w, x, y, z) of the angle-axis vector, with w >= 0.
+std::array<double, 4> AngleAxisToQuaternion(const Vec3& omega) {
+  const double theta = omega.norm();
+  if (theta == 0) return {1, 0, 0, 0};
+  const double h = 0.5 * theta;
+  const double w = std::cos(h);
+  const Vec3 v = omega * (std::sin(h) / theta);
+  if (w < 0) return {-w, -v.x(), -v.y(), -v.z()};
+  return {w, v.x(), v.y(), v.z()};
+}
+
+}  // namespace
+
+ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOptions& options,
+                                const std::string& source) {
+  if (options.min_track_length < 1) {
+    throw std::invalid_argument("ProblemFromColmap: min_track_length must be at least 1, not " +
+                                std::to_string(options.min_track_length));
+  }
+  if ((options.fixed_intrinsics & ~kAllIntrinsics) != 0) {
+    throw std::invalid_argument("ProblemFromColmap: fixed_intrinsics " +
+                                std::to_string(options.fixed_intrinsics) +
+                                " has bits beyond kAllIntrinsics (31)");
+  }
+  const int64_t num_images = static_cast<int64_t>(model.images.size());
+  std::unordered_map<uint32_t, int64_t> image_of_id;
+  for (int64_t j = 0; j < num_images; ++j) image_of_id.emplace(model.images[j].image_id, j);
+  std::unordered_map<uint32_t, int64_t> camera_of_id;
+  for (size_t c = 0; c < model.cameras.size(); ++c) {
+    camera_of_id.emplace(model.cameras[c].camera_id, static_cast<int64_t>(c));
+  }
+
+  std::vector<uint8_t> image_fixed(num_images, 0);
+  for (uint32_t id : options.fixed_image_ids) {
+    auto it = image_of_id.find(id);
+    if (it == image_of_id.end()) {
+      throw InputError(source, 0,
+                       "fixed image id " + std::to_string(id) +
+                           ": the COLMAP model has no image with that id");
+    }
+    image_fixed[it->second] = 1;
+  }
+
+  // The adjusted points, and the images observing them.
+  ColmapProblem out;
+  std::vector<int64_t> track_image;  // image index of every kept track element
+  std::vector<uint8_t> image_used(num_images, 0);
+  for (size_t k = 0; k < model.points3D.size(); ++k) {
+    const ColmapPoint3D& p = model.points3D[k];
+    if (static_cast<int64_t>(p.track.size()) < options.min_track_length) continue;
+    out.point_index.push_back(static_cast<int64_t>(k));
+    for (const ColmapTrackElement& e : p.track) {
+      auto it = image_of_id.find(e.image_id);
+      if (it == image_of_id.end() ||
+          e.point2D_idx >= model.images[it->second].points2D.size()) {
+        throw InputError(source, 0,
+                         "3D point " + std::to_string(p.point3D_id) + ": track element (image " +
+                             std::to_string(e.image_id) + ", 2D point " +
+                             std::to_string(e.point2D_idx) + ") is not in the model");
+      }
+      track_image.push_back(it->second);
+      image_used[it->second] = 1;
+    }
+  }
+
+  // Problem cameras: the used images in model order.
+  std::vector<int32_t> problem_camera(num_images, -1);
+  for (int64_t j = 0; j < num_images; ++j) {
+    if (!image_used[j]) continue;
+    if (out.image_index.size() >= static_cast<size_t>(std::numeric_limits<int32_t>::max())) {
+      throw InputError(source, 0, "more than 2^31 - 1 images");
+    }
+    problem_camera[j] = static_cast<int32_t>(out.image_index.size());
+    out.image_index.push_back(j);
+  }
+  const int64_t n = static_cast<int64_t>(out.image_index.size());
+  std::vector<int64_t> image_camera(n);  // index into model.cameras
+  for (int64_t i = 0; i < n; ++i) {
+    const ColmapImage& im = model.images[out.image_index[i]];
+    auto it = camera_of_id.find(im.camera_id);
+    if (it == camera_of_id.end()) {
+      throw InputError(source, 0,
+                       "image " + std::to_string(im.image_id) + " (" + im.name +
+                           "): its camera " + std::to_string(im.camera_id) +
+                           " is not in the model");
+    }
+    image_camera[i] = it->second;
+  }
+
+  BalProblem& bp = out.problem;
+  bp.model = CameraModel::kPhoto;
+  bp.camera_intrinsics.resize(n);
+  if (options.shared_intrinsics) {
+    std::vector<int32_t> group_of_camera(model.cameras.size(), -1);
+    for (int64_t i = 0; i < n; ++i) group_of_camera[image_camera[i]] = 0;
+    for (size_t c = 0; c < model.cameras.size(); ++c) {
+      if (group_of_camera[c] < 0) continue;
+      group_of_camera[c] = static_cast<int32_t>(out.group_camera.size());
+      out.group_camera.push_back(static_cast<int64_t>(c));
+    }
+    for (int64_t i = 0; i < n; ++i) bp.camera_intrinsics[i] = group_of_camera[image_camera[i]];
+  } else {
+    out.group_camera = image_camera;
+    for (int64_t i = 0; i < n; ++i) bp.camera_intrinsics[i] = static_cast<int32_t>(i);
+  }
+
+  // Parameters: poses, then intrinsic groups.
+  const int64_t num_groups = static_cast<int64_t>(out.group_camera.size());
+  bp.cameras.resize(kPhotoPoseSize * n + kPhotoIntrinsicsSize * num_groups);
+  for (int64_t i = 0; i < n; ++i) {
+    const ColmapImage& im = model.images[out.image_index[i]];
+    const double qnorm = std::sqrt(im.qvec[0] * im.qvec[0] + im.qvec[1] * im.qvec[1] +
+                                   im.qvec[2] * im.qvec[2] + im.qvec[3] * im.qvec[3]);
+    if (!(qnorm > 0) || !std::isfinite(qnorm)) {
+      throw InputError(source, 0,
+                       "image " + std::to_string(im.image_id) + " (" + im.name +
+                           "): the quaternion is zero or not finite");
+    }
+    const Vec3 omega = QuaternionToAngleAxis(im.qvec);
+    double* pose = bp.camera(i);
+    for (int d = 0; d < 3; ++d) {
+      pose[d] = omega[d];
+      pose[3 + d] = im.tvec[d];
+    }
+  }
+  bp.intrinsics_free.resize(num_groups);
+  for (int64_t g = 0; g < num_groups; ++g) {
+    const ColmapIntrinsics in =
+        IntrinsicsFromColmapCamera(model.cameras[out.group_camera[g]], source);
+    double* x = bp.intrinsics(g);
+    x[0] = in.f, x[1] = in.cx, x[2] = in.cy, x[3] = in.k1, x[4] = in.k2;
+    uint8_t free = kAllIntrinsics & ~options.fixed_intrinsics;
+    if (!in.has_k1) free &= ~kIntrinsicK1;
+    if (!in.has_k2) free &= ~kIntrinsicK2;
+    bp.intrinsics_free[g] = free;
+  }
+  if (!options.fixed_image_ids.empty()) {
+    bp.fixed_cameras.resize(n);
+    for (int64_t i = 0; i < n; ++i) bp.fixed_cameras[i] = image_fixed[out.image_index[i]];
+  }
+
+  // Points and their observations, point-major.
+  const int64_t num_points = static_cast<int64_t>(out.point_index.size());
+  bp.points.resize(kPointSize * num_points);
+  bp.point_offsets.resize(num_points + 1);
+  bp.point_offsets[0] = 0;
+  bp.obs_camera.resize(track_image.size());
+  bp.obs_pixel.resize(2 * track_image.size());
+  int64_t obs = 0;
+  for (int64_t k = 0; k < num_points; ++k) {
+    const ColmapPoint3D& p = model.points3D[out.point_index[k]];
+    for (int d = 0; d < 3; ++d) bp.point(k)[d] = p.xyz[d];
+    for (const ColmapTrackElement& e : p.track) {
+      const int64_t j = track_image[obs];
+      const ColmapPoint2D& xy = model.images[j].points2D[e.point2D_idx];
+      bp.obs_camera[obs] = problem_camera[j];
+      bp.obs_pixel[2 * obs] = xy.x;
+      bp.obs_pixel[2 * obs + 1] = xy.y;
+      ++obs;
+    }
+    bp.point_offsets[k + 1] = obs;
+  }
+  return out;
+}
+
+void UpdateColmapModel(const ColmapProblem& source, const BalProblem& adjusted,
+                       ColmapModel* model) {
+  const BalProblem& sp = source.problem;
+  auto fail = [](const std::string& what) {
+    throw std::invalid_argument("UpdateColmapModel: " + what);
+  };
+  if (adjusted.model != CameraModel::kPhoto) fail("the adjusted problem is not kPhoto");
+  if (adjusted.camera_intrinsics != sp.camera_intrinsics ||
+      adjusted.cameras.size() != sp.cameras.size() ||
+      adjusted.points.size() != sp.points.size() ||
+      adjusted.point_offsets != sp.point_offsets || adjusted.obs_camera != sp.obs_camera ||
+      adjusted.obs_pixel.size() != sp.obs_pixel.size()) {
+    fail("the adjusted problem's structure differs from the source problem's");
+  }
+  const int64_t n = adjusted.num_cameras();
+  const int64_t num_groups = adjusted.num_intrinsics();
+  if (static_cast<int64_t>(source.image_index.size()) != n ||
+      static_cast<int64_t>(source.group_camera.size()) != num_groups ||
+      static_cast<int64_t>(source.point_index.size()) != adjusted.num_points()) {
+    fail("the index maps do not match the problem's sizes");
+  }
+  const int64_t num_images = static_cast<int64_t>(model->images.size());
+  const int64_t num_cameras = static_cast<int64_t>(model->cameras.size());
+  std::vector<int32_t> problem_camera(num_images, -1);
+  for (int64_t i = 0; i < n; ++i) {
+    const int64_t j = source.image_index[i];
+    if (j < 0 || j >= num_images) fail("image index out of the model's range");
+    problem_camera[j] = static_cast<int32_t>(i);
+  }
+  for (int64_t c : source.group_camera) {
+    if (c < 0 || c >= num_cameras) fail("camera index out of the model's range");
+  }
+  for (int64_t k : source.point_index) {
+    if (k < 0 || k >= static_cast<int64_t>(model->points3D.size())) {
+      fail("point index out of the model's range");
+    }
+  }
+  std::unordered_map<uint32_t, int64_t> camera_of_id;
+  uint64_t max_id = 0;
+  for (int64_t c = 0; c < num_cameras; ++c) {
+    camera_of_id.emplace(model->cameras[c].camera_id, c);
+    max_id = std::max<uint64_t>(max_id, model->cameras[c].camera_id);
+  }
+  // Each image's camera, and per camera the group of its first user.
+  std::vector<int64_t> image_camera(num_images, -1);
+  std::vector<int64_t> owner_group(num_cameras, -2);  // -2: no user yet, -1: not in problem
+  for (int64_t j = 0; j < num_images; ++j) {
+    auto it = camera_of_id.find(model->images[j].camera_id);
+    if (it == camera_of_id.end()) fail("an image's camera is not in the model");
+    const int64_t c = it->second;
+    image_camera[j] = c;
+    const int32_t i = problem_camera[j];
+    if (i >= 0 && source.group_camera[adjusted.camera_intrinsics[i]] != c) {
+      fail("image " + std::to_string(model->images[j].image_id) +
+           "'s camera is not its intrinsic group's camera");
+    }
+    if (owner_group[c] == -2) owner_group[c] = i >= 0 ? adjusted.camera_intrinsics[i] : -1;
+  }
+
+  // Intrinsics: into the camera owned by the group, or a new camera.
+  std::vector<uint32_t> group_id(num_groups);
+  for (int64_t g = 0; g < num_groups; ++g) {
+    const int64_t c = source.group_camera[g];
+    const double* x = adjusted.intrinsics(g);
+    ColmapIntrinsics in;
+    in.f = x[0], in.cx = x[1], in.cy = x[2], in.k1 = x[3], in.k2 = x[4];
+    if (owner_group[c] == g) {
+      SetColmapCameraIntrinsics(in, &model->cameras[c]);
+      group_id[g] = model->cameras[c].camera_id;
+      continue;
+    }
+    if (max_id >= std::numeric_limits<uint32_t>::max()) fail("no camera id left for a new camera");
+    ColmapCamera camera = model->cameras[c];
+    camera.camera_id = static_cast<uint32_t>(++max_id);
+    SetColmapCameraIntrinsics(in, &camera);
+    group_id[g] = camera.camera_id;
+    model->cameras.push_back(std::move(camera));
+  }
+
+  // Poses.
+  for (int64_t i = 0; i < n; ++i) {
+    ColmapImage& im = model->images[source.image_index[i]];
+    const double* pose = adjusted.camera(i);
+    im.qvec = AngleAxisToQuaternion(Vec3(pose[0], pose[1], pose[2]));
+    im.tvec = {pose[3], pose[4], pose[5]};
+    im.camera_id = group_id[adjusted.camera_intrinsics[i]];
+  }
+
+  // Points, with their mean reprojection error.
+  for (int64_t k = 0; k < adjusted.num_points(); ++k) {
+    ColmapPoint3D& p = model->points3D[source.point_index[k]];
+    const double* X = adjusted.point(k);
+    p.xyz = {X[0], X[1], X[2]};
+    const int64_t begin = adjusted.point_offsets[k], end = adjusted.point_offsets[k + 1];
+    double sum = 0;
+    for (int64_t o = begin; o < end; ++o) {
+      const int32_t i = adjusted.obs_camera[o];
+      sum += PhotoResidual(adjusted.camera(i), adjusted.intrinsics(adjusted.camera_intrinsics[i]),
+                           X, adjusted.pixel(o))
+                 .norm();
+    }
+    if (end > begin) p.error = sum / static_cast<double>(end - begin);
+  }
+}
+
+}  // namespace dba

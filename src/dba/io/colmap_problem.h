@@ -1,0 +1,97 @@
+// A COLMAP sparse model as a photogrammetric bundle-adjustment problem
+// (BalProblem with CameraModel::kPhoto, camera/photo_camera.h), and the
+// adjusted parameters written back into the model.
+//
+// Mapping (COLMAP's conventions are the photo model's, so no sign flips):
+//   problem camera i   an image of the model, in model order; only images
+//                      with at least one observation of an adjusted point
+//                      (others are not in the problem and stay unchanged)
+//   pose               ω = angle-axis of the normalised quaternion (qw, qx,
+//                      qy, qz) (text files hold it unit only to ~5e-7), t =
+//                      tvec; x_cam = R(ω) X + t
+//   intrinsic group g  (f, cx, cy, k1, k2) from IntrinsicsFromColmapCamera:
+//                      one group per COLMAP camera used by the problem's
+//                      images (shared_intrinsics, groups in model.cameras
+//                      order), or one group per problem image (group i =
+//                      camera i). Parameters the camera model lacks (k1 for
+//                      SIMPLE_PINHOLE and PINHOLE, k2 unless RADIAL) are 0 and
+//                      not free, and neither are options.fixed_intrinsics.
+//   problem point k    a 3D point whose track has at least min_track_length
+//                      elements, in model order; its observations are its
+//                      track elements in track order, each observing the 2D
+//                      point (x, y) of the image it names.
+//
+// Write-back (UpdateColmapModel): poses as quaternions with qw >= 0, points'
+// xyz, and intrinsics. Each adjusted point's `error` becomes its mean
+// reprojection error |r| in pixels (as COLMAP defines it) at the adjusted
+// parameters. Names, colours, tracks, 2D points, image and point ids and the
+// entries' order are kept. Camera ids are kept where possible:
+//   for each COLMAP camera, the first image in model order that uses it keeps
+//   it; if that image is in the problem, the camera gets that image's group's
+//   intrinsics, otherwise the camera is left unchanged. Every other problem
+//   image whose group differs from that owner's group (per-image intrinsics
+//   of images that shared one camera, or the problem images of a camera whose
+//   first user is not in the problem) gets one new camera per group: same
+//   model, width and height, ids max existing id + 1, + 2, ... in group
+//   order, appended to model.cameras. So every problem image's camera holds
+//   exactly its group's intrinsics, and every image outside the problem keeps
+//   its camera and intrinsics. With shared intrinsics and the first user of
+//   each camera in the problem (the usual case) no camera is added.
+//
+// Thread safety: pure functions of their arguments (UpdateColmapModel writes
+// only *model).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "dba/io/colmap_model.h"
+#include "dba/problem/bal_problem.h"
+
+namespace dba {
+
+struct ColmapProblemOptions {
+  // One intrinsic group per COLMAP camera used; false: one group per image.
+  bool shared_intrinsics = true;
+  // IntrinsicBit mask held fixed in every group (on top of what the camera
+  // model lacks).
+  uint8_t fixed_intrinsics = 0;
+  // COLMAP image ids whose pose is held fixed. An id the model does not have
+  // is refused (dba::InputError naming it); an image that is not in the
+  // problem (no observation of an adjusted point) is simply not adjusted.
+  std::vector<uint32_t> fixed_image_ids;
+  // Points with shorter tracks are not adjusted (kept unchanged on
+  // write-back). At least 1.
+  int min_track_length = 2;
+};
+
+struct ColmapProblem {
+  BalProblem problem;                 // model kPhoto
+  std::vector<int64_t> image_index;   // problem camera i -> index into model.images
+  std::vector<int64_t> point_index;   // problem point k -> index into model.points3D
+  std::vector<int64_t> group_camera;  // intrinsic group g -> index into model.cameras
+};
+
+// Builds the problem (see above). fixed_cameras is empty unless
+// fixed_image_ids is not; intrinsics_free always has one mask per group.
+// Throws dba::InputError naming `source` (e.g. the model's directory) for a
+// camera model other than SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL and RADIAL
+// used by a problem image (the message names the model and lists the
+// supported ones), PINHOLE with fx != fy, an unknown fixed image id, or an
+// image / 2D point reference the model does not hold;
+// std::invalid_argument for options out of range (min_track_length < 1,
+// fixed_intrinsics beyond kAllIntrinsics).
+ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOptions& options,
+                                const std::string& source);
+
+// Writes `adjusted` (the source problem after adjustment: same structure,
+// new parameter values) back into `model`, which must be the model `source`
+// came from (see above for what changes). Throws std::invalid_argument when
+// `adjusted`'s structure differs from source.problem or `model` does not
+// match the indices, and (from SetColmapCameraIntrinsics) when a camera would
+// get a non-zero k1/k2 its model cannot hold.
+void UpdateColmapModel(const ColmapProblem& source, const BalProblem& adjusted,
+                       ColmapModel* model);
+
+}  // namespace dba
