@@ -89,8 +89,10 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
 // new parameter values) back into `model`, which must be the model `source`
 // came from (see above for what changes). Throws std::invalid_argument when
 // `adjusted`'s structure differs from source.problem or `model` does not
-// match the indices, and (from SetColmapCameraIntrinsics) when a camera would
-// get a non-zero k1/k2 its model cannot hold.
+// match the indices, when a new camera is needed and no id above the largest
+// is left (2^32 - 1 in use), and (from SetColmapCameraIntrinsics) when a
+// camera would get a non-zero k1/k2 its model cannot hold. *model may be
+// partly updated when it throws.
 void UpdateColmapModel(const ColmapProblem& source, const BalProblem& adjusted,
                        ColmapModel* model);
 
