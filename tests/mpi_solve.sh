@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Distributed runs against the single-process run: on every BAL problem in
 # ../shared/data/bal, `mpirun -np N dba solve` for N = 1..4 with both point
-# partitions reaches the single-process final cost to 1e-9 relative. Then a
+# partitions reaches the single-process final cost to 1e-9 relative; so do
+# COLMAP models in the photogrammetric model (shared and per-image
+# intrinsics, fixed images and intrinsics). Then a
 # failing rank (injected fault) and bad input must end the whole job quickly
 # with a clear message, a non-zero status and no output file.
 # Usage: mpi_solve.sh PATH_TO_DBA PROJECT_ROOT
@@ -63,6 +65,43 @@ if awk -v a="$(final_cost "$tmp/bin_out.json")" -v b="$(final_cost "$tmp/bin_rer
   passes=$((passes + 1))
 else
   fail "binary output does not hold the adjusted parameters"
+fi
+
+# The photogrammetric model (COLMAP input): poses and intrinsic groups spread
+# over the ranks, fixed parameters included.
+colmap=$root/../shared/data/colmap
+same_cost() { awk -v a="$(final_cost "$1")" -v b="$(final_cost "$2")" \
+                'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-9 * a) }'; }
+while read -r model n partition args; do
+  # shellcheck disable=SC2086
+  "$dba" solve "$colmap/$model/sparse/0" -q $args --report "$tmp/c1.json" </dev/null >/dev/null 2>&1 \
+    || { fail "$model $args single process"; continue; }
+  # shellcheck disable=SC2086
+  if mpirun_n "$n" "$dba" solve "$colmap/$model/sparse/0" -q $args --partition "$partition" \
+       --report "$tmp/cn.json" </dev/null >"$tmp/cn.out" 2>&1 && same_cost "$tmp/c1.json" "$tmp/cn.json"; then
+    passes=$((passes + 1)); echo "ok   $model $args -np $n --partition $partition: $(final_cost "$tmp/cn.json")"
+  else
+    fail "$model $args -np $n --partition $partition: $(final_cost "$tmp/cn.json") vs $(final_cost "$tmp/c1.json")"
+    cat "$tmp/cn.out" >&2
+  fi
+done <<EOF2  # (mpirun reads stdin: every command in the loop reads /dev/null)
+mithunnallana_6img 2 equal --intrinsics per-image
+mithunnallana_6img 3 cameras --intrinsics per-image
+mithunnallana_6img 2 cameras --intrinsics shared
+statue_of_liberty_small_txt 2 cameras --fix-intrinsics cx,cy --fix-images 1,7
+statue_of_liberty_small_txt 3 equal --fix-intrinsics cx,cy --fix-images 1,7
+fountain_p11 3 cameras --fix-images 1
+EOF2
+# A COLMAP model written by a distributed run re-reads at its final cost.
+mpirun_n 2 "$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q -o "$tmp/colmap_out" \
+  --colmap-format binary --report "$tmp/co.json" >/dev/null 2>&1 || fail "COLMAP output under mpirun"
+"$dba" solve "$tmp/colmap_out" -q --max-iterations 0 --report "$tmp/co_reread.json" >/dev/null 2>&1
+if test -s "$tmp/colmap_out/images.bin" && \
+   awk -v a="$(final_cost "$tmp/co.json")" -v b="$(grep -m1 '"initial_cost"' "$tmp/co_reread.json" | sed -E 's/.*: ([^,]*),?/\1/')" \
+     'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-9 * a) }'; then
+  passes=$((passes + 1))
+else
+  fail "COLMAP output of a distributed run does not hold the adjusted parameters"
 fi
 
 # The distributed summary reports every rank and the communication.

@@ -15,6 +15,7 @@
 #include "dba/io/atomic_file.h"
 #include "dba/io/read_problem.h"
 #include "dba/io/bal_writer.h"
+#include "dba/io/ply_writer.h"
 #include "dba/app/arguments.h"
 #include "dba/app/solve_report.h"
 #include "dba/synthetic/ground_truth.h"
@@ -34,17 +35,40 @@ void PrintSolveHelp(std::ostream& out) {
   const LmOptions d;
   out << "Usage: dba solve INPUT [options]\n"
          "\n"
-         "Bundle-adjusts the BAL problem INPUT (plain text or .bz2) with exact\n"
-         "Levenberg-Marquardt: the reduced camera system is formed point by point\n"
-         "in BSMC and solved by block-Jacobi PCG. Prints one line per iteration\n"
-         "and a summary.\n"
+         "Bundle-adjusts INPUT with exact Levenberg-Marquardt: the reduced camera\n"
+         "system is formed point by point in BSMC and solved by block-Jacobi PCG.\n"
+         "Prints one line per iteration and a summary.\n"
+         "\n"
+         "INPUT is a BAL problem (plain text or .bz2; 9 parameters per camera), a dba\n"
+         "binary problem (.dba), or a COLMAP sparse model directory (cameras, images,\n"
+         "points3D as .txt or .bin; e.g. project/sparse/0). A COLMAP model is solved\n"
+         "in the photogrammetric model: per image a pose (6 unknowns), per physical\n"
+         "camera an intrinsic group f, cx, cy, k1, k2 shared by its images\n"
+         "(SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL; parameters a camera model\n"
+         "lacks stay 0). Points with fewer than 2 observations are not adjusted.\n"
          "\n"
          "Distributed: started by mpirun or srun with N ranks, the points are split\n"
          "over the ranks, each forms its sub-RCS, rank 0 aggregates and solves.\n"
          "\n"
          "Options:\n"
-         "  -o, --output FILE          write the adjusted problem as BAL (.bz2: compressed);\n"
-         "                             written to a temporary name, renamed when complete\n"
+         "  -o, --output PATH          write the adjusted problem: .txt/.bz2 BAL text,\n"
+         "                             .dba binary, or (COLMAP input) a COLMAP model in the\n"
+         "                             directory PATH (names, ids, colours and tracks kept);\n"
+         "                             files are written to a temporary name and renamed\n"
+         "  --colmap-format text|binary\n"
+         "                             format of a COLMAP output (default: the input's)\n"
+         "  --ply FILE                 write the adjusted points as a binary PLY point cloud,\n"
+         "                             with the COLMAP colours, else coloured by height z\n"
+         "                             from blue (low) to red (high)\n"
+         "  --intrinsics shared|per-image\n"
+         "                             COLMAP input: one intrinsic group per COLMAP camera\n"
+         "                             (default: shared), or one per image\n"
+         "  --fix-intrinsics LIST      hold intrinsics fixed in every group: all, or a\n"
+         "                             comma-separated list of f, cx, cy, k1, k2\n"
+         "                             (photogrammetric model only)\n"
+         "  --fix-images LIST          hold these images' poses fixed (gauge): COLMAP image\n"
+         "                             ids for a COLMAP input, 0-based camera indices\n"
+         "                             otherwise (a BAL camera is then fixed whole)\n"
          "  --report FILE.json         write the summary and per-iteration log as JSON\n"
          "  --truth FILE               ground truth of a generated problem (dba generate\n"
          "                             --truth): report the RMS against the noise-free\n"
@@ -93,6 +117,22 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       o.report_path = value();
     } else if (a == "--truth") {
       o.truth_path = value();
+    } else if (a == "--ply") {
+      o.ply_path = value();
+    } else if (a == "--colmap-format") {
+      const std::string& v = value();
+      if (v == "text") o.colmap_format = ColmapFormat::kText;
+      else if (v == "binary") o.colmap_format = ColmapFormat::kBinary;
+      else throw std::invalid_argument(a + ": expected text or binary, got '" + v + "'");
+    } else if (a == "--intrinsics") {
+      const std::string& v = value();
+      if (v == "shared") o.unknowns.shared_intrinsics = true;
+      else if (v == "per-image") o.unknowns.shared_intrinsics = false;
+      else throw std::invalid_argument(a + ": expected shared or per-image, got '" + v + "'");
+    } else if (a == "--fix-intrinsics") {
+      o.unknowns.fixed_intrinsics = ParseIntrinsicsList(a, value());
+    } else if (a == "--fix-images") {
+      o.unknowns.fixed_images = ParseIdList(a, value());
     } else if (a == "-t" || a == "--threads") {
       o.lm.num_threads = static_cast<int>(ParseIntegerArgument(a, value(), 1, 1000000000));
     } else if (a == "--max-iterations") {
@@ -155,14 +195,19 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       report.num_points = h.num_points;
       report.num_observations = h.num_observations;
     } else {
-      problem = ReadProblem(options.input);
+      problem = LoadSolveInput(options.input, options.unknowns);
+      if (!options.output.empty()) CheckOutput(options.input, options.output, problem.model);
       report.num_cameras = problem.num_cameras();
+      report.num_intrinsic_groups = problem.num_intrinsics();
       report.num_points = problem.num_points();
       report.num_observations = problem.num_observations();
       report.problem_bytes = problem.MemoryBytes();
     }
     report.load_seconds = load_timer.Seconds();
-    out << "dba solve " << options.input << ": " << report.num_cameras << " cameras, "
+    out << "dba solve " << options.input << ": " << report.num_cameras
+        << (report.num_intrinsic_groups > 0
+                ? " images, " + std::to_string(report.num_intrinsic_groups) + " intrinsic groups, "
+                : " cameras, ")
         << report.num_points << " points, " << report.num_observations
         << " observations, " << comm->size() << (comm->size() == 1 ? " rank, " : " ranks, ")
         << lm.num_threads << " threads" << (comm->size() == 1 ? "" : " per rank") << "\n";
@@ -184,29 +229,37 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   } else {
     report.solve = DistributedBundleAdjust(comm, lm, options.distributed,
                                            ranks_read_file ? options.input : std::string(),
-                                           !options.output.empty() || !options.truth_path.empty(),
+                                           !options.output.empty() || !options.truth_path.empty() ||
+                                               !options.ply_path.empty(),
                                            &problem, log);
   }
   if (!main) return 0;
 
   Timer write_timer;
   if (!options.output.empty()) {
-    const bool binary_out = options.output.size() >= 4 &&
-                            options.output.compare(options.output.size() - 4, 4, ".dba") == 0;
-    if (comm->size() > 1 && ranks_read_file && binary_out) {
+    const OutputKind kind = CheckOutput(options.input, options.output, problem.model);
+    const bool binary_out = kind == OutputKind::kBinary;
+    if (kind == OutputKind::kColmap) {
+      WriteColmapOutput(options.input, options.unknowns, problem.cameras, problem.points,
+                        options.output, options.colmap_format);
+    } else if (comm->size() > 1 && ranks_read_file && binary_out) {
       // Binary to binary: stream the observations from the input.
       WriteBinaryWithNewParameters(options.input, options.output, problem.cameras,
                                    problem.points);
     } else {
       if (comm->size() > 1) {
         // The observations were handed to the ranks: read them again.
-        BalProblem full = ReadProblem(options.input);
+        BalProblem full = LoadSolveInput(options.input, options.unknowns);
         full.cameras.swap(problem.cameras);
         full.points.swap(problem.points);
         problem = std::move(full);
       }
       WriteProblem(problem, options.output);
     }
+  }
+  if (!options.ply_path.empty()) {
+    WritePointCloudPly(options.ply_path, problem.points,
+                       InputPointColours(options.input, options.unknowns));
   }
   report.write_seconds = write_timer.Seconds();
   if (!options.truth_path.empty()) {
@@ -217,6 +270,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   report.peak_memory_bytes = PeakResidentBytes();
   PrintSolveReport(report, out);
   if (!options.output.empty()) out << "  output              " << options.output << "\n";
+  if (!options.ply_path.empty()) out << "  point cloud         " << options.ply_path << "\n";
   if (!options.report_path.empty()) {
     WriteFileAtomically(options.report_path, SolveReportJson(report));
     out << "  report              " << options.report_path << "\n";

@@ -2,9 +2,11 @@
 #pragma once
 
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "dba/app/solve_input.h"
 #include "dba/cluster/communicator.h"
 #include "dba/cluster/distributed_solve.h"
 #include "dba/lm/levenberg_marquardt.h"
@@ -16,6 +18,9 @@ struct SolveCommandOptions {
   std::string output;       // empty: no output file
   std::string report_path;  // empty: no JSON report
   std::string truth_path;   // empty: no ground-truth comparison
+  std::string ply_path;     // empty: no point cloud
+  std::optional<ColmapFormat> colmap_format;  // COLMAP output; default: the input's
+  UnknownsOptions unknowns; // what is held fixed, shared intrinsics
   bool quiet = false;       // no per-iteration log
   LmOptions lm;             // num_threads 0: the node's cores / its ranks
   DistributedOptions distributed;

@@ -75,6 +75,8 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
                 lm.times.rcs_formation, lm.times.pcg, lm.times.back_substitution,
                 r.write_seconds, r.TotalSeconds());
   out << buf;
+  out << "  unknowns            " << rcs.camera_unknowns + 3 * r.num_points << " ("
+      << rcs.camera_unknowns << " camera-side, " << 3 * r.num_points << " point coordinates)\n";
   out << "  RCS (BSMC)          " << rcs.block_rows << " block rows, " << rcs.blocks
       << " blocks, " << Bytes(rcs.bsmc_structure_bytes + rcs.bsmc_value_bytes)
       << " (CSR: " << Bytes(rcs.csr_bytes) << ")\n";
@@ -134,6 +136,9 @@ std::string SolveReportJson(const SolveReport& r) {
   nlohmann::ordered_json j;
   j["input"] = r.input;
   j["num_cameras"] = r.num_cameras;
+  j["num_intrinsic_groups"] = r.num_intrinsic_groups;
+  j["camera_unknowns"] = rcs.camera_unknowns;
+  j["unknowns"] = rcs.camera_unknowns + 3 * r.num_points;
   j["num_points"] = r.num_points;
   j["num_observations"] = r.num_observations;
   j["threads"] = r.threads;

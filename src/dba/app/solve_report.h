@@ -13,6 +13,7 @@ namespace dba {
 struct SolveReport {
   std::string input;
   int64_t num_cameras = 0;
+  int64_t num_intrinsic_groups = 0;  // photogrammetric model; 0 for BAL
   int64_t num_points = 0;
   int64_t num_observations = 0;
   int threads = 1;

@@ -158,7 +158,7 @@ DistributedSummary DistributedBundleAdjust(
                           summary.main_forms ? &own : nullptr, own_workers.get());
   summary.ba.symbolic_seconds = symbolic.Seconds();
   const BsmcMatrix& S = workers.global().S;
-  summary.ba.rcs = {S.num_block_rows(), S.num_blocks(), S.StructureBytes(),
+  summary.ba.rcs = {S.num_block_rows(), S.num_blocks(), S.num_rows(), S.StructureBytes(),
                     S.ValueBytes(), S.CsrBytes()};
 
   TrafficStats before = comm->stats();

@@ -14,7 +14,7 @@ BundleAdjustSummary BundleAdjust(
   LocalPointWorkers workers(problem, options.damping, options.num_threads);
   summary.symbolic_seconds = symbolic.Seconds();
   const BsmcMatrix& S = workers.system().S;
-  summary.rcs = {S.num_block_rows(), S.num_blocks(), S.StructureBytes(),
+  summary.rcs = {S.num_block_rows(), S.num_blocks(), S.num_rows(), S.StructureBytes(),
                  S.ValueBytes(), S.CsrBytes()};
   std::vector<double> cameras = problem->cameras;
   summary.lm = SolveLevenbergMarquardt(options, problem->num_observations(),

@@ -13,6 +13,7 @@ namespace dba {
 struct RcsFootprint {
   int64_t block_rows = 0;
   int64_t blocks = 0;
+  int64_t camera_unknowns = 0;  // scalar rows: the camera-side unknowns
   int64_t bsmc_structure_bytes = 0;
   int64_t bsmc_value_bytes = 0;
   int64_t csr_bytes = 0;  // full symmetric CSR (paper eq. 8)

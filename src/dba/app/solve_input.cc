@@ -1,0 +1,175 @@
+// dba solve's inputs and outputs; see solve_input.h.
+#include "dba/app/solve_input.h"
+
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+#include "dba/common/error.h"
+#include "dba/io/colmap_binary.h"
+#include "dba/io/colmap_problem.h"
+#include "dba/io/colmap_text.h"
+#include "dba/io/read_problem.h"
+
+namespace dba {
+namespace {
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::vector<std::string> SplitCommas(const std::string& value) {
+  std::vector<std::string> items;
+  std::stringstream in(value);
+  std::string item;
+  while (std::getline(in, item, ',')) items.push_back(item);
+  return items;
+}
+
+ColmapProblemOptions ColmapOptions(const UnknownsOptions& u) {
+  ColmapProblemOptions o;
+  o.shared_intrinsics = u.shared_intrinsics;
+  o.fixed_intrinsics = u.fixed_intrinsics;
+  for (int64_t id : u.fixed_images) {
+    if (id < 0 || id > 0xffffffffLL) {
+      throw std::invalid_argument("--fix-images: " + std::to_string(id) +
+                                  " is not a COLMAP image id");
+    }
+    o.fixed_image_ids.push_back(static_cast<uint32_t>(id));
+  }
+  return o;
+}
+
+}  // namespace
+
+uint8_t ParseIntrinsicsList(const std::string& flag, const std::string& value) {
+  if (value == "all") return kAllIntrinsics;
+  if (value == "none") return 0;
+  static const char* const kNames[kPhotoIntrinsicsSize] = {"f", "cx", "cy", "k1", "k2"};
+  uint8_t mask = 0;
+  for (const std::string& item : SplitCommas(value)) {
+    int bit = -1;
+    for (int d = 0; d < kPhotoIntrinsicsSize; ++d) {
+      if (item == kNames[d]) bit = d;
+    }
+    if (bit < 0) {
+      throw std::invalid_argument(flag + ": unknown intrinsic parameter '" + item +
+                                  "' (expected all, none, or a comma-separated list of f, "
+                                  "cx, cy, k1, k2)");
+    }
+    mask |= static_cast<uint8_t>(1u << bit);
+  }
+  return mask;
+}
+
+std::vector<int64_t> ParseIdList(const std::string& flag, const std::string& value) {
+  std::vector<int64_t> ids;
+  for (const std::string& item : SplitCommas(value)) {
+    size_t used = 0;
+    long long id = -1;
+    try {
+      id = std::stoll(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (item.empty() || used != item.size() || id < 0) {
+      throw std::invalid_argument(flag + ": '" + item +
+                                  "' is not a non-negative integer (expected e.g. 0,5,17)");
+    }
+    ids.push_back(id);
+  }
+  if (ids.empty()) throw std::invalid_argument(flag + ": empty list");
+  return ids;
+}
+
+bool IsColmapInput(const std::string& path) {
+  std::error_code ec;
+  return std::filesystem::is_directory(path, ec) && DetectColmapFormat(path).has_value();
+}
+
+void ApplyFixings(const UnknownsOptions& u, BalProblem* p) {
+  if (!u.fixed_images.empty()) {
+    p->fixed_cameras.assign(p->num_cameras(), 0);
+    for (int64_t i : u.fixed_images) {
+      if (i >= p->num_cameras()) {
+        throw std::invalid_argument("--fix-images: camera " + std::to_string(i) +
+                                    " does not exist (the problem has " +
+                                    std::to_string(p->num_cameras()) + " cameras, 0-based)");
+      }
+      p->fixed_cameras[i] = 1;
+    }
+  }
+  if (u.fixed_intrinsics != 0) {
+    if (p->model != CameraModel::kPhoto) {
+      throw std::invalid_argument(
+          "--fix-intrinsics needs the photogrammetric model (a COLMAP model, or a .dba "
+          "problem with shared intrinsics); a BAL camera's 9 parameters are one block");
+    }
+    p->intrinsics_free.resize(p->num_intrinsics(), kAllIntrinsics);
+    for (uint8_t& m : p->intrinsics_free) m &= static_cast<uint8_t>(~u.fixed_intrinsics);
+  }
+}
+
+BalProblem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns) {
+  if (IsColmapInput(path)) {
+    return ProblemFromColmap(ReadColmapModel(path), ColmapOptions(unknowns), path).problem;
+  }
+  BalProblem p = ReadProblem(path);
+  ApplyFixings(unknowns, &p);
+  return p;
+}
+
+OutputKind CheckOutput(const std::string& input, const std::string& output, CameraModel model) {
+  if (EndsWith(output, ".dba")) return OutputKind::kBinary;
+  if (EndsWith(output, ".txt") || EndsWith(output, ".bz2")) {
+    if (model == CameraModel::kPhoto) {
+      throw std::invalid_argument(
+          "-o " + output +
+          ": BAL text cannot hold shared intrinsics; write a .dba file" +
+          (IsColmapInput(input) ? " or a COLMAP model directory" : ""));
+    }
+    return OutputKind::kBalText;
+  }
+  if (!IsColmapInput(input)) {
+    throw std::invalid_argument("-o " + output +
+                                ": expected a .txt, .bz2 or .dba file (a COLMAP model "
+                                "directory is written only for a COLMAP input)");
+  }
+  return OutputKind::kColmap;
+}
+
+void WriteColmapOutput(const std::string& input, const UnknownsOptions& unknowns,
+                       const std::vector<double>& cameras, const std::vector<double>& points,
+                       const std::string& output, std::optional<ColmapFormat> format) {
+  ColmapModel model = ReadColmapModel(input);
+  ColmapProblem source = ProblemFromColmap(model, ColmapOptions(unknowns), input);
+  if (source.problem.cameras.size() != cameras.size() ||
+      source.problem.points.size() != points.size()) {
+    throw std::runtime_error(input + ": the COLMAP model changed during the solve");
+  }
+  source.problem.cameras = cameras;
+  source.problem.points = points;
+  UpdateColmapModel(source, source.problem, &model);
+  if (format.value_or(*DetectColmapFormat(input)) == ColmapFormat::kText) {
+    WriteColmapText(model, output);
+  } else {
+    WriteColmapBinary(model, output);
+  }
+}
+
+std::vector<uint8_t> InputPointColours(const std::string& input,
+                                       const UnknownsOptions& unknowns) {
+  if (!IsColmapInput(input)) return {};
+  const ColmapModel model = ReadColmapModel(input);
+  const ColmapProblem source = ProblemFromColmap(model, ColmapOptions(unknowns), input);
+  std::vector<uint8_t> rgb;
+  rgb.reserve(3 * source.point_index.size());
+  for (int64_t k : source.point_index) {
+    const auto& c = model.points3D[k].rgb;
+    rgb.insert(rgb.end(), c.begin(), c.end());
+  }
+  return rgb;
+}
+
+}  // namespace dba

@@ -1,0 +1,71 @@
+// What `dba solve` reads and writes besides the solve itself: the input as a
+// problem (BAL text, dba binary, or a COLMAP sparse model directory), which
+// of its parameters are unknowns, and the outputs (problem files, a COLMAP
+// model written back, a PLY point cloud).
+//
+// Thread safety: functions touch only the files they name.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dba/io/colmap_model.h"
+#include "dba/problem/bal_problem.h"
+
+namespace dba {
+
+// Which parameters are unknowns.
+struct UnknownsOptions {
+  // COLMAP input: one intrinsic group per COLMAP camera (true), or one per
+  // image.
+  bool shared_intrinsics = true;
+  // IntrinsicBit mask held fixed in every intrinsic group (photogrammetric
+  // model only).
+  uint8_t fixed_intrinsics = 0;
+  // Images whose pose (BAL: whole camera) is held fixed: COLMAP image ids for
+  // a COLMAP input, 0-based camera indices otherwise.
+  std::vector<int64_t> fixed_images;
+};
+
+// "f,cx,k1" / "all" / "none" -> IntrinsicBit mask; throws
+// std::invalid_argument naming the flag.
+uint8_t ParseIntrinsicsList(const std::string& flag, const std::string& value);
+// "3,7,12" -> ids; throws std::invalid_argument naming the flag.
+std::vector<int64_t> ParseIdList(const std::string& flag, const std::string& value);
+
+// True when `path` is a directory holding a COLMAP sparse model.
+bool IsColmapInput(const std::string& path);
+
+// Reads the input and marks the fixed parameters. Throws InputError for bad
+// input (file, line or entry, what is wrong), std::invalid_argument for
+// fixings that do not fit the problem (an index out of range, intrinsics of
+// a BAL problem).
+BalProblem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns);
+
+// Marks the fixed parameters of a problem read from a file (not COLMAP).
+void ApplyFixings(const UnknownsOptions& unknowns, BalProblem* problem);
+
+// Output kinds, by the output path: .dba binary, .txt/.bz2 BAL text,
+// anything else a COLMAP model directory (COLMAP input only).
+enum class OutputKind { kBinary, kBalText, kColmap };
+// Throws std::invalid_argument when the output cannot hold the problem (BAL
+// text and the photogrammetric model, a COLMAP directory for a non-COLMAP
+// input), before any solving.
+OutputKind CheckOutput(const std::string& input, const std::string& output, CameraModel model);
+
+// Writes the adjusted cameras and points into the COLMAP model at `input`
+// (read again) and saves it to the directory `output`, as text or binary
+// (default: the input's format). Every image's camera, intrinsics and points
+// are updated as UpdateColmapModel says.
+void WriteColmapOutput(const std::string& input, const UnknownsOptions& unknowns,
+                       const std::vector<double>& cameras, const std::vector<double>& points,
+                       const std::string& output, std::optional<ColmapFormat> format);
+
+// The colours of the problem's points from a COLMAP input (3 per point), or
+// empty for other inputs.
+std::vector<uint8_t> InputPointColours(const std::string& input,
+                                       const UnknownsOptions& unknowns);
+
+}  // namespace dba
