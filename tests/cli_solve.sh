@@ -14,7 +14,8 @@ check "dba --help lists solve" contains "$tmp/help" "solve"
 "$dba" solve --help >"$tmp/solve_help" 2>&1; check "solve --help exits 0" test $? -eq 0
 for opt in --output --report --threads --max-iterations --function-tolerance \
            --gradient-tolerance --parameter-tolerance --initial-lambda \
-           --pcg-tolerance --pcg-max-iterations --quiet; do
+           --pcg-tolerance --pcg-max-iterations --quiet --ply --intrinsics \
+           --fix-intrinsics --fix-images --colmap-format; do
   check "solve --help lists $opt" contains "$tmp/solve_help" "$opt"
 done
 
@@ -38,10 +39,48 @@ check "no output after failure" test ! -e "$tmp/o2.txt"
 check "no report after failure" test ! -e "$tmp/r2.json"
 check "no temporary left" test -z "$(ls "$tmp" | grep tmp)"
 
-# A directory is refused with what it is.
-"$dba" solve "$root/../shared/data/colmap/fountain_p11/sparse/0" >"$tmp/out" 2>&1
-check "COLMAP directory exits 1" test $? -eq 1
-check "COLMAP directory is recognized" contains "$tmp/out" "a COLMAP model"
+# A plain directory is refused with what it is.
+mkdir -p "$tmp/emptydir"
+"$dba" solve "$tmp/emptydir" >"$tmp/out" 2>&1
+check "plain directory exits 1" test $? -eq 1
+check "plain directory is named" contains "$tmp/out" "is a directory"
+
+# A COLMAP model: solved in the photogrammetric model, written back as a
+# COLMAP model (names, ids, tracks kept) and as a PLY point cloud.
+colmap=$root/../shared/data/colmap
+"$dba" solve "$colmap/mithunnallana_6img/sparse/0" -t 2 -o "$tmp/colmap_out" --ply "$tmp/cloud.ply" \
+  --report "$tmp/colmap.json" >"$tmp/out" 2>&1
+check "COLMAP solve exits 0" test $? -eq 0
+check "COLMAP solve names images and groups" contains "$tmp/out" "6 images, 1 intrinsic groups"
+# 6 poses of 6, one SIMPLE_RADIAL group (f, cx, cy, k1), 2028 points.
+check "COLMAP unknowns counted" grep -qE "unknowns +6124 \(40 camera-side" "$tmp/out"
+check "COLMAP final RMS below the initial" grep -qE '"final_rms_px": 0\.52' "$tmp/colmap.json"
+check "COLMAP output in the input's format" test -s "$tmp/colmap_out/images.txt"
+check "COLMAP output keeps image names" grep -q "l-537.jpg" "$tmp/colmap_out/images.txt"
+check "PLY written" grep -qa "element vertex 2028" "$tmp/cloud.ply"
+"$dba" solve "$tmp/colmap_out" -q --max-iterations 0 --report "$tmp/colmap_reread.json" >/dev/null 2>&1
+check "COLMAP output re-reads at the final cost" test \
+  "$(grep -m1 '"initial_cost"' "$tmp/colmap_reread.json" | cut -c1-28)" = \
+  "$(grep -m1 '"final_cost"' "$tmp/colmap.json" | sed 's/final_cost/initial_cost/' | cut -c1-28)"
+# Fixed intrinsics and images are not unknowns.
+"$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q --fix-intrinsics all --fix-images 1 \
+  >"$tmp/out" 2>&1
+check "fixed parameters are not unknowns" grep -qE "unknowns +6109 \(25 camera-side" "$tmp/out"
+"$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q --fix-intrinsics f,q >"$tmp/out" 2>&1
+check "bad --fix-intrinsics exits 2" test $? -eq 2
+check "bad --fix-intrinsics is named" contains "$tmp/out" "unknown intrinsic parameter 'q'"
+"$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q -o "$tmp/photo.txt" >"$tmp/out" 2>&1
+check "BAL output of shared intrinsics refused" contains "$tmp/out" "BAL text cannot hold"
+check "nothing written for a refused output" test ! -e "$tmp/photo.txt"
+# An unsupported camera model is refused by name, with the supported ones.
+mkdir -p "$tmp/opencv"
+cp "$colmap/mithunnallana_6img/sparse/0/"*.txt "$tmp/opencv/"
+sed -i 's/^1 SIMPLE_RADIAL 1280 720 .*/1 OPENCV 1280 720 700 700 640 360 0 0 0 0/' "$tmp/opencv/cameras.txt"
+"$dba" solve "$tmp/opencv" -q -o "$tmp/opencv_out" >"$tmp/out" 2>&1
+check "unsupported camera model exits 1" test $? -eq 1
+check "unsupported camera model is named" contains "$tmp/out" "OPENCV"
+check "supported camera models are listed" contains "$tmp/out" "SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL"
+check "nothing written for an unsupported model" test ! -e "$tmp/opencv_out"
 
 # A real solve: summary, output and report.
 "$dba" solve "$data/balbianello-5-544-from-bundler.txt.bz2" -t 2 \
