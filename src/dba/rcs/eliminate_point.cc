@@ -18,7 +18,6 @@ void Resize(int m, PointSystem<Model>* sys) {
   sys->W_c.resize(m);
   sys->T_c.resize(m);
   sys->W_i.resize(m);
-  sys->T_i.resize(m);
 }
 
 // Residual and Jacobians of one observation; the intrinsics Jacobian packed
@@ -85,7 +84,6 @@ void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Mode
   sys->V_inv = V_damped.inverse();
   for (int a = 0; a < sys->num_obs; ++a) {
     if (sys->camera_row[a] >= 0) sys->T_c[a].noalias() = sys->W_c[a] * sys->V_inv;
-    if (sys->intrinsics_row[a] >= 0) sys->T_i[a].noalias() = sys->W_i[a] * sys->V_inv;
   }
 }
 

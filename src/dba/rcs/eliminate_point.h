@@ -73,7 +73,7 @@ struct PointSystem {
   std::vector<PointJacobian> J_p;
   std::vector<Vec2> r;
   std::vector<CameraW> W_c, T_c;        // W_c,a and W_c,a V_λ⁻¹
-  std::vector<IntrinsicsW> W_i, T_i;
+  std::vector<IntrinsicsW> W_i;        // (T_i is formed per group, form_rcs.cc)
   Eigen::Matrix3d V;
   Eigen::Matrix3d V_inv;  // V_λ⁻¹
   Vec3 g_p;
@@ -86,7 +86,7 @@ template <class Model>
 void LinearizePoint(const BalProblem& problem, const UnknownLayout& layout, int64_t k,
                     PointSystem<Model>* sys);
 
-// Damps V with λ, inverts it and forms T = W V_λ⁻¹.
+// Damps V with λ, inverts it and forms T_c = W_c V_λ⁻¹.
 template <class Model>
 void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys);
 

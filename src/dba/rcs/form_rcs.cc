@@ -24,76 +24,111 @@ void AddLeftCols(double* block, int n, const M& m) {
   }
 }
 
-// Adds point k's sub-RCS and rhs into the system, row by row under the row
-// locks. For observation a with camera row c_a and intrinsics row g_a:
-//   row c_a: S(c_a, c_b) -= T_c,a W_c,bᵀ for c_b >= c_a, S(c_a, g_b) -= T_c,a W_i,bᵀ,
-//            plus J_c,aᵀ J_c,a on the diagonal and J_c,aᵀ J_i,a in (c_a, g_a);
-//   row g_a: S(g_a, g_b) -= T_i,a W_i,bᵀ for g_b >= g_a, plus J_i,aᵀ J_i,a.
-// A row repeated within the point (a camera seeing it twice, the group every
-// observation shares) gets both -T_a W_bᵀ and -T_b W_aᵀ on its diagonal
-// block, as the dense product does. Intrinsic rows come after camera rows, so
-// every block written is in the upper triangle.
+// The observations of one point that share an intrinsics row g, summed:
+//   Σ_a W_i,a,  Σ_a J_i,aᵀ J_i,a,  Σ_a J_i,aᵀ r_a,  Σ_a diag(J_i,aᵀ J_i,a).
+// Every intrinsics block of the point's sub-RCS is a product of these sums
+// (T_i,a = W_i,a V_λ⁻¹ and V_λ⁻¹ is the point's), so they cost O(m) per
+// point instead of O(m²): S(g, h) -= (Σ_g W) V_λ⁻¹ (Σ_h W)ᵀ.
+template <int kI>
+struct GroupSums {
+  int32_t row = -1;
+  Eigen::Matrix<double, kI, 3> W;
+  Eigen::Matrix<double, kI, kI> JtJ;
+  Eigen::Matrix<double, kI, 1> g;
+};
+
 template <class Model>
-void AddPointToRcs(const PointSystem<Model>& p, StripedLocks& locks, RcsSystem* sys) {
+void SumByGroup(const PointSystem<Model>& p,
+                std::vector<GroupSums<PointSystem<Model>::kI>>* groups) {
+  groups->clear();
+  for (int a = 0; a < p.num_obs; ++a) {
+    const int32_t row = p.intrinsics_row[a];
+    if (row < 0) continue;
+    auto it = std::find_if(groups->begin(), groups->end(),
+                           [row](const auto& s) { return s.row == row; });
+    if (it == groups->end()) {
+      groups->push_back({row, p.W_i[a], p.J_i[a].transpose() * p.J_i[a],
+                         p.J_i[a].transpose() * p.r[a]});
+    } else {
+      it->W += p.W_i[a];
+      it->JtJ.noalias() += p.J_i[a].transpose() * p.J_i[a];
+      it->g.noalias() += p.J_i[a].transpose() * p.r[a];
+    }
+  }
+  std::sort(groups->begin(), groups->end(),
+            [](const auto& x, const auto& y) { return x.row < y.row; });
+}
+
+// Adds point k's sub-RCS and rhs into the system, row by row under the row
+// locks. For observation a with camera row c_a, and the point's intrinsics
+// rows g with their sums (GroupSums):
+//   row c_a: S(c_a, c_b) -= T_c,a W_c,bᵀ for c_b >= c_a, plus J_c,aᵀ J_c,a
+//            on the diagonal; S(c_a, g) -= T_c,a (Σ_g W)ᵀ for every g, plus
+//            J_c,aᵀ J_i,a in (c_a, g_a);
+//   row g:   S(g, h) -= (Σ_g W) V_λ⁻¹ (Σ_h W)ᵀ for h >= g, plus Σ_g J_iᵀ J_i.
+// A camera row repeated within the point (a camera seeing it twice) gets
+// both -T_a W_bᵀ and -T_b W_aᵀ on its diagonal block, as the dense product
+// does. Intrinsic rows come after camera rows, so every block written is in
+// the upper triangle.
+template <class Model>
+void AddPointToRcs(const PointSystem<Model>& p,
+                   std::vector<GroupSums<PointSystem<Model>::kI>>& groups, StripedLocks& locks,
+                   RcsSystem* sys) {
   constexpr int kC = Model::kCamera;
+  constexpr int kI = PointSystem<Model>::kI;
   BsmcMatrix& S = sys->S;
+  if constexpr (Model::kIntrinsics > 0) SumByGroup(p, &groups);
   for (int a = 0; a < p.num_obs; ++a) {
     const int32_t ca = p.camera_row[a];
-    if (ca >= 0) {
-      const Eigen::Matrix<double, kC, 1> g_c = p.J_c[a].transpose() * p.r[a];
-      locks.Lock(ca);
-      for (int b = 0; b < p.num_obs; ++b) {
-        const int32_t cb = p.camera_row[b];
-        if (cb >= ca) {
-          Eigen::Map<Eigen::Matrix<double, kC, kC, Eigen::RowMajor>> block(
-              S.block_values(S.FindBlock(ca, cb)));
-          // lazyProduct: coefficient-wise kernels; Eigen's GEMM path is
-          // slower at these sizes.
-          block.noalias() -= p.T_c[a].lazyProduct(p.W_c[b].transpose());
-          if (b == a) block.noalias() += p.J_c[a].transpose().lazyProduct(p.J_c[a]);
-        }
-        if constexpr (Model::kIntrinsics > 0) {
-          const int32_t gb = p.intrinsics_row[b];
-          if (gb >= 0) {
-            double* block = S.block_values(S.FindBlock(ca, gb));
-            const int n = S.block_size(gb);
-            AddLeftCols<kC>(block, n, -p.T_c[a].lazyProduct(p.W_i[b].transpose()));
-            if (b == a) AddLeftCols<kC>(block, n, p.J_c[a].transpose().lazyProduct(p.J_i[a]));
-          }
-        }
-      }
-      const int64_t o = S.scalar_offset(ca);
-      Eigen::Map<Eigen::Matrix<double, kC, 1>>(sys->b.data() + o) += -g_c + p.T_c[a] * p.g_p;
-      Eigen::Map<Eigen::Matrix<double, kC, 1>>(sys->camera_gradient.data() + o) += g_c;
-      Eigen::Map<Eigen::Matrix<double, kC, 1>>(sys->camera_jtj_diagonal.data() + o) +=
-          p.J_c[a].colwise().squaredNorm().transpose();
-      locks.Unlock(ca);
+    if (ca < 0) continue;
+    const Eigen::Matrix<double, kC, 1> g_c = p.J_c[a].transpose() * p.r[a];
+    locks.Lock(ca);
+    for (int b = 0; b < p.num_obs; ++b) {
+      const int32_t cb = p.camera_row[b];
+      if (cb < ca) continue;  // also skips -1
+      Eigen::Map<Eigen::Matrix<double, kC, kC, Eigen::RowMajor>> block(
+          S.block_values(S.FindBlock(ca, cb)));
+      // lazyProduct: coefficient-wise kernels; Eigen's GEMM path is slower
+      // at these sizes.
+      block.noalias() -= p.T_c[a].lazyProduct(p.W_c[b].transpose());
+      if (b == a) block.noalias() += p.J_c[a].transpose().lazyProduct(p.J_c[a]);
     }
     if constexpr (Model::kIntrinsics > 0) {
-      constexpr int kI = Model::kIntrinsics;
-      const int32_t ga = p.intrinsics_row[a];
-      if (ga < 0) continue;
-      const int na = S.block_size(ga);
-      const Eigen::Matrix<double, kI, 1> g_i = p.J_i[a].transpose() * p.r[a];
-      const Eigen::Matrix<double, kI, 1> rhs = -g_i + p.T_i[a] * p.g_p;
-      const Eigen::Matrix<double, kI, 1> diag = p.J_i[a].colwise().squaredNorm().transpose();
-      locks.Lock(ga);
-      for (int b = 0; b < p.num_obs; ++b) {
-        const int32_t gb = p.intrinsics_row[b];
-        if (gb < ga) continue;  // also skips -1
-        const int nb = S.block_size(gb);
-        Eigen::Matrix<double, kI, kI> m = -p.T_i[a].lazyProduct(p.W_i[b].transpose());
-        if (b == a) m.noalias() += p.J_i[a].transpose().lazyProduct(p.J_i[a]);
+      for (const auto& gs : groups) {
+        Eigen::Matrix<double, kC, kI> m = -p.T_c[a].lazyProduct(gs.W.transpose());
+        if (gs.row == p.intrinsics_row[a]) m.noalias() += p.J_c[a].transpose() * p.J_i[a];
+        AddLeftCols<kC>(S.block_values(S.FindBlock(ca, gs.row)), S.block_size(gs.row), m);
+      }
+    }
+    const int64_t o = S.scalar_offset(ca);
+    Eigen::Map<Eigen::Matrix<double, kC, 1>>(sys->b.data() + o) += -g_c + p.T_c[a] * p.g_p;
+    Eigen::Map<Eigen::Matrix<double, kC, 1>>(sys->camera_gradient.data() + o) += g_c;
+    Eigen::Map<Eigen::Matrix<double, kC, 1>>(sys->camera_jtj_diagonal.data() + o) +=
+        p.J_c[a].colwise().squaredNorm().transpose();
+    locks.Unlock(ca);
+  }
+  if constexpr (Model::kIntrinsics > 0) {
+    for (size_t x = 0; x < groups.size(); ++x) {
+      const int32_t gx = groups[x].row;
+      const int nx = S.block_size(gx);
+      const Eigen::Matrix<double, kI, 3> T = groups[x].W * p.V_inv;
+      const Eigen::Matrix<double, kI, 1> rhs = -groups[x].g + T * p.g_p;
+      locks.Lock(gx);
+      for (size_t y = x; y < groups.size(); ++y) {
+        const int32_t gy = groups[y].row;
+        Eigen::Matrix<double, kI, kI> m = -T.lazyProduct(groups[y].W.transpose());
+        if (y == x) m += groups[x].JtJ;
         Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-            S.block_values(S.FindBlock(ga, gb)), na, nb) += m.topLeftCorner(na, nb);
+            S.block_values(S.FindBlock(gx, gy)), nx, S.block_size(gy)) +=
+            m.topLeftCorner(nx, S.block_size(gy));
       }
-      const int64_t o = S.scalar_offset(ga);
-      for (int d = 0; d < na; ++d) {
+      const int64_t o = S.scalar_offset(gx);
+      for (int d = 0; d < nx; ++d) {
         sys->b[o + d] += rhs[d];
-        sys->camera_gradient[o + d] += g_i[d];
-        sys->camera_jtj_diagonal[o + d] += diag[d];
+        sys->camera_gradient[o + d] += groups[x].g[d];
+        sys->camera_jtj_diagonal[o + d] += groups[x].JtJ(d, d);
       }
-      locks.Unlock(ga);
+      locks.Unlock(gx);
     }
   }
 }
@@ -107,6 +142,7 @@ void FormRcsWith(const BalProblem& problem, double lambda, const DampingBounds& 
 #pragma omp parallel num_threads(num_threads) reduction(+ : cost) reduction(max : max_g_p)
   {
     PointSystem<Model> p;
+    std::vector<GroupSums<PointSystem<Model>::kI>> groups;
     // Contiguous ranges of points per thread: neighbouring points see the
     // same cameras, so interleaved chunks would make the threads fight over
     // the same RCS rows (locks and cache lines). Measured on 10M observations
@@ -117,7 +153,7 @@ void FormRcsWith(const BalProblem& problem, double lambda, const DampingBounds& 
     for (int64_t k = 0; k < num_points; ++k) {
       LinearizePoint(problem, sys->layout, k, &p);
       EliminatePoint(lambda, bounds, &p);
-      AddPointToRcs(p, locks, sys);
+      AddPointToRcs(p, groups, locks, sys);
       cost += p.cost;
       max_g_p = std::max(max_g_p, p.g_p.cwiseAbs().maxCoeff());
     }
