@@ -123,9 +123,10 @@ DistributedSummary DistributedBundleAdjust(
     const std::vector<int32_t> group =
         BinaryPointGroups(comm, binary_input, header, groups, distributed.partition);
     if (summary.main_forms) own = ReadShare(binary_input, group, 0);
-    // The main rank keeps cameras and point coordinates, not observations.
-    *problem = BalProblem{};
-    problem->cameras = ReadBinaryCameras(binary_input);
+    // The main rank keeps the camera side (model, image groups, fixed flags:
+    // its unknowns must be the ranks') and point coordinates, not
+    // observations.
+    *problem = ReadBinaryCameraSide(binary_input);
     if (collect_points) problem->points.resize(kPointSize * header.num_points);
     num_observations = header.num_observations;
   } else {
