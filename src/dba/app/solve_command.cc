@@ -34,7 +34,8 @@ void PrintSolveHelp(std::ostream& out) {
   const LmOptions d;
   out << "Usage: dba solve INPUT [options]\n"
          "\n"
-         "Bundle-adjusts the BAL problem INPUT (plain text or .bz2) with exact\n"
+         "Bundle-adjusts the problem INPUT (BAL text, plain or .bz2, or a .dba file\n"
+         "with BAL cameras or poses and shared intrinsics) with exact\n"
          "Levenberg-Marquardt: the reduced camera system is formed point by point\n"
          "in BSMC and solved by block-Jacobi PCG. Prints one line per iteration\n"
          "and a summary.\n"
@@ -43,13 +44,15 @@ void PrintSolveHelp(std::ostream& out) {
          "over the ranks, each forms its sub-RCS, rank 0 aggregates and solves.\n"
          "\n"
          "Options:\n"
-         "  -o, --output FILE          write the adjusted problem as BAL (.bz2: compressed);\n"
+         "  -o, --output FILE          write the adjusted problem: .dba binary, else BAL text\n"
+         "                             (.bz2: compressed; not for photogrammetric problems);\n"
          "                             written to a temporary name, renamed when complete\n"
          "  --report FILE.json         write the summary and per-iteration log as JSON\n"
          "  --truth FILE               ground truth of a generated problem (dba generate\n"
          "                             --truth): report the RMS against the noise-free\n"
-         "                             observations and the camera/point errors after a\n"
-         "                             similarity alignment\n"
+         "                             observations, the camera/point errors after a\n"
+         "                             similarity alignment and, photogrammetric model,\n"
+         "                             each intrinsic group's errors (f, cx, cy, k1, k2)\n"
          "  -t, --threads N            threads per rank (default: the node's cores divided\n"
          "                             by its ranks; " << DefaultThreads() << " cores here)\n"
          "  --max-iterations N         LM iteration limit (default " << d.max_iterations << ")\n"
@@ -149,17 +152,29 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   const bool ranks_read_file = comm->size() > 1 && IsBinaryProblem(options.input);
   if (main) {
     Timer load_timer;
+    CameraModel model = CameraModel::kBal;
     if (ranks_read_file) {
       const BinaryProblemHeader h = ReadBinaryProblemHeader(options.input);
+      model = h.model;
       report.num_cameras = h.num_cameras;
       report.num_points = h.num_points;
       report.num_observations = h.num_observations;
     } else {
       problem = ReadProblem(options.input);
+      model = problem.model;
       report.num_cameras = problem.num_cameras();
       report.num_points = problem.num_points();
       report.num_observations = problem.num_observations();
       report.problem_bytes = problem.MemoryBytes();
+    }
+    const std::string& o = options.output;
+    if (model == CameraModel::kPhoto && !o.empty() &&
+        !(o.size() >= 4 && o.compare(o.size() - 4, 4, ".dba") == 0)) {
+      // Refused before the solve, not after it.
+      throw std::invalid_argument(
+          "cannot write " + o + ": " + options.input +
+          " is a photogrammetric problem (intrinsics shared by several images), which the "
+          "BAL text format cannot hold; write a .dba output");
     }
     report.load_seconds = load_timer.Seconds();
     out << "dba solve " << options.input << ": " << report.num_cameras << " cameras, "
@@ -211,7 +226,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   report.write_seconds = write_timer.Seconds();
   if (!options.truth_path.empty()) {
     report.truth = CompareWithGroundTruthFile(options.truth_path, problem.cameras,
-                                              problem.points);
+                                              problem.points, problem.model);
     report.has_truth = true;
   }
   report.peak_memory_bytes = PeakResidentBytes();
