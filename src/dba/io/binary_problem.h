@@ -16,9 +16,10 @@
 //                 u64 points | u64 observations | u64 section offsets:
 //                 cameras, points, point offsets, observation cameras,
 //                 observation pixels | u64 file size |
-//               version 1: zero padding (32 bytes)
+//               version 1: zero padding (32 bytes; written as zeros, not
+//                 read)
 //               version 2: u32 intrinsic groups (model 1: 0; model 2: 1 to
-//                 cameras) | u32 optional sections (bit 0: fixed cameras,
+//                 cameras, which are at most 2^31) | u32 optional sections (bit 0: fixed cameras,
 //                 bit 1: free intrinsics, model 2 only; other bits 0) | u64
 //                 section offsets: intrinsics, image groups, flags
 //   sections, each starting at a multiple of 8 bytes, in this order:
