@@ -171,10 +171,9 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     if (model == CameraModel::kPhoto && !o.empty() &&
         !(o.size() >= 4 && o.compare(o.size() - 4, 4, ".dba") == 0)) {
       // Refused before the solve, not after it.
-      throw std::invalid_argument(
-          "cannot write " + o + ": " + options.input +
-          " is a photogrammetric problem (intrinsics shared by several images), which the "
-          "BAL text format cannot hold; write a .dba output");
+      throw std::invalid_argument("-o " + o + ": " + options.input +
+                                  " is a photogrammetric problem and BAL text cannot hold "
+                                  "shared intrinsics; write a .dba file");
     }
     report.load_seconds = load_timer.Seconds();
     out << "dba solve " << options.input << ": " << report.num_cameras << " cameras, "
