@@ -22,6 +22,22 @@ for want in "cameras       49" "points        7776" "observations  31843" "track
   check "info shows '$want'" grep -qF "$want" "$tmp/info"
 done
 
+check "info shows the BAL model" grep -qF "model         BAL" "$tmp/info"
+
+# A photogrammetric .dba: info shows the model and groups; it converts to
+# .dba (byte-identical) but not to BAL text.
+"$dba" generate "$tmp/photo.dba" --model photo --images 40 --cameras 3 --seed 5 >/dev/null
+"$dba" info "$tmp/photo.dba" >"$tmp/pinfo"; check "photo info exits 0" test $? -eq 0
+for want in "model         photogrammetric" "images        40" "intrinsic groups  3"; do
+  check "photo info shows '$want'" grep -qF "$want" "$tmp/pinfo"
+done
+"$dba" convert "$tmp/photo.dba" "$tmp/photo2.dba" >"$tmp/pconv"; check "photo .dba -> .dba" test $? -eq 0
+check "photo .dba -> .dba is byte-identical" cmp -s "$tmp/photo.dba" "$tmp/photo2.dba"
+check "photo convert names the groups" grep -q "40 images, 3 intrinsic groups" "$tmp/pconv"
+"$dba" convert "$tmp/photo.dba" "$tmp/photo.txt" >"$tmp/err" 2>&1; check "photo -> BAL text exits 1" test $? -eq 1
+check "photo -> BAL text says why" grep -q "cannot hold shared intrinsics, so it converts to .dba only" "$tmp/err"
+check "no BAL text from photo" test ! -e "$tmp/photo.txt"
+
 printf 'DBAPROB\nshort' >"$tmp/trunc.dba"
 "$dba" convert "$tmp/trunc.dba" "$tmp/out.txt" >"$tmp/err" 2>&1; check "truncated binary exits 1" test $? -eq 1
 check "truncated binary is named" grep -q "trunc.dba: truncated" "$tmp/err"

@@ -7,7 +7,7 @@ source "$(dirname "$0")/lib/check.sh"
 dba=$1
 
 "$dba" generate --help >"$tmp/help"; check "generate --help exits 0" test $? -eq 0
-for opt in --images --features --forward-overlap --side-overlap --cameras --noise --seed --truth; do
+for opt in --images --features --forward-overlap --side-overlap --cameras --model --noise --seed --truth; do
   check "help lists $opt" grep -qF -- "$opt" "$tmp/help"
 done
 "$dba" generate >/dev/null 2>&1; check "missing output exits 2" test $? -eq 2
@@ -25,5 +25,25 @@ check "summary line" grep -q "80 images in" "$tmp/out"
 check "solve with truth exits 0" test $? -eq 0
 check "solve reports the ground truth" grep -q "RMS to noise-free observations" "$tmp/solve"
 check "report has ground_truth" grep -q '"rms_to_noise_free_px"' "$tmp/r.json"
+
+# The photogrammetric model: shared intrinsic groups, .dba only.
+"$dba" generate "$tmp/p.dba" --model photo --images 80 --cameras 2 --seed 3 --truth "$tmp/p.truth.dba" >"$tmp/pout"
+check "generate --model photo exits 0" test $? -eq 0
+check "photo summary names the groups" grep -q "80 images (photo model, 2 intrinsic groups)" "$tmp/pout"
+"$dba" generate "$tmp/p2.dba" --model photo --images 80 --cameras 2 --seed 3 >/dev/null
+check "photo: same seed, same bytes" cmp -s "$tmp/p.dba" "$tmp/p2.dba"
+"$dba" generate "$tmp/pb.dba" --images 80 --cameras 2 --seed 3 >/dev/null
+cmp -s "$tmp/p.dba" "$tmp/pb.dba"; check "photo differs from bal" test $? -ne 0
+"$dba" solve "$tmp/p.dba" -q --truth "$tmp/p.truth.dba" --report "$tmp/pr.json" >"$tmp/psolve"
+check "photo solve with truth exits 0" test $? -eq 0
+check "photo solve reports intrinsics errors" grep -q "intrinsics 1 .*error f" "$tmp/psolve"
+check "photo report has intrinsics_error" grep -q '"intrinsics_error"' "$tmp/pr.json"
+"$dba" generate "$tmp/p.txt" --model photo >"$tmp/err" 2>&1; check "photo to BAL text exits 2" test $? -eq 2
+check "photo to BAL text says why" grep -q "cannot hold shared intrinsics" "$tmp/err"
+check "nothing written for photo text" test ! -e "$tmp/p.txt"
+"$dba" generate "$tmp/q.dba" --model pinhole >"$tmp/err" 2>&1; check "unknown model exits 2" test $? -eq 2
+"$dba" solve "$tmp/p.dba" -q -o "$tmp/p.out.txt" >"$tmp/err" 2>&1; check "photo solve to text exits 1" test $? -eq 1
+check "photo solve to text says why" grep -q "cannot hold shared intrinsics" "$tmp/err"
+check "no text output for photo" test ! -e "$tmp/p.out.txt"
 
 finish

@@ -3,7 +3,8 @@
 # ../shared/data/bal, `mpirun -np N dba solve` for N = 1..4 with both point
 # partitions reaches the single-process final cost to 1e-9 relative; so do
 # COLMAP models in the photogrammetric model (shared and per-image
-# intrinsics, fixed images and intrinsics). Then a
+# intrinsics, fixed images and intrinsics) and a generated photogrammetric
+# .dba read by the ranks themselves. Then a
 # failing rank (injected fault) and bad input must end the whole job quickly
 # with a clear message, a non-zero status and no output file.
 # Usage: mpi_solve.sh PATH_TO_DBA PROJECT_ROOT
@@ -102,6 +103,40 @@ if test -s "$tmp/colmap_out/images.bin" && \
   passes=$((passes + 1))
 else
   fail "COLMAP output of a distributed run does not hold the adjusted parameters"
+fi
+# A photogrammetric .dba (poses, shared intrinsic groups): every rank reads its
+# points and the whole camera side; same result as one process, the binary
+# output holds it, and the ground truth is compared per group.
+"$dba" generate "$tmp/photo.dba" --model photo --images 60 --cameras 2 --seed 4 \
+  --truth "$tmp/photo.truth.dba" >/dev/null
+"$dba" solve "$tmp/photo.dba" -q --report "$tmp/photo_single.json" >/dev/null
+for n in 2 3; do
+  for partition in equal cameras; do
+    mpirun_n "$n" "$dba" solve "$tmp/photo.dba" -q --partition "$partition" --truth "$tmp/photo.truth.dba" \
+      -o "$tmp/photo.out.dba" --report "$tmp/photo_mpi.json" >"$tmp/photo.out" 2>&1 \
+      || { fail "photo -np $n --partition $partition exited non-zero"; cat "$tmp/photo.out" >&2; continue; }
+    "$dba" solve "$tmp/photo.out.dba" -q --max-iterations 0 --report "$tmp/photo_reread.json" >/dev/null
+    if awk -v a="$(final_cost "$tmp/photo_single.json")" -v b="$(final_cost "$tmp/photo_mpi.json")" \
+           -v c="$(grep -m1 '"initial_cost"' "$tmp/photo_reread.json" | sed -E 's/.*: ([^,]*),?/\1/')" \
+         'BEGIN { d = a - b; if (d < 0) d = -d; e = b - c; if (e < 0) e = -e; exit !(d <= 1e-9 * a && e <= 1e-9 * a) }' \
+       && grep -q "intrinsics 1 .*error f" "$tmp/photo.out"; then
+      passes=$((passes + 1)); echo "ok   photo .dba -np $n --partition $partition"
+    else
+      fail "photo .dba -np $n --partition $partition: $(final_cost "$tmp/photo_mpi.json") vs $(final_cost "$tmp/photo_single.json")"
+    fi
+  done
+done
+
+# Fixings given on the command line apply on every rank that reads the file.
+fix=(--fix-images 0,7 --fix-intrinsics cx,cy)
+"$dba" solve "$tmp/photo.dba" -q "${fix[@]}" --report "$tmp/fix_single.json" >"$tmp/fix.out" 2>&1
+mpirun_n 2 "$dba" solve "$tmp/photo.dba" -q "${fix[@]}" --report "$tmp/fix_mpi.json" >/dev/null 2>&1 \
+  || fail "photo .dba with fixings -np 2 exited non-zero"
+if same_cost "$tmp/fix_single.json" "$tmp/fix_mpi.json" && \
+   ! same_cost "$tmp/fix_single.json" "$tmp/photo_single.json"; then
+  passes=$((passes + 1)); echo "ok   photo .dba with fixings -np 2"
+else
+  fail "photo .dba with fixings: $(final_cost "$tmp/fix_mpi.json") vs $(final_cost "$tmp/fix_single.json")"
 fi
 
 # The distributed summary reports every rank and the communication.

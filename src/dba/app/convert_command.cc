@@ -9,6 +9,7 @@
 #include "dba/common/timer.h"
 #include "dba/io/read_problem.h"
 #include "dba/rcs/rcs_pattern.h"
+#include "dba/rcs/unknown_layout.h"
 
 namespace dba {
 namespace {
@@ -49,15 +50,31 @@ int ConvertMain(const std::vector<std::string>& args) {
            "Converts between BAL text (plain or .bz2) and the dba binary format,\n"
            "losslessly. The input kind is detected by content; the output kind by\n"
            "the extension: .dba is binary, .bz2 is compressed BAL, anything else\n"
-           "BAL text. The output is written to a temporary name and renamed.\n";
+           "BAL text. The output is written to a temporary name and renamed.\n"
+           "A photogrammetric .dba (poses and shared intrinsic groups) converts to\n"
+           ".dba only: the BAL format cannot hold shared intrinsics.\n";
     return WantsHelp(args) ? 0 : 2;
   }
   try {
     Timer timer;
     const BalProblem problem = ReadProblem(args[0]);
-    WriteProblem(problem, args[1]);
-    std::printf("%s -> %s: %ld cameras, %ld points, %ld observations, %.2f s\n",
-                args[0].c_str(), args[1].c_str(), static_cast<long>(problem.num_cameras()),
+    const std::string& out = args[1];
+    if (problem.model == CameraModel::kPhoto &&
+        !(out.size() >= 4 && out.compare(out.size() - 4, 4, ".dba") == 0)) {
+      throw std::invalid_argument(
+          args[0] + " is a photogrammetric problem (" + std::to_string(problem.num_cameras()) +
+          " images sharing " + std::to_string(problem.num_intrinsics()) +
+          " intrinsic groups): the BAL format cannot hold shared intrinsics, so it converts to "
+          ".dba only");
+    }
+    WriteProblem(problem, out);
+    const std::string cameras =
+        problem.model == CameraModel::kPhoto
+            ? std::to_string(problem.num_cameras()) + " images, " +
+                  std::to_string(problem.num_intrinsics()) + " intrinsic groups"
+            : std::to_string(problem.num_cameras()) + " cameras";
+    std::printf("%s -> %s: %s, %ld points, %ld observations, %.2f s\n",
+                args[0].c_str(), args[1].c_str(), cameras.c_str(),
                 static_cast<long>(problem.num_points()),
                 static_cast<long>(problem.num_observations()), timer.Seconds());
     return 0;
@@ -72,15 +89,17 @@ int InfoMain(const std::vector<std::string>& args) {
     (WantsHelp(args) ? std::cout : std::cerr)
         << "Usage: dba info FILE\n"
            "\n"
-           "Prints the counts of a problem (BAL text or binary), the statistics of\n"
-           "its track lengths (observations per point) and camera degrees\n"
-           "(observations per camera, cameras sharing a point with it), and the\n"
-           "size of its reduced camera system in BSMC next to CSR.\n";
+           "Prints the camera model and counts of a problem (BAL text or binary;\n"
+           "for the photogrammetric model also its intrinsic groups and what is held\n"
+           "fixed), the statistics of its track lengths (observations per point) and\n"
+           "camera degrees (observations per camera, cameras sharing a point with\n"
+           "it), and the size of its reduced camera system in BSMC next to CSR.\n";
     return WantsHelp(args) ? 0 : 2;
   }
   try {
     const BalProblem p = ReadProblem(args[0]);
     const int64_t nc = p.num_cameras();
+    const bool photo = p.model == CameraModel::kPhoto;
     const Stats track = Statistics(p.num_points(), [&](int64_t k) {
       return p.point_offsets[k + 1] - p.point_offsets[k];
     });
@@ -93,21 +112,42 @@ int InfoMain(const std::vector<std::string>& args) {
       if (PackedRow(b) != PackedCol(b)) ++neighbours[PackedRow(b)], ++neighbours[PackedCol(b)];
     }
     const Stats degree = Statistics(nc, [&](int64_t i) { return neighbours[i]; });
-    const BsmcMatrix S =
-        BsmcMatrix::BuildFromPattern(std::vector<int32_t>(nc, kBalCameraSize), pattern);
-    const double sparsity = (2.0 * static_cast<double>(pattern.size()) - nc) /
-                            (static_cast<double>(nc) * static_cast<double>(nc));
+    // The RCS over the unknowns: cameras (poses) and intrinsic groups that
+    // are not held fixed.
+    const UnknownLayout layout(p);
+    const std::vector<uint64_t> rcs = RcsBlockPattern(p, layout);
+    const BsmcMatrix S = BsmcMatrix::BuildFromPattern(layout.block_sizes(), rcs);
+    const double rows = layout.num_rows();
+    const double sparsity = (2.0 * static_cast<double>(rcs.size()) - rows) / (rows * rows);
     std::printf("%s (%s)\n", args[0].c_str(), IsBinaryProblem(args[0]) ? "dba binary" : "BAL text");
-    std::printf("  cameras       %ld\n  points        %ld\n  observations  %ld\n",
-                static_cast<long>(nc), static_cast<long>(p.num_points()),
-                static_cast<long>(p.num_observations()));
+    std::printf("  model         %s\n",
+                photo ? "photogrammetric (6-parameter pose per image, 5-parameter intrinsic "
+                        "groups f, cx, cy, k1, k2)"
+                      : "BAL (9 parameters per camera)");
+    std::printf("  %s  %ld\n", photo ? "images      " : "cameras     ", static_cast<long>(nc));
+    if (photo) {
+      std::printf("  intrinsic groups  %ld\n", static_cast<long>(p.num_intrinsics()));
+    }
+    std::printf("  points        %ld\n  observations  %ld\n",
+                static_cast<long>(p.num_points()), static_cast<long>(p.num_observations()));
+    const int64_t fixed = std::count_if(p.fixed_cameras.begin(), p.fixed_cameras.end(),
+                                        [](uint8_t f) { return f != 0; });
+    const int64_t partly = std::count_if(p.intrinsics_free.begin(), p.intrinsics_free.end(),
+                                         [](uint8_t m) { return m != kAllIntrinsics; });
+    if (fixed > 0 || partly > 0) {
+      std::printf("  held fixed    %ld %s; %ld intrinsic groups with fixed parameters\n",
+                  static_cast<long>(fixed), photo ? "image poses" : "cameras",
+                  static_cast<long>(partly));
+    }
     std::printf("  track length (observations per point)   min %ld  mean %.2f  max %ld\n",
                 static_cast<long>(track.min), track.mean, static_cast<long>(track.max));
     std::printf("  observations per camera                 min %ld  mean %.1f  max %ld\n",
                 static_cast<long>(obs.min), obs.mean, static_cast<long>(obs.max));
     std::printf("  cameras sharing a point with a camera   min %ld  mean %.1f  max %ld\n",
                 static_cast<long>(degree.min), degree.mean, static_cast<long>(degree.max));
-    std::printf("  RCS: %ld blocks in the upper triangle, sparsity %.3g\n",
+    std::printf("  RCS: %ld block rows, %ld unknowns, %ld blocks in the upper triangle, "
+                "sparsity %.3g\n",
+                static_cast<long>(layout.num_rows()), static_cast<long>(layout.num_unknowns()),
                 static_cast<long>(S.num_blocks()), sparsity);
     std::printf("  RCS in BSMC: %.3f MiB (structure %.3f MiB, values %.3f MiB); CSR: %.3f MiB (%.2fx)\n",
                 (S.StructureBytes() + S.ValueBytes()) / 1048576.0, S.StructureBytes() / 1048576.0,

@@ -40,7 +40,8 @@ void PrintSolveHelp(std::ostream& out) {
          "Prints one line per iteration and a summary.\n"
          "\n"
          "INPUT is a BAL problem (plain text or .bz2; 9 parameters per camera), a dba\n"
-         "binary problem (.dba), or a COLMAP sparse model directory (cameras, images,\n"
+         "binary problem (.dba; BAL cameras, or poses and shared intrinsics, e.g. from\n"
+         "dba generate --model photo), or a COLMAP sparse model directory (cameras, images,\n"
          "points3D as .txt or .bin; e.g. project/sparse/0). A COLMAP model is solved\n"
          "in the photogrammetric model: per image a pose (6 unknowns), per physical\n"
          "camera an intrinsic group f, cx, cy, k1, k2 shared by its images\n"
@@ -72,8 +73,9 @@ void PrintSolveHelp(std::ostream& out) {
          "  --report FILE.json         write the summary and per-iteration log as JSON\n"
          "  --truth FILE               ground truth of a generated problem (dba generate\n"
          "                             --truth): report the RMS against the noise-free\n"
-         "                             observations and the camera/point errors after a\n"
-         "                             similarity alignment\n"
+         "                             observations, the camera/point errors after a\n"
+         "                             similarity alignment and, photogrammetric model,\n"
+         "                             each intrinsic group's errors (f, cx, cy, k1, k2)\n"
          "  -t, --threads N            threads per rank (default: the node's cores divided\n"
          "                             by its ranks; " << DefaultThreads() << " cores here)\n"
          "  --max-iterations N         LM iteration limit (default " << d.max_iterations << ")\n"
@@ -189,20 +191,24 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   const bool ranks_read_file = comm->size() > 1 && IsBinaryProblem(options.input);
   if (main) {
     Timer load_timer;
+    CameraModel model = CameraModel::kBal;
     if (ranks_read_file) {
       const BinaryProblemHeader h = ReadBinaryProblemHeader(options.input);
+      model = h.model;
       report.num_cameras = h.num_cameras;
       report.num_points = h.num_points;
       report.num_observations = h.num_observations;
     } else {
       problem = LoadSolveInput(options.input, options.unknowns);
-      if (!options.output.empty()) CheckOutput(options.input, options.output, problem.model);
+      model = problem.model;
       report.num_cameras = problem.num_cameras();
       report.num_intrinsic_groups = problem.num_intrinsics();
       report.num_points = problem.num_points();
       report.num_observations = problem.num_observations();
       report.problem_bytes = problem.MemoryBytes();
     }
+    // Refused before the solve, not after it.
+    if (!options.output.empty()) CheckOutput(options.input, options.output, model);
     report.load_seconds = load_timer.Seconds();
     out << "dba solve " << options.input << ": " << report.num_cameras
         << (report.num_intrinsic_groups > 0
@@ -227,7 +233,11 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   if (comm->size() == 1) {
     report.solve.ba = BundleAdjust(lm, &problem, log);
   } else {
-    report.solve = DistributedBundleAdjust(comm, lm, options.distributed,
+    DistributedOptions distributed = options.distributed;
+    distributed.prepare_camera_side = [&options](BalProblem* p) {
+      ApplyFixings(options.unknowns, p);
+    };
+    report.solve = DistributedBundleAdjust(comm, lm, distributed,
                                            ranks_read_file ? options.input : std::string(),
                                            !options.output.empty() || !options.truth_path.empty() ||
                                                !options.ply_path.empty(),
@@ -264,7 +274,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   report.write_seconds = write_timer.Seconds();
   if (!options.truth_path.empty()) {
     report.truth = CompareWithGroundTruthFile(options.truth_path, problem.cameras,
-                                              problem.points);
+                                              problem.points, problem.model);
     report.has_truth = true;
   }
   report.peak_memory_bytes = PeakResidentBytes();

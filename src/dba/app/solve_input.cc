@@ -90,7 +90,7 @@ bool IsColmapInput(const std::string& path) {
 
 void ApplyFixings(const UnknownsOptions& u, BalProblem* p) {
   if (!u.fixed_images.empty()) {
-    p->fixed_cameras.assign(p->num_cameras(), 0);
+    p->fixed_cameras.resize(p->num_cameras(), 0);  // added to those the file holds
     for (int64_t i : u.fixed_images) {
       if (i >= p->num_cameras()) {
         throw std::invalid_argument("--fix-images: camera " + std::to_string(i) +

@@ -1,6 +1,8 @@
 // Human and JSON summaries of a solve; see solve_report.h.
 #include "dba/app/solve_report.h"
 
+#include <algorithm>
+#include <array>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <ostream>
@@ -93,6 +95,29 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
                   r.truth.rms_to_noise_free_px, r.truth.similarity_scale,
                   r.truth.camera_centre_rms, r.truth.point_rms);
     out << buf;
+    // Intrinsic groups (photogrammetric model): each, or the worst of many.
+    const auto& err = r.truth.intrinsics_error;
+    const size_t shown = err.size() <= 8 ? err.size() : 0;
+    for (size_t g = 0; g < shown; ++g) {
+      std::snprintf(buf, sizeof buf,
+                    "  intrinsics %-8zu error f %.4g (%.3g %%), cx %.4g, cy %.4g, k1 %.3g, k2 %.3g\n",
+                    g, err[g][0], 100.0 * err[g][0] / r.truth.true_focal[g], err[g][1], err[g][2],
+                    err[g][3], err[g][4]);
+      out << buf;
+    }
+    if (err.size() > shown) {
+      std::array<double, kPhotoIntrinsicsSize> worst{};
+      double worst_f = 0.0;
+      for (size_t g = 0; g < err.size(); ++g) {
+        for (int j = 0; j < kPhotoIntrinsicsSize; ++j) worst[j] = std::max(worst[j], err[g][j]);
+        worst_f = std::max(worst_f, err[g][0] / r.truth.true_focal[g]);
+      }
+      std::snprintf(buf, sizeof buf,
+                    "  intrinsics (%zu groups) largest error f %.4g (%.3g %%), cx %.4g, cy %.4g, "
+                    "k1 %.3g, k2 %.3g\n",
+                    err.size(), worst[0], 100.0 * worst_f, worst[1], worst[2], worst[3], worst[4]);
+      out << buf;
+    }
   }
   if (r.solve.ranks > 1) {
     const TrafficStats& t = r.solve.traffic;
@@ -172,6 +197,20 @@ std::string SolveReportJson(const SolveReport& r) {
                          {"similarity_scale", r.truth.similarity_scale},
                          {"camera_centre_rms", r.truth.camera_centre_rms},
                          {"point_rms", r.truth.point_rms}};
+    if (!r.truth.intrinsics_error.empty()) {
+      nlohmann::ordered_json groups = nlohmann::ordered_json::array();
+      for (size_t g = 0; g < r.truth.intrinsics_error.size(); ++g) {
+        const auto& e = r.truth.intrinsics_error[g];
+        groups.push_back({{"group", g},
+                          {"f", e[0]},
+                          {"f_relative", e[0] / r.truth.true_focal[g]},
+                          {"cx", e[1]},
+                          {"cy", e[2]},
+                          {"k1", e[3]},
+                          {"k2", e[4]}});
+      }
+      j["ground_truth"]["intrinsics_error"] = groups;
+    }
   }
   if (r.solve.ranks > 1) {
     nlohmann::ordered_json d;

@@ -50,9 +50,11 @@ void Release(std::vector<T>& v) {
 }
 
 // This rank's points read from the binary file, cameras renumbered locally.
-RankShare ReadShare(const std::string& path, const std::vector<int32_t>& group, int32_t g) {
+RankShare ReadShare(const std::string& path, const std::vector<int32_t>& group, int32_t g,
+                    const DistributedOptions& options) {
   RankShare share;
   share.problem = ReadBinaryPoints(path, group, g, &share.global_point);
+  if (options.prepare_camera_side) options.prepare_camera_side(&share.problem);
   KeepTouchedCameras(&share);
   return share;
 }
@@ -106,7 +108,7 @@ DistributedSummary DistributedBundleAdjust(
     if (from_file) {
       const std::vector<int32_t> group =
           BinaryPointGroups(comm, binary_input, header, groups, distributed.partition);
-      share = ReadShare(binary_input, group, comm->rank() - first_rank);
+      share = ReadShare(binary_input, group, comm->rank() - first_rank, distributed);
     } else {
       share = RecvShare(comm);
     }
@@ -122,10 +124,12 @@ DistributedSummary DistributedBundleAdjust(
   if (from_file) {
     const std::vector<int32_t> group =
         BinaryPointGroups(comm, binary_input, header, groups, distributed.partition);
-    if (summary.main_forms) own = ReadShare(binary_input, group, 0);
-    // The main rank keeps cameras and point coordinates, not observations.
-    *problem = BalProblem{};
-    problem->cameras = ReadBinaryCameras(binary_input);
+    if (summary.main_forms) own = ReadShare(binary_input, group, 0, distributed);
+    // The main rank keeps the camera side (model, image groups, fixed flags:
+    // its unknowns must be the ranks') and point coordinates, not
+    // observations.
+    *problem = ReadBinaryCameraSide(binary_input);
+    if (distributed.prepare_camera_side) distributed.prepare_camera_side(problem);
     if (collect_points) problem->points.resize(kPointSize * header.num_points);
     num_observations = header.num_observations;
   } else {

@@ -23,6 +23,10 @@ struct DistributedOptions {
   // waste a large fraction of the machine.
   enum class MainRole { kAuto, kForms, kCoordinates } main_role = MainRole::kAuto;
   static constexpr int kMainFormsUpTo = 4;
+  // With a binary input read by every rank: applied by every rank to the
+  // camera side it reads (global numbering), before its share is cut out,
+  // e.g. to mark fixed parameters. Must do the same on every rank.
+  std::function<void(BalProblem*)> prepare_camera_side;
 };
 
 struct DistributedSummary {

@@ -118,6 +118,14 @@ class Output {
 }  // namespace
 
 void WriteBal(const BalProblem& problem, const std::string& path) {
+  if (problem.model != CameraModel::kBal) {
+    throw std::invalid_argument(
+        "cannot write " + path + " as BAL text: a photogrammetric problem (" +
+        std::to_string(problem.num_cameras()) + " image poses sharing " +
+        std::to_string(problem.num_intrinsics()) +
+        " intrinsic groups) has no BAL form, the BAL format cannot hold shared intrinsics; "
+        "write the dba binary format (.dba) instead");
+  }
   CheckConsistent(problem);
   Output out(path, EndsWith(path, ".bz2"));
   out.Int(problem.num_cameras(), ' ');

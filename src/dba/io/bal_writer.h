@@ -16,7 +16,10 @@ namespace dba {
 // reader never sees a half-written file. On any failure (cannot create, disk
 // full, write/close/rename error) the temporary is removed and
 // std::runtime_error is thrown naming the path and the system error.
-// Throws std::invalid_argument for inconsistent arrays or non-finite values.
+// Throws std::invalid_argument for inconsistent arrays or non-finite values,
+// and for a photogrammetric problem (CameraModel::kPhoto: the BAL format has
+// no intrinsics shared by several images; write .dba), before creating any
+// file. The fixed flags are not written (BAL has no place for them).
 void WriteBal(const BalProblem& problem, const std::string& path);
 
 }  // namespace dba

@@ -17,6 +17,7 @@
 #include <string>
 
 #include "dba/io/bal_reader.h"
+#include "dba/testing/synthetic_photo.h"
 
 namespace dba {
 namespace {
@@ -25,7 +26,7 @@ namespace fs = std::filesystem;
 
 // A fresh, empty directory for one test.
 std::string TestDir(const std::string& name) {
-  std::string dir = testing::TempDir() + "/bal_writer_test_" + name;
+  std::string dir = ::testing::TempDir() + "/bal_writer_test_" + name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -218,6 +219,31 @@ TEST(BalWriterTest, RefusesNonFiniteValuesAndInconsistentArrays) {
   p = TrickyProblem();
   p.point_offsets.back() = 3;
   EXPECT_THROW(WriteBal(p, dir + "/bad_offsets.txt"), std::invalid_argument);
+  ExpectDirHolds(dir, "");
+}
+
+}  // namespace
+}  // namespace dba
+
+namespace dba {
+namespace {
+
+// BAL text has no shared intrinsics: a photogrammetric problem is refused
+// with a message saying so, and no file (not even a temporary) is left.
+TEST(BalWriterTest, RefusesAPhotogrammetricProblem) {
+  testing::SyntheticPhotoOptions o;
+  o.num_groups = 2;
+  const BalProblem photo = testing::MakeSyntheticPhoto(o).problem;
+  const std::string dir = TestDir("photo");
+  try {
+    WriteBal(photo, dir + "/p.txt");
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("cannot hold shared intrinsics"), std::string::npos) << what;
+    EXPECT_NE(what.find(".dba"), std::string::npos) << what;
+    EXPECT_NE(what.find("2 intrinsic groups"), std::string::npos) << what;
+  }
   ExpectDirHolds(dir, "");
 }
 

@@ -20,9 +20,13 @@ static_assert(std::endian::native == std::endian::little,
               "the binary format is read and written on little-endian machines");
 
 constexpr char kMagic[8] = {'D', 'B', 'A', 'P', 'R', 'O', 'B', '\n'};
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion1 = 1;  // BAL only
+constexpr uint32_t kVersion2 = 2;  // + photogrammetric model, fixed flags
 constexpr uint32_t kByteOrderMark = 0x01020304;
 constexpr uint32_t kBalModel = 1;
+constexpr uint32_t kPhotoModel = 2;
+constexpr uint32_t kHasFixedCameras = 1;
+constexpr uint32_t kHasIntrinsicsFree = 2;
 constexpr int64_t kHeaderSize = 128;
 
 struct RawHeader {
@@ -34,7 +38,10 @@ struct RawHeader {
   uint64_t counts[3];
   uint64_t sections[5];
   uint64_t file_size;
-  char padding[kHeaderSize - 8 - 16 - 24 - 40 - 8];
+  // Version 2 (version 1: zero).
+  uint32_t intrinsic_groups;
+  uint32_t optional_sections;
+  uint64_t sections2[3];  // intrinsics, image groups, flags
 };
 static_assert(sizeof(RawHeader) == kHeaderSize);
 
@@ -86,21 +93,42 @@ class File {
   int fd_;
 };
 
-BinaryProblemHeader Layout(int64_t cameras, int64_t points, int64_t observations) {
+// The layout of a problem with these counts: version 2 only when the model
+// or the flags need it. Throws std::invalid_argument for a group count that
+// does not fit the model.
+BinaryProblemHeader Layout(CameraModel model, int64_t cameras, int64_t groups, bool fixed,
+                           bool free, int64_t points, int64_t observations) {
+  const bool photo = model == CameraModel::kPhoto;
+  if (photo ? (groups < 1 || groups > cameras) : (groups != 0 || free)) {
+    throw std::invalid_argument("binary problem: " + std::to_string(groups) +
+                                " intrinsic groups do not fit " + std::to_string(cameras) +
+                                (photo ? " photogrammetric images" : " BAL cameras"));
+  }
   BinaryProblemHeader h;
-  h.version = kVersion;
-  h.camera_model = kBalModel;
-  h.camera_size = kBalCameraSize;
+  h.version = photo || fixed || free ? kVersion2 : kVersion1;
+  h.model = model;
+  h.camera_model = photo ? kPhotoModel : kBalModel;
+  h.camera_size = photo ? kPhotoPoseSize : kBalCameraSize;
   h.num_cameras = cameras;
+  h.num_intrinsics = groups;
   h.num_points = points;
   h.num_observations = observations;
+  h.has_fixed_cameras = fixed;
+  h.has_intrinsics_free = free;
   h.cameras_offset = kHeaderSize;
-  h.points_offset = h.cameras_offset + 8 * kBalCameraSize * cameras;
+  h.intrinsics_offset = h.cameras_offset + 8 * int64_t{h.camera_size} * cameras;
+  h.image_groups_offset = h.intrinsics_offset + 8 * kPhotoIntrinsicsSize * groups;
+  h.flags_offset = Align8(h.image_groups_offset + (photo ? 4 * cameras : 0));
+  h.points_offset = Align8(h.flags_offset + (fixed ? cameras : 0) + (free ? groups : 0));
   h.point_offsets_offset = h.points_offset + 8 * kPointSize * points;
   h.obs_camera_offset = h.point_offsets_offset + 8 * (points + 1);
   h.obs_pixel_offset = Align8(h.obs_camera_offset + 4 * observations);
   h.file_size = h.obs_pixel_offset + 16 * observations;
   return h;
+}
+
+BinaryProblemHeader Layout(int64_t cameras, int64_t points, int64_t observations) {
+  return Layout(CameraModel::kBal, cameras, 0, false, false, points, observations);
 }
 
 void CheckFinite(const File& f, const std::vector<double>& v, const char* what) {
@@ -136,6 +164,77 @@ void CheckCameras(const File& f, std::span<const int32_t> cameras, int64_t num_c
   }
 }
 
+// The camera side of a file whose header `h` was checked: model, cameras
+// (poses, then intrinsics), image groups and fixed flags, each checked.
+BalProblem ReadCameraSide(const File& f, const BinaryProblemHeader& h) {
+  BalProblem p;
+  p.model = h.model;
+  p.cameras = f.ReadArray<double>(h.cameras_offset, h.camera_side_size(), "cameras");
+  const int64_t poses = int64_t{h.camera_size} * h.num_cameras;
+  for (int64_t i = 0; i < static_cast<int64_t>(p.cameras.size()); ++i) {
+    if (std::isfinite(p.cameras[i])) continue;
+    if (i < poses) {
+      throw InputError(f.path(), 0, "non-finite value in cameras at index " + std::to_string(i));
+    }
+    throw InputError(f.path(), 0,
+                     "non-finite value in intrinsics of group " +
+                         std::to_string((i - poses) / kPhotoIntrinsicsSize) + " (parameter " +
+                         std::to_string((i - poses) % kPhotoIntrinsicsSize) + ")");
+  }
+  if (h.model == CameraModel::kPhoto) {
+    p.camera_intrinsics = f.ReadArray<int32_t>(h.image_groups_offset, h.num_cameras, "image groups");
+    for (int64_t i = 0; i < h.num_cameras; ++i) {
+      const int32_t g = p.camera_intrinsics[i];
+      if (g < 0 || g >= h.num_intrinsics) {
+        throw InputError(f.path(), 0,
+                         "intrinsic group " + std::to_string(g) + " of image " +
+                             std::to_string(i) + " is out of range [0, " +
+                             std::to_string(h.num_intrinsics) + ")");
+      }
+    }
+  }
+  int64_t flags = h.flags_offset;
+  if (h.has_fixed_cameras) {
+    p.fixed_cameras = f.ReadArray<uint8_t>(flags, h.num_cameras, "fixed cameras");
+    flags += h.num_cameras;
+    for (int64_t i = 0; i < h.num_cameras; ++i) {
+      if (p.fixed_cameras[i] > 1) {
+        throw InputError(f.path(), 0, "fixed flag " + std::to_string(p.fixed_cameras[i]) +
+                                          " of camera " + std::to_string(i) + " is not 0 or 1");
+      }
+    }
+  }
+  if (h.has_intrinsics_free) {
+    p.intrinsics_free = f.ReadArray<uint8_t>(flags, h.num_intrinsics, "free intrinsics");
+    for (int64_t g = 0; g < h.num_intrinsics; ++g) {
+      if (p.intrinsics_free[g] > kAllIntrinsics) {
+        throw InputError(f.path(), 0, "free-intrinsics mask " +
+                                          std::to_string(p.intrinsics_free[g]) + " of group " +
+                                          std::to_string(g) + " has bits beyond f, cx, cy, k1, k2");
+      }
+    }
+  }
+  return p;
+}
+
+// The layout for the camera side `c` (model, cameras, image groups, flags)
+// with these point counts; throws std::invalid_argument if `c` is
+// inconsistent.
+BinaryProblemHeader CameraSideLayout(const BalProblem& c, int64_t points, int64_t observations) {
+  const bool photo = c.model == CameraModel::kPhoto;
+  const int64_t n = c.num_cameras(), g = c.num_intrinsics();
+  const bool sizes_ok =
+      photo ? static_cast<int64_t>(c.cameras.size()) == kPhotoPoseSize * n + kPhotoIntrinsicsSize * g
+            : c.cameras.size() % kBalCameraSize == 0 && c.camera_intrinsics.empty();
+  if (!sizes_ok || (!c.fixed_cameras.empty() && static_cast<int64_t>(c.fixed_cameras.size()) != n) ||
+      (!c.intrinsics_free.empty() && static_cast<int64_t>(c.intrinsics_free.size()) != g)) {
+    throw std::invalid_argument(
+        "BinaryProblemWriter: camera parameters, image groups and fixed flags do not agree");
+  }
+  return Layout(c.model, n, g, !c.fixed_cameras.empty(), !c.intrinsics_free.empty(), points,
+                observations);
+}
+
 }  // namespace
 
 bool IsBinaryProblem(const std::string& path) {
@@ -162,28 +261,65 @@ BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
   if (raw.byte_order != kByteOrderMark) {
     throw InputError(path, 0, "written with another byte order (big-endian?)");
   }
-  if (raw.version != kVersion) {
+  if (raw.version != kVersion1 && raw.version != kVersion2) {
     throw InputError(path, 0, "format version " + std::to_string(raw.version) +
-                                  ", this dba reads version " + std::to_string(kVersion));
+                                  ", this dba reads versions 1 and 2");
   }
-  if (raw.camera_model != kBalModel || raw.camera_size != kBalCameraSize) {
+  const bool v2 = raw.version == kVersion2;
+  const bool bal = raw.camera_model == kBalModel && raw.camera_size == kBalCameraSize;
+  const bool photo = v2 && raw.camera_model == kPhotoModel && raw.camera_size == kPhotoPoseSize;
+  if (!bal && !photo) {
     throw InputError(path, 0, "camera model " + std::to_string(raw.camera_model) + " of size " +
                                   std::to_string(raw.camera_size) +
-                                  " is not supported (expected 1, BAL, size 9)");
+                                  " is not supported in version " + std::to_string(raw.version) +
+                                  " (expected 1, BAL, size 9" +
+                                  (v2 ? "; or 2, photogrammetric, size 6)" : ")"));
   }
   const uint64_t limit = uint64_t{1} << 60;
   if (raw.counts[0] == 0 || raw.counts[1] == 0 || raw.counts[2] == 0 || raw.counts[0] > (1u << 31) ||
       raw.counts[1] > limit || raw.counts[2] > limit || raw.counts[1] > raw.counts[2]) {
     throw InputError(path, 0, "implausible counts in the header");
   }
-  const BinaryProblemHeader h = Layout(static_cast<int64_t>(raw.counts[0]),
-                                       static_cast<int64_t>(raw.counts[1]),
-                                       static_cast<int64_t>(raw.counts[2]));
+  const int64_t cameras = static_cast<int64_t>(raw.counts[0]);
+  if (v2) {
+    if ((raw.optional_sections & ~(kHasFixedCameras | kHasIntrinsicsFree)) != 0 ||
+        (!photo && (raw.optional_sections & kHasIntrinsicsFree) != 0)) {
+      throw InputError(path, 0, "version 2 header: unknown optional sections " +
+                                    std::to_string(raw.optional_sections) + " for camera model " +
+                                    std::to_string(raw.camera_model));
+    }
+    if (photo ? (raw.intrinsic_groups < 1 || raw.intrinsic_groups > cameras)
+              : raw.intrinsic_groups != 0) {
+      throw InputError(path, 0, "version 2 header: intrinsic group count " +
+                                    std::to_string(raw.intrinsic_groups) +
+                                    " is inconsistent with " + std::to_string(cameras) +
+                                    (photo ? " images (need 1 to one per image)"
+                                           : " BAL cameras (need 0)"));
+    }
+  }
+  // (Version 1: the padding is not looked at, as before version 2.)
+  const uint32_t optional = v2 ? raw.optional_sections : 0;
+  BinaryProblemHeader h =
+      Layout(photo ? CameraModel::kPhoto : CameraModel::kBal, cameras,
+             v2 ? raw.intrinsic_groups : 0, (optional & kHasFixedCameras) != 0,
+             (optional & kHasIntrinsicsFree) != 0,
+             static_cast<int64_t>(raw.counts[1]), static_cast<int64_t>(raw.counts[2]));
+  h.version = raw.version;  // a v2 file may hold what v1 could
   const int64_t sections[5] = {h.cameras_offset, h.points_offset, h.point_offsets_offset,
                                h.obs_camera_offset, h.obs_pixel_offset};
   for (int s = 0; s < 5; ++s) {
     if (static_cast<int64_t>(raw.sections[s]) != sections[s]) {
       throw InputError(path, 0, "section table does not match the counts (corrupt header)");
+    }
+  }
+  if (v2) {
+    const int64_t sections2[3] = {h.intrinsics_offset, h.image_groups_offset, h.flags_offset};
+    for (int s = 0; s < 3; ++s) {
+      if (static_cast<int64_t>(raw.sections2[s]) != sections2[s]) {
+        throw InputError(path, 0,
+                         "version 2 header: intrinsics, image groups and flags sections do not "
+                         "match the counts (corrupt header)");
+      }
     }
   }
   if (static_cast<int64_t>(raw.file_size) != h.file_size || size != h.file_size) {
@@ -197,9 +333,7 @@ BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
 BalProblem ReadBinaryProblem(const std::string& path) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
   const File f(path);
-  BalProblem p;
-  p.cameras = f.ReadArray<double>(h.cameras_offset, kBalCameraSize * h.num_cameras, "cameras");
-  CheckFinite(f, p.cameras, "cameras");
+  BalProblem p = ReadCameraSide(f, h);
   p.points = f.ReadArray<double>(h.points_offset, kPointSize * h.num_points, "points");
   CheckFinite(f, p.points, "points");
   p.point_offsets = f.ReadArray<int64_t>(h.point_offsets_offset, h.num_points + 1, "point offsets");
@@ -214,13 +348,14 @@ BalProblem ReadBinaryProblem(const std::string& path) {
   return p;
 }
 
-std::vector<double> ReadBinaryCameras(const std::string& path) {
+BalProblem ReadBinaryCameraSide(const std::string& path) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
   const File f(path);
-  std::vector<double> v =
-      f.ReadArray<double>(h.cameras_offset, kBalCameraSize * h.num_cameras, "cameras");
-  CheckFinite(f, v, "cameras");
-  return v;
+  return ReadCameraSide(f, h);
+}
+
+std::vector<double> ReadBinaryCameras(const std::string& path) {
+  return ReadBinaryCameraSide(path).cameras;
 }
 
 std::vector<double> ReadBinaryPointCoordinates(const std::string& path) {
@@ -286,9 +421,7 @@ BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> po
     throw std::invalid_argument("ReadBinaryPoints: point_group has the wrong size");
   }
   const File f(path);
-  BalProblem p;
-  p.cameras = f.ReadArray<double>(h.cameras_offset, kBalCameraSize * h.num_cameras, "cameras");
-  CheckFinite(f, p.cameras, "cameras");
+  BalProblem p = ReadCameraSide(f, h);
   // Count first (offsets only), so the arrays are allocated once, exactly.
   int64_t my_points = 0, my_observations = 0;
   for (int64_t k0 = 0; k0 < h.num_points; k0 += 1 << 18) {
@@ -345,8 +478,7 @@ BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> po
 }
 
 void WriteBinaryProblem(const BalProblem& p, const std::string& path) {
-  BinaryProblemWriter writer(path, p.num_cameras(), p.num_points(), p.num_observations());
-  writer.WriteCameras(p.cameras);
+  BinaryProblemWriter writer(path, p, p.num_points(), p.num_observations());
   for (int64_t k = 0; k < p.num_points(); ++k) {
     const int64_t o0 = p.point_offsets[k], o1 = p.point_offsets[k + 1];
     writer.AppendPoint(p.point(k), std::span<const int32_t>(p.obs_camera.data() + o0, o1 - o0),
@@ -359,15 +491,16 @@ void WriteBinaryWithNewParameters(const std::string& input, const std::string& o
                                   const std::vector<double>& cameras,
                                   const std::vector<double>& points) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(input);
-  if (static_cast<int64_t>(cameras.size()) != kBalCameraSize * h.num_cameras ||
+  if (static_cast<int64_t>(cameras.size()) != h.camera_side_size() ||
       static_cast<int64_t>(points.size()) != kPointSize * h.num_points) {
     throw std::invalid_argument("WriteBinaryWithNewParameters: parameter counts differ from " +
                                 input);
   }
-  const File in(input);
-  BinaryProblemWriter out(output, h.num_cameras, h.num_points, h.num_observations);
-  out.WriteCameras(cameras);
-  std::vector<double> xyz;
+  // Model, image groups and flags from the input; the new camera values.
+  BalProblem side = ReadBinaryCameraSide(input);
+  side.cameras = cameras;
+  BinaryProblemWriter out(output, side, h.num_points, h.num_observations);
+  side = BalProblem{};  // the values are in the file now
   ForEachObservationChunk(input, 1 << 20, true,
                           [&](int64_t first, std::span<const int64_t> offsets,
                               std::span<const int32_t> c, std::span<const double> px) {
@@ -383,12 +516,46 @@ void WriteBinaryWithNewParameters(const std::string& input, const std::string& o
 BinaryProblemWriter::BinaryProblemWriter(const std::string& path, int64_t num_cameras,
                                          int64_t num_points, int64_t num_observations)
     : out_(path), h_(Layout(num_cameras, num_points, num_observations)) {
+  WriteHeader();
+}
+
+BinaryProblemWriter::BinaryProblemWriter(const std::string& path, const BalProblem& c,
+                                         int64_t num_points, int64_t num_observations)
+    : out_(path), h_(CameraSideLayout(c, num_points, num_observations)) {
+  WriteHeader();
+  WriteCameras(c.cameras);
+  const char zeros[8] = {};
+  if (c.model == CameraModel::kPhoto) {
+    for (int32_t g : c.camera_intrinsics) {
+      if (g < 0 || g >= h_.num_intrinsics) {
+        throw std::invalid_argument("BinaryProblemWriter: intrinsic group " + std::to_string(g) +
+                                    " out of range [0, " + std::to_string(h_.num_intrinsics) + ")");
+      }
+    }
+    const int64_t end = h_.image_groups_offset + 4 * h_.num_cameras;
+    Write(h_.image_groups_offset, c.camera_intrinsics.data(), 4 * h_.num_cameras);
+    Write(end, zeros, h_.flags_offset - end);
+  }
+  std::vector<uint8_t> flags;
+  for (uint8_t f : c.fixed_cameras) flags.push_back(f != 0 ? 1 : 0);
+  for (uint8_t m : c.intrinsics_free) {
+    if (m > kAllIntrinsics) {
+      throw std::invalid_argument("BinaryProblemWriter: free-intrinsics mask " +
+                                  std::to_string(m) + " beyond kAllIntrinsics");
+    }
+    flags.push_back(m);
+  }
+  flags.resize(h_.points_offset - h_.flags_offset, 0);  // zero padding
+  Write(h_.flags_offset, flags.data(), static_cast<int64_t>(flags.size()));
+}
+
+void BinaryProblemWriter::WriteHeader() {
   RawHeader raw{};
   std::memcpy(raw.magic, kMagic, 8);
-  raw.version = kVersion;
+  raw.version = h_.version;
   raw.byte_order = kByteOrderMark;
-  raw.camera_model = kBalModel;
-  raw.camera_size = kBalCameraSize;
+  raw.camera_model = h_.camera_model;
+  raw.camera_size = h_.camera_size;
   raw.counts[0] = h_.num_cameras;
   raw.counts[1] = h_.num_points;
   raw.counts[2] = h_.num_observations;
@@ -396,8 +563,16 @@ BinaryProblemWriter::BinaryProblemWriter(const std::string& path, int64_t num_ca
                                h_.obs_camera_offset, h_.obs_pixel_offset};
   for (int s = 0; s < 5; ++s) raw.sections[s] = sections[s];
   raw.file_size = h_.file_size;
+  if (h_.version == kVersion2) {
+    raw.intrinsic_groups = static_cast<uint32_t>(h_.num_intrinsics);
+    raw.optional_sections = (h_.has_fixed_cameras ? kHasFixedCameras : 0) |
+                            (h_.has_intrinsics_free ? kHasIntrinsicsFree : 0);
+    raw.sections2[0] = h_.intrinsics_offset;
+    raw.sections2[1] = h_.image_groups_offset;
+    raw.sections2[2] = h_.flags_offset;
+  }
   Write(0, &raw, kHeaderSize);
-  offsets_.push_back(0);
+  offsets_.assign(1, 0);
 }
 
 void BinaryProblemWriter::Write(int64_t offset, const void* data, int64_t bytes) {
@@ -414,7 +589,7 @@ void BinaryProblemWriter::Write(int64_t offset, const void* data, int64_t bytes)
 }
 
 void BinaryProblemWriter::WriteCameras(std::span<const double> cameras) {
-  if (static_cast<int64_t>(cameras.size()) != kBalCameraSize * h_.num_cameras) {
+  if (static_cast<int64_t>(cameras.size()) != h_.camera_side_size()) {
     throw std::invalid_argument("BinaryProblemWriter: wrong number of camera parameters");
   }
   Write(h_.cameras_offset, cameras.data(), 8 * static_cast<int64_t>(cameras.size()));

@@ -1,22 +1,58 @@
-// The dba binary problem format (version 1): a versioned, mmap/pread-friendly
-// layout of a BalProblem, observations point-major, so a rank can read the
-// points it owns without reading the rest (DESIGN.md §2, §5).
+// The dba binary problem format: a versioned, mmap/pread-friendly layout of
+// a BalProblem, observations point-major, so a rank can read the points it
+// owns without reading the rest (DESIGN.md §2, §5).
+//
+// Version 1 holds BAL problems; version 2 adds the photogrammetric model
+// (poses plus shared intrinsic groups) and the fixed flags. A writer uses
+// version 2 only when the problem needs it (camera model 2, or fixed flags),
+// so a plain BAL problem is still written as version 1, byte for byte as
+// before; both versions are read.
 //
 //   offset 0    header, 128 bytes:
-//                 magic "DBAPROB\n" | u32 version = 1 | u32 byte-order mark
-//                 0x01020304 | u32 camera model (1 = BAL, 9 parameters) |
-//                 u32 camera size | u64 cameras | u64 points | u64 observations
-//                 | u64 section offsets: cameras, points, point offsets,
-//                 observation cameras, observation pixels | u64 file size |
-//                 zero padding
-//   sections, each starting at a multiple of 8 bytes:
-//     cameras        f64[9 · cameras]
+//                 magic "DBAPROB\n" | u32 version (1 or 2) | u32 byte-order
+//                 mark 0x01020304 | u32 camera model (1 = BAL, 9 parameters
+//                 per camera; 2 = photogrammetric, 6 per image, version 2
+//                 only) | u32 camera size (9 or 6) | u64 cameras (images) |
+//                 u64 points | u64 observations | u64 section offsets:
+//                 cameras, points, point offsets, observation cameras,
+//                 observation pixels | u64 file size |
+//               version 1: zero padding (32 bytes; written as zeros, not
+//                 read)
+//               version 2: u32 intrinsic groups (model 1: 0; model 2: 1 to
+//                 cameras, which are at most 2^31) | u32 optional sections (bit 0: fixed cameras,
+//                 bit 1: free intrinsics, model 2 only; other bits 0) | u64
+//                 section offsets: intrinsics, image groups, flags
+//   sections, each starting at a multiple of 8 bytes, in this order:
+//     cameras        f64[camera size · cameras]  BAL cameras, or image poses
+//                                          (ω, t; world -> camera, COLMAP's
+//                                          axes, camera/photo_camera.h)
+//     intrinsics     f64[5 · groups]     (version 2) f, cx, cy, k1, k2 per
+//                                          group; right after the cameras,
+//                                          so the two are BalProblem::cameras
+//     image groups   i32[cameras]        (version 2, model 2; else empty)
+//                                          group of each image, in
+//                                          [0, groups); zero-padded to 8 bytes
+//     flags          (version 2) u8[cameras] fixed_cameras (0/1) if bit 0,
+//                                          then u8[groups] intrinsics_free
+//                                          (IntrinsicBit masks, <= 31) if
+//                                          bit 1; zero-padded to 8 bytes
 //     points         f64[3 · points]
 //     point offsets  i64[points + 1]     observations of point k are
 //                                          [offsets[k], offsets[k+1])
 //     obs cameras    i32[observations]   (zero-padded to 8 bytes)
 //     obs pixels     f64[2 · observations]
-// All numbers little-endian. Counts are 64-bit.
+// A version-1 file is the same with the three version-2 sections empty.
+// All numbers little-endian. Counts are 64-bit; every section offset is fixed
+// by the counts and optional bits, and a file whose table or size differs is
+// refused.
+//
+// The fixed flags are problem data, stored when non-empty: intrinsics_free
+// says which intrinsics a camera model has at all (SIMPLE_PINHOLE has no k1;
+// colmap_problem.h), so dropping it would change the problem, and
+// fixed_cameras (e.g. a COLMAP model's fixed images) fixes the gauge the
+// problem was posed with. A distributed solve needs them on every rank and on
+// the main rank alike, which reading them from the one file guarantees.
+// Emptiness round-trips: an empty vector writes no flags and reads back empty.
 //
 // Thread safety: functions are independent; concurrent reads of one file are
 // safe.
@@ -35,28 +71,42 @@ namespace dba {
 
 struct BinaryProblemHeader {
   uint32_t version = 0;
-  uint32_t camera_model = 0;
-  uint32_t camera_size = 0;
-  int64_t num_cameras = 0;
+  uint32_t camera_model = 0;  // as stored: 1 = BAL, 2 = photogrammetric
+  uint32_t camera_size = 0;   // 9 or 6
+  CameraModel model = CameraModel::kBal;
+  int64_t num_cameras = 0;    // images
+  int64_t num_intrinsics = 0; // intrinsic groups (0 for BAL)
   int64_t num_points = 0;
   int64_t num_observations = 0;
+  bool has_fixed_cameras = false;
+  bool has_intrinsics_free = false;
   int64_t cameras_offset = 0;
+  int64_t intrinsics_offset = 0;
+  int64_t image_groups_offset = 0;
+  int64_t flags_offset = 0;
   int64_t points_offset = 0;
   int64_t point_offsets_offset = 0;
   int64_t obs_camera_offset = 0;
   int64_t obs_pixel_offset = 0;
   int64_t file_size = 0;
+
+  // Size of BalProblem::cameras: camera size · cameras + 5 · groups.
+  int64_t camera_side_size() const {
+    return int64_t{camera_size} * num_cameras + kPhotoIntrinsicsSize * num_intrinsics;
+  }
 };
 
 // True if the file starts with the binary magic.
 bool IsBinaryProblem(const std::string& path);
 
 // Reads and checks the header against the file: magic, version, byte order,
-// camera model, section layout and file size. Throws InputError.
+// camera model, intrinsic group count, section layout and file size. Throws
+// InputError.
 BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path);
 
 // The whole problem. Throws InputError on any inconsistency (offsets not
-// monotonic, ids out of range, non-finite values).
+// monotonic, camera or group ids out of range, non-finite values, flags out
+// of range).
 BalProblem ReadBinaryProblem(const std::string& path);
 
 // Visits the visibility graph in chunks of whole points without holding it:
@@ -75,42 +125,65 @@ void ForEachObservationChunk(
                              std::span<const int32_t> cameras,
                              std::span<const double> pixels)>& fn);
 
-// Points with point_group[k] == group, their observations and all cameras
-// (global ids; see ExtractShare for the local renumbering), read in chunks.
-// `global_point` receives the global id of each point read.
+// Points with point_group[k] == group, their observations and the whole
+// camera side (all cameras and intrinsic groups, camera_intrinsics, fixed
+// flags, model; global ids; see KeepTouchedCameras for the local
+// renumbering), read in chunks. `global_point` receives the global id of
+// each point read.
 BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> point_group,
                             int32_t group, std::vector<int64_t>* global_point);
 
-// Only the cameras (9 per camera), or only the point coordinates (3 per point).
+// The camera side only: model, cameras (BalProblem::cameras: cameras or
+// poses, then intrinsics), camera_intrinsics and the fixed flags; no points
+// or observations (point_offsets empty).
+BalProblem ReadBinaryCameraSide(const std::string& path);
+
+// Only BalProblem::cameras (the whole camera-side vector: 9 per BAL camera,
+// or 6 per image then 5 per intrinsic group), or only the point coordinates
+// (3 per point).
 std::vector<double> ReadBinaryCameras(const std::string& path);
 std::vector<double> ReadBinaryPointCoordinates(const std::string& path);
 
 // Writes `problem` to path.tmp.<pid>, then renames it over `path`.
 void WriteBinaryProblem(const BalProblem& problem, const std::string& path);
 
-// Writes `output` as a copy of the binary problem `input` with its cameras
-// and point coordinates replaced, streaming the observations through a
-// buffer (they are never all in memory). Atomic like WriteBinaryProblem.
+// Writes `output` as a copy of the binary problem `input` with its
+// camera-side vector (BalProblem::cameras) and point coordinates replaced,
+// streaming the observations through a buffer (they are never all in
+// memory). Model, image groups and fixed flags are copied. Atomic like
+// WriteBinaryProblem.
 void WriteBinaryWithNewParameters(const std::string& input, const std::string& output,
                                   const std::vector<double>& cameras,
                                   const std::vector<double>& points);
 
 // Streams a problem into the binary format when the counts are known ahead:
-// cameras once, then points one by one in order with their observations.
-// Everything goes to path.tmp.<pid>; Commit() checks that the counts were
-// met, syncs and renames; a writer destroyed without Commit() removes the
-// temporary. Memory: a buffer of a few MiB.
+// the camera side once, then points one by one in order with their
+// observations. Everything goes to path.tmp.<pid>; Commit() checks that the
+// counts were met, syncs and renames; a writer destroyed without Commit()
+// removes the temporary. Memory: a buffer of a few MiB (plus the flags).
 class BinaryProblemWriter {
  public:
+  // A BAL problem (version 1); give the cameras with WriteCameras.
   BinaryProblemWriter(const std::string& path, int64_t num_cameras, int64_t num_points,
                       int64_t num_observations);
+  // Any problem: `camera_side` gives the model, the cameras (the whole
+  // camera-side vector), camera_intrinsics (the group of each image, kPhoto)
+  // and the fixed flags, all written now (its points and observations are
+  // ignored). WriteCameras may replace the camera-side values later. Throws
+  // std::invalid_argument when they are inconsistent (sizes, group ids out
+  // of range, masks beyond kAllIntrinsics).
+  BinaryProblemWriter(const std::string& path, const BalProblem& camera_side,
+                      int64_t num_points, int64_t num_observations);
 
-  void WriteCameras(std::span<const double> cameras);  // 9 per camera
+  // The camera-side vector: 9 per BAL camera, or 6 per image then 5 per
+  // intrinsic group.
+  void WriteCameras(std::span<const double> cameras);
   void AppendPoint(const double* xyz, std::span<const int32_t> cameras,
                    std::span<const double> pixels);  // 2 per observation
   void Commit();
 
  private:
+  void WriteHeader();
   void Flush();
   void Write(int64_t offset, const void* data, int64_t bytes);
 

@@ -1,5 +1,5 @@
-// The binary format: exact round trips with BAL, slices, and refusal of
-// every kind of corrupt file.
+// The binary format: exact round trips with BAL and photogrammetric
+// problems, slices, and refusal of every kind of corrupt file.
 #include "dba/io/binary_problem.h"
 
 #include <gtest/gtest.h>
@@ -15,6 +15,7 @@
 #include "dba/io/bal_reader.h"
 #include "dba/io/bal_writer.h"
 #include "dba/io/read_problem.h"
+#include "dba/testing/synthetic_photo.h"
 #include "dba/testing/temp_files.h"
 
 namespace dba {
@@ -233,6 +234,274 @@ TEST(BinaryProblem, RewriteWithNewParametersKeepsTheObservations) {
   EXPECT_EQ(back.obs_pixel, bal.obs_pixel);
   points.pop_back();
   EXPECT_THROW(WriteBinaryWithNewParameters(in, out, cameras, points), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dba
+
+// Version 2: the photogrammetric model (poses + shared intrinsic groups) and
+// the fixed flags.
+namespace dba {
+namespace {
+
+// Every array and the model, bit for bit.
+void ExpectIdentical(const BalProblem& a, const BalProblem& b) {
+  EXPECT_EQ(a.model, b.model);
+  EXPECT_EQ(a.camera_intrinsics, b.camera_intrinsics);
+  EXPECT_EQ(a.fixed_cameras, b.fixed_cameras);
+  EXPECT_EQ(a.intrinsics_free, b.intrinsics_free);
+  ExpectSame(a, b);
+}
+
+BalProblem PhotoProblem(int num_groups = 3) {
+  testing::SyntheticPhotoOptions o;
+  o.geometry.num_cameras = 7;
+  o.geometry.num_points = 30;
+  o.geometry.pixel_noise = 0.5;
+  o.geometry.rotation_perturbation = 0.01;
+  o.geometry.point_perturbation = 0.05;
+  o.num_groups = num_groups;
+  o.focal_perturbation = 0.01;
+  o.principal_perturbation = 2.0;
+  return testing::MakeSyntheticPhoto(o).problem;
+}
+
+TEST(BinaryProblemPhoto, RoundTripIsIdentical) {
+  BalProblem p = PhotoProblem();
+  ASSERT_EQ(p.model, CameraModel::kPhoto);
+  ASSERT_EQ(p.num_intrinsics(), 3);
+  const std::string path = Tmp("photo.dba");
+  WriteBinaryProblem(p, path);
+  const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
+  EXPECT_EQ(h.version, 2u);
+  EXPECT_EQ(h.camera_model, 2u);
+  EXPECT_EQ(h.camera_size, 6u);
+  EXPECT_EQ(h.model, CameraModel::kPhoto);
+  EXPECT_EQ(h.num_cameras, 7);
+  EXPECT_EQ(h.num_intrinsics, 3);
+  EXPECT_FALSE(h.has_fixed_cameras);
+  EXPECT_FALSE(h.has_intrinsics_free);
+  EXPECT_EQ(h.camera_side_size(), static_cast<int64_t>(p.cameras.size()));
+  ExpectIdentical(p, ReadBinaryProblem(path));
+  EXPECT_EQ(ReadBinaryCameras(path), p.cameras);  // poses, then intrinsics
+  const BalProblem side = ReadBinaryCameraSide(path);
+  EXPECT_EQ(side.model, CameraModel::kPhoto);
+  EXPECT_EQ(side.cameras, p.cameras);
+  EXPECT_EQ(side.camera_intrinsics, p.camera_intrinsics);
+  EXPECT_TRUE(side.points.empty());
+  EXPECT_TRUE(side.point_offsets.empty());
+  EXPECT_TRUE(side.obs_camera.empty());
+  // Writing it again gives the same bytes.
+  WriteBinaryProblem(ReadBinaryProblem(path), Tmp("photo2.dba"));
+  EXPECT_EQ(ReadBytes(path), ReadBytes(Tmp("photo2.dba")));
+
+  // With fixed flags (each alone and both): still identical, emptiness kept.
+  for (int variant = 0; variant < 3; ++variant) {
+    BalProblem q = p;
+    if (variant != 1) q.fixed_cameras = {1, 0, 0, 1, 0, 0, 0};
+    if (variant != 0) q.intrinsics_free = {kAllIntrinsics, kIntrinsicF | kIntrinsicK1, 0};
+    WriteBinaryProblem(q, path);
+    const BinaryProblemHeader hq = ReadBinaryProblemHeader(path);
+    EXPECT_EQ(hq.has_fixed_cameras, !q.fixed_cameras.empty());
+    EXPECT_EQ(hq.has_intrinsics_free, !q.intrinsics_free.empty());
+    ExpectIdentical(q, ReadBinaryProblem(path));
+    const BalProblem s = ReadBinaryCameraSide(path);
+    EXPECT_EQ(s.fixed_cameras, q.fixed_cameras);
+    EXPECT_EQ(s.intrinsics_free, q.intrinsics_free);
+  }
+}
+
+TEST(BinaryProblemPhoto, BalStaysVersion1AndFixedBalCamerasUseVersion2) {
+  const BalProblem bal = ReadBal(DBA_SHARED_DATA_DIR "/bal/problem-49-7776-pre.txt.bz2");
+  const std::string path = Tmp("bal_v1.dba");
+  WriteBinaryProblem(bal, path);
+  EXPECT_EQ(ReadBinaryProblemHeader(path).version, 1u);
+  // Version 1 is the format as before: the streaming BAL writer gives the same bytes.
+  {
+    BinaryProblemWriter w(Tmp("bal_v1_stream.dba"), bal.num_cameras(), bal.num_points(),
+                          bal.num_observations());
+    w.WriteCameras(bal.cameras);
+    for (int64_t k = 0; k < bal.num_points(); ++k) {
+      const int64_t o0 = bal.point_offsets[k], o1 = bal.point_offsets[k + 1];
+      w.AppendPoint(bal.point(k), std::span<const int32_t>(bal.obs_camera.data() + o0, o1 - o0),
+                    std::span<const double>(bal.obs_pixel.data() + 2 * o0, 2 * (o1 - o0)));
+    }
+    w.Commit();
+  }
+  EXPECT_EQ(ReadBytes(path), ReadBytes(Tmp("bal_v1_stream.dba")));
+  BalProblem fixed = bal;
+  fixed.fixed_cameras.assign(bal.num_cameras(), 0);
+  fixed.fixed_cameras[3] = 1;
+  WriteBinaryProblem(fixed, path);
+  const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
+  EXPECT_EQ(h.version, 2u);
+  EXPECT_EQ(h.model, CameraModel::kBal);
+  EXPECT_EQ(h.num_intrinsics, 0);
+  EXPECT_TRUE(h.has_fixed_cameras);
+  ExpectIdentical(fixed, ReadBinaryProblem(path));
+}
+
+TEST(BinaryProblemPhoto, PointsOfAGroupCarryTheWholeCameraSide) {
+  BalProblem p = PhotoProblem();
+  p.fixed_cameras = {0, 1, 0, 0, 0, 0, 0};
+  p.intrinsics_free = {kAllIntrinsics, kAllIntrinsics & ~kIntrinsicK2, kIntrinsicF};
+  const std::string path = Tmp("photo_share.dba");
+  WriteBinaryProblem(p, path);
+  for (PartitionScheme scheme : {PartitionScheme::kEqual, PartitionScheme::kCameraLocality}) {
+    const std::vector<int32_t> group = PartitionPoints(p, 3, scheme);
+    for (int g = 0; g < 3; ++g) {
+      RankShare read;
+      read.problem = ReadBinaryPoints(path, group, g, &read.global_point);
+      EXPECT_EQ(read.problem.model, CameraModel::kPhoto);
+      EXPECT_EQ(read.problem.cameras, p.cameras);
+      EXPECT_EQ(read.problem.camera_intrinsics, p.camera_intrinsics);
+      EXPECT_EQ(read.problem.fixed_cameras, p.fixed_cameras);
+      EXPECT_EQ(read.problem.intrinsics_free, p.intrinsics_free);
+      KeepTouchedCameras(&read);
+      const RankShare share = ExtractShare(p, group, g);
+      EXPECT_EQ(read.global_point, share.global_point);
+      EXPECT_EQ(read.global_camera, share.global_camera);
+      EXPECT_EQ(read.global_intrinsics, share.global_intrinsics);
+      ExpectIdentical(read.problem, share.problem);
+    }
+  }
+}
+
+TEST(BinaryProblemPhoto, RewriteWithNewParametersKeepsGroupsAndFlags) {
+  BalProblem p = PhotoProblem();
+  p.intrinsics_free = {kAllIntrinsics, kIntrinsicF, kIntrinsicF | kIntrinsicCx | kIntrinsicCy};
+  const std::string in = Tmp("photo_params_in.dba"), out = Tmp("photo_params_out.dba");
+  WriteBinaryProblem(p, in);
+  std::vector<double> cameras = p.cameras, points = p.points;
+  for (double& c : cameras) c *= 1.5;
+  for (double& x : points) x -= 1.0;
+  WriteBinaryWithNewParameters(in, out, cameras, points);
+  BalProblem want = p;
+  want.cameras = cameras;
+  want.points = points;
+  ExpectIdentical(want, ReadBinaryProblem(out));
+  cameras.pop_back();  // one intrinsic short
+  EXPECT_THROW(WriteBinaryWithNewParameters(in, out, cameras, points), std::invalid_argument);
+}
+
+TEST(BinaryProblemPhoto, WriterRefusesAnInconsistentCameraSideAndLeavesNothing) {
+  const BalProblem good = PhotoProblem();
+  const std::string path = Tmp("photo_refused.dba");
+  std::filesystem::remove(path);
+  auto expect_refused = [&](const BalProblem& p, const std::string& what) {
+    EXPECT_THROW(WriteBinaryProblem(p, path), std::invalid_argument) << what;
+    EXPECT_FALSE(std::filesystem::exists(path)) << what;
+  };
+  BalProblem p = good;
+  p.camera_intrinsics[2] = 3;  // only groups 0..2
+  expect_refused(p, "group id out of range");
+  p = good;
+  p.cameras.pop_back();  // not 6 per image + 5 per group
+  expect_refused(p, "camera-side size");
+  p = good;
+  p.fixed_cameras = {0, 1};
+  expect_refused(p, "fixed flags of the wrong size");
+  p = good;
+  p.intrinsics_free = {kAllIntrinsics, kAllIntrinsics, 32};
+  expect_refused(p, "mask beyond kAllIntrinsics");
+  p = good;
+  p.cameras.resize(6 * 7);  // no intrinsic group at all
+  expect_refused(p, "no groups");
+  BalProblem bal;
+  bal.cameras.assign(18, 0.5);
+  bal.camera_intrinsics = {0, 0};  // groups in a BAL problem
+  bal.points = {1, 2, 3};
+  bal.point_offsets = {0, 2};
+  bal.obs_camera = {0, 1};
+  bal.obs_pixel = {1, 2, 3, 4};
+  expect_refused(bal, "BAL with image groups");
+}
+
+class CorruptPhotoBinaryTest : public CorruptBinaryTest {
+ protected:
+  void SetUp() override {
+    BalProblem p = PhotoProblem(2);
+    p.fixed_cameras.assign(7, 0);
+    p.fixed_cameras[0] = 1;
+    p.intrinsics_free = {kAllIntrinsics, kIntrinsicF};
+    WriteBinaryProblem(p, good_);
+    bytes_ = ReadBytes(good_);
+    h_ = ReadBinaryProblemHeader(good_);
+    ASSERT_EQ(h_.version, 2u);
+  }
+  template <typename T>
+  std::string With(int64_t offset, T value) const {
+    std::string b = bytes_;
+    std::memcpy(b.data() + offset, &value, sizeof value);
+    return b;
+  }
+  BinaryProblemHeader h_;
+};
+
+TEST_F(CorruptPhotoBinaryTest, RefusesEachFailureMode) {
+  // The intact file reads.
+  EXPECT_EQ(ReadBinaryProblem(good_).num_intrinsics(), 2);
+  // Group id out of range, and negative.
+  ExpectRefused(With<int32_t>(h_.image_groups_offset + 4 * 3, 2),
+                "intrinsic group 2 of image 3 is out of range [0, 2)");
+  ExpectRefused(With<int32_t>(h_.image_groups_offset, -1),
+                "intrinsic group -1 of image 0 is out of range");
+  // Group count inconsistent: none, more than images, and any number that
+  // moves the sections away from the table.
+  ExpectRefused(With<uint32_t>(96, 0), "intrinsic group count 0 is inconsistent with 7 images");
+  ExpectRefused(With<uint32_t>(96, 8), "intrinsic group count 8 is inconsistent with 7 images");
+  ExpectRefused(With<uint32_t>(96, 3), "does not match the counts");
+  // Truncated sections: the file ends inside the image groups or the flags.
+  ExpectRefused(bytes_.substr(0, h_.image_groups_offset + 8), "truncated");
+  ExpectRefused(bytes_.substr(0, h_.flags_offset + 3), "truncated");
+  // Non-finite intrinsics (group 1's k1) and poses.
+  ExpectRefused(With<double>(h_.intrinsics_offset + 8 * (5 + 3), std::nan("")),
+                "non-finite value in intrinsics of group 1 (parameter 3)");
+  ExpectRefused(With<double>(h_.intrinsics_offset + 8 * 0, INFINITY),
+                "non-finite value in intrinsics of group 0 (parameter 0)");
+  ExpectRefused(With<double>(h_.cameras_offset + 8, std::nan("")), "non-finite value in cameras");
+  // Flags out of range.
+  ExpectRefused(With<uint8_t>(h_.flags_offset + 2, 2), "fixed flag 2 of camera 2 is not 0 or 1");
+  ExpectRefused(With<uint8_t>(h_.flags_offset + 7 + 1, 64),
+                "free-intrinsics mask 64 of group 1 has bits beyond");
+  // Header: unknown optional sections, moved section table, wrong model or
+  // camera size, a photogrammetric model in a version-1 header.
+  ExpectRefused(With<uint32_t>(100, 7), "unknown optional sections 7");
+  ExpectRefused(With<uint32_t>(100, 1), "does not match the counts");
+  ExpectRefused(With<uint64_t>(112, h_.image_groups_offset + 8), "version 2 header");
+  ExpectRefused(With<uint32_t>(20, 9), "camera model 2 of size 9 is not supported");
+  ExpectRefused(With<uint32_t>(16, 3), "camera model 3 of size 6 is not supported");
+  ExpectRefused(With<uint32_t>(8, 1), "camera model 2 of size 6 is not supported in version 1");
+  ExpectRefused(With<uint32_t>(8, 3), "format version 3, this dba reads versions 1 and 2");
+  // A BAL model with free-intrinsics masks, or with intrinsic groups.
+  std::string b = With<uint32_t>(16, 1);
+  const uint32_t nine = 9, fixed_only = 1;
+  std::memcpy(b.data() + 20, &nine, 4);
+  ExpectRefused(b, "unknown optional sections 3 for camera model 1");
+  std::memcpy(b.data() + 100, &fixed_only, 4);
+  ExpectRefused(b, "intrinsic group count 2 is inconsistent with 7 BAL cameras");
+}
+
+TEST_F(CorruptPhotoBinaryTest, EveryReaderRefusesABadGroup) {
+  WriteBytes(bad_, With<int32_t>(h_.image_groups_offset + 4 * 6, 5));
+  EXPECT_THROW(ReadBinaryCameraSide(bad_), InputError);
+  EXPECT_THROW(ReadBinaryCameras(bad_), InputError);
+  std::vector<int64_t> ids;
+  const std::vector<int32_t> all(h_.num_points, 0);
+  EXPECT_THROW(ReadBinaryPoints(bad_, all, 0, &ids), InputError);
+  EXPECT_THROW(WriteBinaryWithNewParameters(bad_, Tmp("never.dba"),
+                                            std::vector<double>(h_.camera_side_size()),
+                                            std::vector<double>(3 * h_.num_points)),
+               InputError);
+  EXPECT_FALSE(std::filesystem::exists(Tmp("never.dba")));
+}
+
+TEST_F(CorruptBinaryTest, Version1RelabelledAsVersion2OrAnUnknownVersionIsRefused) {
+  std::string b = bytes_;
+  b[8] = 3;
+  ExpectRefused(b, "format version 3");
+  b[8] = 2;  // the version-2 section table is zero
+  ExpectRefused(b, "version 2 header: intrinsics, image groups and flags sections do not match");
 }
 
 }  // namespace

@@ -6,98 +6,73 @@
 #include <stdexcept>
 
 #include "dba/camera/bal_camera.h"
+#include "dba/camera/photo_camera.h"
 #include "dba/io/binary_problem.h"
 #include "dba/io/read_problem.h"
 
 namespace dba {
 namespace {
 
-Eigen::Matrix3Xd Centres(const std::vector<double>& cameras) {
-  const int64_t n = static_cast<int64_t>(cameras.size()) / kBalCameraSize;
+// Camera centres C = -Rᵀ t of the cameras (poses) in `cameras`, laid out
+// like side.cameras.
+Eigen::Matrix3Xd Centres(const BalProblem& side, const std::vector<double>& cameras) {
+  const int64_t n = side.num_cameras();
   Eigen::Matrix3Xd c(3, n);
   for (int64_t i = 0; i < n; ++i) {
-    const double* p = cameras.data() + kBalCameraSize * i;
+    const double* p = cameras.data() + side.camera_size() * i;
     const Mat3 R = AngleAxisToRotation(Vec3(p[0], p[1], p[2]));
     c.col(i) = -R.transpose() * Vec3(p[3], p[4], p[5]);  // C = -Rᵀ t
   }
   return c;
 }
 
-
 // Σ |r|² of the solved parameters against noise-free observations of
-// points [first, first + n).
-double SquaredResiduals(int64_t first, std::span<const int64_t> offsets,
+// points [first, first + n); `side` is the truth's camera side (model, image
+// groups).
+double SquaredResiduals(const BalProblem& side, int64_t first, std::span<const int64_t> offsets,
                         std::span<const int32_t> obs_camera, std::span<const double> pixels,
                         const std::vector<double>& cameras, const std::vector<double>& points) {
+  const bool photo = side.model == CameraModel::kPhoto;
+  const int64_t intrinsics = kPhotoPoseSize * side.num_cameras();
   double sum = 0.0;
   for (size_t k = 0; k + 1 < offsets.size(); ++k) {
+    const double* X = points.data() + kPointSize * (first + static_cast<int64_t>(k));
     for (int64_t o = offsets[k]; o < offsets[k + 1]; ++o) {
       const int64_t j = o - offsets[0];
-      sum += BalResidual(cameras.data() + kBalCameraSize * obs_camera[j],
-                         points.data() + kPointSize * (first + static_cast<int64_t>(k)),
-                         pixels.data() + 2 * j)
-                 .squaredNorm();
+      const int32_t c = obs_camera[j];
+      const Vec2 r =
+          photo ? PhotoResidual(cameras.data() + kPhotoPoseSize * c,
+                                cameras.data() + intrinsics +
+                                    kPhotoIntrinsicsSize * side.camera_intrinsics[c],
+                                X, pixels.data() + 2 * j)
+                : BalResidual(cameras.data() + kBalCameraSize * c, X, pixels.data() + 2 * j);
+      sum += r.squaredNorm();
     }
   }
   return sum;
 }
 
 void CheckSizes(const BalProblem& truth, const std::vector<double>& cameras,
-                const std::vector<double>& points) {
+                const std::vector<double>& points, CameraModel model) {
+  if (truth.model != model) {
+    throw std::invalid_argument(
+        std::string("the ground truth's camera model (") +
+        (truth.model == CameraModel::kPhoto ? "photogrammetric" : "BAL") +
+        ") differs from the problem's");
+  }
   if (cameras.size() != truth.cameras.size() || points.size() != truth.points.size()) {
     throw std::invalid_argument(
-        "the ground truth does not match the problem (different numbers of cameras or points)");
+        "the ground truth does not match the problem (different numbers of cameras, intrinsic "
+        "groups or points)");
   }
 }
 
-// Alignment errors; `truth` needs cameras and points only.
-GroundTruthErrors GeometryErrors(const BalProblem& truth, const std::vector<double>& cameras,
-                                 const std::vector<double>& points);
-
-}  // namespace
-
-GroundTruthErrors CompareWithGroundTruth(const BalProblem& truth,
-                                         const std::vector<double>& cameras,
-                                         const std::vector<double>& points) {
-  CheckSizes(truth, cameras, points);
-  GroundTruthErrors e = GeometryErrors(truth, cameras, points);
-  const double sum = SquaredResiduals(0, truth.point_offsets, truth.obs_camera, truth.obs_pixel,
-                                      cameras, points);
-  // Per observation, like the solver's RMS: sqrt(Σ |r|² / observations).
-  e.rms_to_noise_free_px = std::sqrt(sum / std::max<int64_t>(truth.num_observations(), 1));
-  return e;
-}
-
-GroundTruthErrors CompareWithGroundTruthFile(const std::string& path,
-                                             const std::vector<double>& cameras,
-                                             const std::vector<double>& points) {
-  if (!IsBinaryProblem(path)) return CompareWithGroundTruth(ReadProblem(path), cameras, points);
-  const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
-  BalProblem truth;  // cameras and points only
-  truth.cameras = ReadBinaryCameras(path);
-  double sum = 0.0;
-  ForEachObservationChunk(path, 1 << 20, true,
-                          [&](int64_t first, std::span<const int64_t> offsets,
-                              std::span<const int32_t> c, std::span<const double> px) {
-                            if (static_cast<int64_t>(points.size()) == kPointSize * h.num_points) {
-                              sum += SquaredResiduals(first, offsets, c, px, cameras, points);
-                            }
-                          });
-  // Point coordinates of the truth, read in one go (3 doubles per point).
-  truth.points = ReadBinaryPointCoordinates(path);
-  CheckSizes(truth, cameras, points);
-  GroundTruthErrors e = GeometryErrors(truth, cameras, points);
-  e.rms_to_noise_free_px = std::sqrt(sum / std::max<int64_t>(h.num_observations, 1));
-  return e;
-}
-
-namespace {
-
+// Alignment and intrinsics errors; `truth` needs its camera side and points
+// only.
 GroundTruthErrors GeometryErrors(const BalProblem& truth, const std::vector<double>& cameras,
                                  const std::vector<double>& points) {
   GroundTruthErrors e;
-
-  const Eigen::Matrix3Xd solved = Centres(cameras), true_centres = Centres(truth.cameras);
+  const Eigen::Matrix3Xd solved = Centres(truth, cameras), true_centres = Centres(truth, truth.cameras);
   const Eigen::Matrix4d T = Eigen::umeyama(solved, true_centres, /*with_scaling=*/true);
   const Eigen::Matrix3d sR = T.topLeftCorner<3, 3>();
   const Vec3 shift = T.topRightCorner<3, 1>();
@@ -110,9 +85,54 @@ GroundTruthErrors GeometryErrors(const BalProblem& truth, const std::vector<doub
     point_sum += (X - Eigen::Map<const Vec3>(truth.point(k))).squaredNorm();
   }
   e.point_rms = std::sqrt(point_sum / std::max<int64_t>(truth.num_points(), 1));
+  const int64_t first = kPhotoPoseSize * truth.num_cameras();
+  for (int64_t g = 0; g < truth.num_intrinsics(); ++g) {
+    std::array<double, kPhotoIntrinsicsSize> err;
+    for (int j = 0; j < kPhotoIntrinsicsSize; ++j) {
+      const int64_t at = first + kPhotoIntrinsicsSize * g + j;
+      err[j] = std::abs(cameras[at] - truth.cameras[at]);
+    }
+    e.intrinsics_error.push_back(err);
+    e.true_focal.push_back(truth.intrinsics(g)[0]);
+  }
   return e;
 }
 
 }  // namespace
+
+GroundTruthErrors CompareWithGroundTruth(const BalProblem& truth,
+                                         const std::vector<double>& cameras,
+                                         const std::vector<double>& points, CameraModel model) {
+  CheckSizes(truth, cameras, points, model);
+  GroundTruthErrors e = GeometryErrors(truth, cameras, points);
+  const double sum = SquaredResiduals(truth, 0, truth.point_offsets, truth.obs_camera,
+                                      truth.obs_pixel, cameras, points);
+  // Per observation, like the solver's RMS: sqrt(Σ |r|² / observations).
+  e.rms_to_noise_free_px = std::sqrt(sum / std::max<int64_t>(truth.num_observations(), 1));
+  return e;
+}
+
+GroundTruthErrors CompareWithGroundTruthFile(const std::string& path,
+                                             const std::vector<double>& cameras,
+                                             const std::vector<double>& points,
+                                             CameraModel model) {
+  if (!IsBinaryProblem(path)) {
+    return CompareWithGroundTruth(ReadProblem(path), cameras, points, model);
+  }
+  const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
+  BalProblem truth = ReadBinaryCameraSide(path);  // camera side and points only
+  // Point coordinates of the truth, read in one go (3 doubles per point).
+  truth.points = ReadBinaryPointCoordinates(path);
+  CheckSizes(truth, cameras, points, model);
+  double sum = 0.0;
+  ForEachObservationChunk(path, 1 << 20, true,
+                          [&](int64_t first, std::span<const int64_t> offsets,
+                              std::span<const int32_t> c, std::span<const double> px) {
+                            sum += SquaredResiduals(truth, first, offsets, c, px, cameras, points);
+                          });
+  GroundTruthErrors e = GeometryErrors(truth, cameras, points);
+  e.rms_to_noise_free_px = std::sqrt(sum / std::max<int64_t>(h.num_observations, 1));
+  return e;
+}
 
 }  // namespace dba

@@ -7,11 +7,18 @@
 //   - camera-centre and point errors after the similarity transform
 //     (rotation, translation, scale; Umeyama) that best maps the solved
 //     camera centres onto the true ones, since bundle adjustment fixes the
-//     solution only up to such a transform.
+//     solution only up to such a transform. The centre is C = -Rᵀ t in both
+//     camera models (the photogrammetric pose's R has COLMAP's axes, which
+//     does not change C);
+//   - photogrammetric model: per intrinsic group the absolute errors
+//     |f - f_true|, |cx - cx_true|, |cy - cy_true|, |k1 - k1_true|,
+//     |k2 - k2_true| (intrinsics do not change under a similarity, so they
+//     are compared as they are).
 //
 // Thread safety: pure function.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -25,19 +32,29 @@ struct GroundTruthErrors {
   double camera_centre_rms = 0.0;  // in the truth's units, after alignment
   double point_rms = 0.0;
   double similarity_scale = 1.0;
+  // kPhoto: per intrinsic group, |solved - true| of f, cx, cy, k1, k2 (in
+  // that order); the true f of each group, for relative errors. Empty for
+  // kBal.
+  std::vector<std::array<double, kPhotoIntrinsicsSize>> intrinsics_error;
+  std::vector<double> true_focal;
 };
 
 // `truth` is the ground-truth problem (true parameters, noise-free pixels);
-// `cameras` and `points` the solved parameters in the same numbering.
+// `cameras` (the whole camera-side vector) and `points` the solved
+// parameters in the same numbering, of a problem with camera model `model`.
+// Throws std::invalid_argument when the sizes or the model differ from the
+// truth's.
 GroundTruthErrors CompareWithGroundTruth(const BalProblem& truth,
                                          const std::vector<double>& cameras,
-                                         const std::vector<double>& points);
+                                         const std::vector<double>& points,
+                                         CameraModel model = CameraModel::kBal);
 
 // The same from a ground-truth file; a binary one is streamed (only its
-// cameras and points are held), so large problems do not need twice the
+// camera side and points are held), so large problems do not need twice the
 // memory.
 GroundTruthErrors CompareWithGroundTruthFile(const std::string& truth_path,
                                              const std::vector<double>& cameras,
-                                             const std::vector<double>& points);
+                                             const std::vector<double>& points,
+                                             CameraModel model = CameraModel::kBal);
 
 }  // namespace dba

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "dba/camera/bal_camera.h"
+#include "dba/camera/photo_camera.h"
 #include "dba/common/timer.h"
 #include "dba/io/bal_writer.h"
 #include "dba/io/binary_problem.h"
@@ -91,14 +92,49 @@ void MakeCameras(const UavSurveyOptions& o, const Layout& l, std::vector<double>
   }
 }
 
+// Physical camera (intrinsic group) of image i.
+int PhysicalCamera(const UavSurveyOptions& o, const Layout& l, int64_t i) {
+  return static_cast<int>((i / l.per_strip) % o.physical_cameras);
+}
+
+// The photogrammetric camera side of BAL cameras `bal` (true or initial):
+// each pose turned into COLMAP's axes (flip the camera's y and z), one
+// intrinsic group per physical camera used, with f from the group's first
+// image (the same for all its images) and a principal point a few pixels off
+// the centre.
+BalProblem PhotoCameraSide(const UavSurveyOptions& o, const Layout& l,
+                           const std::vector<double>& bal) {
+  BalProblem p;
+  p.model = CameraModel::kPhoto;
+  const int64_t groups = std::min<int64_t>(o.physical_cameras, l.strips);
+  p.camera_intrinsics.resize(l.images);
+  p.cameras.resize(kPhotoPoseSize * l.images + kPhotoIntrinsicsSize * groups);
+  const Mat3 flip = Vec3(1, -1, -1).asDiagonal();
+  for (int64_t i = 0; i < l.images; ++i) {
+    const double* c = bal.data() + kBalCameraSize * i;
+    const Eigen::AngleAxisd aa(Mat3(flip * AngleAxisToRotation(Vec3(c[0], c[1], c[2]))));
+    const Vec3 omega = aa.angle() * aa.axis(), t = flip * Vec3(c[3], c[4], c[5]);
+    double* pose = p.camera(i);
+    for (int k = 0; k < 3; ++k) pose[k] = omega[k], pose[3 + k] = t[k];
+    const int cam = PhysicalCamera(o, l, i);
+    p.camera_intrinsics[i] = cam;
+    if (i == cam * l.per_strip) {  // the group's first image (strip cam)
+      const double half = o.image_size / 2;
+      const double values[5] = {c[6], half + 1.5 + 2.0 * cam, half - 2.5 + 1.0 * cam, c[7], c[8]};
+      std::copy(values, values + 5, p.intrinsics(cam));
+    }
+  }
+  return p;
+}
+
 // Calls emit(true X, initial X, cameras, true pixels, noisy pixels) for every
-// point with at least two observations, tile by tile.
-template <typename Emit>
-void ForEachPoint(const UavSurveyOptions& o, const Layout& l, const std::vector<double>& cameras,
+// point with at least two observations, tile by tile. project(i, X, &pixel)
+// is the true projection into image i, false when outside the image.
+template <typename Project, typename Emit>
+void ForEachPoint(const UavSurveyOptions& o, const Layout& l, Project project,
                   const std::function<void(double)>& progress, Emit emit) {
   std::vector<int32_t> seen;
   std::vector<double> clean, noisy;
-  const double half = o.image_size / 2;
   for (int64_t ty = 0; ty < l.tiles_y; ++ty) {
     if (progress) progress(static_cast<double>(ty) / l.tiles_y);
     for (int64_t tx = 0; tx < l.tiles_x; ++tx) {
@@ -126,9 +162,8 @@ void ForEachPoint(const UavSurveyOptions& o, const Layout& l, const std::vector<
           for (int64_t m = m0; m <= m1; ++m) {
             const int64_t i = s * l.per_strip + m;
             if (i >= l.images) continue;
-            const double zero[2] = {0.0, 0.0};
-            const Vec2 px = BalResidual(cameras.data() + kBalCameraSize * i, X, zero);
-            if (!(std::abs(px.x()) < half && std::abs(px.y()) < half)) continue;
+            Vec2 px;
+            if (!project(i, X, &px)) continue;
             seen.push_back(static_cast<int32_t>(i));
             clean.push_back(px.x());
             clean.push_back(px.y());
@@ -158,6 +193,13 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& o, const std::string&
     throw std::invalid_argument(
         "generate: need images >= 2, features > 0, cameras >= 1, overlaps in (0, 1), noise >= 0");
   }
+  const bool photo = o.model == CameraModel::kPhoto;
+  const bool binary = EndsWith(path, ".dba");
+  if (photo && (!binary || (!truth_path.empty() && !EndsWith(truth_path, ".dba")))) {
+    throw std::invalid_argument(
+        "generate: the photogrammetric model needs .dba outputs (the BAL text format cannot "
+        "hold intrinsics shared by several images)");
+  }
   Timer timer;
   const Layout l = MakeLayout(o);
   std::vector<double> true_cameras, initial_cameras;
@@ -167,24 +209,46 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& o, const std::string&
   summary.strips = l.strips;
   summary.images_per_strip = l.per_strip;
 
-  auto half = [&](double base) {
+  // The written camera sides and the true projection.
+  BalProblem true_side, initial_side;
+  if (photo) {
+    true_side = PhotoCameraSide(o, l, true_cameras);
+    initial_side = PhotoCameraSide(o, l, initial_cameras);
+    std::vector<double>().swap(true_cameras);
+    std::vector<double>().swap(initial_cameras);
+    summary.intrinsic_groups = true_side.num_intrinsics();
+  } else {
+    true_side.cameras.swap(true_cameras);
+    initial_side.cameras.swap(initial_cameras);
+  }
+  const double zero[2] = {0.0, 0.0}, half = o.image_size / 2;
+  const auto project = [&](int64_t i, const double* X, Vec2* px) {
+    if (photo) {
+      *px = PhotoResidual(true_side.camera(i),
+                          true_side.intrinsics(true_side.camera_intrinsics[i]), X, zero);
+      return px->x() >= 0 && px->x() < o.image_size && px->y() >= 0 && px->y() < o.image_size;
+    }
+    *px = BalResidual(true_side.camera(i), X, zero);
+    return std::abs(px->x()) < half && std::abs(px->y()) < half;
+  };
+
+  auto half_progress = [&](double base) {
     return [&progress, base](double f) { if (progress) progress(base + 0.5 * f); };
   };
-  if (EndsWith(path, ".dba")) {
+  if (binary) {
     // Pass 1 counts, pass 2 writes at the offsets the counts give.
-    ForEachPoint(o, l, true_cameras, half(0.0), [&](auto&, auto&, auto& seen, auto&, auto&) {
-      ++summary.points;
-      summary.observations += static_cast<int64_t>(seen.size());
-    });
-    BinaryProblemWriter out(path, l.images, summary.points, summary.observations);
+    ForEachPoint(o, l, project, half_progress(0.0),
+                 [&](auto&, auto&, auto& seen, auto&, auto&) {
+                   ++summary.points;
+                   summary.observations += static_cast<int64_t>(seen.size());
+                 });
+    BinaryProblemWriter out(path, initial_side, summary.points, summary.observations);
     std::unique_ptr<BinaryProblemWriter> truth;
     if (!truth_path.empty()) {
-      truth = std::make_unique<BinaryProblemWriter>(truth_path, l.images, summary.points,
+      truth = std::make_unique<BinaryProblemWriter>(truth_path, true_side, summary.points,
                                                     summary.observations);
-      truth->WriteCameras(true_cameras);
     }
-    out.WriteCameras(initial_cameras);
-    ForEachPoint(o, l, true_cameras, half(0.5),
+    ForEachPoint(o, l, project, half_progress(0.5),
                  [&](const double* X, const double* X0, const std::vector<int32_t>& seen,
                      const std::vector<double>& clean, const std::vector<double>& noisy) {
                    out.AppendPoint(X0, seen, noisy);
@@ -194,12 +258,10 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& o, const std::string&
     if (truth) truth->Commit();
   } else {
     // BAL text: in memory (small problems, for other tools).
-    BalProblem problem, truth;
-    problem.cameras = initial_cameras;
-    truth.cameras = true_cameras;
+    BalProblem problem = initial_side, truth = true_side;  // (project reads true_side)
     problem.point_offsets.push_back(0);
     truth.point_offsets.push_back(0);
-    ForEachPoint(o, l, true_cameras, progress,
+    ForEachPoint(o, l, project, progress,
                  [&](const double* X, const double* X0, const std::vector<int32_t>& seen,
                      const std::vector<double>& clean, const std::vector<double>& noisy) {
                    problem.points.insert(problem.points.end(), X0, X0 + 3);

@@ -6,7 +6,23 @@
 //
 // Geometry (BAL camera model, camera looking down -z): flying height H above
 // the mean ground, focal f pixels, square images of `image_size` pixels, so a
-// footprint is image_size / f · H metres wide. Images along a strip are
+// footprint is image_size / f · H metres wide. Strip s is flown with physical
+// camera s mod C (of `physical_cameras` C), whose focal length, k1 and k2
+// its images share.
+//
+// Camera models (`model`):
+//   kBal    one 9-parameter BAL camera per image: the images of a physical
+//           camera get the same intrinsic values, but as separate unknowns.
+//   kPhoto  per image a pose (COLMAP's axes: the BAL pose turned about its
+//           x axis, camera/photo_camera.h), and one intrinsic group
+//           (f, cx, cy, k1, k2) per physical camera used (min(C, strips)),
+//           shared by its images; the principal point is a few pixels off
+//           the image centre. Only a .dba output can hold it.
+// Both draw the same survey from the same random streams (centres,
+// rotations, points, pixel noise), and perturb the initial values the same
+// way: rotation and centre per image, points, and the focal length once per
+// physical camera (the BAL cameras of one physical camera share the error;
+// the photo model perturbs the group's f). Other intrinsics start true. Images along a strip are
 // (1 - forward_overlap) footprints apart, strips (1 - side_overlap) apart.
 // Ground points are drawn per terrain tile from a generator seeded by
 // (seed, tile), so the output does not depend on anything but the options.
@@ -21,6 +37,8 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+
+#include "dba/problem/bal_problem.h"
 
 namespace dba {
 
@@ -38,6 +56,7 @@ struct UavSurveyOptions {
   double flying_height = 100.0;  // metres above mean ground
   double focal_px = 1000.0;
   double image_size = 1000.0;    // pixels, square images
+  CameraModel model = CameraModel::kBal;
 };
 
 struct UavSurveySummary {
@@ -46,6 +65,7 @@ struct UavSurveySummary {
   int64_t observations = 0;
   int64_t strips = 0;
   int64_t images_per_strip = 0;
+  int64_t intrinsic_groups = 0;  // kPhoto: physical cameras used; kBal: 0
   double seconds = 0.0;
 };
 
@@ -54,7 +74,8 @@ struct UavSurveySummary {
 // sizes) and, if `truth_path` is not empty, the ground truth (true
 // parameters, noise-free observations) in the same format. Both are written
 // to temporary names and renamed when complete. `progress` (optional) is
-// told the fraction done.
+// told the fraction done. Throws std::invalid_argument for bad options,
+// including kPhoto with an output that is not .dba.
 UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::string& path,
                                    const std::string& truth_path,
                                    const std::function<void(double)>& progress = {});

@@ -109,6 +109,138 @@ TEST(UavGenerator, SolvedToTheInjectedNoiseAndTheTruth) {
   EXPECT_NEAR(after.similarity_scale, 1.0, 0.01);
 }
 
+UavSurveyOptions SmallPhoto() {
+  UavSurveyOptions o = Small();
+  o.model = CameraModel::kPhoto;
+  return o;
+}
+
+TEST(UavGeneratorPhoto, SameSeedSameBytesOtherSeedOtherBytes) {
+  const UavSurveyOptions o = SmallPhoto();
+  GenerateUavSurvey(o, Tmp("pa.dba"), Tmp("pa.truth.dba"));
+  GenerateUavSurvey(o, Tmp("pb.dba"), Tmp("pb.truth.dba"));
+  EXPECT_EQ(Bytes(Tmp("pa.dba")), Bytes(Tmp("pb.dba")));
+  EXPECT_EQ(Bytes(Tmp("pa.truth.dba")), Bytes(Tmp("pb.truth.dba")));
+  UavSurveyOptions other = o;
+  other.seed = 8;
+  GenerateUavSurvey(other, Tmp("pc.dba"), "");
+  EXPECT_NE(Bytes(Tmp("pa.dba")), Bytes(Tmp("pc.dba")));
+  // Not the BAL file of the same survey.
+  GenerateUavSurvey(Small(), Tmp("pd.dba"), "");
+  EXPECT_NE(Bytes(Tmp("pa.dba")), Bytes(Tmp("pd.dba")));
+}
+
+TEST(UavGeneratorPhoto, OneSharedIntrinsicGroupPerPhysicalCamera) {
+  const UavSurveyOptions o = SmallPhoto();
+  const UavSurveySummary s = GenerateUavSurvey(o, Tmp("pg.dba"), Tmp("pg.truth.dba"));
+  const BalProblem p = ReadProblem(Tmp("pg.dba")), truth = ReadProblem(Tmp("pg.truth.dba"));
+  ASSERT_EQ(p.model, CameraModel::kPhoto);
+  ASSERT_EQ(truth.model, CameraModel::kPhoto);
+  EXPECT_EQ(p.num_cameras(), o.images);
+  EXPECT_EQ(p.num_intrinsics(), 2);
+  EXPECT_EQ(s.intrinsic_groups, 2);
+  EXPECT_EQ(p.num_observations(), s.observations);
+  EXPECT_TRUE(p.fixed_cameras.empty());
+  EXPECT_TRUE(p.intrinsics_free.empty());
+  EXPECT_EQ(p.camera_intrinsics, truth.camera_intrinsics);
+  EXPECT_EQ(p.obs_camera, truth.obs_camera);
+  for (int64_t i = 0; i < p.num_cameras(); ++i) {
+    EXPECT_EQ(p.camera_intrinsics[i], (i / s.images_per_strip) % 2) << i;
+  }
+  for (int g = 0; g < 2; ++g) {
+    const double* t = truth.intrinsics(g);
+    const double* q = p.intrinsics(g);
+    EXPECT_NEAR(t[0], o.focal_px * (1.0 + 0.01 * g), 1e-9);
+    // The principal point is near the image centre, not on it.
+    EXPECT_NEAR(t[1], o.image_size / 2, 5.0);
+    EXPECT_NEAR(t[2], o.image_size / 2, 5.0);
+    EXPECT_NE(t[1], o.image_size / 2);
+    // Only f starts perturbed (by about focal_perturbation).
+    EXPECT_NE(q[0], t[0]);
+    EXPECT_LT(std::abs(q[0] / t[0] - 1.0), 5 * o.focal_perturbation);
+    for (int j = 1; j < 5; ++j) EXPECT_EQ(q[j], t[j]);
+  }
+  // The noise-free observations are the truth's projections, in the image
+  // (origin at its corner).
+  const GroundTruthErrors exact =
+      CompareWithGroundTruth(truth, truth.cameras, truth.points, CameraModel::kPhoto);
+  EXPECT_LT(exact.rms_to_noise_free_px, 1e-9);
+  for (double v : truth.obs_pixel) {
+    EXPECT_GE(v, 0.0);
+    EXPECT_LT(v, o.image_size);
+  }
+  // More physical cameras than strips: only the ones flown are groups.
+  UavSurveyOptions many = o;
+  many.physical_cameras = 50;
+  const UavSurveySummary m = GenerateUavSurvey(many, Tmp("pm.dba"), "");
+  EXPECT_EQ(m.intrinsic_groups, m.strips);
+  EXPECT_EQ(ReadProblem(Tmp("pm.dba")).num_intrinsics(), m.strips);
+}
+
+TEST(UavGeneratorPhoto, SolvedRecoversTheIntrinsicsAndTheNoise) {
+  // Big enough that f is well determined (about 0.2 % here for 1 px noise).
+  UavSurveyOptions o = SmallPhoto();
+  o.images = 100;
+  o.features_per_image = 200;
+  o.pixel_noise = 1.0;
+  GenerateUavSurvey(o, Tmp("ps.dba"), Tmp("ps.truth.dba"));
+  BalProblem p = ReadProblem(Tmp("ps.dba"));
+  const BalProblem truth = ReadProblem(Tmp("ps.truth.dba"));
+  const GroundTruthErrors before =
+      CompareWithGroundTruth(truth, p.cameras, p.points, CameraModel::kPhoto);
+  ASSERT_EQ(before.intrinsics_error.size(), 2u);
+  LmOptions options;
+  options.num_threads = 2;
+  const LmSummary s = BundleAdjust(options, &p).lm;
+  const GroundTruthErrors after =
+      CompareWithGroundTruth(truth, p.cameras, p.points, CameraModel::kPhoto);
+  const GroundTruthErrors streamed =
+      CompareWithGroundTruthFile(Tmp("ps.truth.dba"), p.cameras, p.points, CameraModel::kPhoto);
+  EXPECT_NEAR(streamed.rms_to_noise_free_px, after.rms_to_noise_free_px,
+              1e-12 * after.rms_to_noise_free_px);
+  EXPECT_DOUBLE_EQ(streamed.camera_centre_rms, after.camera_centre_rms);
+  ASSERT_EQ(streamed.intrinsics_error.size(), 2u);
+  EXPECT_EQ(streamed.intrinsics_error[1], after.intrinsics_error[1]);
+  // RMS at the optimum: σ√2 · sqrt(1 - p / 2n) with p = 6 per image, 5 per
+  // group, 3 per point.
+  const double n = static_cast<double>(p.num_observations());
+  const double params = 6.0 * p.num_cameras() + 5.0 * p.num_intrinsics() + 3.0 * p.num_points();
+  const double expected = std::sqrt(2.0) * o.pixel_noise * std::sqrt(1.0 - params / (2 * n));
+  EXPECT_NEAR(s.Rms(s.final_cost), expected, 0.03 * expected);
+  EXPECT_GT(s.Rms(s.initial_cost), 5.0);
+  EXPECT_LT(after.rms_to_noise_free_px, 0.6 * o.pixel_noise * std::sqrt(2.0));
+  // Intrinsics back within the noise: f within 0.5 %, the principal point
+  // within a few pixels, the distortion within its small scale.
+  for (size_t g = 0; g < 2; ++g) {
+    const auto& e = after.intrinsics_error[g];
+    EXPECT_LT(e[0] / after.true_focal[g], 0.005) << "group " << g;
+    EXPECT_LT(e[1], 3.0) << "group " << g;
+    EXPECT_LT(e[2], 3.0) << "group " << g;
+    EXPECT_LT(e[3], 0.01) << "group " << g;
+    EXPECT_LT(e[4], 0.01) << "group " << g;
+  }
+  // Shared intrinsics tie focal length and flying height: the centres and
+  // points come back closer than they started.
+  EXPECT_LT(after.camera_centre_rms, 0.7 * before.camera_centre_rms);
+  EXPECT_LT(after.point_rms, 0.7 * before.point_rms);
+  EXPECT_NEAR(after.similarity_scale, 1.0, 0.01);
+  // A BAL solution is not compared with a photogrammetric truth.
+  EXPECT_THROW(CompareWithGroundTruth(truth, p.cameras, p.points), std::invalid_argument);
+  EXPECT_THROW(CompareWithGroundTruthFile(Tmp("ps.truth.dba"), p.cameras, p.points),
+               std::invalid_argument);
+}
+
+TEST(UavGeneratorPhoto, TextOutputIsRefusedAndNothingWritten) {
+  const std::string txt = Tmp("uav_photo.txt"), dba = Tmp("uav_photo.dba");
+  std::filesystem::remove(txt);
+  std::filesystem::remove(dba);
+  EXPECT_THROW(GenerateUavSurvey(SmallPhoto(), txt, ""), std::invalid_argument);
+  EXPECT_FALSE(std::filesystem::exists(txt));
+  EXPECT_THROW(GenerateUavSurvey(SmallPhoto(), dba, Tmp("uav_photo.truth.txt")),
+               std::invalid_argument);
+  EXPECT_FALSE(std::filesystem::exists(dba));
+}
+
 TEST(UavGenerator, RefusesBadOptionsAndLeavesNoFile) {
   UavSurveyOptions o = Small();
   o.forward_overlap = 1.0;
