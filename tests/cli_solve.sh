@@ -72,6 +72,16 @@ check "bad --fix-intrinsics is named" contains "$tmp/out" "unknown intrinsic par
 "$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q -o "$tmp/photo.txt" >"$tmp/out" 2>&1
 check "BAL output of shared intrinsics refused" contains "$tmp/out" "BAL text cannot hold"
 check "nothing written for a refused output" test ! -e "$tmp/photo.txt"
+# Options that would do nothing are refused, and so is an output directory
+# whose model in the other format would shadow the one written.
+"$dba" solve "$data/balbianello-5-544-from-bundler.txt.bz2" -q --intrinsics per-image >"$tmp/out" 2>&1
+check "--intrinsics per-image on BAL refused" contains "$tmp/out" "COLMAP models only"
+"$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q -o "$tmp/x.dba" --colmap-format text >"$tmp/out" 2>&1
+check "--colmap-format with a file output refused" contains "$tmp/out" "not a COLMAP model directory"
+"$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q -o "$tmp/colmap_out" --colmap-format binary \
+  >"$tmp/out" 2>&1
+check "other-format model in the output refused" contains "$tmp/out" "holds a COLMAP model in text form"
+check "nothing written over it" test ! -e "$tmp/colmap_out/images.bin"
 # An unsupported camera model is refused by name, with the supported ones.
 mkdir -p "$tmp/opencv"
 cp "$colmap/mithunnallana_6img/sparse/0/"*.txt "$tmp/opencv/"

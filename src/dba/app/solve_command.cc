@@ -173,6 +173,9 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
     }
   }
   if (o.input.empty()) throw std::invalid_argument("missing INPUT (see dba solve --help)");
+  if (o.colmap_format.has_value() && o.output.empty()) {
+    throw std::invalid_argument("--colmap-format: no -o output to write");
+  }
   return o;
 }
 
@@ -195,6 +198,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     if (ranks_read_file) {
       const BinaryProblemHeader h = ReadBinaryProblemHeader(options.input);
       model = h.model;
+      report.num_intrinsic_groups = h.num_intrinsics;
       report.num_cameras = h.num_cameras;
       report.num_points = h.num_points;
       report.num_observations = h.num_observations;
@@ -208,7 +212,9 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       report.problem_bytes = problem.MemoryBytes();
     }
     // Refused before the solve, not after it.
-    if (!options.output.empty()) CheckOutput(options.input, options.output, model);
+    if (!options.output.empty()) {
+      CheckOutput(options.input, options.output, model, options.colmap_format);
+    }
     report.load_seconds = load_timer.Seconds();
     out << "dba solve " << options.input << ": " << report.num_cameras
         << (report.num_intrinsic_groups > 0
@@ -245,9 +251,17 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   }
   if (!main) return 0;
 
+  // Against the truth first: a truth file that does not fit fails the run
+  // before any output is written.
+  if (!options.truth_path.empty()) {
+    report.truth = CompareWithGroundTruthFile(options.truth_path, problem.cameras,
+                                              problem.points, problem.model);
+    report.has_truth = true;
+  }
   Timer write_timer;
   if (!options.output.empty()) {
-    const OutputKind kind = CheckOutput(options.input, options.output, problem.model);
+    const OutputKind kind =
+        CheckOutput(options.input, options.output, problem.model, options.colmap_format);
     const bool binary_out = kind == OutputKind::kBinary;
     if (kind == OutputKind::kColmap) {
       WriteColmapOutput(options.input, options.unknowns, problem.cameras, problem.points,
@@ -255,7 +269,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     } else if (comm->size() > 1 && ranks_read_file && binary_out) {
       // Binary to binary: stream the observations from the input.
       WriteBinaryWithNewParameters(options.input, options.output, problem.cameras,
-                                   problem.points);
+                                   problem.points, &problem);
     } else {
       if (comm->size() > 1) {
         // The observations were handed to the ranks: read them again.
@@ -272,11 +286,6 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
                        InputPointColours(options.input, options.unknowns));
   }
   report.write_seconds = write_timer.Seconds();
-  if (!options.truth_path.empty()) {
-    report.truth = CompareWithGroundTruthFile(options.truth_path, problem.cameras,
-                                              problem.points, problem.model);
-    report.has_truth = true;
-  }
   report.peak_memory_bytes = PeakResidentBytes();
   PrintSolveReport(report, out);
   if (!options.output.empty()) out << "  output              " << options.output << "\n";

@@ -48,7 +48,9 @@ uint8_t ParseIntrinsicsList(const std::string& flag, const std::string& value) {
   if (value == "none") return 0;
   static const char* const kNames[kPhotoIntrinsicsSize] = {"f", "cx", "cy", "k1", "k2"};
   uint8_t mask = 0;
-  for (const std::string& item : SplitCommas(value)) {
+  const std::vector<std::string> items = SplitCommas(value);
+  if (items.empty()) throw std::invalid_argument(flag + ": empty list (use none to fix nothing)");
+  for (const std::string& item : items) {
     int bit = -1;
     for (int d = 0; d < kPhotoIntrinsicsSize; ++d) {
       if (item == kNames[d]) bit = d;
@@ -89,6 +91,11 @@ bool IsColmapInput(const std::string& path) {
 }
 
 void ApplyFixings(const UnknownsOptions& u, BalProblem* p) {
+  if (!u.shared_intrinsics) {
+    throw std::invalid_argument(
+        "--intrinsics per-image applies to COLMAP models only (a .dba problem holds its "
+        "own intrinsic groups)");
+  }
   if (!u.fixed_images.empty()) {
     p->fixed_cameras.resize(p->num_cameras(), 0);  // added to those the file holds
     for (int64_t i : u.fixed_images) {
@@ -120,7 +127,12 @@ BalProblem LoadSolveInput(const std::string& path, const UnknownsOptions& unknow
   return p;
 }
 
-OutputKind CheckOutput(const std::string& input, const std::string& output, CameraModel model) {
+OutputKind CheckOutput(const std::string& input, const std::string& output, CameraModel model,
+                       std::optional<ColmapFormat> colmap_format) {
+  const bool file = EndsWith(output, ".dba") || EndsWith(output, ".txt") || EndsWith(output, ".bz2");
+  if (file && colmap_format.has_value()) {
+    throw std::invalid_argument("--colmap-format: -o " + output + " is not a COLMAP model directory");
+  }
   if (EndsWith(output, ".dba")) return OutputKind::kBinary;
   if (EndsWith(output, ".txt") || EndsWith(output, ".bz2")) {
     if (model == CameraModel::kPhoto) {
@@ -135,6 +147,15 @@ OutputKind CheckOutput(const std::string& input, const std::string& output, Came
     throw std::invalid_argument("-o " + output +
                                 ": expected a .txt, .bz2 or .dba file (a COLMAP model "
                                 "directory is written only for a COLMAP input)");
+  }
+  const ColmapFormat format = colmap_format.value_or(*DetectColmapFormat(input));
+  const std::optional<ColmapFormat> there = DetectColmapFormat(output);
+  if (there.has_value() && *there != format) {
+    throw std::invalid_argument(
+        "-o " + output + ": holds a COLMAP model in " +
+        (*there == ColmapFormat::kText ? "text" : "binary") +
+        " form, which would be read instead of the one written; remove it or use "
+        "--colmap-format " + (*there == ColmapFormat::kText ? "text" : "binary"));
   }
   return OutputKind::kColmap;
 }

@@ -52,8 +52,11 @@ void ApplyFixings(const UnknownsOptions& unknowns, BalProblem* problem);
 enum class OutputKind { kBinary, kBalText, kColmap };
 // Throws std::invalid_argument when the output cannot hold the problem (BAL
 // text and the photogrammetric model, a COLMAP directory for a non-COLMAP
-// input), before any solving.
-OutputKind CheckOutput(const std::string& input, const std::string& output, CameraModel model);
+// input), when `colmap_format` is given for another kind of output, or when
+// the output directory holds a COLMAP model in the other format (it would
+// shadow the one written), before any solving.
+OutputKind CheckOutput(const std::string& input, const std::string& output, CameraModel model,
+                       std::optional<ColmapFormat> colmap_format = std::nullopt);
 
 // Writes the adjusted cameras and points into the COLMAP model at `input`
 // (read again) and saves it to the directory `output`, as text or binary

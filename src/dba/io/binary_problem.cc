@@ -489,7 +489,8 @@ void WriteBinaryProblem(const BalProblem& p, const std::string& path) {
 
 void WriteBinaryWithNewParameters(const std::string& input, const std::string& output,
                                   const std::vector<double>& cameras,
-                                  const std::vector<double>& points) {
+                                  const std::vector<double>& points,
+                                  const BalProblem* fixings) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(input);
   if (static_cast<int64_t>(cameras.size()) != h.camera_side_size() ||
       static_cast<int64_t>(points.size()) != kPointSize * h.num_points) {
@@ -499,6 +500,10 @@ void WriteBinaryWithNewParameters(const std::string& input, const std::string& o
   // Model, image groups and flags from the input; the new camera values.
   BalProblem side = ReadBinaryCameraSide(input);
   side.cameras = cameras;
+  if (fixings != nullptr) {
+    side.fixed_cameras = fixings->fixed_cameras;
+    side.intrinsics_free = fixings->intrinsics_free;
+  }
   BinaryProblemWriter out(output, side, h.num_points, h.num_observations);
   side = BalProblem{};  // the values are in the file now
   ForEachObservationChunk(input, 1 << 20, true,

@@ -150,11 +150,13 @@ void WriteBinaryProblem(const BalProblem& problem, const std::string& path);
 // Writes `output` as a copy of the binary problem `input` with its
 // camera-side vector (BalProblem::cameras) and point coordinates replaced,
 // streaming the observations through a buffer (they are never all in
-// memory). Model, image groups and fixed flags are copied. Atomic like
-// WriteBinaryProblem.
+// memory). Model and image groups are copied, and so are the fixed flags
+// unless `fixings` is given: then its fixed_cameras and intrinsics_free are
+// written (what a solve held fixed). Atomic like WriteBinaryProblem.
 void WriteBinaryWithNewParameters(const std::string& input, const std::string& output,
                                   const std::vector<double>& cameras,
-                                  const std::vector<double>& points);
+                                  const std::vector<double>& points,
+                                  const BalProblem* fixings = nullptr);
 
 // Streams a problem into the binary format when the counts are known ahead:
 // the camera side once, then points one by one in order with their

@@ -33,7 +33,7 @@ StepEvaluation BackSubstituteWith(const BalProblem& problem, const UnknownLayout
 #pragma omp for schedule(dynamic, 256)
     for (int64_t k = 0; k < num_points; ++k) {
       LinearizePoint(problem, layout, k, &p);
-      EliminatePoint(lambda, bounds, &p);
+      InvertDampedV(lambda, bounds, &p);
       const int64_t begin = problem.point_offsets[k];
       // Model residuals start as r + Σ_e J_e δ_e; J_p δX is added below.
       Vec3 rhs = -p.g_p;

@@ -78,10 +78,15 @@ void LinearizePoint(const BalProblem& problem, const UnknownLayout& layout, int6
 }
 
 template <class Model>
-void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys) {
+void InvertDampedV(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys) {
   Eigen::Matrix3d V_damped = sys->V;
   for (int d = 0; d < 3; ++d) V_damped(d, d) += lambda * bounds.Clamp(sys->V(d, d));
   sys->V_inv = V_damped.inverse();
+}
+
+template <class Model>
+void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys) {
+  InvertDampedV(lambda, bounds, sys);
   for (int a = 0; a < sys->num_obs; ++a) {
     if (sys->camera_row[a] >= 0) sys->T_c[a].noalias() = sys->W_c[a] * sys->V_inv;
   }
@@ -104,6 +109,8 @@ template void LinearizePoint(const BalProblem&, const UnknownLayout&, int64_t,
                              PointSystem<BalModel>*);
 template void LinearizePoint(const BalProblem&, const UnknownLayout&, int64_t,
                              PointSystem<PhotoModel>*);
+template void InvertDampedV(double, const DampingBounds&, PointSystem<BalModel>*);
+template void InvertDampedV(double, const DampingBounds&, PointSystem<PhotoModel>*);
 template void EliminatePoint(double, const DampingBounds&, PointSystem<BalModel>*);
 template void EliminatePoint(double, const DampingBounds&, PointSystem<PhotoModel>*);
 

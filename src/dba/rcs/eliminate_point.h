@@ -86,7 +86,11 @@ template <class Model>
 void LinearizePoint(const BalProblem& problem, const UnknownLayout& layout, int64_t k,
                     PointSystem<Model>* sys);
 
-// Damps V with λ, inverts it and forms T_c = W_c V_λ⁻¹.
+// V_λ⁻¹ = (V + λ clamp(diag V))⁻¹ only (all back-substitution needs).
+template <class Model>
+void InvertDampedV(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys);
+
+// InvertDampedV, then T_c = W_c V_λ⁻¹.
 template <class Model>
 void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys);
 

@@ -25,10 +25,12 @@ void AddLeftCols(double* block, int n, const M& m) {
 }
 
 // The observations of one point that share an intrinsics row g, summed:
-//   Σ_a W_i,a,  Σ_a J_i,aᵀ J_i,a,  Σ_a J_i,aᵀ r_a,  Σ_a diag(J_i,aᵀ J_i,a).
+//   Σ_a W_i,a,  Σ_a J_i,aᵀ J_i,a,  Σ_a J_i,aᵀ r_a.
 // Every intrinsics block of the point's sub-RCS is a product of these sums
-// (T_i,a = W_i,a V_λ⁻¹ and V_λ⁻¹ is the point's), so they cost O(m) per
-// point instead of O(m²): S(g, h) -= (Σ_g W) V_λ⁻¹ (Σ_h W)ᵀ.
+// (T_i,a = W_i,a V_λ⁻¹ and V_λ⁻¹ is the point's): S(g, h) -= (Σ_g W) V_λ⁻¹
+// (Σ_h W)ᵀ. With G groups among a point's m observations that costs
+// O(m G + G²) instead of O(m²): a large saving for shared intrinsics (G is 1
+// or 2), none for one group per image (G = m).
 template <int kI>
 struct GroupSums {
   int32_t row = -1;

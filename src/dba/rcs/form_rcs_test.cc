@@ -177,5 +177,25 @@ TEST(FormRcs, PhotoRowsAndBlockSizes) {
   EXPECT_EQ(sys.layout.camera_row(2), 1);
 }
 
+
+TEST(FormRcs, PhotoDuplicateImageInATrackCountsBothObservations) {
+  BalProblem problem = PhotoProblem({"", kAllIntrinsics, {}}, 5);
+  // Point 0 seen twice more by its first image, at a shifted pixel (COLMAP
+  // models hold such tracks).
+  const int32_t cam = problem.obs_camera[0];
+  problem.obs_camera.insert(problem.obs_camera.begin() + 1, cam);
+  problem.obs_pixel.insert(problem.obs_pixel.begin() + 2,
+                           {problem.obs_pixel[0] + 3.0, problem.obs_pixel[1] - 2.0});
+  for (size_t k = 1; k < problem.point_offsets.size(); ++k) ++problem.point_offsets[k];
+  const DampingBounds bounds;
+  RcsSystem sys = RcsSystem::ForProblem(problem);
+  FormRcs(problem, 0.1, bounds, 2, &sys);
+  DampCameraBlocks(0.1, bounds, sys.camera_jtj_diagonal, &sys.S);
+  const auto dense = testing::BuildDenseNormalEquations(problem, 0.1, bounds);
+  EXPECT_LT(RelativeError(testing::DenseFromBsmc(sys.S), dense.ReducedCameraMatrix()), 1e-10);
+  const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(sys.b.data(), sys.b.size());
+  EXPECT_LT(RelativeError(b, dense.ReducedRhs()), 1e-10);
+}
+
 }  // namespace
 }  // namespace dba

@@ -2,12 +2,17 @@
 #include "dba/rcs/unknown_layout.h"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 namespace dba {
 
 UnknownLayout::UnknownLayout(const BalProblem& problem) {
   const int64_t num_cameras = problem.num_cameras();
+  if (num_cameras + problem.num_intrinsics() > std::numeric_limits<int32_t>::max()) {
+    // Block rows are 32-bit ids (DESIGN.md §3).
+    throw std::invalid_argument("more than 2^31 - 1 cameras and intrinsic groups");
+  }
   const int cs = problem.camera_size();
   num_parameters_ = static_cast<int64_t>(problem.cameras.size());
   camera_row_.assign(num_cameras, -1);
