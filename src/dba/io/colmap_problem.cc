@@ -8,7 +8,7 @@
 #include <string>
 #include <unordered_map>
 
-#include "dba/camera/photo_camera.h"
+#include "dba/camera/observation_residual.h"
 #include "dba/common/error.h"
 
 namespace dba {
@@ -16,31 +16,18 @@ namespace {
 
 // Angle-axis of the quaternion (w, x, y, z) after normalising it; the
 // rotation angle is in [0, π] (q and -q are the same rotation).
-Vec3 QuaternionToAngleAxis(const std::array<double, 4>& qvec) {
-  double w = qvec[0];
-  Vec3 v(qvec[1], qvec[2], qvec[3]);
-  const double norm = std::sqrt(w * w + v.squaredNorm());
-  w /= norm;
-  v /= norm;
-  if (w < 0) {
-    w = -w;
-    v = -v;
-  }
-  const double s = v.norm();  // sin(θ/2)
-  if (s == 0) return Vec3::Zero();
-  const double theta = 2.0 * std::atan2(s, w);
-  return v * (theta / s);
+Vec3 QuaternionToAngleAxis(const std::array<double, 4>& q) {
+  const Eigen::AngleAxisd aa(Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized());
+  return aa.angle() * aa.axis();
 }
 
 // Unit quaternion (w, x, y, z) of the angle-axis vector, with w >= 0.
 std::array<double, 4> AngleAxisToQuaternion(const Vec3& omega) {
   const double theta = omega.norm();
   if (theta == 0) return {1, 0, 0, 0};
-  const double h = 0.5 * theta;
-  const double w = std::cos(h);
-  const Vec3 v = omega * (std::sin(h) / theta);
-  if (w < 0) return {-w, -v.x(), -v.y(), -v.z()};
-  return {w, v.x(), v.y(), v.z()};
+  Eigen::Quaterniond q(Eigen::AngleAxisd(theta, omega / theta));
+  if (q.w() < 0) q.coeffs() = -q.coeffs();
+  return {q.w(), q.x(), q.y(), q.z()};
 }
 
 }  // namespace
@@ -294,9 +281,7 @@ void UpdateColmapModel(const ColmapProblem& source, const BalProblem& adjusted,
     double sum = 0;
     for (int64_t o = begin; o < end; ++o) {
       const int32_t i = adjusted.obs_camera[o];
-      sum += PhotoResidual(adjusted.camera(i), adjusted.intrinsics(adjusted.camera_intrinsics[i]),
-                           X, adjusted.pixel(o))
-                 .norm();
+      sum += ObservationResidual(adjusted, adjusted.cameras.data(), i, X, adjusted.pixel(o)).norm();
     }
     if (end > begin) p.error = sum / static_cast<double>(end - begin);
   }

@@ -4,6 +4,8 @@
 
 #include <omp.h>
 
+#include "dba/camera/observation_residual.h"
+
 namespace dba {
 namespace {
 
@@ -60,8 +62,10 @@ StepEvaluation BackSubstituteWith(const BalProblem& problem, const UnknownLayout
       x_sq += X.squaredNorm();
       for (int a = 0; a < p.num_obs; ++a) {
         model_cost += 0.5 * (p.r[a] + p.J_p[a] * dX).squaredNorm();
+        const int64_t obs = begin + a;
         candidate_cost += 0.5 * ObservationResidual(problem, candidate_cameras.data(),
-                                                    begin + a, X_new.data())
+                                                    problem.obs_camera[obs], X_new.data(),
+                                                    problem.pixel(obs))
                                     .squaredNorm();
       }
     }

@@ -92,19 +92,6 @@ void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Mode
   }
 }
 
-Vec2 ObservationResidual(const BalProblem& problem, const double* cameras, int64_t obs,
-                         const double* X) {
-  const int32_t i = problem.obs_camera[obs];
-  if (problem.model == CameraModel::kBal) {
-    return BalResidual(cameras + kBalCameraSize * int64_t{i}, X, problem.pixel(obs));
-  }
-  const int64_t g = problem.camera_intrinsics[i];
-  return PhotoResidual(cameras + kPhotoPoseSize * int64_t{i},
-                       cameras + kPhotoPoseSize * problem.num_cameras() +
-                           kPhotoIntrinsicsSize * g,
-                       X, problem.pixel(obs));
-}
-
 template void LinearizePoint(const BalProblem&, const UnknownLayout&, int64_t,
                              PointSystem<BalModel>*);
 template void LinearizePoint(const BalProblem&, const UnknownLayout&, int64_t,

@@ -94,9 +94,4 @@ void InvertDampedV(double lambda, const DampingBounds& bounds, PointSystem<Model
 template <class Model>
 void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys);
 
-// Residual of observation `obs` at camera-side parameters `cameras` (laid
-// out as problem.cameras) and the point at X.
-Vec2 ObservationResidual(const BalProblem& problem, const double* cameras, int64_t obs,
-                         const double* X);
-
 }  // namespace dba

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "dba/camera/bal_camera.h"
-#include "dba/camera/photo_camera.h"
+#include "dba/camera/observation_residual.h"
 #include "dba/io/binary_problem.h"
 #include "dba/io/read_problem.h"
 
@@ -32,21 +32,13 @@ Eigen::Matrix3Xd Centres(const BalProblem& side, const std::vector<double>& came
 double SquaredResiduals(const BalProblem& side, int64_t first, std::span<const int64_t> offsets,
                         std::span<const int32_t> obs_camera, std::span<const double> pixels,
                         const std::vector<double>& cameras, const std::vector<double>& points) {
-  const bool photo = side.model == CameraModel::kPhoto;
-  const int64_t intrinsics = kPhotoPoseSize * side.num_cameras();
   double sum = 0.0;
   for (size_t k = 0; k + 1 < offsets.size(); ++k) {
     const double* X = points.data() + kPointSize * (first + static_cast<int64_t>(k));
     for (int64_t o = offsets[k]; o < offsets[k + 1]; ++o) {
       const int64_t j = o - offsets[0];
-      const int32_t c = obs_camera[j];
-      const Vec2 r =
-          photo ? PhotoResidual(cameras.data() + kPhotoPoseSize * c,
-                                cameras.data() + intrinsics +
-                                    kPhotoIntrinsicsSize * side.camera_intrinsics[c],
-                                X, pixels.data() + 2 * j)
-                : BalResidual(cameras.data() + kBalCameraSize * c, X, pixels.data() + 2 * j);
-      sum += r.squaredNorm();
+      sum += ObservationResidual(side, cameras.data(), obs_camera[j], X, pixels.data() + 2 * j)
+                 .squaredNorm();
     }
   }
   return sum;
