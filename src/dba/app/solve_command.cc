@@ -268,8 +268,9 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
                         options.output, options.colmap_format);
     } else if (comm->size() > 1 && ranks_read_file && binary_out) {
       // Binary to binary: stream the observations from the input.
-      WriteBinaryWithNewParameters(options.input, options.output, problem.cameras,
-                                   problem.points, &problem);
+      // Binary to binary: stream the observations from the input; the camera
+      // side (values and what was held fixed) is the solve's.
+      WriteBinaryWithNewParameters(options.input, options.output, problem, problem.points);
     } else {
       if (comm->size() > 1) {
         // The observations were handed to the ranks: read them again.

@@ -354,10 +354,6 @@ BalProblem ReadBinaryCameraSide(const std::string& path) {
   return ReadCameraSide(f, h);
 }
 
-std::vector<double> ReadBinaryCameras(const std::string& path) {
-  return ReadBinaryCameraSide(path).cameras;
-}
-
 std::vector<double> ReadBinaryPointCoordinates(const std::string& path) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
   const File f(path);
@@ -488,24 +484,22 @@ void WriteBinaryProblem(const BalProblem& p, const std::string& path) {
 }
 
 void WriteBinaryWithNewParameters(const std::string& input, const std::string& output,
-                                  const std::vector<double>& cameras,
-                                  const std::vector<double>& points,
-                                  const BalProblem* fixings) {
+                                  const BalProblem& camera_side,
+                                  const std::vector<double>& points) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(input);
-  if (static_cast<int64_t>(cameras.size()) != h.camera_side_size() ||
+  if (camera_side.model != h.model || camera_side.num_cameras() != h.num_cameras ||
+      camera_side.num_intrinsics() != h.num_intrinsics ||
+      static_cast<int64_t>(camera_side.cameras.size()) != h.camera_side_size() ||
       static_cast<int64_t>(points.size()) != kPointSize * h.num_points) {
-    throw std::invalid_argument("WriteBinaryWithNewParameters: parameter counts differ from " +
-                                input);
+    throw std::invalid_argument("WriteBinaryWithNewParameters: model or parameter counts differ "
+                                "from " + input);
   }
-  // Model, image groups and flags from the input; the new camera values.
-  BalProblem side = ReadBinaryCameraSide(input);
-  side.cameras = cameras;
-  if (fixings != nullptr) {
-    side.fixed_cameras = fixings->fixed_cameras;
-    side.intrinsics_free = fixings->intrinsics_free;
+  // The observations were solved against the input's image groups (read and
+  // checked here; small next to the observations streamed below).
+  if (ReadBinaryCameraSide(input).camera_intrinsics != camera_side.camera_intrinsics) {
+    throw std::invalid_argument("WriteBinaryWithNewParameters: image groups differ from " + input);
   }
-  BinaryProblemWriter out(output, side, h.num_points, h.num_observations);
-  side = BalProblem{};  // the values are in the file now
+  BinaryProblemWriter out(output, camera_side, h.num_points, h.num_observations);
   ForEachObservationChunk(input, 1 << 20, true,
                           [&](int64_t first, std::span<const int64_t> offsets,
                               std::span<const int32_t> c, std::span<const double> px) {

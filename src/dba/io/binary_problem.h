@@ -138,10 +138,7 @@ BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> po
 // or observations (point_offsets empty).
 BalProblem ReadBinaryCameraSide(const std::string& path);
 
-// Only BalProblem::cameras (the whole camera-side vector: 9 per BAL camera,
-// or 6 per image then 5 per intrinsic group), or only the point coordinates
-// (3 per point).
-std::vector<double> ReadBinaryCameras(const std::string& path);
+// Only the point coordinates (3 per point).
 std::vector<double> ReadBinaryPointCoordinates(const std::string& path);
 
 // Writes `problem` to path.tmp.<pid>, then renames it over `path`.
@@ -150,13 +147,13 @@ void WriteBinaryProblem(const BalProblem& problem, const std::string& path);
 // Writes `output` as a copy of the binary problem `input` with its
 // camera-side vector (BalProblem::cameras) and point coordinates replaced,
 // streaming the observations through a buffer (they are never all in
-// memory). Model and image groups are copied, and so are the fixed flags
-// unless `fixings` is given: then its fixed_cameras and intrinsics_free are
-// written (what a solve held fixed). Atomic like WriteBinaryProblem.
+// memory). `camera_side` gives the model, the camera-side parameters, the
+// image groups and the fixed flags to write (e.g. what a solve ended with and
+// held fixed); its counts and image groups must be the input's. Atomic like
+// WriteBinaryProblem.
 void WriteBinaryWithNewParameters(const std::string& input, const std::string& output,
-                                  const std::vector<double>& cameras,
-                                  const std::vector<double>& points,
-                                  const BalProblem* fixings = nullptr);
+                                  const BalProblem& camera_side,
+                                  const std::vector<double>& points);
 
 // Streams a problem into the binary format when the counts are known ahead:
 // the camera side once, then points one by one in order with their

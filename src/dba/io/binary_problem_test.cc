@@ -225,7 +225,9 @@ TEST(BinaryProblem, RewriteWithNewParametersKeepsTheObservations) {
   std::vector<double> cameras = bal.cameras, points = bal.points;
   for (double& c : cameras) c += 1.0;
   for (double& x : points) x *= 2.0;
-  WriteBinaryWithNewParameters(in, out, cameras, points);
+  BalProblem side = bal;
+  side.cameras = cameras;
+  WriteBinaryWithNewParameters(in, out, side, points);
   const BalProblem back = ReadBinaryProblem(out);
   EXPECT_EQ(back.cameras, cameras);
   EXPECT_EQ(back.points, points);
@@ -233,7 +235,7 @@ TEST(BinaryProblem, RewriteWithNewParametersKeepsTheObservations) {
   EXPECT_EQ(back.obs_camera, bal.obs_camera);
   EXPECT_EQ(back.obs_pixel, bal.obs_pixel);
   points.pop_back();
-  EXPECT_THROW(WriteBinaryWithNewParameters(in, out, cameras, points), std::invalid_argument);
+  EXPECT_THROW(WriteBinaryWithNewParameters(in, out, side, points), std::invalid_argument);
 }
 
 }  // namespace
@@ -283,7 +285,7 @@ TEST(BinaryProblemPhoto, RoundTripIsIdentical) {
   EXPECT_FALSE(h.has_intrinsics_free);
   EXPECT_EQ(h.camera_side_size(), static_cast<int64_t>(p.cameras.size()));
   ExpectIdentical(p, ReadBinaryProblem(path));
-  EXPECT_EQ(ReadBinaryCameras(path), p.cameras);  // poses, then intrinsics
+  EXPECT_EQ(ReadBinaryCameraSide(path).cameras, p.cameras);  // poses, then intrinsics
   const BalProblem side = ReadBinaryCameraSide(path);
   EXPECT_EQ(side.model, CameraModel::kPhoto);
   EXPECT_EQ(side.cameras, p.cameras);
@@ -375,13 +377,15 @@ TEST(BinaryProblemPhoto, RewriteWithNewParametersKeepsGroupsAndFlags) {
   std::vector<double> cameras = p.cameras, points = p.points;
   for (double& c : cameras) c *= 1.5;
   for (double& x : points) x -= 1.0;
-  WriteBinaryWithNewParameters(in, out, cameras, points);
+  BalProblem side = p;
+  side.cameras = cameras;
+  WriteBinaryWithNewParameters(in, out, side, points);
   BalProblem want = p;
   want.cameras = cameras;
   want.points = points;
   ExpectIdentical(want, ReadBinaryProblem(out));
-  cameras.pop_back();  // one intrinsic short
-  EXPECT_THROW(WriteBinaryWithNewParameters(in, out, cameras, points), std::invalid_argument);
+  side.cameras.pop_back();  // one intrinsic short
+  EXPECT_THROW(WriteBinaryWithNewParameters(in, out, side, points), std::invalid_argument);
 }
 
 TEST(BinaryProblemPhoto, WriterRefusesAnInconsistentCameraSideAndLeavesNothing) {
@@ -485,12 +489,14 @@ TEST_F(CorruptPhotoBinaryTest, RefusesEachFailureMode) {
 TEST_F(CorruptPhotoBinaryTest, EveryReaderRefusesABadGroup) {
   WriteBytes(bad_, With<int32_t>(h_.image_groups_offset + 4 * 6, 5));
   EXPECT_THROW(ReadBinaryCameraSide(bad_), InputError);
-  EXPECT_THROW(ReadBinaryCameras(bad_), InputError);
   std::vector<int64_t> ids;
   const std::vector<int32_t> all(h_.num_points, 0);
   EXPECT_THROW(ReadBinaryPoints(bad_, all, 0, &ids), InputError);
-  EXPECT_THROW(WriteBinaryWithNewParameters(bad_, Tmp("never.dba"),
-                                            std::vector<double>(h_.camera_side_size()),
+  BalProblem side;  // the camera side the file's header promises
+  side.model = CameraModel::kPhoto;
+  side.camera_intrinsics.assign(h_.num_cameras, 0);
+  side.cameras.resize(h_.camera_side_size());
+  EXPECT_THROW(WriteBinaryWithNewParameters(bad_, Tmp("never.dba"), side,
                                             std::vector<double>(3 * h_.num_points)),
                InputError);
   EXPECT_FALSE(std::filesystem::exists(Tmp("never.dba")));
