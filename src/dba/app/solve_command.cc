@@ -259,32 +259,38 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     report.has_truth = true;
   }
   Timer write_timer;
+  // A COLMAP input is read once more, for what the outputs keep from it
+  // (names, colours, tracks; the observations a distributed run handed out).
+  const bool colmap_in = IsColmapInput(options.input);
+  std::optional<ColmapInput> colmap;
+  if (colmap_in && (!options.output.empty() || !options.ply_path.empty())) {
+    colmap = ReadColmapInput(options.input, options.unknowns);
+  }
+  if (!options.ply_path.empty()) {
+    WritePointCloudPly(options.ply_path, problem.points,
+                       colmap ? PointColours(*colmap) : std::vector<uint8_t>{});
+  }
   if (!options.output.empty()) {
     const OutputKind kind =
         CheckOutput(options.input, options.output, problem.model, options.colmap_format);
-    const bool binary_out = kind == OutputKind::kBinary;
     if (kind == OutputKind::kColmap) {
-      WriteColmapOutput(options.input, options.unknowns, problem.cameras, problem.points,
-                        options.output, options.colmap_format);
-    } else if (comm->size() > 1 && ranks_read_file && binary_out) {
-      // Binary to binary: stream the observations from the input.
+      WriteColmapOutput(problem.cameras, problem.points, options.output, options.colmap_format,
+                        &*colmap);
+    } else if (comm->size() > 1 && ranks_read_file && kind == OutputKind::kBinary) {
       // Binary to binary: stream the observations from the input; the camera
       // side (values and what was held fixed) is the solve's.
       WriteBinaryWithNewParameters(options.input, options.output, problem, problem.points);
     } else {
       if (comm->size() > 1) {
         // The observations were handed to the ranks: read them again.
-        BalProblem full = LoadSolveInput(options.input, options.unknowns);
+        BalProblem full = colmap ? std::move(colmap->source.problem)
+                                 : LoadSolveInput(options.input, options.unknowns);
         full.cameras.swap(problem.cameras);
         full.points.swap(problem.points);
         problem = std::move(full);
       }
       WriteProblem(problem, options.output);
     }
-  }
-  if (!options.ply_path.empty()) {
-    WritePointCloudPly(options.ply_path, problem.points,
-                       InputPointColours(options.input, options.unknowns));
   }
   report.write_seconds = write_timer.Seconds();
   report.peak_memory_bytes = PeakResidentBytes();

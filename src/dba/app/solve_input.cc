@@ -7,7 +7,6 @@
 
 #include "dba/common/error.h"
 #include "dba/io/colmap_binary.h"
-#include "dba/io/colmap_problem.h"
 #include "dba/io/colmap_text.h"
 #include "dba/io/read_problem.h"
 
@@ -119,9 +118,7 @@ void ApplyFixings(const UnknownsOptions& u, BalProblem* p) {
 }
 
 BalProblem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns) {
-  if (IsColmapInput(path)) {
-    return ProblemFromColmap(ReadColmapModel(path), ColmapOptions(unknowns), path).problem;
-  }
+  if (IsColmapInput(path)) return std::move(ReadColmapInput(path, unknowns).source.problem);
   BalProblem p = ReadProblem(path);
   ApplyFixings(unknowns, &p);
   return p;
@@ -160,34 +157,36 @@ OutputKind CheckOutput(const std::string& input, const std::string& output, Came
   return OutputKind::kColmap;
 }
 
-void WriteColmapOutput(const std::string& input, const UnknownsOptions& unknowns,
-                       const std::vector<double>& cameras, const std::vector<double>& points,
-                       const std::string& output, std::optional<ColmapFormat> format) {
-  ColmapModel model = ReadColmapModel(input);
-  ColmapProblem source = ProblemFromColmap(model, ColmapOptions(unknowns), input);
-  if (source.problem.cameras.size() != cameras.size() ||
-      source.problem.points.size() != points.size()) {
-    throw std::runtime_error(input + ": the COLMAP model changed during the solve");
+ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unknowns) {
+  ColmapInput in;
+  in.format = *DetectColmapFormat(path);
+  in.model = ReadColmapModel(path);
+  in.source = ProblemFromColmap(in.model, ColmapOptions(unknowns), path);
+  return in;
+}
+
+void WriteColmapOutput(const std::vector<double>& cameras, const std::vector<double>& points,
+                       const std::string& output, std::optional<ColmapFormat> format,
+                       ColmapInput* input) {
+  BalProblem& adjusted = input->source.problem;
+  if (adjusted.cameras.size() != cameras.size() || adjusted.points.size() != points.size()) {
+    throw std::runtime_error("the COLMAP model changed during the solve");
   }
-  source.problem.cameras = cameras;
-  source.problem.points = points;
-  UpdateColmapModel(source, source.problem, &model);
-  if (format.value_or(*DetectColmapFormat(input)) == ColmapFormat::kText) {
-    WriteColmapText(model, output);
+  adjusted.cameras = cameras;
+  adjusted.points = points;
+  UpdateColmapModel(input->source, adjusted, &input->model);
+  if (format.value_or(input->format) == ColmapFormat::kText) {
+    WriteColmapText(input->model, output);
   } else {
-    WriteColmapBinary(model, output);
+    WriteColmapBinary(input->model, output);
   }
 }
 
-std::vector<uint8_t> InputPointColours(const std::string& input,
-                                       const UnknownsOptions& unknowns) {
-  if (!IsColmapInput(input)) return {};
-  const ColmapModel model = ReadColmapModel(input);
-  const ColmapProblem source = ProblemFromColmap(model, ColmapOptions(unknowns), input);
+std::vector<uint8_t> PointColours(const ColmapInput& input) {
   std::vector<uint8_t> rgb;
-  rgb.reserve(3 * source.point_index.size());
-  for (int64_t k : source.point_index) {
-    const auto& c = model.points3D[k].rgb;
+  rgb.reserve(3 * input.source.point_index.size());
+  for (int64_t k : input.source.point_index) {
+    const auto& c = input.model.points3D[k].rgb;
     rgb.insert(rgb.end(), c.begin(), c.end());
   }
   return rgb;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "dba/io/colmap_model.h"
+#include "dba/io/colmap_problem.h"
 #include "dba/problem/bal_problem.h"
 
 namespace dba {
@@ -58,17 +59,24 @@ enum class OutputKind { kBinary, kBalText, kColmap };
 OutputKind CheckOutput(const std::string& input, const std::string& output, CameraModel model,
                        std::optional<ColmapFormat> colmap_format = std::nullopt);
 
-// Writes the adjusted cameras and points into the COLMAP model at `input`
-// (read again) and saves it to the directory `output`, as text or binary
-// (default: the input's format). Every image's camera, intrinsics and points
-// are updated as UpdateColmapModel says.
-void WriteColmapOutput(const std::string& input, const UnknownsOptions& unknowns,
-                       const std::vector<double>& cameras, const std::vector<double>& points,
-                       const std::string& output, std::optional<ColmapFormat> format);
+// A COLMAP input as read: the model, and the problem cut from it with the
+// map back to the model's entries.
+struct ColmapInput {
+  ColmapModel model;
+  ColmapProblem source;
+  ColmapFormat format = ColmapFormat::kBinary;  // the input's
+};
+ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unknowns);
 
-// The colours of the problem's points from a COLMAP input (3 per point), or
-// empty for other inputs.
-std::vector<uint8_t> InputPointColours(const std::string& input,
-                                       const UnknownsOptions& unknowns);
+// Writes the adjusted cameras and points into `input.model` and saves it to
+// the directory `output`, as text or binary (default: the input's). Every
+// image's camera, intrinsics and points are updated as UpdateColmapModel
+// says.
+void WriteColmapOutput(const std::vector<double>& cameras, const std::vector<double>& points,
+                       const std::string& output, std::optional<ColmapFormat> format,
+                       ColmapInput* input);
+
+// The colours of the problem's points (3 per point).
+std::vector<uint8_t> PointColours(const ColmapInput& input);
 
 }  // namespace dba
