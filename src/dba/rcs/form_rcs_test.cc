@@ -29,6 +29,15 @@ double RelativeError(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return (a - b).norm() / b.norm();
 }
 
+// Point 0 gets a second observation by its first camera, 3.6 px away.
+void SeePointZeroTwiceByItsFirstCamera(BalProblem* problem) {
+  const int32_t cam = problem->obs_camera[0];
+  problem->obs_camera.insert(problem->obs_camera.begin() + 1, cam);
+  problem->obs_pixel.insert(problem->obs_pixel.begin() + 2,
+                            {problem->obs_pixel[0] + 3.0, problem->obs_pixel[1] - 2.0});
+  for (size_t k = 1; k < problem->point_offsets.size(); ++k) ++problem->point_offsets[k];
+}
+
 class FormRcsTest : public ::testing::TestWithParam<double> {};
 
 TEST_P(FormRcsTest, MatchesDenseSchurComplement) {
@@ -61,12 +70,8 @@ INSTANTIATE_TEST_SUITE_P(Damping, FormRcsTest, ::testing::Values(1e-4, 1.0, 1e3)
 
 TEST(FormRcs, DuplicateCameraInATrackCountsBothObservations) {
   BalProblem problem = PerturbedProblem(9).problem;
-  // Point 0 seen twice more by its first camera, at a shifted pixel.
-  const int32_t cam = problem.obs_camera[0];
-  problem.obs_camera.insert(problem.obs_camera.begin() + 1, cam);
-  problem.obs_pixel.insert(problem.obs_pixel.begin() + 2,
-                           {problem.obs_pixel[0] + 3.0, problem.obs_pixel[1] - 2.0});
-  for (size_t k = 1; k < problem.point_offsets.size(); ++k) ++problem.point_offsets[k];
+  // Point 0 seen twice by its first camera, at a shifted pixel.
+  SeePointZeroTwiceByItsFirstCamera(&problem);
   const DampingBounds bounds;
   RcsSystem sys = RcsSystem::ForProblem(problem);
   FormRcs(problem, 0.1, bounds, 1, &sys);
@@ -180,13 +185,8 @@ TEST(FormRcs, PhotoRowsAndBlockSizes) {
 
 TEST(FormRcs, PhotoDuplicateImageInATrackCountsBothObservations) {
   BalProblem problem = PhotoProblem({"", kAllIntrinsics, {}}, 5);
-  // Point 0 seen twice more by its first image, at a shifted pixel (COLMAP
-  // models hold such tracks).
-  const int32_t cam = problem.obs_camera[0];
-  problem.obs_camera.insert(problem.obs_camera.begin() + 1, cam);
-  problem.obs_pixel.insert(problem.obs_pixel.begin() + 2,
-                           {problem.obs_pixel[0] + 3.0, problem.obs_pixel[1] - 2.0});
-  for (size_t k = 1; k < problem.point_offsets.size(); ++k) ++problem.point_offsets[k];
+  // COLMAP models hold such tracks.
+  SeePointZeroTwiceByItsFirstCamera(&problem);
   const DampingBounds bounds;
   RcsSystem sys = RcsSystem::ForProblem(problem);
   FormRcs(problem, 0.1, bounds, 2, &sys);
