@@ -444,19 +444,23 @@ void PcgIteration(benchmark::State& state, const std::string& name) {
   BsmcMatrix S = c.matrix;  // a damped copy
   DampCameraBlocks(1e-4, DampingBounds{}, c.jtj_diagonal, &S);
   const SymmetricMultiplier multiplier(S, threads);
-  const BlockJacobiPreconditioner preconditioner(S, threads);
+  BlockJacobiPreconditioner preconditioner(S, threads);
+  preconditioner.Update(S);
+  PcgScratch scratch;
   std::vector<double> b(S.num_rows()), y(S.num_rows());
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (double& v : b) v = u(rng);
   PcgOptions options;
   options.relative_tolerance = 0.0;
+  options.eta = 0.0;
+  options.residual_reset_period = 0;
   options.max_iterations = kPcgIterations;
   options.num_threads = threads;
   int64_t iterations = 0;
   const auto t_pcg = std::chrono::steady_clock::now();
   for (auto _ : state) {
-    iterations += SolvePcg(multiplier, preconditioner, b.data(), y.data(), options).iterations;
+    iterations += SolvePcg(multiplier, preconditioner, b.data(), y.data(), options, &scratch).iterations;
   }
   const double pcg_seconds = Since(t_pcg);
   // Matvec alone on the same matrix, for the ratio.

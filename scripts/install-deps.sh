@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev libbz2-dev bzip2 nlohmann-json3-dev
   libgtest-dev googletest libbenchmark-dev
   openmpi-bin libopenmpi-dev
+  libsuitesparse-dev libopenblas0-pthread
   time
 )
 

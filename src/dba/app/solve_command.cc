@@ -24,6 +24,12 @@
 namespace dba {
 namespace {
 
+#ifdef DBA_HAVE_CHOLMOD
+#define DBA_SPARSE_NAME "CHOLMOD"
+#else
+#define DBA_SPARSE_NAME "Eigen"
+#endif
+
 int DefaultThreads() {
   const unsigned n = std::thread::hardware_concurrency();
   return n == 0 ? 1 : static_cast<int>(n);
@@ -36,7 +42,8 @@ void PrintSolveHelp(std::ostream& out) {
   out << "Usage: dba solve INPUT [options]\n"
          "\n"
          "Bundle-adjusts INPUT with exact Levenberg-Marquardt: the reduced camera\n"
-         "system is formed point by point in BSMC and solved by block-Jacobi PCG.\n"
+         "system is formed point by point in BSMC and solved by a dense or sparse\n"
+         "Cholesky factorization or by truncated-Newton PCG, whichever is cheapest.\n"
          "Prints one line per iteration and a summary.\n"
          "\n"
          "INPUT is a BAL problem (plain text or .bz2; 9 parameters per camera), a dba\n"
@@ -84,8 +91,18 @@ void PrintSolveHelp(std::ostream& out) {
          "  --gradient-tolerance X     stop when max|J^T r| <= X (default " << d.gradient_tolerance << ")\n"
          "  --parameter-tolerance X    stop when |step| <= X (|x| + X) (default " << d.parameter_tolerance << ")\n"
          "  --initial-lambda X         initial LM damping (default " << d.initial_lambda << ")\n"
-         "  --pcg-tolerance X          PCG relative residual (default " << d.pcg.relative_tolerance << ")\n"
-         "  --pcg-max-iterations N     PCG iteration limit (default " << d.pcg.max_iterations << ")\n"
+         "  --linear-solver auto|dense|sparse|pcg\n"
+         "                             how the reduced camera system is solved: dense\n"
+         "                             Cholesky (small), sparse Cholesky (medium, " DBA_SPARSE_NAME "),\n"
+         "                             PCG (large); auto (default) picks the cheapest by a\n"
+         "                             cost model, a factorization only while it needs at\n"
+         "                             most " << d.linear_solver.max_factor_memory_ratio << "x the memory of the PCG path\n"
+         "  --eta X                    PCG's truncated-Newton stop: end when the quadratic\n"
+         "                             model improves by less than X / iteration (Nash-Sofer;\n"
+         "                             default " << d.linear_solver.pcg.eta << ", 0: off)\n"
+         "  --pcg-tolerance X          PCG also stops at this relative residual (default\n"
+         "                             " << d.linear_solver.pcg.relative_tolerance << ")\n"
+         "  --pcg-max-iterations N     PCG iteration limit, a safety net (default " << d.linear_solver.pcg.max_iterations << ")\n"
          "  --partition equal|cameras  how points are split over MPI ranks: 'equal' (the\n"
          "                             paper's equal counts) or 'cameras' (grouped by the\n"
          "                             cameras that see them; default)\n"
@@ -148,10 +165,19 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
     } else if (a == "--initial-lambda") {
       o.lm.initial_lambda = ParseNumberArgument(a, value());
       if (o.lm.initial_lambda <= 0) throw std::invalid_argument(a + ": must be > 0");
+    } else if (a == "--linear-solver") {
+      const std::string& v = value();
+      if (!ParseLinearSolver(v, &o.lm.linear_solver.type)) {
+        throw std::invalid_argument(a + ": expected auto, dense, sparse or pcg, got '" + v + "'");
+      }
+    } else if (a == "--eta") {
+      o.lm.linear_solver.pcg.eta = ParseNumberArgument(a, value());
+      if (o.lm.linear_solver.pcg.eta < 0) throw std::invalid_argument(a + ": must be >= 0");
     } else if (a == "--pcg-tolerance") {
-      o.lm.pcg.relative_tolerance = ParseNumberArgument(a, value());
+      o.lm.linear_solver.pcg.relative_tolerance = ParseNumberArgument(a, value());
     } else if (a == "--pcg-max-iterations") {
-      o.lm.pcg.max_iterations = static_cast<int>(ParseIntegerArgument(a, value(), 1, 1000000000));
+      o.lm.linear_solver.pcg.max_iterations =
+          static_cast<int>(ParseIntegerArgument(a, value(), 1, 1000000000));
     } else if (a == "--partition") {
       o.distributed.partition = ParsePartitionScheme(value());
     } else if (a == "--main-rank") {

@@ -43,14 +43,15 @@ double SolveReport::TotalSeconds() const {
 }
 
 std::string IterationLogHeader() {
-  return "iter        cost     rms_px   max|grad|     lambda  pcg  accept    time_s\n";
+  return "iter        cost     rms_px   max|grad|     lambda  linear (iter, stop)      accept    time_s\n";
 }
 
 std::string IterationLogLine(const IterationSummary& it) {
-  char line[160];
-  std::snprintf(line, sizeof line, "%4d %12.6e %9.4f %11.3e %10.3e %4d %7s %9.3f\n",
+  char line[200];
+  std::snprintf(line, sizeof line, "%4d %12.6e %9.4f %11.3e %10.3e  %5d %-18s %6s %9.3f\n",
                 it.iteration, it.cost, it.rms_pixels, it.gradient_max_norm, it.lambda,
-                it.pcg_iterations, it.step_accepted ? "yes" : "no", it.seconds);
+                it.linear_iterations, it.linear_stop.c_str(), it.step_accepted ? "yes" : "no",
+                it.seconds);
   return line;
 }
 
@@ -67,14 +68,17 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
                 lm.Rms(lm.final_cost));
   out << buf;
   out << "  iterations          " << lm.iterations << " (" << lm.accepted_iterations
-      << " accepted, " << lm.total_pcg_iterations << " PCG iterations)\n";
+      << " accepted, " << lm.total_linear_iterations << " PCG iterations)\n";
+  out << "  linear solver       " << LinearSolverName(lm.linear_solver.type) << " ("
+      << lm.linear_solver.reason << "); holds " << Bytes(lm.linear_solver_bytes)
+      << " beyond the RCS\n";
   out << "  termination         " << TerminationReasonName(lm.termination) << ": "
       << lm.termination_message << "\n";
   std::snprintf(buf, sizeof buf,
                 "  time (s)            load %.3f  distribute %.3f  setup %.3f  rcs %.3f  "
-                "pcg %.3f  back-substitution %.3f  write %.3f  total %.3f\n",
+                "linear solve %.3f  back-substitution %.3f  write %.3f  total %.3f\n",
                 r.load_seconds, r.solve.distribution_seconds, r.solve.ba.symbolic_seconds,
-                lm.times.rcs_formation, lm.times.pcg, lm.times.back_substitution,
+                lm.times.rcs_formation, lm.times.linear_solve, lm.times.back_substitution,
                 r.write_seconds, r.TotalSeconds());
   out << buf;
   out << "  unknowns            " << rcs.camera_unknowns + 3 * r.num_points << " ("
@@ -174,14 +178,24 @@ std::string SolveReportJson(const SolveReport& r) {
   j["final_rms_px"] = lm.Rms(lm.final_cost);
   j["iterations"] = lm.iterations;
   j["accepted_iterations"] = lm.accepted_iterations;
-  j["pcg_iterations"] = lm.total_pcg_iterations;
+  j["pcg_iterations"] = lm.total_linear_iterations;
+  j["linear_solver"] = {{"type", LinearSolverName(lm.linear_solver.type)},
+                        {"reason", lm.linear_solver.reason},
+                        {"bytes", lm.linear_solver_bytes},
+                        {"pcg_path_bytes", lm.linear_solver.pcg_bytes},
+                        {"dense_factor_bytes", lm.linear_solver.dense_bytes},
+                        {"sparse_factor_bytes_estimate", lm.linear_solver.sparse_bytes},
+                        {"estimated_seconds",
+                         {{"pcg", lm.linear_solver.estimated_pcg_seconds},
+                          {"dense", lm.linear_solver.estimated_dense_seconds},
+                          {"sparse", lm.linear_solver.estimated_sparse_seconds}}}};
   j["termination"] = TerminationReasonName(lm.termination);
   j["termination_message"] = lm.termination_message;
   j["seconds"] = {{"load", r.load_seconds},
                   {"distribution", r.solve.distribution_seconds},
                   {"setup", r.solve.ba.symbolic_seconds},
                   {"rcs_formation", lm.times.rcs_formation},
-                  {"pcg", lm.times.pcg},
+                  {"linear_solve", lm.times.linear_solve},
                   {"back_substitution", lm.times.back_substitution},
                   {"write", r.write_seconds},
                   {"total", r.TotalSeconds()}};
@@ -241,8 +255,9 @@ std::string SolveReportJson(const SolveReport& r) {
                        {"rms_px", it.rms_pixels},
                        {"gradient_max_norm", it.gradient_max_norm},
                        {"lambda", it.lambda},
-                       {"pcg_iterations", it.pcg_iterations},
-                       {"pcg_relative_residual", it.pcg_relative_residual},
+                       {"linear_iterations", it.linear_iterations},
+                       {"linear_relative_residual", it.linear_relative_residual},
+                       {"linear_stop", it.linear_stop},
                        {"candidate_cost", it.candidate_cost},
                        {"gain_ratio", it.gain_ratio},
                        {"accepted", it.step_accepted},

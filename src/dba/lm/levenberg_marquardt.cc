@@ -3,10 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
-#include "dba/bsmc/symmetric_multiply.h"
 #include "dba/common/timer.h"
-#include "dba/solver/block_jacobi.h"
 
 namespace dba {
 namespace {
@@ -21,6 +20,12 @@ double MaxAbs(const std::vector<double>& v) {
   double m = 0.0;
   for (double x : v) m = std::max(m, std::abs(x));
   return m;
+}
+
+// Nielsen: a rejected step multiplies λ by ν and doubles ν.
+void RejectStep(double* lambda, double* nu) {
+  *lambda *= *nu;
+  *nu *= 2.0;
 }
 
 }  // namespace
@@ -60,6 +65,7 @@ LmSummary SolveLevenbergMarquardt(
   // δc has one value per unknown (fixed parameters are not unknowns); the
   // candidate is cameras ⊞ δc (rcs/unknown_layout.h).
   std::vector<double> delta_c(sys->layout.num_unknowns()), candidate(cameras->size());
+  std::unique_ptr<RcsSolver> linear_solver;
   bool done = false;
   while (!done) {
     if (summary.iterations >= options.max_iterations) {
@@ -81,63 +87,62 @@ LmSummary SolveLevenbergMarquardt(
       break;
     }
 
-    // Camera damping, then PCG on the damped RCS.
+    // Camera damping, then the linear solve of the damped RCS.
     phase.Reset();
     DampCameraBlocks(lambda, options.damping, sys->camera_jtj_diagonal, &sys->S);
-    {
-      const SymmetricMultiplier multiplier(sys->S, options.num_threads);
-      const BlockJacobiPreconditioner preconditioner(sys->S, options.num_threads);
-      PcgOptions pcg = options.pcg;
-      pcg.num_threads = options.num_threads;
-      const PcgSummary pcg_summary = SolvePcg(multiplier, preconditioner,
-                                              sys->b.data(), delta_c.data(), pcg);
-      it.pcg_iterations = pcg_summary.iterations;
-      it.pcg_relative_residual = pcg_summary.relative_residual;
-      summary.total_pcg_iterations += pcg_summary.iterations;
+    if (!linear_solver) {  // symbolic phase, once: S keeps its structure
+      LinearSolverOptions linear = options.linear_solver;
+      linear.num_threads = options.num_threads;
+      linear.num_observations = num_observations;
+      linear_solver = MakeRcsSolver(sys->S, linear, &summary.linear_solver);
+      summary.linear_solver_bytes = linear_solver->MemoryBytes();
     }
-    summary.times.pcg += phase.Seconds();
-
-    // Back-substitution and evaluation of the step.
-    phase.Reset();
-    sys->layout.Plus(cameras->data(), delta_c.data(), candidate.data());
-    const StepEvaluation eval =
-        workers->EvaluateStep(lambda, delta_c, candidate);
-    summary.times.back_substitution += phase.Seconds();
+    const LinearSolveSummary solve = linear_solver->Solve(sys->S, sys->b.data(), delta_c.data());
+    it.linear_iterations = solve.iterations;
+    it.linear_relative_residual = solve.relative_residual;
+    it.linear_stop = solve.stop;
+    summary.total_linear_iterations += solve.iterations;
+    summary.times.linear_solve += phase.Seconds();
     ++summary.iterations;
 
-    const double step_norm =
-        std::sqrt(SquaredNorm(delta_c) + eval.point_step_squared_norm);
-    const double x_norm =
-        std::sqrt(SquaredNorm(*cameras) + eval.point_squared_norm);
-    const double model_decrease = cost - eval.model_cost;
-    const double actual_decrease = cost - eval.candidate_cost;
-    it.candidate_cost = eval.candidate_cost;
-    it.gain_ratio = model_decrease > 0 ? actual_decrease / model_decrease : 0.0;
-    it.step_accepted = std::isfinite(eval.candidate_cost) && model_decrease > 0 &&
-                       it.gain_ratio > options.min_relative_decrease;
+    // Back-substitution and evaluation of the step (none when S was not
+    // positive definite: that counts as a rejected step).
+    bool small_step = false;
+    if (solve.ok) {
+      phase.Reset();
+      sys->layout.Plus(cameras->data(), delta_c.data(), candidate.data());
+      const StepEvaluation eval = workers->EvaluateStep(lambda, delta_c, candidate);
+      summary.times.back_substitution += phase.Seconds();
+      const double step_norm = std::sqrt(SquaredNorm(delta_c) + eval.point_step_squared_norm);
+      const double x_norm = std::sqrt(SquaredNorm(*cameras) + eval.point_squared_norm);
+      const double model_decrease = cost - eval.model_cost;
+      it.candidate_cost = eval.candidate_cost;
+      it.gain_ratio = model_decrease > 0 ? (cost - eval.candidate_cost) / model_decrease : 0.0;
+      it.step_accepted = std::isfinite(eval.candidate_cost) && model_decrease > 0 &&
+                         it.gain_ratio > options.min_relative_decrease;
+      small_step =
+          step_norm <= options.parameter_tolerance * (x_norm + options.parameter_tolerance);
+      workers->FinishStep(it.step_accepted && !small_step);
+    }
 
-    if (step_norm <= options.parameter_tolerance * (x_norm + options.parameter_tolerance)) {
-      workers->FinishStep(false);
+    if (small_step) {
       summary.termination = TerminationReason::kParameterTolerance;
       summary.termination_message = "step size below tolerance";
       done = true;
     } else if (it.step_accepted) {
-      workers->FinishStep(true);
       cameras->swap(candidate);
       ++summary.accepted_iterations;
       const double r = 2.0 * it.gain_ratio - 1.0;
       lambda *= std::max(1.0 / 3.0, 1.0 - r * r * r);
       nu = 2.0;
-      if (actual_decrease <= options.function_tolerance * cost) {
+      if (cost - it.candidate_cost <= options.function_tolerance * cost) {
         summary.termination = TerminationReason::kFunctionTolerance;
         summary.termination_message = "relative cost decrease below tolerance";
         done = true;
       }
-      cost = eval.candidate_cost;
+      cost = it.candidate_cost;
     } else {
-      workers->FinishStep(false);
-      lambda *= nu;
-      nu *= 2.0;
+      RejectStep(&lambda, &nu);
       if (lambda > options.max_lambda) {
         summary.termination = TerminationReason::kLambdaTooLarge;
         summary.termination_message = "no acceptable step: damping too large";

@@ -2,8 +2,10 @@
 //
 //   (JᵀJ + λ D) δ = -Jᵀ r,   D = clamp(diag JᵀJ)
 //
-// solved through the RCS (eq. 4) by PCG (eq. 6-7) and point back-substitution
-// (eq. 5). Step control is a trust region on λ: the gain ratio
+// solved through the RCS (eq. 4) by the linear solver of solver/rcs_solver.h
+// (a dense or sparse Cholesky factorization, or truncated-Newton PCG, eq. 6-7)
+// and point back-substitution (eq. 5). An RCS that is not positive definite
+// counts as a rejected step. Step control is a trust region on λ: the gain ratio
 //   ρ = (F(x) - F(x + δ)) / (F(x) - L(δ)),  L(δ) = ½ |r + J δ|²
 // accepts the step when ρ > min_relative_decrease, then
 //   λ ← λ · max(1/3, 1 - (2ρ - 1)³), ν ← 2;
@@ -18,7 +20,7 @@
 
 #include "dba/lm/point_workers.h"
 #include "dba/rcs/eliminate_point.h"
-#include "dba/solver/pcg.h"
+#include "dba/solver/rcs_solver.h"
 
 namespace dba {
 
@@ -38,7 +40,7 @@ struct LmOptions {
   // A step is accepted when ρ exceeds this.
   double min_relative_decrease = 1e-3;
   DampingBounds damping;
-  PcgOptions pcg;
+  LinearSolverOptions linear_solver;
   int num_threads = 1;
 };
 
@@ -57,8 +59,9 @@ struct IterationSummary {
   double rms_pixels = 0.0;
   double gradient_max_norm = 0.0;
   double lambda = 0.0;         // damping used for this step
-  int pcg_iterations = 0;
-  double pcg_relative_residual = 0.0;
+  int linear_iterations = 0;          // PCG iterations (0: factorized)
+  double linear_relative_residual = 0.0;
+  std::string linear_stop;            // why the linear solve stopped
   double candidate_cost = 0.0;
   double gain_ratio = 0.0;
   bool step_accepted = false;
@@ -67,7 +70,7 @@ struct IterationSummary {
 
 struct PhaseTimes {
   double rcs_formation = 0.0;     // linearization, elimination, aggregation
-  double pcg = 0.0;               // damping, preconditioner, PCG
+  double linear_solve = 0.0;      // damping, factorization or PCG
   double back_substitution = 0.0; // back-substitution and step evaluation
   double total = 0.0;
 };
@@ -78,7 +81,9 @@ struct LmSummary {
   int64_t num_observations = 0;
   int iterations = 0;
   int accepted_iterations = 0;
-  int total_pcg_iterations = 0;
+  int total_linear_iterations = 0;
+  RcsSolverChoice linear_solver;  // which solver, and why
+  int64_t linear_solver_bytes = 0;
   TerminationReason termination = TerminationReason::kMaxIterations;
   std::string termination_message;
   PhaseTimes times;
@@ -87,8 +92,8 @@ struct LmSummary {
   double Rms(double cost) const;  // sqrt(2 F / num_observations)
 };
 
-// Runs LM on the workers' points with `cameras` (global numbering, 9 per
-// camera) as the main node's copy of the cameras, updated in place.
+// Runs LM on the workers' points with `cameras` (global numbering, the
+// camera-side parameters) as the main node's copy of the cameras, updated in place.
 // `on_iteration` (optional) is called once per iteration, e.g. to log.
 LmSummary SolveLevenbergMarquardt(
     const LmOptions& options, int64_t num_observations,

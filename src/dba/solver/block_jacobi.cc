@@ -18,7 +18,11 @@ BlockJacobiPreconditioner::BlockJacobiPreconditioner(const BsmcMatrix& S,
     offset_[i + 1] = offset_[i] + int64_t{S.block_size(i)} * S.block_size(i);
   }
   inverse_.resize(offset_[n]);
-#pragma omp parallel for num_threads(num_threads) schedule(static)
+}
+
+void BlockJacobiPreconditioner::Update(const BsmcMatrix& S) {
+  const int32_t n = S.num_block_rows();
+#pragma omp parallel for num_threads(num_threads_) schedule(static) if (n > 256)
   for (int32_t i = 0; i < n; ++i) {
     const int c = S.block_size(i);
     Eigen::Map<const RowMat> block(S.block_values(S.diagonal_block(i)), c, c);

@@ -7,20 +7,22 @@
 #include <vector>
 
 #include "dba/bsmc/bsmc_matrix.h"
+#include "dba/solver/preconditioner.h"
 
 namespace dba {
 
-class BlockJacobiPreconditioner {
+class BlockJacobiPreconditioner : public Preconditioner {
  public:
+  // Storage for the inverses of S's diagonal blocks (symbolic); S must
+  // outlive the preconditioner and keep its structure.
+  BlockJacobiPreconditioner(const BsmcMatrix& S, int num_threads);
+
   // Inverts every diagonal block of S (Cholesky; a block that is not positive
   // definite is inverted by LDLT with pivoting, or replaced by the inverse of
   // its diagonal if that fails too).
-  BlockJacobiPreconditioner(const BsmcMatrix& S, int num_threads);
-
-  // z = M⁻¹ r.
-  void Apply(const double* r, double* z) const;
-
-  int64_t MemoryBytes() const {
+  void Update(const BsmcMatrix& S) override;
+  void Apply(const double* r, double* z) const override;
+  int64_t MemoryBytes() const override {
     return static_cast<int64_t>(inverse_.capacity() * sizeof(double));
   }
 

@@ -1,5 +1,8 @@
-// PCG with the block-Jacobi preconditioner against a dense direct solve.
+// PCG with the block-Jacobi preconditioner against a dense direct solve; the
+// Nash-Sofer stop against the quadratic model it tests.
 #include "dba/solver/pcg.h"
+
+#include "dba/solver/block_jacobi.h"
 
 #include <gtest/gtest.h>
 
@@ -21,6 +24,12 @@ BsmcMatrix SpdMatrix(uint32_t seed) {
   return testing::MakeRandomBsmc(o);
 }
 
+BlockJacobiPreconditioner Jacobi(const BsmcMatrix& S, int threads) {
+  BlockJacobiPreconditioner M(S, threads);
+  M.Update(S);
+  return M;
+}
+
 TEST(Pcg, MatchesDenseCholesky) {
   for (uint32_t seed = 1; seed <= 3; ++seed) {
     const BsmcMatrix S = SpdMatrix(seed);
@@ -28,12 +37,15 @@ TEST(Pcg, MatchesDenseCholesky) {
     Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(S.num_rows(), -1.0, 2.0);
     const Eigen::VectorXd expected = dense.llt().solve(b);
     const SymmetricMultiplier multiplier(S, 2);
-    const BlockJacobiPreconditioner M(S, 2);
+    const BlockJacobiPreconditioner M = Jacobi(S, 2);
     Eigen::VectorXd y(S.num_rows());
     PcgOptions options;
     options.relative_tolerance = 1e-12;
-    const PcgSummary s = SolvePcg(multiplier, M, b.data(), y.data(), options);
-    EXPECT_TRUE(s.converged) << s.message;
+    options.eta = 0.0;
+    options.residual_reset_period = 7;  // exercises the recomputed residual
+    PcgScratch scratch;
+    const PcgSummary s = SolvePcg(multiplier, M, b.data(), y.data(), options, &scratch);
+    EXPECT_EQ(s.stop, PcgStop::kResidual) << PcgStopName(s.stop);
     EXPECT_LT((y - expected).norm(), 1e-9 * expected.norm());
     // The reported residual is the real one.
     const double real = (b - dense * y).norm() / b.norm();
@@ -45,13 +57,15 @@ TEST(Pcg, MatchesDenseCholesky) {
 TEST(Pcg, IterationCapIsReported) {
   const BsmcMatrix S = SpdMatrix(4);
   const SymmetricMultiplier multiplier(S, 1);
-  const BlockJacobiPreconditioner M(S, 1);
+  const BlockJacobiPreconditioner M = Jacobi(S, 1);
   Eigen::VectorXd b = Eigen::VectorXd::Ones(S.num_rows()), y(S.num_rows());
   PcgOptions options;
   options.relative_tolerance = 1e-14;
   options.max_iterations = 2;
-  const PcgSummary s = SolvePcg(multiplier, M, b.data(), y.data(), options);
-  EXPECT_FALSE(s.converged);
+  options.eta = 0.0;
+  PcgScratch scratch;
+  const PcgSummary s = SolvePcg(multiplier, M, b.data(), y.data(), options, &scratch);
+  EXPECT_EQ(s.stop, PcgStop::kIterationLimit);
   EXPECT_EQ(s.iterations, 2);
   EXPECT_GT(s.relative_residual, 1e-14);
 }
@@ -59,12 +73,57 @@ TEST(Pcg, IterationCapIsReported) {
 TEST(Pcg, ZeroRightHandSideGivesZero) {
   const BsmcMatrix S = SpdMatrix(5);
   const SymmetricMultiplier multiplier(S, 1);
-  const BlockJacobiPreconditioner M(S, 1);
+  const BlockJacobiPreconditioner M = Jacobi(S, 1);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(S.num_rows());
   Eigen::VectorXd y = Eigen::VectorXd::Ones(S.num_rows());
-  const PcgSummary s = SolvePcg(multiplier, M, b.data(), y.data(), PcgOptions{});
-  EXPECT_TRUE(s.converged);
+  PcgScratch scratch;
+  const PcgSummary s = SolvePcg(multiplier, M, b.data(), y.data(), PcgOptions{}, &scratch);
+  EXPECT_EQ(s.stop, PcgStop::kZeroRhs);
   EXPECT_EQ(y.norm(), 0.0);
+}
+
+// Q(y) = ½ yᵀS y - bᵀy of the dense matrix.
+double Quadratic(const Eigen::MatrixXd& S, const Eigen::VectorXd& b, const Eigen::VectorXd& y) {
+  return 0.5 * y.dot(S * y) - b.dot(y);
+}
+
+// The truncated-Newton stop: at exit i·(Q_i - Q_{i-1})/Q_i < η, and not one
+// iteration earlier (rerun with one iteration less: the test did not pass).
+TEST(Pcg, NashSoferStopsWhenTheModelStopsImproving) {
+  testing::RandomBsmcOptions o;
+  o.block_rows = 60;
+  o.fill = 0.2;
+  o.positive_definite = true;
+  o.seed = 11;
+  const BsmcMatrix S = testing::MakeRandomBsmc(o);
+  const Eigen::MatrixXd dense = testing::DenseFromBsmc(S);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(S.num_rows(), -2.0, 1.0);
+  const SymmetricMultiplier multiplier(S, 1);
+  const BlockJacobiPreconditioner M = Jacobi(S, 1);
+  PcgScratch scratch;
+  for (double eta : {0.5, 0.1, 0.01}) {
+    PcgOptions options;
+    options.eta = eta;
+    options.relative_tolerance = 0.0;
+    Eigen::VectorXd y(S.num_rows()), y_before(S.num_rows()), y_two_before(S.num_rows());
+    const PcgSummary s = SolvePcg(multiplier, M, b.data(), y.data(), options, &scratch);
+    ASSERT_EQ(s.stop, PcgStop::kQuadraticModel) << "eta " << eta;
+    ASSERT_GE(s.iterations, 2) << "eta " << eta;
+    options.max_iterations = s.iterations - 1;
+    SolvePcg(multiplier, M, b.data(), y_before.data(), options, &scratch);
+    const double q = Quadratic(dense, b, y), q_before = Quadratic(dense, b, y_before);
+    EXPECT_LT(s.iterations * (q - q_before) / q, eta) << "eta " << eta;
+    if (s.iterations >= 2) {
+      options.max_iterations = s.iterations - 2;
+      if (options.max_iterations > 0) {
+        SolvePcg(multiplier, M, b.data(), y_two_before.data(), options, &scratch);
+      } else {
+        y_two_before.setZero();
+      }
+      const double q_two = Quadratic(dense, b, y_two_before);
+      EXPECT_GE((s.iterations - 1) * (q_before - q_two) / q_before, eta) << "eta " << eta;
+    }
+  }
 }
 
 TEST(BlockJacobi, AppliesTheInverseOfEachDiagonalBlock) {
@@ -79,7 +138,7 @@ TEST(BlockJacobi, AppliesTheInverseOfEachDiagonalBlock) {
   const Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(S.num_rows(), 1.0, 3.0);
   const Eigen::VectorXd expected = block_diagonal.llt().solve(r);
   Eigen::VectorXd z(S.num_rows());
-  BlockJacobiPreconditioner(S, 2).Apply(r.data(), z.data());
+  Jacobi(S, 2).Apply(r.data(), z.data());
   EXPECT_LT((z - expected).norm(), 1e-10 * expected.norm());
 }
 
@@ -88,7 +147,7 @@ TEST(BlockJacobi, IndefiniteBlockGivesFiniteOutput) {
   double* d = S.block_values(S.diagonal_block(0));
   for (int k = 0; k < S.block_size(0) * S.block_size(0); ++k) d[k] = -1.0;
   Eigen::VectorXd r = Eigen::VectorXd::Ones(S.num_rows()), z(S.num_rows());
-  BlockJacobiPreconditioner(S, 1).Apply(r.data(), z.data());
+  Jacobi(S, 1).Apply(r.data(), z.data());
   EXPECT_TRUE(z.allFinite());
 }
 

@@ -1,0 +1,64 @@
+// Dense Cholesky of the damped RCS; see dense_cholesky.h.
+#include "dba/solver/dense_cholesky.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+
+namespace dba {
+
+void ExpandUpperTriangle(const BsmcMatrix& S, double* dense) {
+  const int64_t n = S.num_rows();
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) {
+    const int ci = S.block_size(i);
+    const int64_t oi = S.scalar_offset(i);
+    for (int64_t blk = S.row_begin(i); blk < S.row_end(i); ++blk) {
+      const int32_t j = S.block_col(blk);
+      const int cj = S.block_size(j);
+      const int64_t oj = S.scalar_offset(j);
+      const double* v = S.block_values(blk);  // row-major ci x cj
+      for (int a = 0; a < ci; ++a) {
+        for (int c = 0; c < cj; ++c) dense[(oj + c) * n + oi + a] = v[a * cj + c];
+      }
+    }
+  }
+}
+
+DenseCholeskySolver::DenseCholeskySolver(const BsmcMatrix& S) {
+  const int64_t n = S.num_rows();
+  if (n >= std::numeric_limits<int>::max() / std::max<int64_t>(n, 1)) {
+    throw std::runtime_error("dense Cholesky: " + std::to_string(n) +
+                             " unknowns are too many for a dense matrix; use --linear-solver pcg");
+  }
+  dense_.resize(n * n);
+}
+
+int64_t DenseCholeskySolver::MemoryBytes() const {
+  return static_cast<int64_t>(dense_.size()) * int64_t{sizeof(double)};
+}
+
+LinearSolveSummary DenseCholeskySolver::Solve(const BsmcMatrix& S, const double* b, double* x) {
+  LinearSolveSummary summary;
+  summary.stop = "factorized";
+  const int64_t n = S.num_rows();
+  // The last factorization filled blocks S does not store: start from zero.
+  std::fill(dense_.begin(), dense_.end(), 0.0);
+  ExpandUpperTriangle(S, dense_.data());
+  Eigen::Map<Eigen::MatrixXd> dense(dense_.data(), n, n);
+  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Upper> llt(dense);  // in place
+  Eigen::Map<Eigen::VectorXd> solution(x, n);
+  if (llt.info() != Eigen::Success) {
+    summary.ok = false;
+    summary.stop = "not_positive_definite";
+    solution.setZero();
+    return summary;
+  }
+  solution = llt.solve(Eigen::Map<const Eigen::VectorXd>(b, n));
+  return summary;
+}
+
+}  // namespace dba

@@ -1,0 +1,41 @@
+// The RCS solved by PCG; see pcg_rcs_solver.h.
+#include "dba/solver/pcg_rcs_solver.h"
+
+#include <stdexcept>
+
+namespace dba {
+
+PcgRcsSolver::PcgRcsSolver(const BsmcMatrix& S, const PcgOptions& options)
+    : options_(options),
+      multiplier_(S, options.num_threads),
+      preconditioner_(S, options.num_threads) {
+  scratch_.Resize(S.num_rows());
+}
+
+int64_t PcgRcsSolver::MemoryBytes() const {
+  return preconditioner_.MemoryBytes() +
+         (4 * static_cast<int64_t>(scratch_.r.size()) + multiplier_.spill_size()) * 8;
+}
+
+int64_t PcgPathBytes(const BsmcMatrix& S) {
+  int64_t preconditioner = 0;
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) {
+    preconditioner += int64_t{S.block_size(i)} * S.block_size(i);
+  }
+  return S.ValueBytes() + S.StructureBytes() + (preconditioner + 5 * S.num_rows()) * 8;
+}
+
+LinearSolveSummary PcgRcsSolver::Solve(const BsmcMatrix& S, const double* b, double* x) {
+  if (&S != &multiplier_.matrix()) {
+    throw std::logic_error("PcgRcsSolver: Solve on a matrix other than the one given at construction");
+  }
+  preconditioner_.Update(S);
+  const PcgSummary pcg = SolvePcg(multiplier_, preconditioner_, b, x, options_, &scratch_);
+  LinearSolveSummary summary;
+  summary.iterations = pcg.iterations;
+  summary.relative_residual = pcg.relative_residual;
+  summary.stop = PcgStopName(pcg.stop);
+  return summary;
+}
+
+}  // namespace dba

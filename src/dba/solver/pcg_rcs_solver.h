@@ -1,0 +1,36 @@
+// The RCS solved by truncated-Newton PCG (solver/pcg.h) with a block-Jacobi
+// preconditioner. The multiplier's thread split, the preconditioner's storage
+// and the PCG vectors are set up once, at construction; each Solve refreshes
+// the preconditioner from S's values and runs PCG from zero.
+//
+// Thread safety: one Solve at a time.
+#pragma once
+
+#include <memory>
+
+#include "dba/bsmc/symmetric_multiply.h"
+#include "dba/solver/block_jacobi.h"
+#include "dba/solver/pcg.h"
+#include "dba/solver/rcs_solver.h"
+
+namespace dba {
+
+class PcgRcsSolver : public RcsSolver {
+ public:
+  // S must outlive the solver and keep its structure.
+  PcgRcsSolver(const BsmcMatrix& S, const PcgOptions& options);
+  LinearSolveSummary Solve(const BsmcMatrix& S, const double* b, double* x) override;
+  LinearSolverType type() const override { return LinearSolverType::kPcg; }
+  int64_t MemoryBytes() const override;
+
+ private:
+  PcgOptions options_;
+  SymmetricMultiplier multiplier_;
+  BlockJacobiPreconditioner preconditioner_;
+  PcgScratch scratch_;
+};
+
+// Bytes of the PCG path for S: S itself, the preconditioner, the vectors.
+int64_t PcgPathBytes(const BsmcMatrix& S);
+
+}  // namespace dba

@@ -1,0 +1,90 @@
+// Solvers of the damped reduced camera system S δc = b (paper eq. 4, 6-7),
+// one interface for the direct factorizations and PCG, and the choice among
+// them.
+//
+// Lifecycle: MakeRcsSolver(S) once per LM solve, from S's structure (the
+// symbolic phase: orderings, fill, storage); then Solve(S, b, x) once per LM
+// iteration with S's current values (the numeric phase). S keeps its
+// structure between calls and must be the matrix given at construction.
+//
+//   dense   Cholesky of S expanded from BSMC's upper triangle (Eigen LLT);
+//           n³/3 flops, n² doubles: small RCSs.
+//   sparse  supernodal Cholesky (CHOLMOD) in a fill-reducing order of the
+//           camera blocks (AMD on the block graph), analysed once,
+//           refactorized per iteration: medium RCSs.
+//   pcg     truncated-Newton PCG (solver/pcg.h) with a block-Jacobi
+//           preconditioner: large RCSs; memory of S alone.
+//   auto    the cheapest by the cost model in rcs_solver.cc, within a
+//           memory budget.
+//
+// Thread safety: one Solve at a time per solver.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <ostream>
+#include <string>
+
+#include "dba/bsmc/bsmc_matrix.h"
+#include "dba/solver/pcg.h"
+
+namespace dba {
+
+enum class LinearSolverType { kAuto, kDense, kSparse, kPcg };
+const char* LinearSolverName(LinearSolverType type);
+// "auto", "dense", "sparse", "pcg"; false if `name` is none of them.
+bool ParseLinearSolver(const std::string& name, LinearSolverType* type);
+// For test output.
+inline void PrintTo(LinearSolverType type, std::ostream* out) { *out << LinearSolverName(type); }
+
+struct LinearSolverOptions {
+  LinearSolverType type = LinearSolverType::kAuto;
+  PcgOptions pcg;
+  // auto: a factorization is chosen only while its memory (factor and
+  // sparse copy of S) stays within this multiple of the PCG path's (S,
+  // preconditioner and PCG vectors).
+  double max_factor_memory_ratio = 2.0;
+  // Observations of the problem (auto's cost model weighs the linear solve
+  // against the rest of an LM iteration); 0: unknown.
+  int64_t num_observations = 0;
+  int num_threads = 1;
+};
+
+struct LinearSolveSummary {
+  int iterations = 0;        // PCG iterations; 0 for a factorization
+  double relative_residual = 0.0;  // PCG's ‖r‖/‖b‖; 0 for a factorization
+  std::string stop;          // PCG's stop reason, or "factorized"
+  bool ok = true;            // false: S was not positive definite
+};
+
+class RcsSolver {
+ public:
+  virtual ~RcsSolver() = default;
+  // x = S⁻¹ b (PCG: approximately). S: the matrix given at construction,
+  // damped, current values.
+  virtual LinearSolveSummary Solve(const BsmcMatrix& S, const double* b, double* x) = 0;
+  virtual LinearSolverType type() const = 0;
+  // Bytes held by the solver beyond S (factor, copies, vectors).
+  virtual int64_t MemoryBytes() const = 0;
+};
+
+// What auto chose and why (also filled for an explicit choice).
+struct RcsSolverChoice {
+  LinearSolverType type = LinearSolverType::kPcg;
+  std::string reason;
+  int64_t pcg_bytes = 0;          // PCG path: S + preconditioner + vectors
+  int64_t dense_bytes = 0;        // n² doubles
+  int64_t sparse_bytes = -1;      // factor + CSC copy of S; -1: not estimated
+  double dense_flops = 0.0;
+  double sparse_flops = -1.0;
+  // Estimated seconds per LM iteration with each solver (sparse -1: not
+  // estimated).
+  double estimated_pcg_seconds = 0.0, estimated_dense_seconds = 0.0,
+         estimated_sparse_seconds = -1.0;
+};
+
+// Builds the solver for S's structure (options.type, or the choice of auto).
+std::unique_ptr<RcsSolver> MakeRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options,
+                                         RcsSolverChoice* choice = nullptr);
+
+}  // namespace dba

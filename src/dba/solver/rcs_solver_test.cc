@@ -1,0 +1,142 @@
+// Every RCS solver against a dense LLT of the same matrix (mixed block sizes,
+// random patterns), refusal of matrices that are not positive definite, and
+// the choice of auto.
+#include "dba/solver/rcs_solver.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+
+#include "dba/solver/sparse_cholesky.h"
+#include "dba/testing/dense_reference.h"
+#include "dba/testing/random_bsmc.h"
+
+namespace dba {
+namespace {
+
+BsmcMatrix Spd(int block_rows, double fill, int band, uint32_t seed) {
+  testing::RandomBsmcOptions o;
+  o.block_rows = block_rows;
+  o.fill = fill;
+  o.band = band;
+  o.positive_definite = true;
+  o.seed = seed;
+  return testing::MakeRandomBsmc(o);
+}
+
+class EachSolver : public ::testing::TestWithParam<LinearSolverType> {};
+
+TEST_P(EachSolver, SolvesLikeDenseCholesky) {
+  for (uint32_t seed = 1; seed <= 4; ++seed) {
+    BsmcMatrix S = Spd(25 + 10 * seed, 0.15, seed % 2 == 0 ? 4 : 0, seed);
+    LinearSolverOptions options;
+    options.type = GetParam();
+    options.pcg.eta = 0.0;  // a tight solve, to compare with the direct one
+    options.pcg.relative_tolerance = 1e-13;
+    options.num_threads = 2;
+    RcsSolverChoice choice;
+    std::unique_ptr<RcsSolver> solver = MakeRcsSolver(S, options, &choice);
+    ASSERT_EQ(solver->type(), GetParam());
+    EXPECT_EQ(choice.type, GetParam());
+    // Two numeric phases on one symbolic one: values change, structure not.
+    for (int round = 0; round < 2; ++round) {
+      if (round == 1) {
+        for (int32_t i = 0; i < S.num_block_rows(); ++i) {
+          double* d = S.block_values(S.diagonal_block(i));
+          for (int a = 0; a < S.block_size(i); ++a) d[a * S.block_size(i) + a] *= 1.5;
+        }
+      }
+      const Eigen::MatrixXd dense = testing::DenseFromBsmc(S);
+      const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(S.num_rows(), -1.0, 2.0);
+      const Eigen::VectorXd expected = dense.llt().solve(b);
+      Eigen::VectorXd x(S.num_rows());
+      const LinearSolveSummary s = solver->Solve(S, b.data(), x.data());
+      ASSERT_TRUE(s.ok) << "seed " << seed << " round " << round;
+      EXPECT_LT((x - expected).norm(), 1e-9 * expected.norm())
+          << "seed " << seed << " round " << round << " stop " << s.stop;
+    }
+  }
+}
+
+TEST_P(EachSolver, IndefiniteMatrixIsRefusedOrBreaksDown) {
+  BsmcMatrix S = Spd(20, 0.3, 0, 9);
+  LinearSolverOptions options;
+  options.type = GetParam();
+  std::unique_ptr<RcsSolver> solver = MakeRcsSolver(S, options);
+  for (double& v : S.values()) v = -v;  // negative definite
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(S.num_rows());
+  Eigen::VectorXd x(S.num_rows());
+  const LinearSolveSummary s = solver->Solve(S, b.data(), x.data());
+  if (GetParam() == LinearSolverType::kPcg) {
+    EXPECT_EQ(s.stop, "breakdown");
+  } else {
+    EXPECT_FALSE(s.ok);
+    EXPECT_EQ(s.stop, "not_positive_definite");
+    EXPECT_EQ(x.norm(), 0.0);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Solvers, EachSolver,
+                         ::testing::Values(LinearSolverType::kDense, LinearSolverType::kSparse,
+                                           LinearSolverType::kPcg),
+                         [](const ::testing::TestParamInfo<LinearSolverType>& info) {
+                           return std::string(LinearSolverName(info.param));
+                         });
+
+TEST(AutoSolver, SmallSystemIsFactorizedDensely) {
+  const BsmcMatrix S = Spd(30, 0.8, 0, 3);
+  RcsSolverChoice choice;
+  std::unique_ptr<RcsSolver> solver = MakeRcsSolver(S, LinearSolverOptions{}, &choice);
+  EXPECT_EQ(solver->type(), LinearSolverType::kDense) << choice.reason;
+  EXPECT_LE(choice.dense_bytes, 2 * choice.pcg_bytes);
+}
+
+TEST(AutoSolver, NeverExceedsTheMemoryBudget) {
+  // A long band: the dense matrix is far larger than the PCG path, the sparse
+  // factor of a band is not.
+  const BsmcMatrix S = Spd(3000, 0.5, 3, 5);
+  for (double ratio : {0.0, 2.0}) {
+    LinearSolverOptions options;
+    options.max_factor_memory_ratio = ratio;
+    RcsSolverChoice choice;
+    std::unique_ptr<RcsSolver> solver = MakeRcsSolver(S, options, &choice);
+    EXPECT_NE(choice.type, LinearSolverType::kDense);
+    if (ratio == 0.0) {
+      EXPECT_EQ(choice.type, LinearSolverType::kPcg) << choice.reason;
+    } else if (choice.type == LinearSolverType::kSparse) {
+      EXPECT_LE(choice.sparse_bytes, ratio * choice.pcg_bytes);
+    }
+  }
+}
+
+#ifdef DBA_HAVE_CHOLMOD
+// The block-graph estimate against the analysed scalar factor: a band
+// (no fill beyond it) within the supernodes' explicit zeros (40%).
+TEST(SparseCholesky, BlockEstimateMatchesTheFactor) {
+  testing::RandomBsmcOptions o;
+  o.block_rows = 400;
+  o.sizes = {6};
+  o.fill = 1.0;
+  o.band = 3;
+  o.positive_definite = true;
+  const BsmcMatrix S = testing::MakeRandomBsmc(o);
+  const SparseFactorEstimate e = EstimateSparseFactor(S);
+  SparseCholeskySolver solver(S);
+  ASSERT_TRUE(e.available);
+  EXPECT_NEAR(e.factor_values, solver.factor_values(), 0.4 * solver.factor_values());
+}
+#endif
+
+TEST(LinearSolverName, RoundTrips) {
+  for (LinearSolverType t : {LinearSolverType::kAuto, LinearSolverType::kDense,
+                             LinearSolverType::kSparse, LinearSolverType::kPcg}) {
+    LinearSolverType parsed;
+    ASSERT_TRUE(ParseLinearSolver(LinearSolverName(t), &parsed));
+    EXPECT_EQ(parsed, t);
+  }
+  LinearSolverType parsed;
+  EXPECT_FALSE(ParseLinearSolver("cholesky", &parsed));
+}
+
+}  // namespace
+}  // namespace dba

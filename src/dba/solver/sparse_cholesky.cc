@@ -1,0 +1,304 @@
+// Sparse Cholesky of the damped RCS; see sparse_cholesky.h.
+#include "dba/solver/sparse_cholesky.h"
+
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#ifdef DBA_HAVE_CHOLMOD
+#include <cholmod.h>
+#else
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
+#endif
+
+namespace dba {
+namespace {
+
+// S's upper triangle in compressed sparse columns read as rows: column r of
+// the CSC holds row r of the upper triangle, i.e. the CSC of the lower
+// triangle of the symmetric S. 32-bit indices (a factor that large would not
+// fit this memory anyway; refused below).
+struct UpperPattern {
+  std::vector<int> col_ptr;  // n + 1
+  std::vector<int> row_idx;  // nnz
+};
+
+UpperPattern BuildUpperPattern(const BsmcMatrix& S) {
+  UpperPattern p;
+  const int64_t n = S.num_rows();
+  int64_t nnz = 0;
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) {
+    const int ci = S.block_size(i);
+    int64_t row_width = 0;  // scalars right of the diagonal block
+    for (int64_t blk = S.row_begin(i) + 1; blk < S.row_end(i); ++blk) {
+      row_width += S.block_size(S.block_col(blk));
+    }
+    nnz += ci * row_width + int64_t{ci} * (ci + 1) / 2;
+  }
+  if (n >= std::numeric_limits<int>::max() || nnz >= std::numeric_limits<int>::max()) {
+    throw std::runtime_error("sparse Cholesky: the RCS has " + std::to_string(nnz) +
+                             " scalar non-zeros, more than 32-bit indices hold; use "
+                             "--linear-solver pcg");
+  }
+  p.col_ptr.resize(n + 1);
+  p.row_idx.resize(nnz);
+  int64_t k = 0;
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) {
+    const int ci = S.block_size(i);
+    const int64_t oi = S.scalar_offset(i);
+    for (int a = 0; a < ci; ++a) {
+      p.col_ptr[oi + a] = static_cast<int>(k);
+      for (int64_t blk = S.row_begin(i); blk < S.row_end(i); ++blk) {
+        const int32_t j = S.block_col(blk);
+        const int64_t oj = S.scalar_offset(j);
+        for (int c = (j == i ? a : 0); c < S.block_size(j); ++c) {
+          p.row_idx[k++] = static_cast<int>(oj + c);
+        }
+      }
+    }
+  }
+  p.col_ptr[n] = static_cast<int>(k);
+  return p;
+}
+
+// Gathers S's values into the pattern's order.
+void FillUpperValues(const BsmcMatrix& S, const UpperPattern& p, double* values) {
+  const int32_t nb = S.num_block_rows();
+#pragma omp parallel for schedule(static) if (nb > 1024)
+  for (int32_t i = 0; i < nb; ++i) {
+    const int ci = S.block_size(i);
+    const int64_t oi = S.scalar_offset(i);
+    for (int a = 0; a < ci; ++a) {
+      int64_t k = p.col_ptr[oi + a];
+      for (int64_t blk = S.row_begin(i); blk < S.row_end(i); ++blk) {
+        const int cj = S.block_size(S.block_col(blk));
+        const double* row = S.block_values(blk) + int64_t{a} * cj;
+        for (int c = (S.block_col(blk) == i ? a : 0); c < cj; ++c) values[k++] = row[c];
+      }
+    }
+  }
+}
+
+}  // namespace
+
+#ifdef DBA_HAVE_CHOLMOD
+
+namespace {
+
+struct Cholmod {
+  cholmod_common c;
+  Cholmod() {
+    cholmod_start(&c);
+    c.print = 0;  // errors are reported by the caller
+    c.nmethods = 1;
+  }
+  ~Cholmod() { cholmod_finish(&c); }
+  Cholmod(const Cholmod&) = delete;
+  Cholmod& operator=(const Cholmod&) = delete;
+};
+
+// The block graph of S (pattern only, lower triangle as CSC), analysed with
+// AMD: block order and the simplicial column counts.
+struct BlockAnalysis {
+  std::vector<int> perm;       // block order
+  std::vector<double> col_count;  // nnz (in blocks) of each column of L, in order
+};
+
+BlockAnalysis AnalyseBlockGraph(const BsmcMatrix& S) {
+  Cholmod cm;
+  const int nb = S.num_block_rows();
+  cholmod_sparse* A = cholmod_allocate_sparse(nb, nb, S.num_blocks(), 1, 1, -1, CHOLMOD_PATTERN, &cm.c);
+  if (A == nullptr) throw std::runtime_error("sparse Cholesky: out of memory (block graph)");
+  int* ap = static_cast<int*>(A->p);
+  int* ai = static_cast<int*>(A->i);
+  for (int i = 0; i <= nb; ++i) ap[i] = static_cast<int>(i < nb ? S.row_begin(i) : S.num_blocks());
+  for (int64_t b = 0; b < S.num_blocks(); ++b) ai[b] = S.block_col(b);
+  cm.c.method[0].ordering = CHOLMOD_AMD;
+  cm.c.supernodal = CHOLMOD_SIMPLICIAL;
+  cholmod_factor* L = cholmod_analyze(A, &cm.c);
+  cholmod_free_sparse(&A, &cm.c);
+  if (L == nullptr) throw std::runtime_error("sparse Cholesky: block analysis failed");
+  BlockAnalysis out;
+  out.perm.assign(static_cast<int*>(L->Perm), static_cast<int*>(L->Perm) + nb);
+  out.col_count.resize(nb);
+  for (int k = 0; k < nb; ++k) out.col_count[k] = static_cast<int*>(L->ColCount)[k];
+  cholmod_free_factor(&L, &cm.c);
+  return out;
+}
+
+}  // namespace
+
+SparseFactorEstimate EstimateSparseFactor(const BsmcMatrix& S) {
+  SparseFactorEstimate e;
+  e.available = true;
+  const BlockAnalysis a = AnalyseBlockGraph(S);
+  // Column k of the block factor: count_k blocks of the mean size c; its
+  // scalar columns hold c·count_k values (a supernode stores its diagonal
+  // block whole), and its elimination costs about (c·count_k)² flops per
+  // scalar column. Supernode amalgamation adds explicit zeros on top: the
+  // analysis of the scalar matrix gives the exact size (factor_values()).
+  const double c = static_cast<double>(S.num_rows()) / std::max(1, S.num_block_rows());
+  for (double count : a.col_count) {
+    e.factor_values += c * c * count;
+    e.flops += c * (c * count) * (c * count);
+  }
+  return e;
+}
+
+struct SparseCholeskySolver::Impl {
+  Cholmod cm;
+  UpperPattern pattern;
+  cholmod_sparse* A = nullptr;
+  cholmod_factor* L = nullptr;
+  cholmod_dense *B = nullptr, *X = nullptr, *Y = nullptr, *E = nullptr;
+  ~Impl() {
+    cholmod_free_dense(&B, &cm.c);
+    cholmod_free_dense(&X, &cm.c);
+    cholmod_free_dense(&Y, &cm.c);
+    cholmod_free_dense(&E, &cm.c);
+    cholmod_free_factor(&L, &cm.c);
+    if (A != nullptr) {
+      // The index arrays belong to `pattern`: detach them before freeing.
+      A->p = nullptr;
+      A->i = nullptr;
+      cholmod_free_sparse(&A, &cm.c);
+    }
+  }
+};
+
+SparseCholeskySolver::SparseCholeskySolver(const BsmcMatrix& S) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  const BlockAnalysis blocks = AnalyseBlockGraph(S);
+  std::vector<int> perm;
+  perm.reserve(S.num_rows());
+  for (int b : blocks.perm) {
+    for (int a = 0; a < S.block_size(b); ++a) perm.push_back(static_cast<int>(S.scalar_offset(b) + a));
+  }
+  m.pattern = BuildUpperPattern(S);
+  const int n = static_cast<int>(S.num_rows());
+  const size_t nnz = m.pattern.row_idx.size();
+  // A CSC over the pattern's arrays; values allocated by CHOLMOD.
+  m.A = static_cast<cholmod_sparse*>(cholmod_malloc(1, sizeof(cholmod_sparse), &m.cm.c));
+  if (m.A == nullptr) throw std::runtime_error("sparse Cholesky: out of memory");
+  *m.A = cholmod_sparse{};
+  m.A->nrow = n;
+  m.A->ncol = n;
+  m.A->nzmax = nnz;
+  m.A->p = m.pattern.col_ptr.data();
+  m.A->i = m.pattern.row_idx.data();
+  m.A->x = cholmod_malloc(nnz, sizeof(double), &m.cm.c);
+  m.A->stype = -1;  // lower triangle of S = upper triangle read by rows
+  m.A->itype = CHOLMOD_INT;
+  m.A->xtype = CHOLMOD_REAL;
+  m.A->dtype = CHOLMOD_DOUBLE;
+  m.A->sorted = 1;
+  m.A->packed = 1;
+  if (m.A->x == nullptr) throw std::runtime_error("sparse Cholesky: out of memory");
+  m.cm.c.method[0].ordering = CHOLMOD_GIVEN;
+  m.cm.c.postorder = 1;
+  m.cm.c.supernodal = CHOLMOD_SUPERNODAL;
+  m.L = cholmod_analyze_p(m.A, perm.data(), nullptr, 0, &m.cm.c);
+  if (m.L == nullptr || m.cm.c.status < 0) {
+    throw std::runtime_error("sparse Cholesky: analysis failed (CHOLMOD status " +
+                             std::to_string(m.cm.c.status) + ")");
+  }
+  m.B = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &m.cm.c);
+  if (m.B == nullptr) throw std::runtime_error("sparse Cholesky: out of memory");
+}
+
+SparseCholeskySolver::~SparseCholeskySolver() = default;
+
+double SparseCholeskySolver::factor_values() const {
+  const cholmod_factor* L = impl_->L;
+  return L->is_super ? static_cast<double>(L->xsize) : impl_->cm.c.lnz;
+}
+
+int64_t SparseCholeskySolver::MemoryBytes() const {
+  const Impl& m = *impl_;
+  const int64_t nnz = static_cast<int64_t>(m.pattern.row_idx.size());
+  const int64_t n = static_cast<int64_t>(m.pattern.col_ptr.size());
+  return static_cast<int64_t>(factor_values() * 8.0) + nnz * 12 + n * 4 * 8;
+}
+
+LinearSolveSummary SparseCholeskySolver::Solve(const BsmcMatrix& S, const double* b, double* x) {
+  Impl& m = *impl_;
+  LinearSolveSummary summary;
+  summary.stop = "factorized";
+  const int64_t n = S.num_rows();
+  FillUpperValues(S, m.pattern, static_cast<double*>(m.A->x));
+  if (!cholmod_factorize(m.A, m.L, &m.cm.c) || m.cm.c.status == CHOLMOD_NOT_POSDEF) {
+    if (m.cm.c.status == CHOLMOD_NOT_POSDEF) {
+      summary.ok = false;
+      summary.stop = "not_positive_definite";
+      std::fill(x, x + n, 0.0);
+      return summary;
+    }
+    throw std::runtime_error("sparse Cholesky: factorization failed (CHOLMOD status " +
+                             std::to_string(m.cm.c.status) + ")");
+  }
+  std::copy(b, b + n, static_cast<double*>(m.B->x));
+  if (!cholmod_solve2(CHOLMOD_A, m.L, m.B, nullptr, &m.X, nullptr, &m.Y, &m.E, &m.cm.c)) {
+    throw std::runtime_error("sparse Cholesky: solve failed (CHOLMOD status " +
+                             std::to_string(m.cm.c.status) + ")");
+  }
+  const double* solution = static_cast<const double*>(m.X->x);
+  std::copy(solution, solution + n, x);
+  return summary;
+}
+
+#else  // Eigen's simplicial Cholesky: no GPL code in the build.
+
+SparseFactorEstimate EstimateSparseFactor(const BsmcMatrix&) { return {}; }
+
+struct SparseCholeskySolver::Impl {
+  UpperPattern pattern;
+  std::vector<double> values;
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
+};
+
+SparseCholeskySolver::SparseCholeskySolver(const BsmcMatrix& S) : impl_(std::make_unique<Impl>()) {
+  impl_->pattern = BuildUpperPattern(S);
+  impl_->values.assign(impl_->pattern.row_idx.size(), 0.0);
+  const int n = static_cast<int>(S.num_rows());
+  const Eigen::Map<const Eigen::SparseMatrix<double>> A(
+      n, n, static_cast<int>(impl_->values.size()), impl_->pattern.col_ptr.data(),
+      impl_->pattern.row_idx.data(), impl_->values.data());
+  impl_->llt.analyzePattern(A);
+}
+
+SparseCholeskySolver::~SparseCholeskySolver() = default;
+
+double SparseCholeskySolver::factor_values() const { return -1.0; }
+
+int64_t SparseCholeskySolver::MemoryBytes() const {
+  const int64_t nnz = static_cast<int64_t>(impl_->pattern.row_idx.size());
+  return nnz * 12 + static_cast<int64_t>(impl_->llt.matrixL().nestedExpression().nonZeros()) * 12;
+}
+
+LinearSolveSummary SparseCholeskySolver::Solve(const BsmcMatrix& S, const double* b, double* x) {
+  Impl& m = *impl_;
+  LinearSolveSummary summary;
+  summary.stop = "factorized";
+  const int n = static_cast<int>(S.num_rows());
+  FillUpperValues(S, m.pattern, m.values.data());
+  const Eigen::Map<const Eigen::SparseMatrix<double>> A(
+      n, n, static_cast<int>(m.values.size()), m.pattern.col_ptr.data(), m.pattern.row_idx.data(),
+      m.values.data());
+  m.llt.factorize(A);
+  Eigen::Map<Eigen::VectorXd> solution(x, n);
+  if (m.llt.info() != Eigen::Success) {
+    summary.ok = false;
+    summary.stop = "not_positive_definite";
+    solution.setZero();
+    return summary;
+  }
+  solution = m.llt.solve(Eigen::Map<const Eigen::VectorXd>(b, n));
+  return summary;
+}
+
+#endif
+
+}  // namespace dba

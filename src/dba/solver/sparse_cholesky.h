@@ -1,0 +1,47 @@
+// Sparse Cholesky solve of the damped RCS, P S Pᵀ = L Lᵀ, for medium systems.
+//
+// Symbolic phase, once per LM solve: a fill-reducing order of the camera
+// blocks (AMD on the block graph, nb nodes instead of n scalars, as Ceres
+// orders SPARSE_SCHUR), expanded to scalars; the scalar pattern of S's upper
+// triangle in compressed columns; the supernodal analysis (CHOLMOD) in that
+// order. Numeric phase, per LM iteration: S's values gathered from BSMC into
+// the pattern (no triplets, no sort), a supernodal refactorization, two
+// triangular solves.
+//
+// Built with -DDBA_CHOLMOD=OFF (CHOLMOD's supernodal module is GPL) the same
+// interface runs Eigen's SimplicialLLT with AMD ordering instead.
+//
+// Thread safety: one Solve at a time.
+#pragma once
+
+#include <memory>
+
+#include "dba/solver/rcs_solver.h"
+
+namespace dba {
+
+// nnz and flops of the sparse factor, estimated on the block graph (cheap:
+// an elimination tree over nb blocks) and scaled by the mean block size.
+struct SparseFactorEstimate {
+  bool available = false;  // false without CHOLMOD
+  double factor_values = 0.0;
+  double flops = 0.0;
+};
+SparseFactorEstimate EstimateSparseFactor(const BsmcMatrix& S);
+
+class SparseCholeskySolver : public RcsSolver {
+ public:
+  explicit SparseCholeskySolver(const BsmcMatrix& S);
+  ~SparseCholeskySolver() override;
+  LinearSolveSummary Solve(const BsmcMatrix& S, const double* b, double* x) override;
+  LinearSolverType type() const override { return LinearSolverType::kSparse; }
+  int64_t MemoryBytes() const override;
+  // Values in the factor as analysed.
+  double factor_values() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dba
