@@ -35,30 +35,30 @@ DenseCholeskySolver::DenseCholeskySolver(const BsmcMatrix& S) {
                              " unknowns are too many for a dense matrix; use --linear-solver pcg");
   }
   dense_.resize(n * n);
+  n_ = n;
 }
 
 int64_t DenseCholeskySolver::MemoryBytes() const {
   return static_cast<int64_t>(dense_.size()) * int64_t{sizeof(double)};
 }
 
-LinearSolveSummary DenseCholeskySolver::Solve(const BsmcMatrix& S, const double* b, double* x) {
-  LinearSolveSummary summary;
-  summary.stop = "factorized";
+bool DenseCholeskySolver::Factorize(const BsmcMatrix& S) {
   const int64_t n = S.num_rows();
   // The last factorization filled blocks S does not store: start from zero.
   std::fill(dense_.begin(), dense_.end(), 0.0);
   ExpandUpperTriangle(S, dense_.data());
   Eigen::Map<Eigen::MatrixXd> dense(dense_.data(), n, n);
   Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Upper> llt(dense);  // in place
+  return llt.info() == Eigen::Success;
+}
+
+void DenseCholeskySolver::SolveFactored(const double* b, double* x) {
+  const int64_t n = n_;
+  Eigen::Map<const Eigen::MatrixXd> factor(dense_.data(), n, n);  // U, S = Uᵀ U
   Eigen::Map<Eigen::VectorXd> solution(x, n);
-  if (llt.info() != Eigen::Success) {
-    summary.ok = false;
-    summary.stop = "not_positive_definite";
-    solution.setZero();
-    return summary;
-  }
-  solution = llt.solve(Eigen::Map<const Eigen::VectorXd>(b, n));
-  return summary;
+  if (x != b) solution = Eigen::Map<const Eigen::VectorXd>(b, n);
+  factor.transpose().triangularView<Eigen::Lower>().solveInPlace(solution);
+  factor.triangularView<Eigen::Upper>().solveInPlace(solution);
 }
 
 }  // namespace dba

@@ -14,14 +14,16 @@
 
 namespace dba {
 
-class DenseCholeskySolver : public RcsSolver {
+class DenseCholeskySolver : public CholeskySolver {
  public:
   explicit DenseCholeskySolver(const BsmcMatrix& S);
-  LinearSolveSummary Solve(const BsmcMatrix& S, const double* b, double* x) override;
+  bool Factorize(const BsmcMatrix& S) override;
+  void SolveFactored(const double* b, double* x) override;
   LinearSolverType type() const override { return LinearSolverType::kDense; }
   int64_t MemoryBytes() const override;
 
  private:
+  int64_t n_ = 0;
   std::vector<double> dense_;  // column-major n x n, upper triangle used
 };
 

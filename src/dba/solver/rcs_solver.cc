@@ -16,6 +16,7 @@
 // times the PCG path's.
 #include "dba/solver/rcs_solver.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 
@@ -61,6 +62,24 @@ bool ParseLinearSolver(const std::string& name, LinearSolverType* type) {
     }
   }
   return false;
+}
+
+LinearSolveSummary CholeskySolver::Solve(const BsmcMatrix& S, const double* b, double* x) {
+  LinearSolveSummary summary;
+  summary.stop = "factorized";
+  if (!Factorize(S)) {
+    summary.ok = false;
+    summary.stop = "not_positive_definite";
+    std::fill(x, x + S.num_rows(), 0.0);
+    return summary;
+  }
+  SolveFactored(b, x);
+  return summary;
+}
+
+std::unique_ptr<CholeskySolver> MakeCholeskySolver(const BsmcMatrix& S, int64_t max_dense_rows) {
+  if (S.num_rows() <= max_dense_rows) return std::make_unique<DenseCholeskySolver>(S);
+  return std::make_unique<SparseCholeskySolver>(S);
 }
 
 std::unique_ptr<RcsSolver> MakeRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options,

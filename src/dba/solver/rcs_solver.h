@@ -68,6 +68,23 @@ class RcsSolver {
   virtual int64_t MemoryBytes() const = 0;
 };
 
+// A direct solver: Solve = Factorize, then SolveFactored. The split lets a
+// preconditioner factorize once and solve many times.
+class CholeskySolver : public RcsSolver {
+ public:
+  // Numeric factorization of S's current values; false if S is not
+  // (numerically) positive definite.
+  virtual bool Factorize(const BsmcMatrix& S) = 0;
+  // x = S⁻¹ b with the last successful factorization; x may alias b.
+  virtual void SolveFactored(const double* b, double* x) = 0;
+
+  LinearSolveSummary Solve(const BsmcMatrix& S, const double* b, double* x) final;
+};
+
+// A direct solver for S: dense up to `max_dense_rows` unknowns, sparse above
+// (without CHOLMOD: dense up to 4x that, then Eigen's simplicial sparse).
+std::unique_ptr<CholeskySolver> MakeCholeskySolver(const BsmcMatrix& S, int64_t max_dense_rows);
+
 // What auto chose and why (also filled for an explicit choice).
 struct RcsSolverChoice {
   LinearSolverType type = LinearSolverType::kPcg;

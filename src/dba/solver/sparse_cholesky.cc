@@ -223,22 +223,21 @@ int64_t SparseCholeskySolver::MemoryBytes() const {
   return static_cast<int64_t>(factor_values() * 8.0) + nnz * 12 + n * 4 * 8;
 }
 
-LinearSolveSummary SparseCholeskySolver::Solve(const BsmcMatrix& S, const double* b, double* x) {
+bool SparseCholeskySolver::Factorize(const BsmcMatrix& S) {
   Impl& m = *impl_;
-  LinearSolveSummary summary;
-  summary.stop = "factorized";
-  const int64_t n = S.num_rows();
   FillUpperValues(S, m.pattern, static_cast<double*>(m.A->x));
-  if (!cholmod_factorize(m.A, m.L, &m.cm.c) || m.cm.c.status == CHOLMOD_NOT_POSDEF) {
-    if (m.cm.c.status == CHOLMOD_NOT_POSDEF) {
-      summary.ok = false;
-      summary.stop = "not_positive_definite";
-      std::fill(x, x + n, 0.0);
-      return summary;
-    }
+  const int ok = cholmod_factorize(m.A, m.L, &m.cm.c);
+  if (m.cm.c.status == CHOLMOD_NOT_POSDEF) return false;
+  if (!ok || m.cm.c.status < 0) {
     throw std::runtime_error("sparse Cholesky: factorization failed (CHOLMOD status " +
                              std::to_string(m.cm.c.status) + ")");
   }
+  return true;
+}
+
+void SparseCholeskySolver::SolveFactored(const double* b, double* x) {
+  Impl& m = *impl_;
+  const int64_t n = static_cast<int64_t>(m.B->nrow);
   std::copy(b, b + n, static_cast<double*>(m.B->x));
   if (!cholmod_solve2(CHOLMOD_A, m.L, m.B, nullptr, &m.X, nullptr, &m.Y, &m.E, &m.cm.c)) {
     throw std::runtime_error("sparse Cholesky: solve failed (CHOLMOD status " +
@@ -246,7 +245,6 @@ LinearSolveSummary SparseCholeskySolver::Solve(const BsmcMatrix& S, const double
   }
   const double* solution = static_cast<const double*>(m.X->x);
   std::copy(solution, solution + n, x);
-  return summary;
 }
 
 #else  // Eigen's simplicial Cholesky: no GPL code in the build.
@@ -278,25 +276,21 @@ int64_t SparseCholeskySolver::MemoryBytes() const {
   return nnz * 12 + static_cast<int64_t>(impl_->llt.matrixL().nestedExpression().nonZeros()) * 12;
 }
 
-LinearSolveSummary SparseCholeskySolver::Solve(const BsmcMatrix& S, const double* b, double* x) {
+bool SparseCholeskySolver::Factorize(const BsmcMatrix& S) {
   Impl& m = *impl_;
-  LinearSolveSummary summary;
-  summary.stop = "factorized";
   const int n = static_cast<int>(S.num_rows());
   FillUpperValues(S, m.pattern, m.values.data());
   const Eigen::Map<const Eigen::SparseMatrix<double>> A(
       n, n, static_cast<int>(m.values.size()), m.pattern.col_ptr.data(), m.pattern.row_idx.data(),
       m.values.data());
   m.llt.factorize(A);
-  Eigen::Map<Eigen::VectorXd> solution(x, n);
-  if (m.llt.info() != Eigen::Success) {
-    summary.ok = false;
-    summary.stop = "not_positive_definite";
-    solution.setZero();
-    return summary;
-  }
-  solution = m.llt.solve(Eigen::Map<const Eigen::VectorXd>(b, n));
-  return summary;
+  return m.llt.info() == Eigen::Success;
+}
+
+void SparseCholeskySolver::SolveFactored(const double* b, double* x) {
+  const int64_t n = static_cast<int64_t>(impl_->pattern.col_ptr.size()) - 1;
+  const Eigen::VectorXd rhs = Eigen::Map<const Eigen::VectorXd>(b, n);
+  Eigen::Map<Eigen::VectorXd>(x, n) = impl_->llt.solve(rhs);
 }
 
 #endif

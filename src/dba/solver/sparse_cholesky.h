@@ -29,11 +29,12 @@ struct SparseFactorEstimate {
 };
 SparseFactorEstimate EstimateSparseFactor(const BsmcMatrix& S);
 
-class SparseCholeskySolver : public RcsSolver {
+class SparseCholeskySolver : public CholeskySolver {
  public:
   explicit SparseCholeskySolver(const BsmcMatrix& S);
   ~SparseCholeskySolver() override;
-  LinearSolveSummary Solve(const BsmcMatrix& S, const double* b, double* x) override;
+  bool Factorize(const BsmcMatrix& S) override;
+  void SolveFactored(const double* b, double* x) override;
   LinearSolverType type() const override { return LinearSolverType::kSparse; }
   int64_t MemoryBytes() const override;
   // Values in the factor as analysed.
