@@ -6,11 +6,13 @@
 #include <fstream>
 #include <sstream>
 
+#include "dba/testing/temp_files.h"
+
 namespace dba {
 namespace {
 
 TEST(AtomicFile, WritesAndReplaces) {
-  const std::string path = testing::TempDir() + "/atomic_file_test.txt";
+  const std::string path = dba::testing::TempPath("atomic_file_test.txt");
   WriteFileAtomically(path, "first");
   WriteFileAtomically(path, "second\n");
   std::ifstream in(path);
@@ -20,7 +22,7 @@ TEST(AtomicFile, WritesAndReplaces) {
 }
 
 TEST(AtomicFile, FailureLeavesNothingAndNamesThePath) {
-  const std::string dir = testing::TempDir() + "/no_such_dir_atomic";
+  const std::string dir = dba::testing::TempPath("no_such_dir_atomic");
   const std::string path = dir + "/x.json";
   try {
     WriteFileAtomically(path, "data");

@@ -11,12 +11,13 @@
 #include <vector>
 
 #include "dba/common/error.h"
+#include "dba/testing/temp_files.h"
 
 namespace dba {
 namespace {
 
 std::string TempPath(const std::string& name) {
-  return testing::TempDir() + "/bal_reader_test_" + name;
+  return dba::testing::TempPath("bal_reader_test_" + name);
 }
 
 std::string WriteFile(const std::string& name, const std::string& bytes) {
@@ -181,7 +182,7 @@ const std::string kHead = "2 2 3\n";
 const std::string kObs = "0 0 1.5 -2.5\n1 0 3 4\n1 1 5 6\n";
 const std::string kPts = "1 2 3\n4 5 6\n";
 
-class BalReaderMalformedTest : public testing::TestWithParam<BadCase> {};
+class BalReaderMalformedTest : public ::testing::TestWithParam<BadCase> {};
 
 TEST_P(BalReaderMalformedTest, ThrowsInputErrorWithFileLineAndPhrase) {
   const BadCase& c = GetParam();
@@ -204,7 +205,7 @@ TEST_P(BalReaderMalformedTest, ThrowsInputErrorWithFileLineAndPhrase) {
 
 INSTANTIATE_TEST_SUITE_P(
     BalReader, BalReaderMalformedTest,
-    testing::Values(
+    ::testing::Values(
         BadCase{"valid_control", kHead + kObs + kCams + kPts + "x", 9,
                 "expected end of file after the last point coordinate, found 'x'"},
         BadCase{"empty", "", 1, "expected header 'num_cameras num_points"},
@@ -253,7 +254,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"int64_observation_count", "2 2 3000000000\n" + kObs, 4,
                 "expected observation 3 of 3000000000 ('camera point x y'), found end "
                 "of file"}),
-    [](const testing::TestParamInfo<BadCase>& info) { return info.param.name; });
+    [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.name; });
 
 TEST(BalReaderTest, MissingFileIsAnInputError) {
   std::string path = TempPath("missing.txt");

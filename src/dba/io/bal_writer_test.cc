@@ -18,19 +18,15 @@
 
 #include "dba/io/bal_reader.h"
 #include "dba/testing/synthetic_photo.h"
+#include "dba/testing/temp_files.h"
 
 namespace dba {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh, empty directory for one test.
-std::string TestDir(const std::string& name) {
-  std::string dir = ::testing::TempDir() + "/bal_writer_test_" + name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+// A fresh, empty directory for one test, private to the process.
+std::string TestDir(const std::string& name) { return dba::testing::FreshTempDir(name); }
 
 std::string Slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -21,7 +21,7 @@
 namespace dba {
 namespace {
 
-std::string Tmp(const std::string& name) { return ::testing::TempDir() + "/" + name; }
+std::string Tmp(const std::string& name) { return testing::TempPath(name); }
 
 void ExpectSame(const BalProblem& a, const BalProblem& b) {
   auto bits = [](const auto& x, const auto& y) {
@@ -180,7 +180,7 @@ TEST(BinaryProblem, CountsPastTwoToThe31) {
   p.point_offsets = {0, 1};
   p.obs_camera = {0};
   p.obs_pixel = {0, 0};
-  const std::string path = ::testing::TempDir() + "/huge.dba";
+  const std::string path = Tmp("huge.dba");
   WriteBinaryProblem(p, path);
   // Rewrite the counts and section table for 3e9 observations of 1e9 points.
   const int64_t cameras = 3000000, points = 1000000000, observations = 3000000000;
@@ -219,8 +219,8 @@ namespace {
 
 TEST(BinaryProblem, RewriteWithNewParametersKeepsTheObservations) {
   const BalProblem bal = ReadBal(DBA_SHARED_DATA_DIR "/bal/problem-21-11315-pre.txt.bz2");
-  const std::string in = ::testing::TempDir() + "/params_in.dba";
-  const std::string out = ::testing::TempDir() + "/params_out.dba";
+  const std::string in = Tmp("params_in.dba");
+  const std::string out = Tmp("params_out.dba");
   WriteBinaryProblem(bal, in);
   std::vector<double> cameras = bal.cameras, points = bal.points;
   for (double& c : cameras) c += 1.0;

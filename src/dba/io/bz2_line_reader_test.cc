@@ -11,12 +11,13 @@
 #include <vector>
 
 #include "dba/common/error.h"
+#include "dba/testing/temp_files.h"
 
 namespace dba {
 namespace {
 
 std::string TempPath(const std::string& name) {
-  return testing::TempDir() + "/bz2_line_reader_test_" + name;
+  return dba::testing::TempPath("bz2_line_reader_test_" + name);
 }
 
 void WriteFile(const std::string& path, const std::string& bytes) {

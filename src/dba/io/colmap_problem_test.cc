@@ -391,7 +391,7 @@ TEST(ColmapProblemTest, PerImageWriteBackCreatesNewCameras) {
     EXPECT_EQ(m.cameras[j].height, model.cameras[0].height);
   }
   // Through a file: every image's intrinsics are its group's.
-  const std::string out = dba::testing::FreshTempDir(::testing::TempDir(), "per_image");
+  const std::string out = dba::testing::FreshTempDir("per_image");
   WriteColmapBinary(m, out);
   const ColmapModel back = ReadColmapModel(out);
   EXPECT_EQ(FirstColmapModelDifference(m, back), "");

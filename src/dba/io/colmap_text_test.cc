@@ -33,7 +33,7 @@ std::string SharedDir(const char* folder) {
 
 // A fresh directory, private to this process and removed when it exits.
 std::string TempDir(const std::string& name) {
-  return dba::testing::FreshTempDir(::testing::TempDir(), name);
+  return dba::testing::FreshTempDir(name);
 }
 
 std::string ReadBytes(const std::string& path) {

@@ -26,7 +26,7 @@ namespace fs = std::filesystem;
 using Rgb = std::array<uint8_t, 3>;
 
 std::string TempDir(const std::string& name) {
-  return dba::testing::FreshTempDir(::testing::TempDir(), name);
+  return dba::testing::FreshTempDir(name);
 }
 
 std::string Header(size_t n) {

@@ -9,11 +9,13 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "dba/testing/temp_files.h"
+
 namespace dba {
 namespace {
 
 TEST(TemporaryFile, CommitRenamesOverThePath) {
-  const std::string path = ::testing::TempDir() + "/tmpfile_commit.txt";
+  const std::string path = dba::testing::TempPath("tmpfile_commit.txt");
   std::filesystem::remove(path);
   {
     TemporaryFile out(path);
@@ -28,8 +30,7 @@ TEST(TemporaryFile, CommitRenamesOverThePath) {
 }
 
 TEST(TemporaryFile, WithoutCommitNothingIsLeft) {
-  const std::string dir = ::testing::TempDir() + "/tmpfile_dir";
-  std::filesystem::create_directories(dir);
+  const std::string dir = dba::testing::FreshTempDir("tmpfile_dir");
   try {
     TemporaryFile out(dir + "/x.txt");
     std::fputs("partial", out.file());
@@ -41,7 +42,7 @@ TEST(TemporaryFile, WithoutCommitNothingIsLeft) {
 }
 
 TEST(TemporaryFile, UncreatableNamesThePath) {
-  const std::string path = ::testing::TempDir() + "/no_such_dir_tmpfile/x.txt";
+  const std::string path = dba::testing::TempPath("no_such_dir_tmpfile/x.txt");
   try {
     TemporaryFile out(path);
     FAIL() << "created a file in a missing directory";

@@ -17,7 +17,7 @@
 namespace dba {
 namespace {
 
-std::string Tmp(const std::string& name) { return ::testing::TempDir() + "/" + name; }
+std::string Tmp(const std::string& name) { return dba::testing::TempPath(name); }
 
 std::string Bytes(const std::string& path) { return testing::ReadFileBytes(path); }
 
