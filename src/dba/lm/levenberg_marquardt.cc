@@ -126,6 +126,7 @@ LmSummary SolveLevenbergMarquardt(
     }
 
     if (small_step) {
+      it.step_accepted = false;  // dropped: the parameters stay where they are
       summary.termination = TerminationReason::kParameterTolerance;
       summary.termination_message = "step size below tolerance";
       done = true;
