@@ -100,6 +100,12 @@ void PrintSolveHelp(std::ostream& out) {
          "  --eta X                    PCG's truncated-Newton stop: end when the quadratic\n"
          "                             model improves by less than X / iteration (Nash-Sofer;\n"
          "                             default " << d.linear_solver.pcg.eta << ", 0: off)\n"
+         "  --preconditioner jacobi|two-level\n"
+         "                             PCG's preconditioner: block-Jacobi, or two-level\n"
+         "                             (block-Jacobi plus a coarse solve over aggregates of\n"
+         "                             neighbouring cameras; for long strips) (default\n"
+         "                             " << PreconditionerName(d.linear_solver.preconditioner) << ")\n"
+         "  --coarse-size N            two-level: cameras per aggregate (default " << d.linear_solver.coarse_aggregate_size << ")\n"
          "  --pcg-tolerance X          PCG also stops at this relative residual (default\n"
          "                             " << d.linear_solver.pcg.relative_tolerance << ")\n"
          "  --pcg-max-iterations N     PCG iteration limit, a safety net (default " << d.linear_solver.pcg.max_iterations << ")\n"
@@ -170,6 +176,14 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       if (!ParseLinearSolver(v, &o.lm.linear_solver.type)) {
         throw std::invalid_argument(a + ": expected auto, dense, sparse or pcg, got '" + v + "'");
       }
+    } else if (a == "--preconditioner") {
+      const std::string& v = value();
+      if (!ParsePreconditioner(v, &o.lm.linear_solver.preconditioner)) {
+        throw std::invalid_argument(a + ": expected jacobi or two-level, got '" + v + "'");
+      }
+    } else if (a == "--coarse-size") {
+      o.lm.linear_solver.coarse_aggregate_size =
+          static_cast<int>(ParseIntegerArgument(a, value(), 1, 1000000000));
     } else if (a == "--eta") {
       o.lm.linear_solver.pcg.eta = ParseNumberArgument(a, value());
       if (o.lm.linear_solver.pcg.eta < 0) throw std::invalid_argument(a + ": must be >= 0");

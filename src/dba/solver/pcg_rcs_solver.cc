@@ -3,17 +3,24 @@
 
 #include <stdexcept>
 
+#include "dba/solver/block_jacobi.h"
+#include "dba/solver/two_level_preconditioner.h"
+
 namespace dba {
 
-PcgRcsSolver::PcgRcsSolver(const BsmcMatrix& S, const PcgOptions& options)
-    : options_(options),
-      multiplier_(S, options.num_threads),
-      preconditioner_(S, options.num_threads) {
+PcgRcsSolver::PcgRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options)
+    : options_(options.pcg), multiplier_(S, options.pcg.num_threads) {
+  if (options.preconditioner == PreconditionerType::kTwoLevel) {
+    preconditioner_ = std::make_unique<TwoLevelPreconditioner>(S, options.coarse_aggregate_size,
+                                                               options.pcg.num_threads);
+  } else {
+    preconditioner_ = std::make_unique<BlockJacobiPreconditioner>(S, options.pcg.num_threads);
+  }
   scratch_.Resize(S.num_rows());
 }
 
 int64_t PcgRcsSolver::MemoryBytes() const {
-  return preconditioner_.MemoryBytes() +
+  return preconditioner_->MemoryBytes() +
          (4 * static_cast<int64_t>(scratch_.r.size()) + multiplier_.spill_size()) * 8;
 }
 
@@ -29,8 +36,8 @@ LinearSolveSummary PcgRcsSolver::Solve(const BsmcMatrix& S, const double* b, dou
   if (&S != &multiplier_.matrix()) {
     throw std::logic_error("PcgRcsSolver: Solve on a matrix other than the one given at construction");
   }
-  preconditioner_.Update(S);
-  const PcgSummary pcg = SolvePcg(multiplier_, preconditioner_, b, x, options_, &scratch_);
+  preconditioner_->Update(S);
+  const PcgSummary pcg = SolvePcg(multiplier_, *preconditioner_, b, x, options_, &scratch_);
   LinearSolveSummary summary;
   summary.iterations = pcg.iterations;
   summary.relative_residual = pcg.relative_residual;

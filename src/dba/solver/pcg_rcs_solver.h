@@ -1,5 +1,5 @@
 // The RCS solved by truncated-Newton PCG (solver/pcg.h) with a block-Jacobi
-// preconditioner. The multiplier's thread split, the preconditioner's storage
+// or two-level preconditioner. The multiplier's thread split, the preconditioner's storage
 // and the PCG vectors are set up once, at construction; each Solve refreshes
 // the preconditioner from S's values and runs PCG from zero.
 //
@@ -9,7 +9,6 @@
 #include <memory>
 
 #include "dba/bsmc/symmetric_multiply.h"
-#include "dba/solver/block_jacobi.h"
 #include "dba/solver/pcg.h"
 #include "dba/solver/rcs_solver.h"
 
@@ -18,7 +17,7 @@ namespace dba {
 class PcgRcsSolver : public RcsSolver {
  public:
   // S must outlive the solver and keep its structure.
-  PcgRcsSolver(const BsmcMatrix& S, const PcgOptions& options);
+  PcgRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options);
   LinearSolveSummary Solve(const BsmcMatrix& S, const double* b, double* x) override;
   LinearSolverType type() const override { return LinearSolverType::kPcg; }
   int64_t MemoryBytes() const override;
@@ -26,7 +25,7 @@ class PcgRcsSolver : public RcsSolver {
  private:
   PcgOptions options_;
   SymmetricMultiplier multiplier_;
-  BlockJacobiPreconditioner preconditioner_;
+  std::unique_ptr<Preconditioner> preconditioner_;
   PcgScratch scratch_;
 };
 

@@ -53,6 +53,24 @@ const char* LinearSolverName(LinearSolverType type) {
   return "unknown";
 }
 
+const char* PreconditionerName(PreconditionerType type) {
+  switch (type) {
+    case PreconditionerType::kBlockJacobi: return "jacobi";
+    case PreconditionerType::kTwoLevel: return "two-level";
+  }
+  return "unknown";
+}
+
+bool ParsePreconditioner(const std::string& name, PreconditionerType* type) {
+  for (PreconditionerType t : {PreconditionerType::kBlockJacobi, PreconditionerType::kTwoLevel}) {
+    if (name == PreconditionerName(t)) {
+      *type = t;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool ParseLinearSolver(const std::string& name, LinearSolverType* type) {
   for (LinearSolverType t : {LinearSolverType::kAuto, LinearSolverType::kDense,
                              LinearSolverType::kSparse, LinearSolverType::kPcg}) {
@@ -139,8 +157,8 @@ std::unique_ptr<RcsSolver> MakeRcsSolver(const BsmcMatrix& S, const LinearSolver
     case LinearSolverType::kSparse: return std::make_unique<SparseCholeskySolver>(S);
     case LinearSolverType::kPcg:
     case LinearSolverType::kAuto: {
-      PcgOptions pcg = options.pcg;
-      pcg.num_threads = options.num_threads;
+      LinearSolverOptions pcg = options;
+      pcg.pcg.num_threads = options.num_threads;
       return std::make_unique<PcgRcsSolver>(S, pcg);
     }
   }

@@ -37,9 +37,19 @@ bool ParseLinearSolver(const std::string& name, LinearSolverType* type);
 // For test output.
 inline void PrintTo(LinearSolverType type, std::ostream* out) { *out << LinearSolverName(type); }
 
+// PCG's preconditioner: block-Jacobi (paper eq. 7), or two-level (block-
+// Jacobi plus a coarse correction over aggregated cameras, solver/
+// two_level_preconditioner.h).
+enum class PreconditionerType { kBlockJacobi, kTwoLevel };
+const char* PreconditionerName(PreconditionerType type);
+// "jacobi", "two-level"; false if `name` is neither.
+bool ParsePreconditioner(const std::string& name, PreconditionerType* type);
+
 struct LinearSolverOptions {
   LinearSolverType type = LinearSolverType::kAuto;
   PcgOptions pcg;
+  PreconditionerType preconditioner = PreconditionerType::kBlockJacobi;
+  int coarse_aggregate_size = 16;  // two-level: cameras per aggregate
   // auto: a factorization is chosen only while its memory (factor and
   // sparse copy of S) stays within this multiple of the PCG path's (S,
   // preconditioner and PCG vectors).
