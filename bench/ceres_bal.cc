@@ -1,28 +1,37 @@
 // Ceres baseline for the comparison benchmarks (issue 3): solves a BAL problem
-// with Ceres's public API (Debian libceres-dev 2.1) and the standard BAL
-// reprojection model (the same as dba's, data/README.md), and writes a JSON
-// report with the keys of `dba solve --report`.
+// with Ceres's public API and the standard BAL reprojection model (the same as
+// dba's, data/README.md), and writes a JSON report with the keys of
+// `dba solve --report`. It builds against Ceres 2.1 (Debian's libceres-dev)
+// and 2.2 (../shared/peers/ceres-2.2.0/build.sh) alike; bench/compare.sh
+// builds one binary against each. It needs no version checks: of the API
+// that changed in 2.2 (LocalParameterization removed for Manifold, among
+// others) it uses nothing; CERES_VERSION_STRING goes into the report.
 //
-//   ceres_bal INPUT [--solver iterative_schur|sparse_schur] [-t N]
+//   ceres_bal INPUT [--solver iterative_schur|sparse_schur|dense_schur] [-t N]
 //             [--max-iterations N] [--function-tolerance X]
 //             [--eta X] [--max-linear-iterations N] [--report FILE]
+//   ceres_bal --version      the Ceres version it was built against
 //
 // INPUT is BAL text (plain or bzip2) or a dba binary problem, read with dba's
 // reader so both programs load the same data the same way.
 //
 // Solver: ITERATIVE_SCHUR + SCHUR_JACOBI by default (the configuration the
-// paper compares with), SPARSE_SCHUR with --solver sparse_schur. Points are
-// eliminated first (explicit ordering, as in Ceres's bundle_adjuster example).
+// paper compares with), SPARSE_SCHUR with --solver sparse_schur (Ceres's
+// default sparse library, SuiteSparse here), DENSE_SCHUR with --solver
+// dense_schur (Ceres's default dense library, Eigen; for a few hundred
+// cameras at most). Points are eliminated first (explicit ordering, as in
+// Ceres's bundle_adjuster example).
 // Everything else is Ceres's default, which matches dba's defaults: initial
 // trust region radius 1e4 (λ = 1e-4), gradient tolerance 1e-10, parameter
 // tolerance 1e-8, at most 500 linear iterations; Ceres's inexact Newton
-// forcing term eta = 0.1 (CG stops at a relative residual of 0.1, dba's PCG at
-// 1e-6) is the one difference, and --eta changes it.
+// forcing term eta = 0.1 (CG stops at a relative residual of 0.1) applies to
+// ITERATIVE_SCHUR only, and --eta changes it.
 //
 // Report: the keys of `dba solve --report` that both programs can fill
 // (initial_cost, final_cost, *_rms_px, iterations, termination by dba's names,
 // seconds.{load,total}, memory.peak_bytes; seconds.total = load + building the
-// ceres::Problem + Solve), and `history`: one entry per Ceres
+// ceres::Problem + Solve), `solver` ("ceres " + the --solver name),
+// `ceres_version`, and `history`: one entry per Ceres
 // iteration (0 = the initial state) with `cost` at the END of the iteration
 // (dba's history gives the cost at its start and `candidate_cost`),
 // `seconds` of the iteration and `cumulative_seconds` since Solve was called
@@ -97,9 +106,10 @@ int64_t PeakRssBytes() {
 }
 
 int Usage() {
-  std::cerr << "Usage: ceres_bal INPUT [--solver iterative_schur|sparse_schur] [-t N]\n"
-               "                 [--max-iterations N] [--function-tolerance X]\n"
-               "                 [--eta X] [--max-linear-iterations N] [--report FILE]\n";
+  std::cerr << "Usage: ceres_bal INPUT [--solver iterative_schur|sparse_schur|dense_schur]\n"
+               "                 [-t N] [--max-iterations N] [--function-tolerance X]\n"
+               "                 [--eta X] [--max-linear-iterations N] [--report FILE]\n"
+               "       ceres_bal --version\n";
   return 2;
 }
 
@@ -124,6 +134,7 @@ int main(int argc, char** argv) {
       else if (a == "--max-linear-iterations") max_linear_iterations = std::stoi(value());
       else if (a == "--report") report_path = value();
       else if (a == "-h" || a == "--help") { Usage(); return 0; }
+      else if (a == "--version") { std::printf("%s\n", CERES_VERSION_STRING); return 0; }
       else if (!a.empty() && a[0] == '-') return Usage();
       else input = a;
     } catch (const std::exception& e) {
@@ -132,6 +143,10 @@ int main(int argc, char** argv) {
     }
   }
   if (input.empty()) return Usage();
+  if (solver != "iterative_schur" && solver != "sparse_schur" && solver != "dense_schur") {
+    std::cerr << "ceres_bal: unknown solver '" << solver << "'\n";
+    return Usage();
+  }
   try {
     const auto t0 = std::chrono::steady_clock::now();
     dba::BalProblem p = dba::ReadProblem(input);
@@ -160,8 +175,7 @@ int main(int argc, char** argv) {
     } else if (solver == "sparse_schur") {
       options.linear_solver_type = ceres::SPARSE_SCHUR;
     } else {
-      std::cerr << "ceres_bal: unknown solver '" << solver << "'\n";
-      return 2;
+      options.linear_solver_type = ceres::DENSE_SCHUR;
     }
     options.linear_solver_ordering = ordering;
     options.num_threads = threads;
@@ -178,9 +192,9 @@ int main(int argc, char** argv) {
     const double n = static_cast<double>(p.num_observations());
     const int iterations = static_cast<int>(summary.iterations.size()) - 1;
     const double total_seconds = load_seconds + build_seconds + summary.total_time_in_seconds;
-    std::printf("ceres_bal %s (%s, %d threads): cost %.6e -> %.6e, RMS %.4f -> %.4f px, "
+    std::printf("ceres_bal %s (Ceres %s %s, %d threads): cost %.6e -> %.6e, RMS %.4f -> %.4f px, "
                 "%d iterations, %.3f s (load %.3f s), %s\n",
-                input.c_str(), solver.c_str(), threads, summary.initial_cost,
+                input.c_str(), CERES_VERSION_STRING, solver.c_str(), threads, summary.initial_cost,
                 summary.final_cost, std::sqrt(2 * summary.initial_cost / n),
                 std::sqrt(2 * summary.final_cost / n), iterations, total_seconds,
                 load_seconds, summary.message.c_str());
@@ -188,6 +202,7 @@ int main(int argc, char** argv) {
       nlohmann::ordered_json j;
       j["input"] = input;
       j["solver"] = "ceres " + solver;
+      j["ceres_version"] = CERES_VERSION_STRING;
       j["num_cameras"] = p.num_cameras();
       j["num_points"] = p.num_points();
       j["num_observations"] = p.num_observations();
