@@ -541,7 +541,7 @@ for problem in "${problems[@]}"; do
   # Where the time goes (median runs).
   {
     jq -r '.seconds as $s | [$s.total, (($s.load // 0) + ($s.distribution // 0)), ($s.setup // 0), ($s.rcs_formation // 0),
-      ($s.pcg // 0), ($s.back_substitution // 0), .iterations, (.pcg_iterations // 0)] | @tsv' "$dj"
+      ($s.linear_solve // $s.pcg // 0), ($s.back_substitution // 0), .iterations, (.pcg_iterations // 0)] | @tsv' "$dj"
     jq -r '.seconds as $s | [$s.total, ($s.load + $s.build_problem + $s.preprocessor), $s.jacobian_evaluation,
       $s.linear_solver, $s.residual_evaluation, .iterations, .linear_solver_iterations] | @tsv' "$cj"
   } | awk -F'\t' -v n="$name" -v cfg="$c22_name" '

@@ -48,8 +48,8 @@ bool ParsePreconditioner(const std::string& name, PreconditionerType* type);
 struct LinearSolverOptions {
   LinearSolverType type = LinearSolverType::kAuto;
   PcgOptions pcg;
-  PreconditionerType preconditioner = PreconditionerType::kBlockJacobi;
-  int coarse_aggregate_size = 16;  // two-level: cameras per aggregate
+  PreconditionerType preconditioner = PreconditionerType::kTwoLevel;
+  int coarse_aggregate_size = 64;  // two-level: cameras per aggregate
   // auto: a factorization is chosen only while its memory (factor and
   // sparse copy of S) stays within this multiple of the PCG path's (S,
   // preconditioner and PCG vectors).
