@@ -4,7 +4,9 @@
 # partitions reaches the single-process final cost to 1e-9 relative; so do
 # COLMAP models in the photogrammetric model (shared and per-image
 # intrinsics, fixed images and intrinsics) and a generated photogrammetric
-# .dba read by the ranks themselves. Then a
+# .dba read by the ranks themselves. These compare the distributed
+# arithmetic, so they run with an explicitly exact linear solve (the dense
+# factorization): with inexact PCG steps runs differ by up to 1e-5. Then a
 # failing rank (injected fault) and bad input must end the whole job quickly
 # with a clear message, a non-zero status and no output file.
 # Usage: mpi_solve.sh PATH_TO_DBA PROJECT_ROOT
@@ -15,17 +17,18 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 mpirun_n() { local n=$1; shift; timeout 300 mpirun --allow-run-as-root --oversubscribe --bind-to none -np "$n" "$@"; }
 final_cost() { grep -m1 '"final_cost"' "$1" | sed -E 's/.*: ([^,]*),?/\1/'; }
+tight=(--linear-solver dense)
 passes=0
 failures=0
 fail() { echo "FAILED: $*" >&2; failures=$((failures + 1)); }
 
 for problem in "$root"/../shared/data/bal/*.bz2; do
   name=$(basename "$problem")
-  "$dba" solve "$problem" -q --report "$tmp/single.json" >/dev/null || { fail "$name single process"; continue; }
+  "$dba" solve "$problem" -q "${tight[@]}" --report "$tmp/single.json" >/dev/null || { fail "$name single process"; continue; }
   single=$(final_cost "$tmp/single.json")
   for n in 1 2 3 4; do
     for partition in equal cameras; do
-      if ! mpirun_n "$n" "$dba" solve "$problem" -q --partition "$partition" \
+      if ! mpirun_n "$n" "$dba" solve "$problem" -q "${tight[@]}" --partition "$partition" \
            --report "$tmp/mpi.json" >"$tmp/mpi.out" 2>&1; then
         fail "$name -np $n --partition $partition exited non-zero"; cat "$tmp/mpi.out" >&2; continue
       fi
@@ -43,10 +46,10 @@ done
 # From a binary file every rank reads its own points: same result.
 problem=$root/../shared/data/bal/problem-49-7776-pre.txt.bz2
 "$dba" convert "$problem" "$tmp/p49.dba" >/dev/null
-"$dba" solve "$problem" -q --report "$tmp/single.json" >/dev/null
+"$dba" solve "$problem" -q "${tight[@]}" --report "$tmp/single.json" >/dev/null
 for n in 2 3; do
   for partition in equal cameras; do
-    mpirun_n "$n" "$dba" solve "$tmp/p49.dba" -q --partition "$partition" --report "$tmp/bin.json" >/dev/null 2>&1 \
+    mpirun_n "$n" "$dba" solve "$tmp/p49.dba" -q "${tight[@]}" --partition "$partition" --report "$tmp/bin.json" >/dev/null 2>&1 \
       || fail "binary input -np $n --partition $partition exited non-zero"
     if awk -v a="$(final_cost "$tmp/single.json")" -v b="$(final_cost "$tmp/bin.json")" \
          'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-9 * a) }'; then
@@ -58,9 +61,9 @@ for n in 2 3; do
 done
 
 # Binary in, binary out: the result streams through without re-reading.
-mpirun_n 2 "$dba" solve "$tmp/p49.dba" -q -o "$tmp/p49.out.dba" --report "$tmp/bin_out.json" >/dev/null 2>&1 \
+mpirun_n 2 "$dba" solve "$tmp/p49.dba" -q "${tight[@]}" -o "$tmp/p49.out.dba" --report "$tmp/bin_out.json" >/dev/null 2>&1 \
   || fail "binary output under mpirun exited non-zero"
-"$dba" solve "$tmp/p49.out.dba" -q --max-iterations 0 --report "$tmp/bin_reread.json" >/dev/null
+"$dba" solve "$tmp/p49.out.dba" -q "${tight[@]}" --max-iterations 0 --report "$tmp/bin_reread.json" >/dev/null
 if awk -v a="$(final_cost "$tmp/bin_out.json")" -v b="$(final_cost "$tmp/bin_reread.json")" \
      'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-9 * a) }'; then
   passes=$((passes + 1))
@@ -75,10 +78,10 @@ same_cost() { awk -v a="$(final_cost "$1")" -v b="$(final_cost "$2")" \
                 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-9 * a) }'; }
 while read -r model n partition args; do
   # shellcheck disable=SC2086
-  "$dba" solve "$colmap/$model/sparse/0" -q $args --report "$tmp/c1.json" </dev/null >/dev/null 2>&1 \
+  "$dba" solve "$colmap/$model/sparse/0" -q "${tight[@]}" $args --report "$tmp/c1.json" </dev/null >/dev/null 2>&1 \
     || { fail "$model $args single process"; continue; }
   # shellcheck disable=SC2086
-  if mpirun_n "$n" "$dba" solve "$colmap/$model/sparse/0" -q $args --partition "$partition" \
+  if mpirun_n "$n" "$dba" solve "$colmap/$model/sparse/0" -q "${tight[@]}" $args --partition "$partition" \
        --report "$tmp/cn.json" </dev/null >"$tmp/cn.out" 2>&1 && same_cost "$tmp/c1.json" "$tmp/cn.json"; then
     passes=$((passes + 1)); echo "ok   $model $args -np $n --partition $partition: $(final_cost "$tmp/cn.json")"
   else
@@ -94,9 +97,9 @@ statue_of_liberty_small_txt 3 equal --fix-intrinsics cx,cy --fix-images 1,7
 fountain_p11 3 cameras --fix-images 1
 EOF2
 # A COLMAP model written by a distributed run re-reads at its final cost.
-mpirun_n 2 "$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q -o "$tmp/colmap_out" \
+mpirun_n 2 "$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q "${tight[@]}" -o "$tmp/colmap_out" \
   --colmap-format binary --report "$tmp/co.json" >/dev/null 2>&1 || fail "COLMAP output under mpirun"
-"$dba" solve "$tmp/colmap_out" -q --max-iterations 0 --report "$tmp/co_reread.json" >/dev/null 2>&1
+"$dba" solve "$tmp/colmap_out" -q "${tight[@]}" --max-iterations 0 --report "$tmp/co_reread.json" >/dev/null 2>&1
 if test -s "$tmp/colmap_out/images.bin" && \
    awk -v a="$(final_cost "$tmp/co.json")" -v b="$(grep -m1 '"initial_cost"' "$tmp/co_reread.json" | sed -E 's/.*: ([^,]*),?/\1/')" \
      'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-9 * a) }'; then
@@ -109,13 +112,13 @@ fi
 # output holds it, and the ground truth is compared per group.
 "$dba" generate "$tmp/photo.dba" --model photo --images 60 --cameras 2 --seed 4 \
   --truth "$tmp/photo.truth.dba" >/dev/null
-"$dba" solve "$tmp/photo.dba" -q --report "$tmp/photo_single.json" >/dev/null
+"$dba" solve "$tmp/photo.dba" -q "${tight[@]}" --report "$tmp/photo_single.json" >/dev/null
 for n in 2 3; do
   for partition in equal cameras; do
-    mpirun_n "$n" "$dba" solve "$tmp/photo.dba" -q --partition "$partition" --truth "$tmp/photo.truth.dba" \
+    mpirun_n "$n" "$dba" solve "$tmp/photo.dba" -q "${tight[@]}" --partition "$partition" --truth "$tmp/photo.truth.dba" \
       -o "$tmp/photo.out.dba" --report "$tmp/photo_mpi.json" >"$tmp/photo.out" 2>&1 \
       || { fail "photo -np $n --partition $partition exited non-zero"; cat "$tmp/photo.out" >&2; continue; }
-    "$dba" solve "$tmp/photo.out.dba" -q --max-iterations 0 --report "$tmp/photo_reread.json" >/dev/null
+    "$dba" solve "$tmp/photo.out.dba" -q "${tight[@]}" --max-iterations 0 --report "$tmp/photo_reread.json" >/dev/null
     if awk -v a="$(final_cost "$tmp/photo_single.json")" -v b="$(final_cost "$tmp/photo_mpi.json")" \
            -v c="$(grep -m1 '"initial_cost"' "$tmp/photo_reread.json" | sed -E 's/.*: ([^,]*),?/\1/')" \
          'BEGIN { d = a - b; if (d < 0) d = -d; e = b - c; if (e < 0) e = -e; exit !(d <= 1e-9 * a && e <= 1e-9 * a) }' \
@@ -129,8 +132,8 @@ done
 
 # Fixings given on the command line apply on every rank that reads the file.
 fix=(--fix-images 0,7 --fix-intrinsics cx,cy)
-"$dba" solve "$tmp/photo.dba" -q "${fix[@]}" --report "$tmp/fix_single.json" >"$tmp/fix.out" 2>&1
-mpirun_n 2 "$dba" solve "$tmp/photo.dba" -q "${fix[@]}" --report "$tmp/fix_mpi.json" >/dev/null 2>&1 \
+"$dba" solve "$tmp/photo.dba" -q "${tight[@]}" "${fix[@]}" --report "$tmp/fix_single.json" >"$tmp/fix.out" 2>&1
+mpirun_n 2 "$dba" solve "$tmp/photo.dba" -q "${tight[@]}" "${fix[@]}" --report "$tmp/fix_mpi.json" >/dev/null 2>&1 \
   || fail "photo .dba with fixings -np 2 exited non-zero"
 if same_cost "$tmp/fix_single.json" "$tmp/fix_mpi.json" && \
    ! same_cost "$tmp/fix_single.json" "$tmp/photo_single.json"; then
@@ -141,7 +144,7 @@ fi
 
 # The distributed summary reports every rank and the communication.
 problem=$root/../shared/data/bal/problem-21-11315-pre.txt.bz2
-mpirun_n 3 "$dba" solve "$problem" -q --main-rank coordinates -o "$tmp/out3.txt" \
+mpirun_n 3 "$dba" solve "$problem" -q "${tight[@]}" --main-rank coordinates -o "$tmp/out3.txt" \
   --report "$tmp/r3.json" >"$tmp/out" 2>&1 || fail "-np 3 --main-rank coordinates"
 for want in "rank 0 " "rank 1 " "rank 2 " "sub_rcs" "camera_update" "distribution" "coordinates only"; do
   if grep -qF -- "$want" "$tmp/out"; then passes=$((passes + 1)); else fail "summary lacks '$want'"; fi
@@ -152,7 +155,7 @@ else
   fail "report or output of the distributed run missing"
 fi
 # The written result re-reads at the final cost of the run.
-"$dba" solve "$tmp/out3.txt" -q --max-iterations 0 --report "$tmp/reread.json" >/dev/null
+"$dba" solve "$tmp/out3.txt" -q "${tight[@]}" --max-iterations 0 --report "$tmp/reread.json" >/dev/null
 if awk -v a="$(final_cost "$tmp/r3.json")" -v b="$(final_cost "$tmp/reread.json")" \
      'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-9 * a) }'; then
   passes=$((passes + 1))
@@ -163,7 +166,7 @@ fi
 # A rank that fails stops the whole job: clear message naming the rank, non-zero
 # status, within seconds, no output.
 start=$(date +%s)
-DBA_INJECT_FAULT=2:3 mpirun_n 3 "$dba" solve "$problem" -q -o "$tmp/fault.txt" >"$tmp/fault.out" 2>&1
+DBA_INJECT_FAULT=2:3 mpirun_n 3 "$dba" solve "$problem" -q "${tight[@]}" -o "$tmp/fault.txt" >"$tmp/fault.out" 2>&1
 status=$?
 elapsed=$(( $(date +%s) - start ))
 if [ "$status" -ne 0 ] && [ "$status" -ne 124 ] && grep -q "rank 2: error: injected fault" "$tmp/fault.out" \

@@ -183,6 +183,7 @@ std::string SolveReportJson(const SolveReport& r) {
                         {"reason", lm.linear_solver.reason},
                         {"bytes", lm.linear_solver_bytes},
                         {"pcg_path_bytes", lm.linear_solver.pcg_bytes},
+                        {"factor_budget_bytes", lm.linear_solver.budget_bytes},
                         {"dense_factor_bytes", lm.linear_solver.dense_bytes},
                         {"sparse_factor_bytes_estimate", lm.linear_solver.sparse_bytes},
                         {"estimated_seconds",

@@ -103,6 +103,7 @@ std::unique_ptr<CholeskySolver> MakeCholeskySolver(const BsmcMatrix& S, int64_t 
 std::unique_ptr<RcsSolver> MakeRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options,
                                          RcsSolverChoice* choice_out) {
   RcsSolverChoice choice;
+  SetBlasThreads(std::max(1, options.num_threads));
   const double n = static_cast<double>(S.num_rows());
   choice.pcg_bytes = PcgPathBytes(S);
   choice.dense_bytes = static_cast<int64_t>(n * n * 8);
@@ -112,7 +113,10 @@ std::unique_ptr<RcsSolver> MakeRcsSolver(const BsmcMatrix& S, const LinearSolver
   choice.estimated_pcg_seconds =
       kInexactStepPenalty *
       (kTypicalPcgIterations * (S.ValueBytes() + 8.0 * 8.0 * n) / kStreamBandwidth + rest);
-  const double budget = options.max_factor_memory_ratio * static_cast<double>(choice.pcg_bytes);
+  // What a PCG solve holds: its RCS path and the problem data.
+  const double budget = options.max_factor_memory_ratio *
+                        static_cast<double>(choice.pcg_bytes + options.problem_bytes);
+  choice.budget_bytes = static_cast<int64_t>(budget);
 
   choice.type = options.type;
   if (options.type == LinearSolverType::kAuto) {

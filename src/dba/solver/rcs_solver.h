@@ -50,10 +50,12 @@ struct LinearSolverOptions {
   PcgOptions pcg;
   PreconditionerType preconditioner = PreconditionerType::kTwoLevel;
   int coarse_aggregate_size = 64;  // two-level: cameras per aggregate
-  // auto: a factorization is chosen only while its memory (factor and
-  // sparse copy of S) stays within this multiple of the PCG path's (S,
-  // preconditioner and PCG vectors).
+  // auto: a factorization is chosen only while its factor stays within this
+  // multiple of what a PCG solve holds: S, preconditioner, PCG vectors and
+  // `problem_bytes`.
   double max_factor_memory_ratio = 2.0;
+  // The problem data the solve holds anyway (observations, parameters).
+  int64_t problem_bytes = 0;
   // Observations of the problem (auto's cost model weighs the linear solve
   // against the rest of an LM iteration); 0: unknown.
   int64_t num_observations = 0;
@@ -100,6 +102,7 @@ struct RcsSolverChoice {
   LinearSolverType type = LinearSolverType::kPcg;
   std::string reason;
   int64_t pcg_bytes = 0;          // PCG path: S + preconditioner + vectors
+  int64_t budget_bytes = 0;       // largest factor auto may choose
   int64_t dense_bytes = 0;        // n² doubles
   int64_t sparse_bytes = -1;      // factor + CSC copy of S; -1: not estimated
   double dense_flops = 0.0;

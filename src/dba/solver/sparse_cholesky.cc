@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <dlfcn.h>
+
 #ifdef DBA_HAVE_CHOLMOD
 #include <cholmod.h>
 #else
@@ -83,6 +85,13 @@ void FillUpperValues(const BsmcMatrix& S, const UpperPattern& p, double* values)
 }
 
 }  // namespace
+
+void SetBlasThreads(int num_threads) {
+  using SetThreads = void (*)(int);
+  static const auto set =
+      reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  if (set != nullptr) set(num_threads);
+}
 
 #ifdef DBA_HAVE_CHOLMOD
 

@@ -29,6 +29,12 @@ struct SparseFactorEstimate {
 };
 SparseFactorEstimate EstimateSparseFactor(const BsmcMatrix& S);
 
+// Threads of the BLAS under CHOLMOD's supernodal kernels. OpenBLAS's
+// threads otherwise default to every core and busy-wait (sched_yield) next
+// to dba's own: on problem-49-7776 with -t 1 that was 30% of the run. A no-op
+// for a BLAS without openblas_set_num_threads.
+void SetBlasThreads(int num_threads);
+
 class SparseCholeskySolver : public CholeskySolver {
  public:
   explicit SparseCholeskySolver(const BsmcMatrix& S);

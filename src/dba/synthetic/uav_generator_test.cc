@@ -100,12 +100,15 @@ TEST(UavGenerator, SolvedToTheInjectedNoiseAndTheTruth) {
   // Against the noise-free observations the solution is well inside the noise.
   EXPECT_LT(after.rms_to_noise_free_px, 0.6 * o.pixel_noise * std::sqrt(2.0));
   EXPECT_LT(after.rms_to_noise_free_px, 0.1 * before.rms_to_noise_free_px);
-  // Points recovered up to a similarity. Camera centres stay about as far as
-  // the 0.5 m start: with a focal length per image (the BAL model), nadir
-  // images trade focal length for height (issue 6's shared intrinsics fix
-  // that), so they are only bounded here.
-  EXPECT_LT(after.point_rms, 0.7 * before.point_rms);
-  EXPECT_LT(after.camera_centre_rms, 1.5);
+  // Points and camera centres are only bounded here: with a focal length per
+  // image (the BAL model), nadir images trade focal length for height, a
+  // direction the cost hardly sees. The exact optimum (a factorized step)
+  // moves along it: points 1.4 m from the truth against 0.6 m at the start,
+  // where a truncated PCG step, which barely enters weak directions, stayed
+  // near the start (0.4 m). Shared intrinsics fix it: the photogrammetric
+  // test below checks the recovery.
+  EXPECT_LT(after.point_rms, 3.0 * before.point_rms);
+  EXPECT_LT(after.camera_centre_rms, 2.0);
   EXPECT_NEAR(after.similarity_scale, 1.0, 0.01);
 }
 
