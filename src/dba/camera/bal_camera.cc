@@ -40,6 +40,11 @@ Mat3 SO3LeftJacobian(const Vec3& omega) {
   return Mat3::Identity() + a * K + b * K * K;
 }
 
+RotationFrame MakeRotationFrame(const double* omega) {
+  const Vec3 w(omega[0], omega[1], omega[2]);
+  return {AngleAxisToRotation(w), SO3LeftJacobian(w)};
+}
+
 Vec2 BalResidual(const double* camera, const double* point,
                  const double* observed) {
   const Vec3 omega(camera[0], camera[1], camera[2]);
@@ -54,10 +59,15 @@ Vec2 BalResidual(const double* camera, const double* point,
 Vec2 BalResidualAndJacobians(const double* camera, const double* point,
                              const double* observed, CameraJacobian* J_c,
                              PointJacobian* J_p) {
-  const Vec3 omega(camera[0], camera[1], camera[2]);
+  return BalResidualAndJacobians(MakeRotationFrame(camera), camera, point, observed, J_c, J_p);
+}
+
+Vec2 BalResidualAndJacobians(const RotationFrame& frame, const double* camera,
+                             const double* point, const double* observed, CameraJacobian* J_c,
+                             PointJacobian* J_p) {
   const Vec3 t(camera[3], camera[4], camera[5]);
   const double f = camera[6], k1 = camera[7], k2 = camera[8];
-  const Mat3 R = AngleAxisToRotation(omega);
+  const Mat3& R = frame.R;
   const Vec3 RX = R * Vec3(point[0], point[1], point[2]);
   const Vec3 P = RX + t;
   const double inv_z = 1.0 / P.z();
@@ -73,7 +83,7 @@ Vec2 BalResidualAndJacobians(const double* camera, const double* point,
   const Eigen::Matrix<double, 2, 3> du_dP = du_dp * dp_dP;
 
   if (J_c != nullptr) {
-    J_c->block<2, 3>(0, 0) = -du_dP * SkewSymmetric(RX) * SO3LeftJacobian(omega);
+    J_c->block<2, 3>(0, 0) = -du_dP * SkewSymmetric(RX) * frame.J_l;
     J_c->block<2, 3>(0, 3) = du_dP;
     J_c->col(6) = d * p;
     J_c->col(7) = f * r2 * p;

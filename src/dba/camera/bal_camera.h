@@ -38,6 +38,14 @@ Mat3 AngleAxisToRotation(const Vec3& omega);
 // Left Jacobian of SO(3): d(R(ω) X)/dω = -[R(ω) X]ₓ J_l(ω).
 Mat3 SO3LeftJacobian(const Vec3& omega);
 
+// R(ω) and J_l(ω) of one camera: the trigonometry of a camera, computed once
+// for all its observations (a camera is seen by hundreds of points).
+struct RotationFrame {
+  Mat3 R;
+  Mat3 J_l;
+};
+RotationFrame MakeRotationFrame(const double* omega);
+
 // Residual of one observation; camera has 9 parameters, point 3.
 Vec2 BalResidual(const double* camera, const double* point,
                  const double* observed);
@@ -45,6 +53,11 @@ Vec2 BalResidual(const double* camera, const double* point,
 // Residual and its Jacobians with respect to the camera and the point.
 Vec2 BalResidualAndJacobians(const double* camera, const double* point,
                              const double* observed, CameraJacobian* J_c,
+                             PointJacobian* J_p);
+// The same with the camera's rotation frame given (MakeRotationFrame of its
+// first 3 parameters).
+Vec2 BalResidualAndJacobians(const RotationFrame& frame, const double* camera,
+                             const double* point, const double* observed, CameraJacobian* J_c,
                              PointJacobian* J_p);
 
 }  // namespace dba

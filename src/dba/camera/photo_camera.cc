@@ -13,11 +13,18 @@ Vec2 PhotoResidualAndJacobians(const double* pose, const double* intrinsics,
                                const double* point, const double* observed,
                                PoseJacobian* J_pose, IntrinsicsJacobian* J_intrinsics,
                                PointJacobian* J_point) {
-  const Vec3 omega(pose[0], pose[1], pose[2]);
+  return PhotoResidualAndJacobians(MakeRotationFrame(pose), pose, intrinsics, point, observed,
+                                   J_pose, J_intrinsics, J_point);
+}
+
+Vec2 PhotoResidualAndJacobians(const RotationFrame& frame, const double* pose,
+                               const double* intrinsics, const double* point,
+                               const double* observed, PoseJacobian* J_pose,
+                               IntrinsicsJacobian* J_intrinsics, PointJacobian* J_point) {
   const Vec3 t(pose[3], pose[4], pose[5]);
   const double f = intrinsics[0], cx = intrinsics[1], cy = intrinsics[2];
   const double k1 = intrinsics[3], k2 = intrinsics[4];
-  const Mat3 R = AngleAxisToRotation(omega);
+  const Mat3& R = frame.R;
   const Vec3 RX = R * Vec3(point[0], point[1], point[2]);
   const Vec3 P = RX + t;
   const double inv_z = 1.0 / P.z();
@@ -32,7 +39,7 @@ Vec2 PhotoResidualAndJacobians(const double* pose, const double* intrinsics,
     dp_dP << inv_z, 0.0, -P.x() * inv_z * inv_z, 0.0, inv_z, -P.y() * inv_z * inv_z;
     const Eigen::Matrix<double, 2, 3> du_dP = du_dp * dp_dP;
     if (J_pose != nullptr) {
-      J_pose->block<2, 3>(0, 0) = -du_dP * SkewSymmetric(RX) * SO3LeftJacobian(omega);
+      J_pose->block<2, 3>(0, 0) = -du_dP * SkewSymmetric(RX) * frame.J_l;
       J_pose->block<2, 3>(0, 3) = du_dP;
     }
     if (J_point != nullptr) *J_point = du_dP * R;

@@ -38,5 +38,10 @@ Vec2 PhotoResidualAndJacobians(const double* pose, const double* intrinsics,
                                const double* point, const double* observed,
                                PoseJacobian* J_pose, IntrinsicsJacobian* J_intrinsics,
                                PointJacobian* J_point);
+// The same with the pose's rotation frame given (MakeRotationFrame(pose)).
+Vec2 PhotoResidualAndJacobians(const RotationFrame& frame, const double* pose,
+                               const double* intrinsics, const double* point,
+                               const double* observed, PoseJacobian* J_pose,
+                               IntrinsicsJacobian* J_intrinsics, PointJacobian* J_point);
 
 }  // namespace dba

@@ -29,14 +29,15 @@ Vec2 Linearize(const BalProblem& problem, const UnknownLayout& layout, int64_t o
   sys->camera_row[a] = layout.camera_row(i);
   if constexpr (Model::kIntrinsics == 0) {
     sys->intrinsics_row[a] = -1;
-    return BalResidualAndJacobians(problem.camera(i), X, problem.pixel(obs), &sys->J_c[a],
-                                   &sys->J_p[a]);
+    return BalResidualAndJacobians(sys->Frame(i, problem.camera(i)), problem.camera(i), X,
+                                   problem.pixel(obs), &sys->J_c[a], &sys->J_p[a]);
   } else {
     const int32_t g = problem.camera_intrinsics[i];
     const int32_t row = layout.intrinsics_row(g);
     sys->intrinsics_row[a] = row;
     IntrinsicsJacobian full;
-    const Vec2 r = PhotoResidualAndJacobians(problem.camera(i), problem.intrinsics(g), X,
+    const Vec2 r = PhotoResidualAndJacobians(sys->Frame(i, problem.camera(i)), problem.camera(i),
+                                             problem.intrinsics(g), X,
                                              problem.pixel(obs), &sys->J_c[a],
                                              row >= 0 ? &full : nullptr, &sys->J_p[a]);
     if (row >= 0) {

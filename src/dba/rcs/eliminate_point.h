@@ -76,6 +76,21 @@ struct PointSystem {
   std::vector<IntrinsicsW> W_i;        // (T_i is formed per group, form_rcs.cc)
   Eigen::Matrix3d V;
   Eigen::Matrix3d V_inv;  // V_λ⁻¹
+  // Rotation frames of recently seen cameras, direct-mapped by camera index:
+  // neighbouring points share cameras, so most observations find theirs.
+  // Valid for one set of camera parameters: a PointSystem lives for one
+  // formation or back-substitution.
+  static constexpr int kFrameSlots = 256;
+  std::vector<int32_t> frame_camera = std::vector<int32_t>(kFrameSlots, -1);
+  std::vector<RotationFrame> frames = std::vector<RotationFrame>(kFrameSlots);
+  const RotationFrame& Frame(int32_t camera, const double* omega) {
+    const int slot = camera & (kFrameSlots - 1);
+    if (frame_camera[slot] != camera) {
+      frames[slot] = MakeRotationFrame(omega);
+      frame_camera[slot] = camera;
+    }
+    return frames[slot];
+  }
   Vec3 g_p;
   double cost = 0.0;  // ½ Σ |r_a|²
 };
