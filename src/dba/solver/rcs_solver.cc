@@ -27,12 +27,12 @@
 namespace dba {
 namespace {
 
-constexpr double kDenseFlopRate = 8e9;
-constexpr double kSparseFlopRate = 5e9;
+constexpr double kDenseFlopRate = 20e9;
+constexpr double kSparseFlopRate = 10e9;
 constexpr double kSparseCallSeconds = 2e-4;
 constexpr double kStreamBandwidth = 10e9;
 constexpr double kTypicalPcgIterations = 30;
-constexpr double kSecondsPerObservation = 0.7e-6;
+constexpr double kSecondsPerObservation = 0.2e-6;
 constexpr double kInexactStepPenalty = 1.5;
 
 std::string Mib(double bytes) {
