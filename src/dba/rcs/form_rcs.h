@@ -8,8 +8,11 @@
 // Rows are the unknowns of rcs/unknown_layout.h: cameras (or poses) first,
 // then intrinsic groups.
 //
-// Threads: points are processed in parallel; a point's blocks in block row i
-// are added under the lock of row i (striped spinlocks), one row at a time.
+// Threads: points are processed in parallel. While one copy of the RCS per
+// thread fits in 32 MiB, each thread adds into its own copy and the copies
+// are summed in thread order (no locks; small RCSs, where all points touch
+// the same rows). Otherwise a point's blocks in block row i are added under
+// the lock of row i (striped spinlocks), one row at a time.
 //
 // Thread safety: FormRcs uses its own threads; do not call it concurrently on
 // the same RcsSystem.
