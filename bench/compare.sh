@@ -600,7 +600,7 @@ EOF
 
 ## Where the time goes (median runs, seconds; Ceres: the fastest 2.2 configuration)
 
-| problem | dba total | load | setup | RCS formation | PCG | back-substitution | LM iterations | PCG iterations | Ceres 2.2 | Ceres total | load + build + preprocess | Jacobians | linear solver | residuals | LM iterations | linear iterations |
+| problem | dba total | load | setup | RCS formation | linear solve | back-substitution | LM iterations | PCG iterations | Ceres 2.2 | Ceres total | load + build + preprocess | Jacobians | linear solver | residuals | LM iterations | linear iterations |
 |---|---:|---:|---:|---:|---:|---:|---:|---:|:---|---:|---:|---:|---:|---:|---:|---:|
 EOF
   cat "$phases"

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <unistd.h>
+
 
 namespace dba {
 
@@ -33,6 +35,14 @@ DenseCholeskySolver::DenseCholeskySolver(const BsmcMatrix& S) {
   if (n >= std::numeric_limits<int>::max() / std::max<int64_t>(n, 1)) {
     throw std::runtime_error("dense Cholesky: " + std::to_string(n) +
                              " unknowns are too many for a dense matrix; use --linear-solver pcg");
+  }
+  const double bytes = static_cast<double>(n) * static_cast<double>(n) * 8.0;
+  const double memory = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * sysconf(_SC_PAGESIZE);
+  if (memory > 0 && bytes > 0.5 * memory) {
+    throw std::runtime_error("dense Cholesky: " + std::to_string(n) + " unknowns need " +
+                             std::to_string(static_cast<int64_t>(bytes / (1 << 20))) +
+                             " MiB, more than half of this machine's memory; use "
+                             "--linear-solver sparse or pcg");
   }
   dense_.resize(n * n);
   n_ = n;
