@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "dba/common/striped_locks.h"
 #include "dba/rcs/rcs_pattern.h"
@@ -227,20 +228,20 @@ void FormRcsWith(const BalProblem& problem, double lambda, const DampingBounds& 
     if (private_copies) {
       // Sum the copies into the system, each thread a slice, in thread order.
 #pragma omp barrier
-      const int64_t n = values + 3 * rows;
-      const int64_t begin = n * thread / num_threads, end = n * (thread + 1) / num_threads;
-      double* const out[4] = {sys->S.values().data(), sys->b.data(), sys->camera_gradient.data(),
-                              sys->camera_jtj_diagonal.data()};
-      for (int64_t i = begin; i < end; ++i) {
-        double sum = 0.0;
-        for (const std::vector<double>& c : copies) sum += c[i];
-        // Position i of a copy: values, then b, gradient, diagonal.
-        if (i < values) {
-          out[0][i] += sum;
-        } else {
-          const int64_t r = i - values;
-          out[1 + r / rows][r % rows] += sum;
+      // The copies hold values, b, gradient and diagonal back to back; the
+      // system has them in four arrays.
+      const std::pair<double*, int64_t> segments[4] = {{sys->S.values().data(), values},
+                                                       {sys->b.data(), rows},
+                                                       {sys->camera_gradient.data(), rows},
+                                                       {sys->camera_jtj_diagonal.data(), rows}};
+      int64_t start = 0;  // of the segment in a copy
+      for (const auto& [out, length] : segments) {
+        const int64_t begin = start + length * thread / num_threads;
+        const int64_t end = start + length * (thread + 1) / num_threads;
+        for (int64_t i = begin; i < end; ++i) {
+          for (const std::vector<double>& c : copies) out[i - start] += c[i];
         }
+        start += length;
       }
     }
   }

@@ -4,7 +4,6 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <algorithm>
-#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -32,10 +31,6 @@ void ExpandUpperTriangle(const BsmcMatrix& S, double* dense) {
 
 DenseCholeskySolver::DenseCholeskySolver(const BsmcMatrix& S) {
   const int64_t n = S.num_rows();
-  if (n >= std::numeric_limits<int>::max() / std::max<int64_t>(n, 1)) {
-    throw std::runtime_error("dense Cholesky: " + std::to_string(n) +
-                             " unknowns are too many for a dense matrix; use --linear-solver pcg");
-  }
   const double bytes = static_cast<double>(n) * static_cast<double>(n) * 8.0;
   const double memory = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * sysconf(_SC_PAGESIZE);
   if (memory > 0 && bytes > 0.5 * memory) {

@@ -97,16 +97,14 @@ void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
       const int cj = S.block_size(S.block_col(b));
       const double* v = S.block_values(b);
       double* c = coarse_.block_values(coarse_block_[b]);
-      if (transposed_[b]) {
+      // S_ij lands as is, or transposed where A_i > A_j; both where i < j
+      // share an aggregate (S_ji = S_ijᵀ lands in the same block).
+      if (!transposed_[b]) {
+        for (int k = 0; k < ci * cj; ++k) c[k] += v[k];
+      }
+      if (transposed_[b] || mirrored_[b]) {
         for (int x = 0; x < ci; ++x) {
           for (int y = 0; y < cj; ++y) c[y * ci + x] += v[x * cj + y];
-        }
-      } else {
-        for (int k = 0; k < ci * cj; ++k) c[k] += v[k];
-        if (mirrored_[b]) {  // S_ji = S_ijᵀ lands in the same block
-          for (int x = 0; x < ci; ++x) {
-            for (int y = 0; y < cj; ++y) c[y * ci + x] += v[x * cj + y];
-          }
         }
       }
     }
