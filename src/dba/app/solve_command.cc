@@ -107,6 +107,10 @@ void PrintSolveHelp(std::ostream& out) {
          "                             neighbouring cameras; for long strips) (default\n"
          "                             " << PreconditionerName(d.linear_solver.preconditioner) << ")\n"
          "  --coarse-size N            two-level: cameras per aggregate (default " << d.linear_solver.coarse_aggregate_size << ")\n"
+         "  --coarse-basis rigid|parameters\n"
+         "                             two-level: the cameras of an aggregate share a rigid\n"
+         "                             motion of the scene, or a parameter step (default\n"
+         "                             " << (d.linear_solver.rigid_coarse_basis ? "rigid" : "parameters") << ")\n"
          "  --pcg-tolerance X          PCG also stops at this relative residual (default\n"
          "                             " << d.linear_solver.pcg.relative_tolerance << ")\n"
          "  --pcg-max-iterations N     PCG iteration limit, a safety net (default " << d.linear_solver.pcg.max_iterations << ")\n"
@@ -185,6 +189,12 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
     } else if (a == "--coarse-size") {
       o.lm.linear_solver.coarse_aggregate_size =
           static_cast<int>(ParseIntegerArgument(a, value(), 1, 1000000000));
+    } else if (a == "--coarse-basis") {
+      const std::string& v = value();
+      if (v != "rigid" && v != "parameters") {
+        throw std::invalid_argument(a + ": expected rigid or parameters, got '" + v + "'");
+      }
+      o.lm.linear_solver.rigid_coarse_basis = v == "rigid";
     } else if (a == "--eta") {
       o.lm.linear_solver.pcg.eta = ParseNumberArgument(a, value());
       if (o.lm.linear_solver.pcg.eta < 0) throw std::invalid_argument(a + ": must be >= 0");

@@ -1,6 +1,8 @@
 // The LM loop; see levenberg_marquardt.h.
 #include "dba/lm/levenberg_marquardt.h"
 
+#include "dba/rcs/rigid_motion_basis.h"
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -97,6 +99,9 @@ LmSummary SolveLevenbergMarquardt(
       // Observations (camera index, pixel), parameters, point offsets: about
       // 29 bytes per observation over the problems measured (bench/README.md).
       linear.problem_bytes = 29 * num_observations;
+      if (linear.rigid_coarse_basis && linear.preconditioner == PreconditionerType::kTwoLevel) {
+        linear.coarse_row_bases = RigidMotionBases(sys->layout, cameras->data());
+      }
       linear_solver = MakeRcsSolver(sys->S, linear, &summary.linear_solver);
       summary.linear_solver_bytes = linear_solver->MemoryBytes();
     }

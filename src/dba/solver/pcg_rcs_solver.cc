@@ -12,7 +12,8 @@ PcgRcsSolver::PcgRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& optio
     : options_(options.pcg), multiplier_(S, options.pcg.num_threads) {
   if (options.preconditioner == PreconditionerType::kTwoLevel) {
     preconditioner_ = std::make_unique<TwoLevelPreconditioner>(S, options.coarse_aggregate_size,
-                                                               options.pcg.num_threads);
+                                                               options.pcg.num_threads,
+                                                               options.coarse_row_bases);
   } else {
     preconditioner_ = std::make_unique<BlockJacobiPreconditioner>(S, options.pcg.num_threads);
   }

@@ -24,8 +24,10 @@
 #include <memory>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "dba/bsmc/bsmc_matrix.h"
+#include "dba/solver/coarse_row_basis.h"
 #include "dba/solver/pcg.h"
 
 namespace dba {
@@ -50,6 +52,13 @@ struct LinearSolverOptions {
   PcgOptions pcg;
   PreconditionerType preconditioner = PreconditionerType::kTwoLevel;
   int coarse_aggregate_size = 64;  // two-level: cameras per aggregate
+  // two-level: aggregated cameras share a rigid motion of the scene (true)
+  // or a parameter step (false); see rcs/rigid_motion_basis.h.
+  bool rigid_coarse_basis = true;
+  // two-level: per block row of S, the coordinates its aggregate shares
+  // (filled by the caller, who knows the cameras, when rigid_coarse_basis);
+  // empty: the identity for all.
+  std::vector<CoarseRowBasis> coarse_row_bases;
   // auto: a factorization is chosen only while its factor stays within this
   // multiple of what a PCG solve holds: S, preconditioner, PCG vectors and
   // `problem_bytes`.

@@ -2,11 +2,56 @@
 // two_level_preconditioner.h.
 #include "dba/solver/two_level_preconditioner.h"
 
+#include <omp.h>
+
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 namespace dba {
+namespace {
 
-std::vector<int32_t> AggregateBlockRows(const BsmcMatrix& S, int target) {
+using Mat3 = Eigen::Matrix3d;
+using Panel = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>, 0,
+                         Eigen::OuterStride<>>;
+using ConstPanel = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>, 0,
+                              Eigen::OuterStride<>>;
+using Slab = Eigen::Map<Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>, 0,
+                        Eigen::OuterStride<>>;
+using ConstSlab = Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>, 0,
+                             Eigen::OuterStride<>>;
+
+// out = N_iᵀ S_ij N_j for an r x c block (row-major), by 3x3 panels: S N
+// replaces columns (ω, t) by (S_t B, S_ω A + S_t C), then Nᵀ (S N) rows
+// (ω, t) by (Bᵀ T_t, Aᵀ T_ω + Cᵀ T_t). `out` may not alias `s`.
+void TransformBlock(const CoarseRowBasis& Ni, const double* s, const CoarseRowBasis& Nj, int r,
+                    int c, double* out) {
+  std::copy(s, s + r * c, out);
+  if (Nj.rigid) {
+    ConstPanel s_w(s, r, 3, Eigen::OuterStride<>(c)), s_t(s + 3, r, 3, Eigen::OuterStride<>(c));
+    Panel(out, r, 3, Eigen::OuterStride<>(c)).noalias() = s_t * Nj.B;
+    Panel o_t(out + 3, r, 3, Eigen::OuterStride<>(c));
+    o_t.noalias() = s_w * Nj.A;
+    o_t.noalias() += s_t * Nj.C;
+  }
+  if (Ni.rigid) {
+    double top[2 * 3 * 9];  // rows ω, t of S N (c ≤ 9)
+    std::copy(out, out + 6 * c, top);
+    ConstSlab t_w(top, 3, c, Eigen::OuterStride<>(c)), t_t(top + 3 * c, 3, c, Eigen::OuterStride<>(c));
+    Slab(out, 3, c, Eigen::OuterStride<>(c)).noalias() = Ni.B.transpose() * t_t;
+    Slab o_t(out + 3 * c, 3, c, Eigen::OuterStride<>(c));
+    o_t.noalias() = Ni.A.transpose() * t_w;
+    o_t.noalias() += Ni.C.transpose() * t_t;
+  }
+}
+
+}  // namespace
+
+std::vector<int32_t> AggregateBlockRows(const BsmcMatrix& S, int target,
+                                        const std::vector<uint8_t>& rigid) {
+  auto same_kind = [&](int32_t i, int32_t j) {
+    return S.block_size(i) == S.block_size(j) && (rigid.empty() || rigid[i] == rigid[j]);
+  };
   const int32_t n = S.num_block_rows();
   // Both directions of the block graph (S stores the upper triangle).
   std::vector<int64_t> begin(n + 1, 0);
@@ -41,7 +86,7 @@ std::vector<int32_t> AggregateBlockRows(const BsmcMatrix& S, int target) {
       const int32_t i = queue[q];
       for (int64_t k = begin[i]; k < begin[i + 1] && members < target; ++k) {
         const int32_t j = neighbour[k];
-        if (aggregate[j] >= 0 || S.block_size(j) != S.block_size(seed)) continue;
+        if (aggregate[j] >= 0 || !same_kind(j, seed)) continue;
         aggregate[j] = a;
         queue.push_back(j);
         ++members;
@@ -51,9 +96,28 @@ std::vector<int32_t> AggregateBlockRows(const BsmcMatrix& S, int target) {
   return aggregate;
 }
 
+std::vector<uint8_t> RigidRows(const BsmcMatrix& S, const std::vector<CoarseRowBasis>& bases) {
+  if (bases.empty()) return {};
+  if (static_cast<int32_t>(bases.size()) != S.num_block_rows()) {
+    throw std::invalid_argument("TwoLevelPreconditioner: one basis per block row expected");
+  }
+  std::vector<uint8_t> rigid(bases.size());
+  for (size_t i = 0; i < bases.size(); ++i) {
+    rigid[i] = bases[i].rigid;
+    if (rigid[i] && (S.block_size(i) < 6 || S.block_size(i) > 9)) {
+      throw std::invalid_argument("TwoLevelPreconditioner: a rigid basis on a row of " +
+                                  std::to_string(S.block_size(i)) + " unknowns");
+    }
+  }
+  return rigid;
+}
+
 TwoLevelPreconditioner::TwoLevelPreconditioner(const BsmcMatrix& S, int aggregate_size,
-                                               int num_threads)
-    : S_(S), jacobi_(S, num_threads), aggregate_(AggregateBlockRows(S, aggregate_size)) {
+                                               int num_threads, std::vector<CoarseRowBasis> bases)
+    : S_(S),
+      jacobi_(S, num_threads),
+      aggregate_(AggregateBlockRows(S, aggregate_size, RigidRows(S, bases))),
+      bases_(std::move(bases)) {
   const int32_t num_aggregates =
       aggregate_.empty() ? 0 : *std::max_element(aggregate_.begin(), aggregate_.end()) + 1;
   std::vector<int32_t> sizes(num_aggregates, 0);
@@ -83,6 +147,16 @@ TwoLevelPreconditioner::TwoLevelPreconditioner(const BsmcMatrix& S, int aggregat
       mirrored_[b] = ai == aj && i != j;
     }
   }
+  // Update's rows split into contiguous ranges of about equal block counts,
+  // one per thread (a thread per at least 16K blocks).
+  const int threads = static_cast<int>(
+      std::clamp<int64_t>(S.num_blocks() / (int64_t{1} << 14), 1, std::max(num_threads, 1)));
+  thread_rows_.assign(threads + 1, S.num_block_rows());
+  thread_rows_[0] = 0;
+  for (int32_t i = 0, t = 1; i < S.num_block_rows() && t < threads; ++i) {
+    if (S.row_end(i) * threads >= S.num_blocks() * t) thread_rows_[t++] = i + 1;
+  }
+  partial_.assign(threads - 1, std::vector<double>(coarse_.num_values()));
   // Dense below ~2,000 coarse unknowns (a few ms), sparse above.
   coarse_solver_ = MakeCholeskySolver(coarse_, 2048);
   rc_.resize(coarse_.num_rows());
@@ -90,24 +164,43 @@ TwoLevelPreconditioner::TwoLevelPreconditioner(const BsmcMatrix& S, int aggregat
 
 void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
   jacobi_.Update(S);
-  coarse_.SetZero();
-  for (int32_t i = 0; i < S.num_block_rows(); ++i) {
-    const int ci = S.block_size(i);
-    for (int64_t b = S.row_begin(i); b < S.row_end(i); ++b) {
-      const int cj = S.block_size(S.block_col(b));
-      const double* v = S.block_values(b);
-      double* c = coarse_.block_values(coarse_block_[b]);
-      // S_ij lands as is, or transposed where A_i > A_j; both where i < j
-      // share an aggregate (S_ji = S_ijᵀ lands in the same block).
-      if (!transposed_[b]) {
-        for (int k = 0; k < ci * cj; ++k) c[k] += v[k];
-      }
-      if (transposed_[b] || mirrored_[b]) {
-        for (int x = 0; x < ci; ++x) {
-          for (int y = 0; y < cj; ++y) c[y * ci + x] += v[x * cj + y];
+  const int threads = static_cast<int>(thread_rows_.size()) - 1;
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    const int t = omp_get_thread_num();
+    double* sum = t == 0 ? coarse_.values().data() : partial_[t - 1].data();
+    std::fill(sum, sum + coarse_.num_values(), 0.0);
+    double transformed[9 * 9];
+    for (int32_t i = thread_rows_[t]; i < thread_rows_[t + 1]; ++i) {
+      const int ci = S.block_size(i);
+      for (int64_t b = S.row_begin(i); b < S.row_end(i); ++b) {
+        const int32_t j = S.block_col(b);
+        const int cj = S.block_size(j);
+        const double* v = S.block_values(b);
+        if (!bases_.empty() && (bases_[i].rigid || bases_[j].rigid)) {
+          TransformBlock(bases_[i], v, bases_[j], ci, cj, transformed);
+          v = transformed;
+        }
+        double* c = sum + coarse_.value_offset(coarse_block_[b]);
+        // N_iᵀ S_ij N_j lands as is, or transposed where A_i > A_j; both
+        // where i < j share an aggregate (S_ji = S_ijᵀ lands in the same
+        // block).
+        if (!transposed_[b]) {
+          for (int k = 0; k < ci * cj; ++k) c[k] += v[k];
+        }
+        if (transposed_[b] || mirrored_[b]) {
+          for (int x = 0; x < ci; ++x) {
+            for (int y = 0; y < cj; ++y) c[y * ci + x] += v[x * cj + y];
+          }
         }
       }
     }
+  }
+  // The threads' sums in thread order: the same coarse matrix for any
+  // schedule.
+  double* c = coarse_.values().data();
+  for (const std::vector<double>& p : partial_) {
+    for (int64_t k = 0; k < coarse_.num_values(); ++k) c[k] += p[k];
   }
   coarse_ok_ = coarse_solver_->Factorize(coarse_);
 }
@@ -117,21 +210,43 @@ void TwoLevelPreconditioner::Apply(const double* r, double* z) const {
   if (!coarse_ok_) return;  // block-Jacobi alone
   std::fill(rc_.begin(), rc_.end(), 0.0);
   const int32_t n = S_.num_block_rows();
+  // rc = R r: each row's N_iᵀ r_i summed into its aggregate.
   for (int32_t i = 0; i < n; ++i) {
-    const int64_t o = S_.scalar_offset(i), oc = coarse_.scalar_offset(aggregate_[i]);
-    for (int d = 0; d < S_.block_size(i); ++d) rc_[oc + d] += r[o + d];
+    const double* ri = r + S_.scalar_offset(i);
+    double* ra = rc_.data() + coarse_.scalar_offset(aggregate_[i]);
+    int d = 0;
+    if (!bases_.empty() && bases_[i].rigid) {
+      const CoarseRowBasis& N = bases_[i];
+      const Eigen::Map<const Eigen::Vector3d> r_w(ri), r_t(ri + 3);
+      Eigen::Map<Eigen::Vector3d>(ra).noalias() += N.B.transpose() * r_t;
+      Eigen::Map<Eigen::Vector3d>(ra + 3).noalias() += N.A.transpose() * r_w + N.C.transpose() * r_t;
+      d = 6;
+    }
+    for (; d < S_.block_size(i); ++d) ra[d] += ri[d];
   }
   coarse_solver_->SolveFactored(rc_.data(), rc_.data());
+  // z += Rᵀ rc: each row's N_i times its aggregate's coarse solution.
   for (int32_t i = 0; i < n; ++i) {
-    const int64_t o = S_.scalar_offset(i), oc = coarse_.scalar_offset(aggregate_[i]);
-    for (int d = 0; d < S_.block_size(i); ++d) z[o + d] += rc_[oc + d];
+    double* zi = z + S_.scalar_offset(i);
+    const double* ca = rc_.data() + coarse_.scalar_offset(aggregate_[i]);
+    int d = 0;
+    if (!bases_.empty() && bases_[i].rigid) {
+      const CoarseRowBasis& N = bases_[i];
+      const Eigen::Map<const Eigen::Vector3d> c_translation(ca), c_rotation(ca + 3);
+      Eigen::Map<Eigen::Vector3d>(zi).noalias() += N.A * c_rotation;
+      Eigen::Map<Eigen::Vector3d>(zi + 3).noalias() += N.B * c_translation + N.C * c_rotation;
+      d = 6;
+    }
+    for (; d < S_.block_size(i); ++d) zi[d] += ca[d];
   }
 }
 
 int64_t TwoLevelPreconditioner::MemoryBytes() const {
   return jacobi_.MemoryBytes() + coarse_.ValueBytes() + coarse_.StructureBytes() +
          coarse_solver_->MemoryBytes() + static_cast<int64_t>(coarse_block_.size()) * 10 +
-         static_cast<int64_t>(aggregate_.size()) * 4;
+         static_cast<int64_t>(aggregate_.size()) * 4 +
+         static_cast<int64_t>(bases_.size() * sizeof(CoarseRowBasis)) +
+         static_cast<int64_t>(partial_.size()) * coarse_.num_values() * 8;
 }
 
 }  // namespace dba

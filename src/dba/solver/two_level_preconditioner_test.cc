@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <cstdlib>
 #include <map>
 #include <set>
 
@@ -25,15 +26,39 @@ BsmcMatrix Spd(int rows, int band, uint32_t seed) {
   return testing::MakeRandomBsmc(o);
 }
 
-// R: one row per coarse unknown, summing each aggregate's block rows.
-Eigen::MatrixXd Restriction(const BsmcMatrix& S, const TwoLevelPreconditioner& M) {
+// N_i as a dense matrix (identity when `bases` is empty or not rigid).
+Eigen::MatrixXd DenseBasis(const std::vector<CoarseRowBasis>& bases, int32_t i, int size) {
+  Eigen::MatrixXd N = Eigen::MatrixXd::Identity(size, size);
+  if (bases.empty() || !bases[i].rigid) return N;
+  N.topLeftCorner(6, 6) << Eigen::Matrix3d::Zero(), bases[i].A, bases[i].B, bases[i].C;
+  return N;
+}
+
+// R: one row per coarse unknown; block (aggregate of i, i) is N_iᵀ.
+Eigen::MatrixXd Restriction(const BsmcMatrix& S, const TwoLevelPreconditioner& M,
+                            const std::vector<CoarseRowBasis>& bases = {}) {
   const BsmcMatrix& C = M.coarse();
   Eigen::MatrixXd R = Eigen::MatrixXd::Zero(C.num_rows(), S.num_rows());
   for (int32_t i = 0; i < S.num_block_rows(); ++i) {
-    const int32_t a = M.aggregate()[i];
-    for (int d = 0; d < S.block_size(i); ++d) R(C.scalar_offset(a) + d, S.scalar_offset(i) + d) = 1;
+    const int c = S.block_size(i);
+    R.block(C.scalar_offset(M.aggregate()[i]), S.scalar_offset(i), c, c) =
+        DenseBasis(bases, i, c).transpose();
   }
   return R;
+}
+
+// Random rigid bases on the rows of 6 to 9 unknowns, identity elsewhere.
+std::vector<CoarseRowBasis> RandomRigidBases(const BsmcMatrix& S, uint32_t seed) {
+  std::srand(seed);
+  std::vector<CoarseRowBasis> bases(S.num_block_rows());
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) {
+    if (S.block_size(i) < 6) continue;
+    bases[i].rigid = true;
+    bases[i].A = Eigen::Matrix3d::Random() + 2 * Eigen::Matrix3d::Identity();
+    bases[i].B = Eigen::Matrix3d::Random() - 2 * Eigen::Matrix3d::Identity();
+    bases[i].C = Eigen::Matrix3d::Random();
+  }
+  return bases;
 }
 
 TEST(AggregateBlockRows, GroupsConnectedRowsOfOneSize) {
@@ -51,13 +76,19 @@ TEST(AggregateBlockRows, GroupsConnectedRowsOfOneSize) {
   EXPECT_LT(members.size(), 200u);  // some aggregation happened
 }
 
-TEST(TwoLevelPreconditioner, MatchesItsDenseDefinition) {
+class TwoLevelDefinition : public ::testing::TestWithParam<bool> {};
+
+// With the identity bases (R sums each aggregate's rows) and with random
+// rigid ones (R's blocks N_iᵀ), on 1 and 2 threads.
+TEST_P(TwoLevelDefinition, MatchesItsDenseDefinition) {
+  const bool rigid = GetParam();
   for (uint32_t seed = 1; seed <= 3; ++seed) {
     const BsmcMatrix S = Spd(60, seed == 2 ? 0 : 4, seed);
-    TwoLevelPreconditioner M(S, 5, 2);
+    const std::vector<CoarseRowBasis> bases = rigid ? RandomRigidBases(S, seed) : std::vector<CoarseRowBasis>{};
+    TwoLevelPreconditioner M(S, 5, seed == 3 ? 1 : 2, bases);
     M.Update(S);
     const Eigen::MatrixXd dense = testing::DenseFromBsmc(S);
-    const Eigen::MatrixXd R = Restriction(S, M);
+    const Eigen::MatrixXd R = Restriction(S, M, bases);
     const Eigen::MatrixXd coarse = R * dense * R.transpose();
     EXPECT_LT((testing::DenseFromBsmc(M.coarse()) - coarse).norm(), 1e-12 * coarse.norm())
         << "seed " << seed;
@@ -74,6 +105,31 @@ TEST(TwoLevelPreconditioner, MatchesItsDenseDefinition) {
     M.Apply(r.data(), z.data());
     EXPECT_LT((z - expected).norm(), 1e-10 * expected.norm()) << "seed " << seed;
   }
+}
+
+INSTANTIATE_TEST_SUITE_P(Bases, TwoLevelDefinition, ::testing::Values(false, true),
+                         [](const ::testing::TestParamInfo<bool>& info) {
+                           return info.param ? "Rigid" : "Identity";
+                         });
+
+TEST(TwoLevelPreconditioner, RigidRowsAggregateOnlyWithRigidRows) {
+  const BsmcMatrix S = Spd(120, 4, 5);
+  std::vector<uint8_t> rigid(S.num_block_rows());
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) rigid[i] = i % 3 == 0;
+  const std::vector<int32_t> aggregate = AggregateBlockRows(S, 6, rigid);
+  std::map<int32_t, std::set<uint8_t>> kinds;
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) kinds[aggregate[i]].insert(rigid[i]);
+  for (const auto& [a, k] : kinds) EXPECT_EQ(k.size(), 1u) << "aggregate " << a;
+}
+
+TEST(TwoLevelPreconditioner, RefusesARigidBasisOnASmallRow) {
+  const BsmcMatrix S = Spd(40, 3, 2);
+  std::vector<CoarseRowBasis> bases(S.num_block_rows());
+  int32_t small = 0;
+  while (S.block_size(small) >= 6) ++small;
+  bases[small].rigid = true;
+  EXPECT_THROW(TwoLevelPreconditioner(S, 5, 1, bases), std::invalid_argument);
+  EXPECT_THROW(TwoLevelPreconditioner(S, 5, 1, std::vector<CoarseRowBasis>(3)), std::invalid_argument);
 }
 
 TEST(TwoLevelPreconditioner, PcgConvergesWithIt) {

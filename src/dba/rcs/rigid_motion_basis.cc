@@ -1,0 +1,37 @@
+// Rigid motions of the scene in each camera row's unknowns; see
+// rigid_motion_basis.h.
+#include "dba/rcs/rigid_motion_basis.h"
+
+#include "dba/camera/bal_camera.h"
+
+namespace dba {
+
+std::vector<CoarseRowBasis> RigidMotionBases(const UnknownLayout& layout, const double* x) {
+  auto is_pose_row = [&](int32_t r) {
+    return r < layout.num_camera_rows() && (layout.block_size(r) == 9 || layout.block_size(r) == 6);
+  };
+  Vec3 centroid = Vec3::Zero();
+  int64_t poses = 0;
+  for (int32_t r = 0; r < layout.num_rows(); ++r) {
+    if (!is_pose_row(r)) continue;
+    const double* p = x + layout.param_offset(r);
+    centroid -= AngleAxisToRotation(Vec3(p[0], p[1], p[2])).transpose() * Vec3(p[3], p[4], p[5]);
+    ++poses;
+  }
+  if (poses > 0) centroid /= static_cast<double>(poses);
+
+  std::vector<CoarseRowBasis> bases(layout.num_rows());
+  for (int32_t r = 0; r < layout.num_rows(); ++r) {
+    if (!is_pose_row(r)) continue;
+    const Vec3 omega = Eigen::Map<const Vec3>(x + layout.param_offset(r));
+    const Mat3 R = AngleAxisToRotation(omega);
+    CoarseRowBasis& N = bases[r];
+    N.rigid = true;
+    N.A = -SO3LeftJacobian(omega).inverse() * R;
+    N.B = -R;
+    N.C = -R * SkewSymmetric(centroid);
+  }
+  return bases;
+}
+
+}  // namespace dba
