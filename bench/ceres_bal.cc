@@ -10,6 +10,7 @@
 //   ceres_bal INPUT [--solver iterative_schur|sparse_schur|dense_schur] [-t N]
 //             [--max-iterations N] [--function-tolerance X]
 //             [--eta X] [--max-linear-iterations N] [--report FILE]
+//             [--loss trivial|huber|soft_l1|cauchy|arctan|tukey] [--loss-scale A]
 //   ceres_bal --version      the Ceres version it was built against
 //
 // INPUT is BAL text (plain or bzip2) or a dba binary problem, read with dba's
@@ -109,6 +110,7 @@ int Usage() {
   std::cerr << "Usage: ceres_bal INPUT [--solver iterative_schur|sparse_schur|dense_schur]\n"
                "                 [-t N] [--max-iterations N] [--function-tolerance X]\n"
                "                 [--eta X] [--max-linear-iterations N] [--report FILE]\n"
+               "                 [--loss trivial|huber|soft_l1|cauchy|arctan|tukey] [--loss-scale A]\n"
                "       ceres_bal --version\n";
   return 2;
 }
@@ -118,7 +120,8 @@ int Usage() {
 int main(int argc, char** argv) {
   std::string input, report_path, solver = "iterative_schur";
   int threads = 2, max_iterations = 100, max_linear_iterations = 500;
-  double function_tolerance = 1e-6, eta = 0.1;
+  double function_tolerance = 1e-6, eta = 0.1, loss_scale = 1.0;
+  std::string loss_name = "trivial";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -133,6 +136,8 @@ int main(int argc, char** argv) {
       else if (a == "--eta") eta = std::stod(value());
       else if (a == "--max-linear-iterations") max_linear_iterations = std::stoi(value());
       else if (a == "--report") report_path = value();
+      else if (a == "--loss") loss_name = value();
+      else if (a == "--loss-scale") loss_scale = std::stod(value());
       else if (a == "-h" || a == "--help") { Usage(); return 0; }
       else if (a == "--version") { std::printf("%s\n", CERES_VERSION_STRING); return 0; }
       else if (!a.empty() && a[0] == '-') return Usage();
@@ -143,6 +148,21 @@ int main(int argc, char** argv) {
     }
   }
   if (input.empty()) return Usage();
+  // Ceres's own losses, the same definitions as dba's --loss.
+  auto make_loss = [&]() -> ceres::LossFunction* {
+    if (loss_name == "huber") return new ceres::HuberLoss(loss_scale);
+    if (loss_name == "soft_l1") return new ceres::SoftLOneLoss(loss_scale);
+    if (loss_name == "cauchy") return new ceres::CauchyLoss(loss_scale);
+    if (loss_name == "arctan") return new ceres::ArctanLoss(loss_scale);
+    if (loss_name == "tukey") return new ceres::TukeyLoss(loss_scale);
+    return nullptr;
+  };
+  // One loss for all residual blocks, owned here (not a copy per block).
+  const std::unique_ptr<ceres::LossFunction> loss(make_loss());
+  if (loss_name != "trivial" && loss == nullptr) {
+    std::cerr << "ceres_bal: unknown loss '" << loss_name << "'\n";
+    return Usage();
+  }
   if (solver != "iterative_schur" && solver != "sparse_schur" && solver != "dense_schur") {
     std::cerr << "ceres_bal: unknown solver '" << solver << "'\n";
     return Usage();
@@ -154,13 +174,15 @@ int main(int argc, char** argv) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
     const auto t1 = std::chrono::steady_clock::now();
-    ceres::Problem problem;
+    ceres::Problem::Options problem_options;
+    problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(problem_options);
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
     for (int64_t k = 0; k < p.num_points(); ++k) {
       for (int64_t o = p.point_offsets[k]; o < p.point_offsets[k + 1]; ++o) {
         auto* cost = new ceres::AutoDiffCostFunction<BalReprojectionError, 2, 9, 3>(
             new BalReprojectionError(p.obs_pixel[2 * o], p.obs_pixel[2 * o + 1]));
-        problem.AddResidualBlock(cost, nullptr, p.camera(p.obs_camera[o]), p.point(k));
+        problem.AddResidualBlock(cost, loss.get(), p.camera(p.obs_camera[o]), p.point(k));
       }
       ordering->AddElementToGroup(p.point(k), 0);
     }

@@ -142,6 +142,25 @@ else
   fail "photo .dba with fixings: $(final_cost "$tmp/fix_mpi.json") vs $(final_cost "$tmp/fix_single.json")"
 fi
 
+# A robust loss: the distributed run reaches the single-process optimum of
+# the robust cost (1e-9), both camera models, and differs from the squared
+# loss's.
+for input in "$root/../shared/data/bal/problem-21-11315-pre.txt.bz2" "$tmp/photo.dba"; do
+  loss=(--loss cauchy --loss-scale 2)
+  "$dba" solve "$input" -q "${tight[@]}" "${loss[@]}" --report "$tmp/loss_single.json" >/dev/null 2>&1 \
+    || fail "robust single-process run of $input exited non-zero"
+  mpirun_n 3 "$dba" solve "$input" -q "${tight[@]}" "${loss[@]}" --report "$tmp/loss_mpi.json" >/dev/null 2>&1 \
+    || fail "robust -np 3 run of $input exited non-zero"
+  "$dba" solve "$input" -q "${tight[@]}" --report "$tmp/squared_single.json" >/dev/null 2>&1
+  if same_cost "$tmp/loss_single.json" "$tmp/loss_mpi.json" && \
+     ! same_cost "$tmp/loss_single.json" "$tmp/squared_single.json" && \
+     grep -q '"type": "cauchy"' "$tmp/loss_mpi.json"; then
+    passes=$((passes + 1)); echo "ok   --loss cauchy -np 3 $(basename "$input")"
+  else
+    fail "--loss cauchy -np 3 $(basename "$input"): $(final_cost "$tmp/loss_mpi.json") vs $(final_cost "$tmp/loss_single.json")"
+  fi
+done
+
 # The distributed summary reports every rank and the communication.
 problem=$root/../shared/data/bal/problem-21-11315-pre.txt.bz2
 mpirun_n 3 "$dba" solve "$problem" -q "${tight[@]}" --main-rank coordinates -o "$tmp/out3.txt" \

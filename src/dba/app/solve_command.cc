@@ -85,6 +85,13 @@ void PrintSolveHelp(std::ostream& out) {
          "                             each intrinsic group's errors (f, cx, cy, k1, k2)\n"
          "  -t, --threads N            threads per rank (default: the node's cores divided\n"
          "                             by its ranks; " << DefaultThreads() << " cores here)\n"
+         "  --loss trivial|huber|soft_l1|cauchy|arctan|tukey\n"
+         "                             robust loss of each observation's squared reprojection\n"
+         "                             error s, Ceres's definitions: the cost is 1/2 sum rho(s)\n"
+         "                             (default " << LossName(d.loss.type) << ": rho(s) = s)\n"
+         "  --loss-scale PX            the loss's scale a in pixels: residuals beyond it are\n"
+         "                             down-weighted (and count as outliers in the RMS\n"
+         "                             figures) (default " << d.loss.scale << ")\n"
          "  --max-iterations N         LM iteration limit (default " << d.max_iterations << ")\n"
          "  --function-tolerance X     stop when a step lowers the cost by less than\n"
          "                             this fraction (default " << d.function_tolerance << ")\n"
@@ -189,6 +196,14 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
     } else if (a == "--coarse-size") {
       o.lm.linear_solver.coarse_aggregate_size =
           static_cast<int>(ParseIntegerArgument(a, value(), 1, 1000000000));
+    } else if (a == "--loss") {
+      const std::string& v = value();
+      if (!ParseLoss(v, &o.lm.loss.type)) {
+        throw std::invalid_argument(a + ": expected trivial, huber, soft_l1, cauchy, arctan or tukey, got '" + v + "'");
+      }
+    } else if (a == "--loss-scale") {
+      o.lm.loss.scale = ParseNumberArgument(a, value());
+      if (!(o.lm.loss.scale > 0.0)) throw std::invalid_argument(a + ": must be > 0 (pixels)");
     } else if (a == "--coarse-basis") {
       const std::string& v = value();
       if (v != "rigid" && v != "parameters") {
@@ -240,6 +255,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   SolveReport report;
   report.input = options.input;
   report.threads = lm.num_threads;
+  report.loss = lm.loss;
   BalProblem problem;
   // Distributed runs on a binary file: every rank reads its own points.
   const bool ranks_read_file = comm->size() > 1 && IsBinaryProblem(options.input);

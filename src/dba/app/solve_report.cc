@@ -61,11 +61,24 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
   const double per_obs = 1.0 / std::max<int64_t>(r.num_observations, 1);
   char buf[512];
   out << "\nSummary\n";
-  std::snprintf(buf, sizeof buf,
-                "  initial cost        %.6e  (RMS %.4f px)\n"
-                "  final cost          %.6e  (RMS %.4f px)\n",
-                lm.initial_cost, lm.Rms(lm.initial_cost), lm.final_cost,
-                lm.Rms(lm.final_cost));
+  const double n = static_cast<double>(lm.num_observations);
+  if (r.loss.trivial()) {
+    std::snprintf(buf, sizeof buf,
+                  "  initial cost        %.6e  (RMS %.4f px)\n"
+                  "  final cost          %.6e  (RMS %.4f px)\n",
+                  lm.initial_cost, LmSummary::Rms(lm.initial_residuals.squared, n), lm.final_cost,
+                  LmSummary::Rms(lm.final_residuals.squared, n));
+  } else {
+    const ResidualSums &a = lm.initial_residuals, &b = lm.final_residuals;
+    std::snprintf(buf, sizeof buf,
+                  "  loss                %s, scale %g px (inliers: residual within the scale)\n"
+                  "  initial cost        %.6e  (robust; RMS %.4f px, inliers %.4f px over %.2f%%)\n"
+                  "  final cost          %.6e  (robust; RMS %.4f px, inliers %.4f px over %.2f%%)\n",
+                  LossName(r.loss.type), r.loss.scale, lm.initial_cost,
+                  LmSummary::Rms(a.squared, n), LmSummary::Rms(a.inlier_squared, a.inliers),
+                  n > 0 ? 100.0 * a.inliers / n : 0.0, lm.final_cost, LmSummary::Rms(b.squared, n),
+                  LmSummary::Rms(b.inlier_squared, b.inliers), n > 0 ? 100.0 * b.inliers / n : 0.0);
+  }
   out << buf;
   out << "  iterations          " << lm.iterations << " (" << lm.accepted_iterations
       << " accepted, " << lm.total_linear_iterations << " PCG iterations)\n";
@@ -174,8 +187,19 @@ std::string SolveReportJson(const SolveReport& r) {
   j["ranks"] = r.solve.ranks;
   j["initial_cost"] = lm.initial_cost;
   j["final_cost"] = lm.final_cost;
-  j["initial_rms_px"] = lm.Rms(lm.initial_cost);
-  j["final_rms_px"] = lm.Rms(lm.final_cost);
+  const double n = static_cast<double>(lm.num_observations);
+  j["loss"] = {{"type", LossName(r.loss.type)}, {"scale_px", r.loss.scale}};
+  // Costs are the robust ½ Σ ρ(|r|²); RMS figures are of the plain residuals,
+  // over all observations and over the inliers (|r| within the loss scale;
+  // all, for the trivial loss).
+  j["initial_rms_px"] = LmSummary::Rms(lm.initial_residuals.squared, n);
+  j["final_rms_px"] = LmSummary::Rms(lm.final_residuals.squared, n);
+  j["initial_inliers"] = static_cast<int64_t>(lm.initial_residuals.inliers);
+  j["final_inliers"] = static_cast<int64_t>(lm.final_residuals.inliers);
+  j["initial_inlier_rms_px"] =
+      LmSummary::Rms(lm.initial_residuals.inlier_squared, lm.initial_residuals.inliers);
+  j["final_inlier_rms_px"] =
+      LmSummary::Rms(lm.final_residuals.inlier_squared, lm.final_residuals.inliers);
   j["iterations"] = lm.iterations;
   j["accepted_iterations"] = lm.accepted_iterations;
   j["pcg_iterations"] = lm.total_linear_iterations;

@@ -17,6 +17,7 @@ struct SolveReport {
   int64_t num_points = 0;
   int64_t num_observations = 0;
   int threads = 1;
+  RobustLoss loss;
   double load_seconds = 0.0;
   double write_seconds = 0.0;
   int64_t peak_memory_bytes = 0;  // main rank

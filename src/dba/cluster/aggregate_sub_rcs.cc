@@ -9,7 +9,7 @@ namespace dba {
 int64_t SubRcsMap::PackedSize(const BsmcMatrix& global) const {
   int64_t cam = 0;
   for (int32_t g : global_row) cam += global.block_size(g);
-  return num_values + 3 * cam + 2;
+  return num_values + 3 * cam + 5;  // + cost, ‖g_p‖∞, residual sums
 }
 
 SubRcsMap MapSubRcs(std::span<const uint64_t> local_blocks,
@@ -29,7 +29,7 @@ SubRcsMap MapSubRcs(std::span<const uint64_t> local_blocks,
 
 void PackSubRcs(const RcsSystem& sub, std::vector<double>* message) {
   message->clear();
-  message->reserve(sub.S.values().size() + 3 * sub.b.size() + 2);
+  message->reserve(sub.S.values().size() + 3 * sub.b.size() + 5);
   message->insert(message->end(), sub.S.values().begin(), sub.S.values().end());
   message->insert(message->end(), sub.b.begin(), sub.b.end());
   message->insert(message->end(), sub.camera_gradient.begin(), sub.camera_gradient.end());
@@ -37,6 +37,9 @@ void PackSubRcs(const RcsSystem& sub, std::vector<double>* message) {
                   sub.camera_jtj_diagonal.end());
   message->push_back(sub.cost);
   message->push_back(sub.max_abs_point_gradient);
+  message->push_back(sub.residuals.squared);
+  message->push_back(sub.residuals.inlier_squared);
+  message->push_back(sub.residuals.inliers);
 }
 
 void AggregateSubRcs(const SubRcsMap& map, std::span<const double> message,
@@ -58,6 +61,7 @@ void AggregateSubRcs(const SubRcsMap& map, std::span<const double> message,
   }
   global->cost += in[0];
   global->max_abs_point_gradient = std::max(global->max_abs_point_gradient, in[1]);
+  global->residuals.Add({in[2], in[3], in[4]});
 }
 
 void ClearRcs(RcsSystem* global) {
@@ -66,6 +70,7 @@ void ClearRcs(RcsSystem* global) {
   std::fill(global->camera_gradient.begin(), global->camera_gradient.end(), 0.0);
   std::fill(global->camera_jtj_diagonal.begin(), global->camera_jtj_diagonal.end(), 0.0);
   global->cost = 0.0;
+  global->residuals = ResidualSums();
   global->max_abs_point_gradient = 0.0;
 }
 

@@ -26,7 +26,8 @@ struct SubRcsMap {
   int64_t num_values = 0;  // doubles of the sub-RCS matrix values
 
   // Doubles in a packed sub-system message: the matrix values, then b, g_c
-  // and diag(U) (a block size per row each), then cost and max |g_p|.
+  // and diag(U) (a block size per row each), then cost, max |g_p| and the
+  // three residual sums.
   int64_t PackedSize(const BsmcMatrix& global) const;
 };
 
@@ -36,10 +37,11 @@ SubRcsMap MapSubRcs(std::span<const uint64_t> local_blocks,
                     std::vector<int32_t> global_row, const BsmcMatrix& global);
 
 // Packs a rank's system into one message: S values, b, g_c, diag(U), cost,
-// max |g_p|.
+// max |g_p|, residual sums.
 void PackSubRcs(const RcsSystem& sub, std::vector<double>* message);
 
-// global += the packed sub-system (cost added, max |g_p| maxed).
+// global += the packed sub-system (cost and residual sums added, max |g_p|
+// maxed).
 void AggregateSubRcs(const SubRcsMap& map, std::span<const double> message,
                      RcsSystem* global);
 

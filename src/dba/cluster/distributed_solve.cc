@@ -112,7 +112,8 @@ DistributedSummary DistributedBundleAdjust(
     } else {
       share = RecvShare(comm);
     }
-    LocalPointWorkers workers(&share.problem, options.damping, options.num_threads);
+    LocalPointWorkers workers(&share.problem, options.damping, options.num_threads,
+                              options.loss);
     RunPointRank(comm, &share, &workers);
     return summary;
   }
@@ -156,7 +157,7 @@ DistributedSummary DistributedBundleAdjust(
   std::unique_ptr<LocalPointWorkers> own_workers;
   if (summary.main_forms) {
     own_workers = std::make_unique<LocalPointWorkers>(&own.problem, options.damping,
-                                                      options.num_threads);
+                                                      options.num_threads, options.loss);
   }
   MpiPointWorkers workers(comm, UnknownLayout(*problem),
                           summary.main_forms ? &own : nullptr, own_workers.get());

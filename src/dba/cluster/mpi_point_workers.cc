@@ -42,9 +42,12 @@ std::vector<double> Plus(const LocalPointWorkers& workers, const std::vector<dou
   return out;
 }
 
+constexpr int kPackedEvaluation = 7;  // values of Pack(StepEvaluation)
+
 std::vector<double> Pack(const StepEvaluation& e) {
-  return {e.model_cost, e.candidate_cost, e.point_step_squared_norm,
-          e.point_squared_norm};
+  return {e.model_cost, e.candidate_cost, e.point_step_squared_norm, e.point_squared_norm,
+          e.candidate_residuals.squared, e.candidate_residuals.inlier_squared,
+          e.candidate_residuals.inliers};
 }
 
 }  // namespace
@@ -136,7 +139,7 @@ StepEvaluation MpiPointWorkers::EvaluateStep(double lambda,
     const std::vector<double> local = LocalDelta(delta_c, global_.layout, maps_[r].global_row);
     comm_->Send(r, Traffic::kCameraUpdate, std::span<const double>(local));
   }
-  std::vector<double> mine(4, 0.0);
+  std::vector<double> mine(kPackedEvaluation, 0.0);
   if (own_ != nullptr) {
     const std::vector<double> local = LocalDelta(delta_c, global_.layout, maps_[0].global_row);
     mine = Pack(own_->EvaluateStep(lambda, local, Plus(*own_, own_share_->problem.cameras, local)));
@@ -144,10 +147,12 @@ StepEvaluation MpiPointWorkers::EvaluateStep(double lambda,
   const std::vector<double> all = comm_->Gather(Traffic::kControl, mine);
   StepEvaluation e;
   for (int r = 0; r < comm_->size(); ++r) {
-    e.model_cost += all[4 * r];
-    e.candidate_cost += all[4 * r + 1];
-    e.point_step_squared_norm += all[4 * r + 2];
-    e.point_squared_norm += all[4 * r + 3];
+    const double* v = all.data() + kPackedEvaluation * r;
+    e.model_cost += v[0];
+    e.candidate_cost += v[1];
+    e.point_step_squared_norm += v[2];
+    e.point_squared_norm += v[3];
+    e.candidate_residuals.Add({v[4], v[5], v[6]});
   }
   return e;
 }

@@ -11,7 +11,7 @@ BundleAdjustSummary BundleAdjust(
     const std::function<void(const IterationSummary&)>& on_iteration) {
   BundleAdjustSummary summary;
   Timer symbolic;
-  LocalPointWorkers workers(problem, options.damping, options.num_threads);
+  LocalPointWorkers workers(problem, options.damping, options.num_threads, options.loss);
   summary.symbolic_seconds = symbolic.Seconds();
   const BsmcMatrix& S = workers.system().S;
   summary.rcs = {S.num_block_rows(), S.num_blocks(), S.num_rows(), S.StructureBytes(),

@@ -63,6 +63,8 @@ LmSummary SolveLevenbergMarquardt(
   double cost = sys->cost;
   summary.initial_cost = cost;
   summary.final_cost = cost;
+  summary.initial_residuals = sys->residuals;
+  ResidualSums residuals = sys->residuals;  // at the current parameters
 
   // δc has one value per unknown (fixed parameters are not unknowns); the
   // candidate is cameras ⊞ δc (rcs/unknown_layout.h).
@@ -79,7 +81,7 @@ LmSummary SolveLevenbergMarquardt(
     IterationSummary it;
     it.iteration = summary.iterations + 1;
     it.cost = cost;
-    it.rms_pixels = summary.Rms(cost);
+    it.rms_pixels = LmSummary::Rms(residuals.squared, static_cast<double>(num_observations));
     it.lambda = lambda;
     it.gradient_max_norm =
         std::max(MaxAbs(sys->camera_gradient), sys->max_abs_point_gradient);
@@ -116,10 +118,12 @@ LmSummary SolveLevenbergMarquardt(
     // Back-substitution and evaluation of the step (none when S was not
     // positive definite: that counts as a rejected step).
     bool small_step = false;
+    ResidualSums candidate_residuals;
     if (solve.ok) {
       phase.Reset();
       sys->layout.Plus(cameras->data(), delta_c.data(), candidate.data());
       const StepEvaluation eval = workers->EvaluateStep(lambda, delta_c, candidate);
+      candidate_residuals = eval.candidate_residuals;
       summary.times.back_substitution += phase.Seconds();
       const double step_norm = std::sqrt(SquaredNorm(delta_c) + eval.point_step_squared_norm);
       const double x_norm = std::sqrt(SquaredNorm(*cameras) + eval.point_squared_norm);
@@ -150,6 +154,7 @@ LmSummary SolveLevenbergMarquardt(
         done = true;
       }
       cost = it.candidate_cost;
+      residuals = candidate_residuals;
     } else {
       RejectStep(&lambda, &nu);
       if (lambda > options.max_lambda) {
@@ -166,12 +171,14 @@ LmSummary SolveLevenbergMarquardt(
       sys = &workers->FormRcs(lambda);
       summary.times.rcs_formation += phase.Seconds();
       cost = sys->cost;
+      residuals = sys->residuals;
     }
     it.seconds = iteration_timer.Seconds();
     summary.history.push_back(it);
     if (on_iteration) on_iteration(it);
   }
   summary.final_cost = cost;
+  summary.final_residuals = residuals;
   summary.times.total = total_timer.Seconds();
   return summary;
 }

@@ -14,6 +14,7 @@
 // Thread safety: one solve at a time per PointWorkers.
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
@@ -40,6 +41,8 @@ struct LmOptions {
   // A step is accepted when ρ exceeds this.
   double min_relative_decrease = 1e-3;
   DampingBounds damping;
+  // The cost is ½ Σ ρ(|r|²) (rcs/robust_loss.h); default the squared loss.
+  RobustLoss loss;
   LinearSolverOptions linear_solver;
   int num_threads = 1;
 };
@@ -56,7 +59,7 @@ const char* TerminationReasonName(TerminationReason reason);
 struct IterationSummary {
   int iteration = 0;
   double cost = 0.0;           // at the start of the iteration
-  double rms_pixels = 0.0;
+  double rms_pixels = 0.0;     // plain RMS over all observations
   double gradient_max_norm = 0.0;
   double lambda = 0.0;         // damping used for this step
   int linear_iterations = 0;          // PCG iterations (0: factorized)
@@ -76,8 +79,11 @@ struct PhaseTimes {
 };
 
 struct LmSummary {
-  double initial_cost = 0.0;
+  double initial_cost = 0.0;  // ½ Σ ρ(|r|²)
   double final_cost = 0.0;
+  // Plain squared residuals at the start and at the end (RMS over all
+  // observations and over the loss's inliers).
+  ResidualSums initial_residuals, final_residuals;
   int64_t num_observations = 0;
   int iterations = 0;
   int accepted_iterations = 0;
@@ -90,6 +96,9 @@ struct LmSummary {
   std::vector<IterationSummary> history;
 
   double Rms(double cost) const;  // sqrt(2 F / num_observations)
+  static double Rms(double squared_sum, double count) {
+    return count > 0 ? std::sqrt(squared_sum / count) : 0.0;
+  }
 };
 
 // Runs LM on the workers' points with `cameras` (global numbering, the

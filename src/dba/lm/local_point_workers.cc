@@ -5,14 +5,15 @@ namespace dba {
 
 LocalPointWorkers::LocalPointWorkers(BalProblem* problem,
                                      const DampingBounds& bounds,
-                                     int num_threads)
+                                     int num_threads, const RobustLoss& loss)
     : problem_(problem),
       bounds_(bounds),
       num_threads_(num_threads),
+      loss_(loss),
       system_(RcsSystem::ForProblem(*problem)) {}
 
 RcsSystem& LocalPointWorkers::FormRcs(double lambda) {
-  dba::FormRcs(*problem_, lambda, bounds_, num_threads_, &system_);
+  dba::FormRcs(*problem_, lambda, bounds_, num_threads_, &system_, loss_);
   return system_;
 }
 
@@ -21,7 +22,7 @@ StepEvaluation LocalPointWorkers::EvaluateStep(
     const std::vector<double>& candidate_cameras) {
   candidate_cameras_ = candidate_cameras;
   return BackSubstitute(*problem_, system_.layout, lambda, bounds_, delta_c, candidate_cameras,
-                        num_threads_, &candidate_points_);
+                        num_threads_, &candidate_points_, loss_);
 }
 
 void LocalPointWorkers::FinishStep(bool accept) {

@@ -13,8 +13,9 @@ class LocalPointWorkers : public PointWorkers {
  public:
   // Builds the RCS structure (symbolic phase). `problem` must outlive this
   // object; its cameras and points are updated in place on accepted steps.
+  // `loss`: the robust loss of every observation (rcs/robust_loss.h).
   LocalPointWorkers(BalProblem* problem, const DampingBounds& bounds,
-                    int num_threads);
+                    int num_threads, const RobustLoss& loss = RobustLoss());
 
   RcsSystem& FormRcs(double lambda) override;
   StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,
@@ -27,6 +28,7 @@ class LocalPointWorkers : public PointWorkers {
   BalProblem* problem_;
   DampingBounds bounds_;
   int num_threads_;
+  RobustLoss loss_;
   RcsSystem system_;
   std::vector<double> candidate_cameras_;
   std::vector<double> candidate_points_;

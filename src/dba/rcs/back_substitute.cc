@@ -14,7 +14,8 @@ StepEvaluation BackSubstituteWith(const BalProblem& problem, const UnknownLayout
                                   double lambda, const DampingBounds& bounds,
                                   const std::vector<double>& delta_c,
                                   const std::vector<double>& candidate_cameras,
-                                  int num_threads, std::vector<double>* candidate_points) {
+                                  int num_threads, std::vector<double>* candidate_points,
+                                  const RobustLoss& loss) {
   constexpr int kC = Model::kCamera;
   constexpr int kI = PointSystem<Model>::kI;
   using CameraVec = Eigen::Matrix<double, kC, 1>;
@@ -27,14 +28,16 @@ StepEvaluation BackSubstituteWith(const BalProblem& problem, const UnknownLayout
     return d;
   };
   double model_cost = 0.0, candidate_cost = 0.0, step_sq = 0.0, x_sq = 0.0;
+  double squared = 0.0, inlier_squared = 0.0, inliers = 0.0;
+  const double inlier_bound = loss.scale * loss.scale;
   const int64_t num_points = problem.num_points();
 #pragma omp parallel num_threads(num_threads) \
-    reduction(+ : model_cost, candidate_cost, step_sq, x_sq)
+    reduction(+ : model_cost, candidate_cost, step_sq, x_sq, squared, inlier_squared, inliers)
   {
     PointSystem<Model> p;
 #pragma omp for schedule(dynamic, 256)
     for (int64_t k = 0; k < num_points; ++k) {
-      LinearizePoint(problem, layout, k, &p);
+      LinearizePoint(problem, layout, loss, k, &p);
       InvertDampedV(lambda, bounds, &p);
       const int64_t begin = problem.point_offsets[k];
       // Model residuals start as r + Σ_e J_e δ_e; J_p δX is added below.
@@ -60,19 +63,24 @@ StepEvaluation BackSubstituteWith(const BalProblem& problem, const UnknownLayout
       Eigen::Map<Vec3>(candidate_points->data() + 3 * k) = X_new;
       step_sq += dX.squaredNorm();
       x_sq += X.squaredNorm();
+      model_cost += p.model_offset;
       for (int a = 0; a < p.num_obs; ++a) {
         model_cost += 0.5 * (p.r[a] + p.J_p[a] * dX).squaredNorm();
         const int64_t obs = begin + a;
-        candidate_cost += 0.5 * ObservationResidual(problem, candidate_cameras.data(),
-                                                    problem.obs_camera[obs], X_new.data(),
-                                                    problem.pixel(obs))
-                                    .squaredNorm();
+        const double s = ObservationResidual(problem, candidate_cameras.data(),
+                                             problem.obs_camera[obs], X_new.data(),
+                                             problem.pixel(obs))
+                             .squaredNorm();
+        candidate_cost += 0.5 * loss.Rho(s);
+        squared += s;
+        if (loss.trivial() || s <= inlier_bound) inlier_squared += s, inliers += 1.0;
       }
     }
   }
   StepEvaluation e;
   e.model_cost = model_cost;
   e.candidate_cost = candidate_cost;
+  e.candidate_residuals = {squared, inlier_squared, inliers};
   e.point_step_squared_norm = step_sq;
   e.point_squared_norm = x_sq;
   return e;
@@ -84,14 +92,14 @@ StepEvaluation BackSubstitute(const BalProblem& problem, const UnknownLayout& la
                               double lambda, const DampingBounds& bounds,
                               const std::vector<double>& delta_c,
                               const std::vector<double>& candidate_cameras, int num_threads,
-                              std::vector<double>* candidate_points) {
+                              std::vector<double>* candidate_points, const RobustLoss& loss) {
   candidate_points->resize(problem.points.size());
   if (problem.model == CameraModel::kBal) {
     return BackSubstituteWith<BalModel>(problem, layout, lambda, bounds, delta_c,
-                                        candidate_cameras, num_threads, candidate_points);
+                                        candidate_cameras, num_threads, candidate_points, loss);
   }
   return BackSubstituteWith<PhotoModel>(problem, layout, lambda, bounds, delta_c,
-                                        candidate_cameras, num_threads, candidate_points);
+                                        candidate_cameras, num_threads, candidate_points, loss);
 }
 
 }  // namespace dba

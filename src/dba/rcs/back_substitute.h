@@ -3,6 +3,8 @@
 //   δX_k = V_λ⁻¹ (-g_p - Σ_a Σ_e W_e,aᵀ δ_e)   (e: the observation's blocks)
 //   model residual  r_a + Σ_e J_e,a δ_e + J_p,a δX_k   (the linearized cost)
 //   candidate residual r_a(c_a + δc_a, X_k + δX_k)  (the true cost at the step)
+// With a robust loss, r and J are the corrected ones (rcs/robust_loss.h) and
+// the costs are ½ Σ ρ.
 // Jacobians are recomputed, not stored (DESIGN.md §4).
 //
 // Thread safety: runs its own threads; the outputs are written per point.
@@ -17,8 +19,9 @@
 namespace dba {
 
 struct StepEvaluation {
-  double model_cost = 0.0;      // ½ Σ |r + J δ|²
-  double candidate_cost = 0.0;  // ½ Σ |r(x + δ)|²
+  double model_cost = 0.0;      // ½ Σ |r̃ + J̃ δ|² + model offsets (robust model)
+  double candidate_cost = 0.0;  // ½ Σ ρ(|r(x + δ)|²)
+  ResidualSums candidate_residuals;      // plain |r(x + δ)|²
   double point_step_squared_norm = 0.0;  // Σ |δX|²
   double point_squared_norm = 0.0;       // Σ |X|²
 };
@@ -32,6 +35,7 @@ StepEvaluation BackSubstitute(const BalProblem& problem, const UnknownLayout& la
                               const std::vector<double>& delta_c,
                               const std::vector<double>& candidate_cameras,
                               int num_threads,
-                              std::vector<double>* candidate_points);
+                              std::vector<double>* candidate_points,
+                              const RobustLoss& loss = RobustLoss());
 
 }  // namespace dba

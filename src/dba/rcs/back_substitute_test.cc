@@ -110,3 +110,53 @@ TEST(BackSubstitute, PhotoModelWithFixedParameters) {
 
 }  // namespace
 }  // namespace dba
+
+namespace dba {
+namespace {
+
+// With a robust loss: the model cost is Triggs's second-order model of the
+// robust cost, ½ Σ ρ + gᵀδ + ½ δᵀ (Σ Jᵀ Ω J) δ (undamped), and the candidate
+// cost ½ Σ ρ(|r(x + δ)|²).
+TEST(BackSubstitute, RobustModelAndCandidateCosts) {
+  testing::SyntheticBalOptions o;
+  o.num_cameras = 6;
+  o.num_points = 50;
+  o.pixel_noise = 0.5;
+  o.rotation_perturbation = 0.01;
+  o.point_perturbation = 0.05;
+  BalProblem problem = testing::MakeSyntheticBal(o).problem;
+  for (int64_t a = 0; a < problem.num_observations(); a += 4) problem.obs_pixel[2 * a] += 12.0;
+  const RobustLoss loss{LossType::kCauchy, 1.0};
+  const double lambda = 0.3;
+  const DampingBounds bounds;
+  const auto dense = testing::BuildDenseNormalEquations(problem, lambda, bounds, loss);
+  const Eigen::VectorXd step = dense.SolveStep();
+  const auto undamped = testing::BuildDenseNormalEquations(problem, 0.0, bounds, loss);
+  const int nc = dense.num_camera_params;
+  std::vector<double> delta_c(step.data(), step.data() + nc);
+  std::vector<double> candidate_cameras = problem.cameras;
+  for (int i = 0; i < nc; ++i) candidate_cameras[i] += delta_c[i];
+  std::vector<double> candidate_points;
+  const StepEvaluation e = BackSubstitute(problem, UnknownLayout(problem), lambda, bounds, delta_c,
+                                          candidate_cameras, 2, &candidate_points, loss);
+  const Eigen::VectorXd dX = step.tail(step.size() - nc);
+  for (int64_t j = 0; j < dX.size(); ++j) {
+    EXPECT_NEAR(candidate_points[j] - problem.points[j], dX[j],
+                1e-9 * (1 + dX.cwiseAbs().maxCoeff()));
+  }
+  const double model = dense.cost + undamped.g.dot(step) + 0.5 * step.dot(undamped.H * step);
+  EXPECT_NEAR(e.model_cost, model, 1e-10 * dense.cost);
+  EXPECT_LT(e.model_cost, dense.cost);
+  double candidate = 0.0;
+  for (int64_t k = 0; k < problem.num_points(); ++k) {
+    for (int64_t obs = problem.point_offsets[k]; obs < problem.point_offsets[k + 1]; ++obs) {
+      candidate += 0.5 * loss.Rho(BalResidual(candidate_cameras.data() + 9 * problem.obs_camera[obs],
+                                              candidate_points.data() + 3 * k, problem.pixel(obs))
+                                      .squaredNorm());
+    }
+  }
+  EXPECT_NEAR(e.candidate_cost, candidate, 1e-12 * candidate);
+}
+
+}  // namespace
+}  // namespace dba

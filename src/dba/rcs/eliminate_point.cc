@@ -54,8 +54,8 @@ Vec2 Linearize(const BalProblem& problem, const UnknownLayout& layout, int64_t o
 }  // namespace
 
 template <class Model>
-void LinearizePoint(const BalProblem& problem, const UnknownLayout& layout, int64_t k,
-                    PointSystem<Model>* sys) {
+void LinearizePoint(const BalProblem& problem, const UnknownLayout& layout,
+                    const RobustLoss& loss, int64_t k, PointSystem<Model>* sys) {
   const int64_t begin = problem.point_offsets[k];
   const int m = static_cast<int>(problem.point_offsets[k + 1] - begin);
   sys->num_obs = m;
@@ -64,9 +64,28 @@ void LinearizePoint(const BalProblem& problem, const UnknownLayout& layout, int6
   sys->V.setZero();
   sys->g_p.setZero();
   sys->cost = 0.0;
+  sys->model_offset = 0.0;
+  sys->residuals = ResidualSums();
+  const double inlier_bound = loss.scale * loss.scale;
   for (int a = 0; a < m; ++a) {
     sys->r[a] = Linearize(problem, layout, begin + a, X, a, sys);
-    sys->cost += 0.5 * sys->r[a].squaredNorm();
+    const double s = sys->r[a].squaredNorm();
+    if (loss.trivial()) {
+      sys->cost += 0.5 * s;
+      sys->residuals.Add(s, true);
+    } else {
+      sys->residuals.Add(s, s <= inlier_bound);
+      double rho[3];
+      loss.Evaluate(s, rho);
+      const LossCorrection correction(s, rho);
+      const Vec2 r = sys->r[a];
+      correction.CorrectJacobian(r, &sys->J_p[a]);
+      if (sys->camera_row[a] >= 0) correction.CorrectJacobian(r, &sys->J_c[a]);
+      if (sys->intrinsics_row[a] >= 0) correction.CorrectJacobian(r, &sys->J_i[a]);
+      sys->r[a] = correction.Residual(r);
+      sys->cost += 0.5 * rho[0];
+      sys->model_offset += 0.5 * (rho[0] - sys->r[a].squaredNorm());
+    }
     sys->V.noalias() += sys->J_p[a].transpose() * sys->J_p[a];
     sys->g_p.noalias() += sys->J_p[a].transpose() * sys->r[a];
     if (sys->camera_row[a] >= 0) {
@@ -93,9 +112,9 @@ void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Mode
   }
 }
 
-template void LinearizePoint(const BalProblem&, const UnknownLayout&, int64_t,
+template void LinearizePoint(const BalProblem&, const UnknownLayout&, const RobustLoss&, int64_t,
                              PointSystem<BalModel>*);
-template void LinearizePoint(const BalProblem&, const UnknownLayout&, int64_t,
+template void LinearizePoint(const BalProblem&, const UnknownLayout&, const RobustLoss&, int64_t,
                              PointSystem<PhotoModel>*);
 template void InvertDampedV(double, const DampingBounds&, PointSystem<BalModel>*);
 template void InvertDampedV(double, const DampingBounds&, PointSystem<PhotoModel>*);

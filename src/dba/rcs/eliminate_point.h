@@ -30,6 +30,7 @@
 #include "dba/camera/bal_camera.h"
 #include "dba/camera/photo_camera.h"
 #include "dba/problem/bal_problem.h"
+#include "dba/rcs/robust_loss.h"
 #include "dba/rcs/unknown_layout.h"
 
 namespace dba {
@@ -41,6 +42,21 @@ struct DampingBounds {
   double Clamp(double d) const {
     return d < min_diagonal ? min_diagonal
                             : (d > max_diagonal ? max_diagonal : d);
+  }
+};
+
+// Plain (uncorrected) squared residuals: over all observations and over the
+// inliers of a robust loss (|r| ≤ its scale; all, for the squared loss).
+struct ResidualSums {
+  double squared = 0.0;          // Σ |r|²
+  double inlier_squared = 0.0;   // Σ |r|² over inliers
+  double inliers = 0.0;          // count (a double: summed with the others)
+  void Add(double s, bool inlier) {
+    squared += s;
+    if (inlier) inlier_squared += s, inliers += 1.0;
+  }
+  void Add(const ResidualSums& o) {
+    squared += o.squared, inlier_squared += o.inlier_squared, inliers += o.inliers;
   }
 };
 
@@ -92,14 +108,19 @@ struct PointSystem {
     return frames[slot];
   }
   Vec3 g_p;
-  double cost = 0.0;  // ½ Σ |r_a|²
+  double cost = 0.0;  // ½ Σ ρ(|r_a|²) (r, J above are the corrected ones)
+  // ½ Σ (ρ(|r_a|²) - |r̃_a|²): the model ½ |r̃ + J̃ δ|² plus this is the
+  // robust model (0 for the squared loss).
+  double model_offset = 0.0;
+  ResidualSums residuals;  // of the uncorrected residuals
 };
 
 // Residuals, Jacobians, V, g_p, W and the cost of point k at the problem's
-// current parameters; `problem.model` must match Model.
+// current parameters, each observation's residual and Jacobians corrected
+// for `loss` (rcs/robust_loss.h); `problem.model` must match Model.
 template <class Model>
-void LinearizePoint(const BalProblem& problem, const UnknownLayout& layout, int64_t k,
-                    PointSystem<Model>* sys);
+void LinearizePoint(const BalProblem& problem, const UnknownLayout& layout,
+                    const RobustLoss& loss, int64_t k, PointSystem<Model>* sys);
 
 // V_λ⁻¹ = (V + λ clamp(diag V))⁻¹ only (all back-substitution needs).
 template <class Model>

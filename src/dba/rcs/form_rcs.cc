@@ -188,9 +188,9 @@ constexpr int64_t kPrivateCopyBytes = 32 << 20;
 
 template <class Model>
 void FormRcsWith(const BalProblem& problem, double lambda, const DampingBounds& bounds,
-                 int num_threads, RcsSystem* sys) {
+                 const RobustLoss& loss, int num_threads, RcsSystem* sys) {
   StripedLocks locks;
-  double cost = 0.0, max_g_p = 0.0;
+  double cost = 0.0, max_g_p = 0.0, squared = 0.0, inlier_squared = 0.0, inliers = 0.0;
   const int64_t num_points = problem.num_points();
   const int64_t rows = sys->S.num_rows();
   const int64_t values = sys->S.num_values();
@@ -198,7 +198,8 @@ void FormRcsWith(const BalProblem& problem, double lambda, const DampingBounds& 
       num_threads > 1 && (num_threads - 1) * (values + 3 * rows) * 8 <= kPrivateCopyBytes;
   // Thread t > 0 of the private scheme: values, then b, gradient, diagonal.
   std::vector<std::vector<double>> copies(private_copies ? num_threads - 1 : 0);
-#pragma omp parallel num_threads(num_threads) reduction(+ : cost) reduction(max : max_g_p)
+#pragma omp parallel num_threads(num_threads) reduction(+ : cost, squared, inlier_squared, inliers) \
+    reduction(max : max_g_p)
   {
     PointSystem<Model> p;
     std::vector<GroupSums<PointSystem<Model>::kI>> groups;
@@ -219,10 +220,13 @@ void FormRcsWith(const BalProblem& problem, double lambda, const DampingBounds& 
     // contiguous ranges take 3.0 s.
 #pragma omp for schedule(static)
     for (int64_t k = 0; k < num_points; ++k) {
-      LinearizePoint(problem, sys->layout, k, &p);
+      LinearizePoint(problem, sys->layout, loss, k, &p);
       EliminatePoint(lambda, bounds, &p);
       AddPointToRcs(p, groups, sys->S, target);
       cost += p.cost;
+      squared += p.residuals.squared;
+      inlier_squared += p.residuals.inlier_squared;
+      inliers += p.residuals.inliers;
       max_g_p = std::max(max_g_p, p.g_p.cwiseAbs().maxCoeff());
     }
     if (private_copies) {
@@ -246,6 +250,7 @@ void FormRcsWith(const BalProblem& problem, double lambda, const DampingBounds& 
     }
   }
   sys->cost = cost;
+  sys->residuals = {squared, inlier_squared, inliers};
   sys->max_abs_point_gradient = max_g_p;
 }
 
@@ -269,15 +274,16 @@ RcsSystem RcsSystem::ForPattern(UnknownLayout layout, std::span<const uint64_t> 
 }
 
 void FormRcs(const BalProblem& problem, double lambda,
-             const DampingBounds& bounds, int num_threads, RcsSystem* sys) {
+             const DampingBounds& bounds, int num_threads, RcsSystem* sys,
+             const RobustLoss& loss) {
   sys->S.SetZero();
   std::fill(sys->b.begin(), sys->b.end(), 0.0);
   std::fill(sys->camera_gradient.begin(), sys->camera_gradient.end(), 0.0);
   std::fill(sys->camera_jtj_diagonal.begin(), sys->camera_jtj_diagonal.end(), 0.0);
   if (problem.model == CameraModel::kBal) {
-    FormRcsWith<BalModel>(problem, lambda, bounds, num_threads, sys);
+    FormRcsWith<BalModel>(problem, lambda, bounds, loss, num_threads, sys);
   } else {
-    FormRcsWith<PhotoModel>(problem, lambda, bounds, num_threads, sys);
+    FormRcsWith<PhotoModel>(problem, lambda, bounds, loss, num_threads, sys);
   }
 }
 

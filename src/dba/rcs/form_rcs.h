@@ -36,7 +36,8 @@ struct RcsSystem {
   std::vector<double> b;                    // -g_c + W V_λ⁻¹ g_p
   std::vector<double> camera_gradient;      // g_c = J_cᵀ r
   std::vector<double> camera_jtj_diagonal;  // diag(U) = diag(J_cᵀ J_c)
-  double cost = 0.0;                        // ½ Σ |r|²
+  double cost = 0.0;                        // ½ Σ ρ(|r|²)
+  ResidualSums residuals;                   // plain |r|², all and inliers
   double max_abs_point_gradient = 0.0;      // ‖g_p‖∞
 
   // Symbolic phase: unknowns and structure of S from the problem's
@@ -47,9 +48,11 @@ struct RcsSystem {
   static RcsSystem ForPattern(UnknownLayout layout, std::span<const uint64_t> pattern);
 };
 
-// Numeric phase: refills `system` at the problem's current parameters.
+// Numeric phase: refills `system` at the problem's current parameters, for
+// the robust cost ½ Σ ρ(|r|²) of `loss` (default: the squared loss).
 void FormRcs(const BalProblem& problem, double lambda,
-             const DampingBounds& bounds, int num_threads, RcsSystem* system);
+             const DampingBounds& bounds, int num_threads, RcsSystem* system,
+             const RobustLoss& loss = RobustLoss());
 
 // S_ii += λ clamp(diag U_ii) on every diagonal block (the camera part of the
 // Marquardt damping λ D).

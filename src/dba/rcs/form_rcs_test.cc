@@ -199,3 +199,58 @@ TEST(FormRcs, PhotoDuplicateImageInATrackCountsBothObservations) {
 
 }  // namespace
 }  // namespace dba
+
+namespace dba {
+namespace {
+
+// A perturbed problem with every fifth observation moved by 6-20 px, so
+// residuals fall on both sides of a loss scale of 2 px.
+BalProblem WithGrossErrors(BalProblem problem) {
+  for (int64_t o = 0; o < problem.num_observations(); o += 5) {
+    problem.obs_pixel[2 * o] += 6.0 + static_cast<double>(o % 15);
+    problem.obs_pixel[2 * o + 1] -= 4.0;
+  }
+  return problem;
+}
+
+class RobustFormRcsTest : public ::testing::TestWithParam<LossType> {};
+
+// The RCS of the robust cost (Triggs-corrected residuals and Jacobians)
+// against the Schur complement of the dense robust normal equations
+// Σ Jᵀ Ω J + λ D, both camera models.
+TEST_P(RobustFormRcsTest, MatchesDenseRobustSchurComplement) {
+  const RobustLoss loss{GetParam(), 2.0};
+  const DampingBounds bounds;
+  for (bool photo : {false, true}) {
+    const BalProblem problem =
+        WithGrossErrors(photo ? PhotoProblem(PhotoCase{"all_free", kAllIntrinsics, {1}}, 3)
+                              : PerturbedProblem(5).problem);
+    RcsSystem sys = RcsSystem::ForProblem(problem);
+    FormRcs(problem, 1e-2, bounds, 2, &sys, loss);
+    DampCameraBlocks(1e-2, bounds, sys.camera_jtj_diagonal, &sys.S);
+    const auto dense = testing::BuildDenseNormalEquations(problem, 1e-2, bounds, loss);
+    const std::string what = std::string(LossName(loss.type)) + (photo ? " photo" : " bal");
+    EXPECT_LT(RelativeError(testing::DenseFromBsmc(sys.S), dense.ReducedCameraMatrix()), 1e-10)
+        << what;
+    const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(sys.b.data(), sys.b.size());
+    EXPECT_LT(RelativeError(b, dense.ReducedRhs()), 1e-10) << what;
+    EXPECT_NEAR(sys.cost, dense.cost, 1e-12 * dense.cost) << what;
+    EXPECT_NEAR(sys.residuals.squared, dense.r.squaredNorm(), 1e-12 * dense.r.squaredNorm());
+    double inliers = 0;
+    for (int64_t a = 0; a < problem.num_observations(); ++a) {
+      inliers += loss.trivial() || dense.r.segment<2>(2 * a).squaredNorm() <= 4.0;
+    }
+    EXPECT_EQ(sys.residuals.inliers, inliers) << what;
+    if (!loss.trivial()) EXPECT_LT(inliers, problem.num_observations()) << what;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Losses, RobustFormRcsTest,
+                         ::testing::Values(LossType::kTrivial, LossType::kHuber, LossType::kSoftL1,
+                                           LossType::kCauchy, LossType::kArctan, LossType::kTukey),
+                         [](const ::testing::TestParamInfo<LossType>& info) {
+                           return std::string(LossName(info.param));
+                         });
+
+}  // namespace
+}  // namespace dba

@@ -12,7 +12,8 @@ namespace dba::testing {
 
 DenseNormalEquations BuildDenseNormalEquations(const BalProblem& problem,
                                                double lambda,
-                                               const DampingBounds& bounds) {
+                                               const DampingBounds& bounds,
+                                               const RobustLoss& loss) {
   DenseNormalEquations d;
   const UnknownLayout layout(problem);
   const int64_t np = problem.num_points();
@@ -53,9 +54,22 @@ DenseNormalEquations BuildDenseNormalEquations(const BalProblem& problem,
       d.r.segment<2>(2 * obs) = r;
     }
   }
-  d.cost = 0.5 * d.r.squaredNorm();
-  d.H = d.J.transpose() * d.J;
-  d.g = d.J.transpose() * d.r;
+  // Weights per observation (identity for the squared loss).
+  Eigen::MatrixXd omega = Eigen::MatrixXd::Zero(2 * no, 2 * no);
+  Eigen::VectorXd weighted_r(2 * no);
+  d.cost = 0.0;
+  for (int64_t a = 0; a < no; ++a) {
+    const Vec2 r = d.r.segment<2>(2 * a);
+    double rho[3];
+    loss.Evaluate(r.squaredNorm(), rho);
+    d.cost += 0.5 * rho[0];
+    Eigen::Matrix2d w = rho[1] * Eigen::Matrix2d::Identity();
+    if (rho[2] > 0.0) w += 2.0 * rho[2] * r * r.transpose();
+    omega.block<2, 2>(2 * a, 2 * a) = w;
+    weighted_r.segment<2>(2 * a) = rho[1] * r;
+  }
+  d.H = d.J.transpose() * omega * d.J;
+  d.g = d.J.transpose() * weighted_r;
   for (int64_t c = 0; c < cols; ++c) d.H(c, c) += lambda * bounds.Clamp(d.H(c, c));
   return d;
 }

@@ -16,10 +16,14 @@ namespace dba::testing {
 struct DenseNormalEquations {
   Eigen::MatrixXd J;        // 2 num_obs x (camera-side unknowns + 3 num_points)
   Eigen::VectorXd r;        // residuals
-  Eigen::MatrixXd H;        // JᵀJ + λ D,  D = clamp(diag JᵀJ)
-  Eigen::VectorXd g;        // Jᵀ r
+  Eigen::MatrixXd H;        // Jᵀ Ω J + λ D,  D = clamp(diag Jᵀ Ω J)
+  Eigen::VectorXd g;        // Jᵀ Ω' r
+  // With a robust loss ρ (rcs/robust_loss.h), per observation a at
+  // s = |r_a|²: Ω'_a = ρ' I and the Gauss-Newton weight of Triggs's
+  // second-order model, Ω_a = ρ' I + 2 ρ'' r_a r_aᵀ where ρ'' > 0 (else
+  // ρ' I). The squared loss: Ω = Ω' = I.
   int num_camera_params = 0;
-  double cost = 0.0;
+  double cost = 0.0;         // ½ Σ ρ(|r_a|²)
 
   // Schur complement of the point block: U - W V⁻¹ Wᵀ and -g_c + W V⁻¹ g_p.
   Eigen::MatrixXd ReducedCameraMatrix() const;
@@ -30,7 +34,8 @@ struct DenseNormalEquations {
 
 DenseNormalEquations BuildDenseNormalEquations(const BalProblem& problem,
                                                double lambda,
-                                               const DampingBounds& bounds);
+                                               const DampingBounds& bounds,
+                                               const RobustLoss& loss = RobustLoss());
 
 // The symmetric matrix stored in a BSMC, both triangles filled.
 Eigen::MatrixXd DenseFromBsmc(const BsmcMatrix& S);
