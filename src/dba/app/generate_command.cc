@@ -39,6 +39,10 @@ void PrintHelp(std::ostream& out) {
          "                          their images share (default " << d.physical_cameras << ")\n"
          "  --model bal|photo       camera model (default bal; see above)\n"
          "  --noise S               pixel noise sigma (default " << d.pixel_noise << ")\n"
+         "  --outliers F            replace a fraction F of the observations by mismatches:\n"
+         "                          uniform random pixels of the image, at least 50 px from\n"
+         "                          the true projection (default 0); the ground truth keeps\n"
+         "                          the true pixels, so dba solve --truth tells them apart\n"
          "  --seed S                random seed (default " << d.seed << ")\n"
          "  --truth FILE            also write the ground truth (true parameters, noise-free\n"
          "                          observations), same format; give it to dba solve --truth\n"
@@ -79,6 +83,11 @@ int GenerateMain(const std::vector<std::string>& args) {
         o.pixel_noise = ParseNumberArgument(a, value());
       } else if (a == "--seed") {
         o.seed = static_cast<uint64_t>(ParseIntegerArgument(a, value(), 0));
+      } else if (a == "--outliers") {
+        o.outlier_fraction = ParseNumberArgument(a, value());
+        if (!(o.outlier_fraction >= 0 && o.outlier_fraction < 1)) {
+          throw std::invalid_argument(a + ": must be in [0, 1)");
+        }
       } else if (a == "--truth") {
         truth = value();
       } else if (!a.empty() && a[0] == '-') {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <stdexcept>
 #include <thread>
@@ -19,6 +20,7 @@
 #include "dba/app/arguments.h"
 #include "dba/app/solve_report.h"
 #include "dba/synthetic/ground_truth.h"
+#include "dba/synthetic/uav_generator.h"
 #include "dba/lm/bundle_adjust.h"
 
 namespace dba {
@@ -92,6 +94,11 @@ void PrintSolveHelp(std::ostream& out) {
          "  --loss-scale PX            the loss's scale a in pixels: residuals beyond it are\n"
          "                             down-weighted (and count as outliers in the RMS\n"
          "                             figures) (default " << d.loss.scale << ")\n"
+         "  --reject-outliers PX       after the solve, drop observations whose reprojection\n"
+         "                             error exceeds PX pixels and points left with fewer than\n"
+         "                             2, then solve again; until a round drops under 0.05%\n"
+         "                             of the observations, at most 5 rounds (default: off;\n"
+         "                             one process, BAL or .dba output)\n"
          "  --max-iterations N         LM iteration limit (default " << d.max_iterations << ")\n"
          "  --function-tolerance X     stop when a step lowers the cost by less than\n"
          "                             this fraction (default " << d.function_tolerance << ")\n"
@@ -204,6 +211,9 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
     } else if (a == "--loss-scale") {
       o.lm.loss.scale = ParseNumberArgument(a, value());
       if (!(o.lm.loss.scale > 0.0)) throw std::invalid_argument(a + ": must be > 0 (pixels)");
+    } else if (a == "--reject-outliers") {
+      o.reject_outliers_px = ParseNumberArgument(a, value());
+      if (!(o.reject_outliers_px > 0.0)) throw std::invalid_argument(a + ": must be > 0 (pixels)");
     } else if (a == "--coarse-basis") {
       const std::string& v = value();
       if (v != "rigid" && v != "parameters") {
@@ -239,11 +249,102 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
     }
   }
   if (o.input.empty()) throw std::invalid_argument("missing INPUT (see dba solve --help)");
+  if (o.reject_outliers_px > 0 && !o.output.empty() && IsColmapInput(o.input)) {
+    throw std::invalid_argument(
+        "--reject-outliers: COLMAP output is not supported yet (the 2D-3D links of the dropped "
+        "observations would have to be removed); write BAL or .dba output instead");
+  }
   if (o.colmap_format.has_value() && o.output.empty()) {
     throw std::invalid_argument("--colmap-format: no -o output to write");
   }
   return o;
 }
+
+namespace {
+
+// `total` followed by `next` (a solve after a rejection round): iterations,
+// times and the log add up; the final state is next's.
+void AppendSolve(const BundleAdjustSummary& next, BundleAdjustSummary* total) {
+  LmSummary& t = total->lm;
+  const LmSummary& n = next.lm;
+  for (IterationSummary it : n.history) {
+    it.iteration += t.iterations;
+    t.history.push_back(it);
+  }
+  t.iterations += n.iterations;
+  t.accepted_iterations += n.accepted_iterations;
+  t.total_linear_iterations += n.total_linear_iterations;
+  t.times.rcs_formation += n.times.rcs_formation;
+  t.times.linear_solve += n.times.linear_solve;
+  t.times.back_substitution += n.times.back_substitution;
+  t.times.total += n.times.total;
+  t.final_cost = n.final_cost;
+  t.final_residuals = n.final_residuals;
+  t.num_observations = n.num_observations;
+  t.termination = n.termination;
+  t.termination_message = n.termination_message;
+  total->symbolic_seconds += next.symbolic_seconds;
+  total->rcs = next.rcs;
+}
+
+// Writes the problem's points into `all` at their loaded positions.
+void ScatterPoints(const BalProblem& problem, const OriginalIndices& original,
+                   std::vector<double>* all) {
+  for (size_t k = 0; k < original.point.size(); ++k) {
+    for (int d = 0; d < 3; ++d) (*all)[3 * original.point[k] + d] = problem.points[3 * k + d];
+  }
+}
+
+// Rounds of --reject-outliers after the first solve: drop, solve again, until
+// a round changes fewer than 0.05% of the observations or after 5 rounds.
+void RejectOutlierRounds(double max_error_px, const LmOptions& lm,
+                         const std::function<void(const IterationSummary&)>& log,
+                         BalProblem* problem, OriginalIndices* original,
+                         std::vector<double>* all_points, SolveReport* report, std::ostream& out) {
+  constexpr int kMaxRounds = 5;
+  constexpr double kSettled = 5e-4;  // fraction of the observations
+  *all_points = problem->points;
+  for (int r = 1; r <= kMaxRounds; ++r) {
+    ScatterPoints(*problem, *original, all_points);
+    const int64_t before = problem->num_observations();
+    const RejectionRound round = DropOutliers(max_error_px, lm.num_threads, problem, original);
+    report->rejection.push_back(round);
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "outlier rejection round %d (|r| > %g px): dropped %lld observations and %lld "
+                  "points; %lld observations, %lld points left\n",
+                  r, max_error_px, static_cast<long long>(round.observations_dropped),
+                  static_cast<long long>(round.points_dropped),
+                  static_cast<long long>(round.observations_left),
+                  static_cast<long long>(round.points_left));
+    out << line << std::flush;
+    if (round.observations_dropped == 0) break;
+    AppendSolve(BundleAdjust(lm, problem, log), &report->solve.ba);
+    if (round.observations_dropped < kSettled * static_cast<double>(before)) break;
+  }
+  ScatterPoints(*problem, *original, all_points);
+}
+
+// The generator's mismatches among the loaded observations (their pixels
+// `loaded_pixels`, the truth's order), and how many of them and of the true
+// inliers the rejection dropped.
+void CountTrueOutliers(const BalProblem& truth, const std::vector<double>& loaded_pixels,
+                       const OriginalIndices& original, SolveReport* report) {
+  if (static_cast<int64_t>(loaded_pixels.size()) != 2 * truth.num_observations()) {
+    throw std::invalid_argument("the ground truth does not match the problem (different numbers "
+                                "of observations)");
+  }
+  std::vector<uint8_t> kept(truth.num_observations(), 0);
+  for (int64_t o : original.observation) kept[o] = 1;
+  for (int64_t o = 0; o < truth.num_observations(); ++o) {
+    const bool outlier = IsTrueOutlier(loaded_pixels.data() + 2 * o, truth.pixel(o));
+    (outlier ? report->true_outliers : report->true_inliers) += 1;
+    if (!kept[o]) (outlier ? report->true_outliers_dropped : report->true_inliers_dropped) += 1;
+  }
+  report->has_outlier_truth = true;
+}
+
+}  // namespace
 
 int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
                     std::ostream& out) {
@@ -303,8 +404,23 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   auto log = [&](const IterationSummary& it) {
     if (!options.quiet) out << IterationLogLine(it) << std::flush;
   };
+  if (options.reject_outliers_px > 0 && comm->size() > 1) {
+    throw std::invalid_argument("--reject-outliers is not supported in distributed runs yet");
+  }
+  // Outlier rejection keeps the loaded points' numbering for the truth.
+  std::vector<double> loaded_pixels, all_points;
+  OriginalIndices original;
+  report.reject_outliers_px = options.reject_outliers_px;
+  if (options.reject_outliers_px > 0) {
+    original = OriginalIndices::Identity(problem);
+    if (!options.truth_path.empty()) loaded_pixels = problem.obs_pixel;
+  }
   if (comm->size() == 1) {
     report.solve.ba = BundleAdjust(lm, &problem, log);
+    if (options.reject_outliers_px > 0) {
+      RejectOutlierRounds(options.reject_outliers_px, lm, log, &problem, &original, &all_points,
+                          &report, out);
+    }
   } else {
     DistributedOptions distributed = options.distributed;
     distributed.prepare_camera_side = [&options](BalProblem* p) {
@@ -321,8 +437,18 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   // Against the truth first: a truth file that does not fit fails the run
   // before any output is written.
   if (!options.truth_path.empty()) {
-    report.truth = CompareWithGroundTruthFile(options.truth_path, problem.cameras,
-                                              problem.points, problem.model);
+    // With outlier rejection the truth is compared in the loaded numbering,
+    // over the points left (and their observations in the truth).
+    const std::vector<double>& points =
+        options.reject_outliers_px > 0 ? all_points : problem.points;
+    std::vector<uint8_t> point_kept;
+    if (options.reject_outliers_px > 0) {
+      CountTrueOutliers(ReadProblem(options.truth_path), loaded_pixels, original, &report);
+      point_kept.assign(report.num_points, 0);
+      for (int64_t k : original.point) point_kept[k] = 1;
+    }
+    report.truth = CompareWithGroundTruthFile(options.truth_path, problem.cameras, points,
+                                              problem.model, point_kept);
     report.has_truth = true;
   }
   Timer write_timer;

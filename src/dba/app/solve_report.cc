@@ -61,12 +61,15 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
   const double per_obs = 1.0 / std::max<int64_t>(r.num_observations, 1);
   char buf[512];
   out << "\nSummary\n";
+  // Initial figures over the loaded observations, final ones over those
+  // left after outlier rejection.
+  const double n0 = static_cast<double>(r.num_observations);
   const double n = static_cast<double>(lm.num_observations);
   if (r.loss.trivial()) {
     std::snprintf(buf, sizeof buf,
                   "  initial cost        %.6e  (RMS %.4f px)\n"
                   "  final cost          %.6e  (RMS %.4f px)\n",
-                  lm.initial_cost, LmSummary::Rms(lm.initial_residuals.squared, n), lm.final_cost,
+                  lm.initial_cost, LmSummary::Rms(lm.initial_residuals.squared, n0), lm.final_cost,
                   LmSummary::Rms(lm.final_residuals.squared, n));
   } else {
     const ResidualSums &a = lm.initial_residuals, &b = lm.final_residuals;
@@ -75,8 +78,8 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
                   "  initial cost        %.6e  (robust; RMS %.4f px, inliers %.4f px over %.2f%%)\n"
                   "  final cost          %.6e  (robust; RMS %.4f px, inliers %.4f px over %.2f%%)\n",
                   LossName(r.loss.type), r.loss.scale, lm.initial_cost,
-                  LmSummary::Rms(a.squared, n), LmSummary::Rms(a.inlier_squared, a.inliers),
-                  n > 0 ? 100.0 * a.inliers / n : 0.0, lm.final_cost, LmSummary::Rms(b.squared, n),
+                  LmSummary::Rms(a.squared, n0), LmSummary::Rms(a.inlier_squared, a.inliers),
+                  n0 > 0 ? 100.0 * a.inliers / n0 : 0.0, lm.final_cost, LmSummary::Rms(b.squared, n),
                   LmSummary::Rms(b.inlier_squared, b.inliers), n > 0 ? 100.0 * b.inliers / n : 0.0);
   }
   out << buf;
@@ -105,6 +108,31 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
                 Bytes(r.peak_memory_bytes).c_str(), r.peak_memory_bytes * per_obs,
                 r.problem_bytes * per_obs);
   out << buf;
+  if (!r.rejection.empty()) {
+    int64_t obs = 0, points = 0;
+    for (const RejectionRound& round : r.rejection) {
+      obs += round.observations_dropped;
+      points += round.points_dropped;
+    }
+    std::snprintf(buf, sizeof buf,
+                  "  outlier rejection   |r| > %g px, %zu rounds: dropped %lld observations "
+                  "(%.3f%%) and %lld points\n",
+                  r.reject_outliers_px, r.rejection.size(), static_cast<long long>(obs),
+                  100.0 * static_cast<double>(obs) * per_obs, static_cast<long long>(points));
+    out << buf;
+  }
+  if (r.has_outlier_truth) {
+    std::snprintf(buf, sizeof buf,
+                  "  true outliers       %lld of %lld dropped (%.2f%%); true inliers dropped "
+                  "%lld of %lld (%.3f%%)\n",
+                  static_cast<long long>(r.true_outliers_dropped),
+                  static_cast<long long>(r.true_outliers),
+                  r.true_outliers ? 100.0 * r.true_outliers_dropped / r.true_outliers : 0.0,
+                  static_cast<long long>(r.true_inliers_dropped),
+                  static_cast<long long>(r.true_inliers),
+                  r.true_inliers ? 100.0 * r.true_inliers_dropped / r.true_inliers : 0.0);
+    out << buf;
+  }
   if (r.has_truth) {
     std::snprintf(buf, sizeof buf,
                   "  ground truth        RMS to noise-free observations %.4f px; after a\n"
@@ -187,12 +215,13 @@ std::string SolveReportJson(const SolveReport& r) {
   j["ranks"] = r.solve.ranks;
   j["initial_cost"] = lm.initial_cost;
   j["final_cost"] = lm.final_cost;
+  const double n0 = static_cast<double>(r.num_observations);
   const double n = static_cast<double>(lm.num_observations);
   j["loss"] = {{"type", LossName(r.loss.type)}, {"scale_px", r.loss.scale}};
   // Costs are the robust ½ Σ ρ(|r|²); RMS figures are of the plain residuals,
   // over all observations and over the inliers (|r| within the loss scale;
   // all, for the trivial loss).
-  j["initial_rms_px"] = LmSummary::Rms(lm.initial_residuals.squared, n);
+  j["initial_rms_px"] = LmSummary::Rms(lm.initial_residuals.squared, n0);
   j["final_rms_px"] = LmSummary::Rms(lm.final_residuals.squared, n);
   j["initial_inliers"] = static_cast<int64_t>(lm.initial_residuals.inliers);
   j["final_inliers"] = static_cast<int64_t>(lm.final_residuals.inliers);
@@ -231,6 +260,22 @@ std::string SolveReportJson(const SolveReport& r) {
                  {"rcs_bsmc_value_bytes", rcs.bsmc_value_bytes},
                  {"rcs_csr_bytes", rcs.csr_bytes},
                  {"rcs_blocks", rcs.blocks}};
+  if (r.reject_outliers_px > 0) {
+    nlohmann::ordered_json rounds = nlohmann::ordered_json::array();
+    for (const RejectionRound& round : r.rejection) {
+      rounds.push_back({{"observations_dropped", round.observations_dropped},
+                        {"points_dropped", round.points_dropped},
+                        {"observations_left", round.observations_left},
+                        {"points_left", round.points_left}});
+    }
+    j["outlier_rejection"] = {{"max_error_px", r.reject_outliers_px}, {"rounds", rounds}};
+  }
+  if (r.has_outlier_truth) {
+    j["true_outliers"] = {{"outliers", r.true_outliers},
+                          {"outliers_dropped", r.true_outliers_dropped},
+                          {"inliers", r.true_inliers},
+                          {"inliers_dropped", r.true_inliers_dropped}};
+  }
   if (r.has_truth) {
     j["ground_truth"] = {{"rms_to_noise_free_px", r.truth.rms_to_noise_free_px},
                          {"similarity_scale", r.truth.similarity_scale},

@@ -3,8 +3,10 @@
 
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 #include "dba/cluster/distributed_solve.h"
+#include "dba/lm/outlier_rejection.h"
 #include "dba/problem/bal_problem.h"
 #include "dba/synthetic/ground_truth.h"
 
@@ -23,6 +25,15 @@ struct SolveReport {
   int64_t peak_memory_bytes = 0;  // main rank
   int64_t problem_bytes = 0;      // main rank's problem arrays before the solve
   DistributedSummary solve;       // ranks == 1: a one-process solve
+  // --reject-outliers: the rounds after the first solve (each followed by a
+  // solve when it dropped anything).
+  double reject_outliers_px = 0.0;
+  std::vector<RejectionRound> rejection;
+  // With --truth and --reject-outliers: the generator's mismatches
+  // (IsTrueOutlier) among the loaded observations, and what was dropped.
+  bool has_outlier_truth = false;
+  int64_t true_outliers = 0, true_outliers_dropped = 0;
+  int64_t true_inliers = 0, true_inliers_dropped = 0;
   bool has_truth = false;
   GroundTruthErrors truth;        // against a generated problem's ground truth
 

@@ -29,19 +29,26 @@ Eigen::Matrix3Xd Centres(const BalProblem& side, const std::vector<double>& came
 // Σ |r|² of the solved parameters against noise-free observations of
 // points [first, first + n); `side` is the truth's camera side (model, image
 // groups).
-double SquaredResiduals(const BalProblem& side, int64_t first, std::span<const int64_t> offsets,
-                        std::span<const int32_t> obs_camera, std::span<const double> pixels,
-                        const std::vector<double>& cameras, const std::vector<double>& points) {
+struct SquaredSum {
   double sum = 0.0;
+  int64_t count = 0;
+};
+SquaredSum SquaredResiduals(const BalProblem& side, int64_t first, std::span<const int64_t> offsets,
+                            std::span<const int32_t> obs_camera, std::span<const double> pixels,
+                            const std::vector<double>& cameras, const std::vector<double>& points,
+                            std::span<const uint8_t> point_kept) {
+  SquaredSum s;
   for (size_t k = 0; k + 1 < offsets.size(); ++k) {
+    if (!point_kept.empty() && !point_kept[first + static_cast<int64_t>(k)]) continue;
     const double* X = points.data() + kPointSize * (first + static_cast<int64_t>(k));
     for (int64_t o = offsets[k]; o < offsets[k + 1]; ++o) {
       const int64_t j = o - offsets[0];
-      sum += ObservationResidual(side, cameras.data(), obs_camera[j], X, pixels.data() + 2 * j)
-                 .squaredNorm();
+      s.sum += ObservationResidual(side, cameras.data(), obs_camera[j], X, pixels.data() + 2 * j)
+                   .squaredNorm();
+      ++s.count;
     }
   }
-  return sum;
+  return s;
 }
 
 void CheckSizes(const BalProblem& truth, const std::vector<double>& cameras,
@@ -62,7 +69,8 @@ void CheckSizes(const BalProblem& truth, const std::vector<double>& cameras,
 // Alignment and intrinsics errors; `truth` needs its camera side and points
 // only.
 GroundTruthErrors GeometryErrors(const BalProblem& truth, const std::vector<double>& cameras,
-                                 const std::vector<double>& points) {
+                                 const std::vector<double>& points,
+                                 std::span<const uint8_t> point_kept) {
   GroundTruthErrors e;
   const Eigen::Matrix3Xd solved = Centres(truth, cameras), true_centres = Centres(truth, truth.cameras);
   const Eigen::Matrix4d T = Eigen::umeyama(solved, true_centres, /*with_scaling=*/true);
@@ -72,11 +80,14 @@ GroundTruthErrors GeometryErrors(const BalProblem& truth, const std::vector<doub
   e.camera_centre_rms = std::sqrt(
       ((sR * solved).colwise() + shift - true_centres).colwise().squaredNorm().mean());
   double point_sum = 0.0;
+  int64_t point_count = 0;
   for (int64_t k = 0; k < truth.num_points(); ++k) {
+    if (!point_kept.empty() && !point_kept[k]) continue;
+    ++point_count;
     const Vec3 X = sR * Eigen::Map<const Vec3>(points.data() + 3 * k) + shift;
     point_sum += (X - Eigen::Map<const Vec3>(truth.point(k))).squaredNorm();
   }
-  e.point_rms = std::sqrt(point_sum / std::max<int64_t>(truth.num_points(), 1));
+  e.point_rms = std::sqrt(point_sum / std::max<int64_t>(point_count, 1));
   const int64_t first = kPhotoPoseSize * truth.num_cameras();
   for (int64_t g = 0; g < truth.num_intrinsics(); ++g) {
     std::array<double, kPhotoIntrinsicsSize> err;
@@ -94,36 +105,42 @@ GroundTruthErrors GeometryErrors(const BalProblem& truth, const std::vector<doub
 
 GroundTruthErrors CompareWithGroundTruth(const BalProblem& truth,
                                          const std::vector<double>& cameras,
-                                         const std::vector<double>& points, CameraModel model) {
+                                         const std::vector<double>& points, CameraModel model,
+                                         std::span<const uint8_t> point_kept) {
   CheckSizes(truth, cameras, points, model);
-  GroundTruthErrors e = GeometryErrors(truth, cameras, points);
-  const double sum = SquaredResiduals(truth, 0, truth.point_offsets, truth.obs_camera,
-                                      truth.obs_pixel, cameras, points);
+  GroundTruthErrors e = GeometryErrors(truth, cameras, points, point_kept);
+  const SquaredSum s = SquaredResiduals(truth, 0, truth.point_offsets, truth.obs_camera,
+                                        truth.obs_pixel, cameras, points, point_kept);
   // Per observation, like the solver's RMS: sqrt(Σ |r|² / observations).
-  e.rms_to_noise_free_px = std::sqrt(sum / std::max<int64_t>(truth.num_observations(), 1));
+  e.rms_to_noise_free_px = std::sqrt(s.sum / std::max<int64_t>(s.count, 1));
   return e;
 }
 
 GroundTruthErrors CompareWithGroundTruthFile(const std::string& path,
                                              const std::vector<double>& cameras,
                                              const std::vector<double>& points,
-                                             CameraModel model) {
+                                             CameraModel model,
+                                             std::span<const uint8_t> point_kept) {
   if (!IsBinaryProblem(path)) {
-    return CompareWithGroundTruth(ReadProblem(path), cameras, points, model);
+    return CompareWithGroundTruth(ReadProblem(path), cameras, points, model, point_kept);
   }
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
   BalProblem truth = ReadBinaryCameraSide(path);  // camera side and points only
   // Point coordinates of the truth, read in one go (3 doubles per point).
   truth.points = ReadBinaryPointCoordinates(path);
   CheckSizes(truth, cameras, points, model);
-  double sum = 0.0;
+  SquaredSum sum;
   ForEachObservationChunk(path, 1 << 20, true,
                           [&](int64_t first, std::span<const int64_t> offsets,
                               std::span<const int32_t> c, std::span<const double> px) {
-                            sum += SquaredResiduals(truth, first, offsets, c, px, cameras, points);
+                            const SquaredSum s = SquaredResiduals(truth, first, offsets, c, px,
+                                                                  cameras, points, point_kept);
+                            sum.sum += s.sum;
+                            sum.count += s.count;
                           });
-  GroundTruthErrors e = GeometryErrors(truth, cameras, points);
-  e.rms_to_noise_free_px = std::sqrt(sum / std::max<int64_t>(h.num_observations, 1));
+  (void)h;
+  GroundTruthErrors e = GeometryErrors(truth, cameras, points, point_kept);
+  e.rms_to_noise_free_px = std::sqrt(sum.sum / std::max<int64_t>(sum.count, 1));
   return e;
 }
 

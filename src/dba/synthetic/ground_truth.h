@@ -20,6 +20,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -43,11 +44,14 @@ struct GroundTruthErrors {
 // `cameras` (the whole camera-side vector) and `points` the solved
 // parameters in the same numbering, of a problem with camera model `model`.
 // Throws std::invalid_argument when the sizes or the model differ from the
-// truth's.
+// truth's. `point_kept` (optional, one flag per point): only these points
+// and their observations count (points dropped by outlier rejection are no
+// longer part of the solution).
 GroundTruthErrors CompareWithGroundTruth(const BalProblem& truth,
                                          const std::vector<double>& cameras,
                                          const std::vector<double>& points,
-                                         CameraModel model = CameraModel::kBal);
+                                         CameraModel model = CameraModel::kBal,
+                                         std::span<const uint8_t> point_kept = {});
 
 // The same from a ground-truth file; a binary one is streamed (only its
 // camera side and points are held), so large problems do not need twice the
@@ -55,6 +59,7 @@ GroundTruthErrors CompareWithGroundTruth(const BalProblem& truth,
 GroundTruthErrors CompareWithGroundTruthFile(const std::string& truth_path,
                                              const std::vector<double>& cameras,
                                              const std::vector<double>& points,
-                                             CameraModel model = CameraModel::kBal);
+                                             CameraModel model = CameraModel::kBal,
+                                             std::span<const uint8_t> point_kept = {});
 
 }  // namespace dba

@@ -141,6 +141,11 @@ void ForEachPoint(const UavSurveyOptions& o, const Layout& l, Project project,
       std::mt19937_64 rng(Mix(Mix(o.seed) + static_cast<uint64_t>(ty * l.tiles_x + tx)));
       std::uniform_real_distribution<double> u01(0.0, 1.0);
       std::normal_distribution<double> n01(0.0, 1.0);
+      // Mismatches from their own stream: without them the files are as before.
+      std::mt19937_64 mismatch_rng(Mix(Mix(o.seed ^ 0x6d69736dULL) + static_cast<uint64_t>(ty * l.tiles_x + tx)));
+      // The image in pixel coordinates: BAL's origin is its centre, COLMAP's
+      // the top-left corner.
+      const double image_min = o.model == CameraModel::kBal ? -0.5 * o.image_size : 0.0;
       int64_t count = static_cast<int64_t>(l.points_per_tile);
       if (u01(rng) < l.points_per_tile - count) ++count;
       for (int64_t q = 0; q < count; ++q) {
@@ -167,8 +172,17 @@ void ForEachPoint(const UavSurveyOptions& o, const Layout& l, Project project,
             seen.push_back(static_cast<int32_t>(i));
             clean.push_back(px.x());
             clean.push_back(px.y());
-            noisy.push_back(px.x() + o.pixel_noise * n01(rng));
-            noisy.push_back(px.y() + o.pixel_noise * n01(rng));
+            Vec2 observed;
+            observed.x() = px.x() + o.pixel_noise * n01(rng);  // x's draw first
+            observed.y() = px.y() + o.pixel_noise * n01(rng);
+            if (o.outlier_fraction > 0 && u01(mismatch_rng) < o.outlier_fraction) {
+              do {
+                observed.x() = image_min + o.image_size * u01(mismatch_rng);
+                observed.y() = image_min + o.image_size * u01(mismatch_rng);
+              } while ((observed - px).norm() < kOutlierMinDistance);
+            }
+            noisy.push_back(observed.x());
+            noisy.push_back(observed.y());
           }
         }
         if (seen.size() >= 2) emit(X, X0, seen, clean, noisy);
@@ -189,9 +203,11 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& o, const std::string&
                                    const std::function<void(double)>& progress) {
   if (o.images < 2 || o.features_per_image <= 0 || o.physical_cameras < 1 ||
       !(o.forward_overlap > 0 && o.forward_overlap < 1) ||
-      !(o.side_overlap > 0 && o.side_overlap < 1) || o.pixel_noise < 0) {
+      !(o.side_overlap > 0 && o.side_overlap < 1) || o.pixel_noise < 0 ||
+      !(o.outlier_fraction >= 0 && o.outlier_fraction < 1)) {
     throw std::invalid_argument(
-        "generate: need images >= 2, features > 0, cameras >= 1, overlaps in (0, 1), noise >= 0");
+        "generate: need images >= 2, features > 0, cameras >= 1, overlaps in (0, 1), noise >= 0, "
+        "outliers in [0, 1)");
   }
   const bool photo = o.model == CameraModel::kPhoto;
   const bool binary = EndsWith(path, ".dba");

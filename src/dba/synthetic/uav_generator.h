@@ -49,6 +49,11 @@ struct UavSurveyOptions {
   double side_overlap = 0.6;
   int physical_cameras = 1;          // images share f, k1, k2 of their camera
   double pixel_noise = 1.0;          // σ of the observation noise (pixels)
+  // Fraction of observations replaced by a mismatch: a uniform random pixel
+  // of the image at least kOutlierMinDistance from the true projection. The
+  // ground truth keeps the true (noise-free) pixel, so an outlier is an
+  // observation far from its truth (IsTrueOutlier).
+  double outlier_fraction = 0.0;
   double rotation_perturbation = 1e-3;     // σ of the initial angle-axis, rad
   double position_perturbation = 0.5;      // σ of the initial camera and point positions, m
   double focal_perturbation = 0.002;       // relative σ of the initial focal length
@@ -58,6 +63,16 @@ struct UavSurveyOptions {
   double image_size = 1000.0;    // pixels, square images
   CameraModel model = CameraModel::kBal;
 };
+
+inline constexpr double kOutlierMinDistance = 50.0;  // pixels
+// Whether an observation at `observed` whose noise-free pixel is `truth` is
+// one of the generator's mismatches: over half kOutlierMinDistance away
+// (25 px: 25 σ for the default noise; Gaussian noise reaches it with
+// probability below 1e-5 for σ up to 5 px).
+inline bool IsTrueOutlier(const double* observed, const double* truth) {
+  const double dx = observed[0] - truth[0], dy = observed[1] - truth[1];
+  return dx * dx + dy * dy > 0.25 * kOutlierMinDistance * kOutlierMinDistance;
+}
 
 struct UavSurveySummary {
   int64_t images = 0;
