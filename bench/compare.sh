@@ -59,6 +59,9 @@
 #                        cost (default 1e-3, the 0.1% of agreement)
 #     --max-iterations N, --function-tolerance X   for dba and Ceres (default:
 #                        dba's own defaults; Ceres 100 and 1e-6)
+#     --loss NAME, --loss-scale A   a robust loss for dba (--loss) and Ceres
+#                        (its own loss of that name; default: none); costs
+#                        are then the robust ½ Σ ρ
 #     --timeout S        stop any run after S seconds (default 1800); the
 #                        configuration is left out of that problem
 #     --prune X          stop a Ceres run once it takes X times (default 3;
@@ -87,6 +90,7 @@ out=bench/results
 max_iterations=""
 target_gap=1e-3
 function_tolerance=""
+loss="" loss_scale=1
 timeout=1800
 prune=3
 prune_floor=60  # no run is stopped by --prune before this many seconds
@@ -106,6 +110,8 @@ while [ $# -gt 0 ]; do
     --target-gap) target_gap=$2; shift 2 ;;
     --max-iterations) max_iterations=$2; shift 2 ;;
     --function-tolerance) function_tolerance=$2; shift 2 ;;
+    --loss) loss=$2; shift 2 ;;
+    --loss-scale) loss_scale=$2; shift 2 ;;
     --timeout) timeout=$2; shift 2 ;;
     --prune) prune=$2; shift 2 ;;
     -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d'; exit 0 ;;
@@ -130,6 +136,7 @@ done
 dba_args=(); ceres_args=()
 if [ -n "$max_iterations" ]; then dba_args+=(--max-iterations "$max_iterations"); ceres_args+=(--max-iterations "$max_iterations"); fi
 if [ -n "$function_tolerance" ]; then dba_args+=(--function-tolerance "$function_tolerance"); ceres_args+=(--function-tolerance "$function_tolerance"); fi
+if [ -n "$loss" ]; then dba_args+=(--loss "$loss" --loss-scale "$loss_scale"); ceres_args+=(--loss "$loss" --loss-scale "$loss_scale"); fi
 
 work=$(mktemp -d /tmp/dba-compare.XXXXXX)
 trap 'rm -rf "$work"' EXIT

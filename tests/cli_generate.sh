@@ -42,7 +42,7 @@ check "photo report has intrinsics_error" grep -q '"intrinsics_error"' "$tmp/pr.
 check "photo to BAL text says why" grep -q "cannot hold shared intrinsics" "$tmp/err"
 check "nothing written for photo text" test ! -e "$tmp/p.txt"
 "$dba" generate "$tmp/q.dba" --model pinhole >"$tmp/err" 2>&1; check "unknown model exits 2" test $? -eq 2
-"$dba" solve "$tmp/p.dba" -q -o "$tmp/p.out.txt" >"$tmp/err" 2>&1; check "photo solve to text exits 1" test $? -eq 1
+"$dba" solve "$tmp/p.dba" -q -o "$tmp/p.out.txt" >"$tmp/err" 2>&1; check "photo solve to text exits 2 (an argument that does not fit the input)" test $? -eq 2
 check "photo solve to text says why" grep -q "cannot hold shared intrinsics" "$tmp/err"
 check "no text output for photo" test ! -e "$tmp/p.out.txt"
 

@@ -92,6 +92,45 @@ check "unsupported camera model is named" contains "$tmp/out" "OPENCV"
 check "supported camera models are listed" contains "$tmp/out" "SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL"
 check "nothing written for an unsupported model" test ! -e "$tmp/opencv_out"
 
+# Hardening (issue "Nothing lost, nothing wrong"): arguments that do not fit
+# the input exit 2; a non-finite initial cost is refused with the observation;
+# every output path and the truth are checked before the solve, and nothing is
+# written when one fails.
+bal5=$data/balbianello-5-544-from-bundler.txt.bz2
+"$dba" solve "$bal5" -q -t 100000 >"$tmp/out" 2>&1; check "-t 100000 exits 2" test $? -eq 2
+check "-t 100000 names the limit" contains "$tmp/out" "[1, 1024]"
+"$dba" solve "$bal5" -q --intrinsics per-image >"$tmp/out" 2>&1
+check "--intrinsics per-image on BAL exits 2" test $? -eq 2
+"$dba" solve "$bal5" -q --fix-images 99 >"$tmp/out" 2>&1
+check "--fix-images beyond the cameras exits 2" test $? -eq 2
+check "--fix-images beyond the cameras is named" contains "$tmp/out" "--fix-images"
+"$dba" solve "$bal5" -q -o "$tmp/out.xyz" >"$tmp/out" 2>&1
+check "-o of an unknown kind exits 2" test $? -eq 2
+check "nothing written for -o out.xyz" test ! -e "$tmp/out.xyz"
+printf '2 2 4\n0 0 1.0 2.0\n1 0 1.5 2.0\n0 1 1.0 1e200\n1 1 3.0 2.0\n0 0 0 0 0 -5 500 0 0\n0.01 0 0 0 0 -5 500 0 0\n0 0 1\n0.1 0.1 0.5\n' >"$tmp/nan.txt"
+"$dba" solve "$tmp/nan.txt" -q -o "$tmp/nan_out.txt" >"$tmp/out" 2>&1
+check "non-finite initial cost exits 1" test $? -eq 1
+check "non-finite initial cost names the observation" contains "$tmp/out" "observation 2 (camera 0, point 1)"
+check "nothing written for a non-finite cost" test ! -e "$tmp/nan_out.txt"
+"$dba" solve "$bal5" -o "$tmp/early.txt" --report "$tmp/no_such_dir/r.json" >"$tmp/out" 2>&1
+check "unwritable --report exits 1" test $? -eq 1
+check "unwritable --report is refused before the solve" lacks "$tmp/out" "iter "
+check "unwritable --report: no -o written" test ! -e "$tmp/early.txt"
+"$dba" solve "$bal5" -o "$tmp/no_such_dir/o.txt" >"$tmp/out" 2>&1
+check "-o into a missing directory exits 1" test $? -eq 1
+check "-o into a missing directory is refused before the solve" lacks "$tmp/out" "iter "
+"$dba" solve "$bal5" -o "$tmp/early.txt" --ply "$tmp/no_such_dir/p.ply" >"$tmp/out" 2>&1
+check "unwritable --ply is refused before the solve" lacks "$tmp/out" "iter "
+check "unwritable --ply: no -o written" test ! -e "$tmp/early.txt"
+"$dba" solve "$bal5" -o "$tmp/early.txt" --truth "$tmp/no_truth.txt" >"$tmp/out" 2>&1
+check "missing --truth exits 1" test $? -eq 1
+check "missing --truth is refused before the solve" lacks "$tmp/out" "iter "
+check "missing --truth: no -o written" test ! -e "$tmp/early.txt"
+"$dba" solve "$bal5" -o "$tmp/early.txt" --truth "$data/problem-21-11315-pre.txt.bz2" >"$tmp/out" 2>&1
+check "mismatched --truth exits 2" test $? -eq 2
+check "mismatched --truth is refused before the solve" lacks "$tmp/out" "iter "
+check "mismatched --truth names the counts" contains "$tmp/out" "the problem has 5"
+
 # A real solve: summary, output and report.
 "$dba" solve "$data/balbianello-5-544-from-bundler.txt.bz2" -t 2 \
   -o "$tmp/adjusted.txt" --report "$tmp/report.json" >"$tmp/out" 2>&1

@@ -15,6 +15,7 @@ check() {  # check NAME COMMAND...
   fi
 }
 contains() { grep -qF -- "$2" "$1"; }
+lacks() { ! grep -qF -- "$2" "$1"; }
 finish() {
   echo "$passes passed, $failures failed"
   test "$failures" -eq 0

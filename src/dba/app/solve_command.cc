@@ -2,15 +2,18 @@
 #include "dba/app/solve_command.h"
 
 #include <omp.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
 #include <stdexcept>
 #include <thread>
 
+#include "dba/camera/observation_residual.h"
 #include "dba/common/memory.h"
 #include "dba/common/timer.h"
 #include "dba/io/atomic_file.h"
@@ -178,7 +181,7 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
     } else if (a == "--fix-images") {
       o.unknowns.fixed_images = ParseIdList(a, value());
     } else if (a == "-t" || a == "--threads") {
-      o.lm.num_threads = static_cast<int>(ParseIntegerArgument(a, value(), 1, 1000000000));
+      o.lm.num_threads = static_cast<int>(ParseIntegerArgument(a, value(), 1, kMaxThreads));
     } else if (a == "--max-iterations") {
       o.lm.max_iterations = static_cast<int>(ParseIntegerArgument(a, value(), 0, 1000000000));
     } else if (a == "--function-tolerance") {
@@ -261,6 +264,64 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
 }
 
 namespace {
+
+// An output file's directory must exist and be writable; a COLMAP model
+// directory (`directory`) itself, or its parent when it does not exist yet.
+void CheckWritable(const std::string& flag, const std::string& path, bool directory) {
+  namespace fs = std::filesystem;
+  fs::path where = fs::path(path);
+  std::error_code ec;
+  if (!directory || !fs::exists(where, ec)) where = where.parent_path();
+  if (where.empty()) where = ".";
+  if (!fs::is_directory(where, ec)) {
+    throw std::runtime_error(flag + " " + path + ": directory " + where.string() +
+                             " does not exist");
+  }
+  if (access(where.c_str(), W_OK) != 0) {
+    throw std::runtime_error(flag + " " + path + ": directory " + where.string() +
+                             " is not writable");
+  }
+}
+
+// The ground truth must exist and have the problem's counts (checked again,
+// in full, after the solve).
+void CheckTruthFile(const std::string& path, const SolveReport& report) {
+  int64_t cameras = 0, points = 0, observations = 0;
+  if (IsBinaryProblem(path)) {
+    const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
+    cameras = h.num_cameras, points = h.num_points, observations = h.num_observations;
+  } else {
+    const BalProblem truth = ReadProblem(path);
+    cameras = truth.num_cameras(), points = truth.num_points(),
+    observations = truth.num_observations();
+  }
+  if (cameras != report.num_cameras || points != report.num_points ||
+      observations != report.num_observations) {
+    throw UsageError("--truth " + path + ": " + std::to_string(cameras) + " cameras, " +
+                     std::to_string(points) + " points, " + std::to_string(observations) +
+                     " observations; the problem has " + std::to_string(report.num_cameras) +
+                     ", " + std::to_string(report.num_points) + ", " +
+                     std::to_string(report.num_observations));
+  }
+}
+
+// A problem whose initial cost is not finite cannot be adjusted: refused,
+// naming the first observations that make it so.
+void RefuseNonFiniteResiduals(const std::string& input, const BalProblem& problem) {
+  const NonFiniteResiduals bad = FindNonFiniteResiduals(problem);
+  if (bad.count == 0) return;
+  std::string where;
+  for (const NonFiniteResiduals::Where& w : bad.first) {
+    where += (where.empty() ? "" : "; ") + std::string("observation ") +
+             std::to_string(w.observation) + " (camera " + std::to_string(w.camera) +
+             ", point " + std::to_string(w.point) + ")";
+  }
+  throw std::runtime_error(input + ": " + std::to_string(bad.count) +
+                           " observation(s) have a non-finite reprojection error (nan or inf) at "
+                           "the initial parameters, e.g. " + where +
+                           "; correct or remove them (a point at a camera centre, or values "
+                           "beyond double range)");
+}
 
 // `total` followed by `next` (a solve after a rejection round): iterations,
 // times and the log add up; the final state is next's.
@@ -378,11 +439,17 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       report.num_points = problem.num_points();
       report.num_observations = problem.num_observations();
       report.problem_bytes = problem.MemoryBytes();
+      RefuseNonFiniteResiduals(options.input, problem);
     }
-    // Refused before the solve, not after it.
+    // Refused before the solve, not after it: every output's kind and
+    // directory, and the truth's counts.
     if (!options.output.empty()) {
-      CheckOutput(options.input, options.output, model, options.colmap_format);
+      const OutputKind kind = CheckOutput(options.input, options.output, model, options.colmap_format);
+      CheckWritable("-o", options.output, kind == OutputKind::kColmap);
     }
+    if (!options.report_path.empty()) CheckWritable("--report", options.report_path, false);
+    if (!options.ply_path.empty()) CheckWritable("--ply", options.ply_path, false);
+    if (!options.truth_path.empty()) CheckTruthFile(options.truth_path, report);
     report.load_seconds = load_timer.Seconds();
     out << "dba solve " << options.input << ": " << report.num_cameras
         << (report.num_intrinsic_groups > 0
@@ -405,7 +472,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     if (!options.quiet) out << IterationLogLine(it) << std::flush;
   };
   if (options.reject_outliers_px > 0 && comm->size() > 1) {
-    throw std::invalid_argument("--reject-outliers is not supported in distributed runs yet");
+    throw UsageError("--reject-outliers is not supported in distributed runs yet");
   }
   // Outlier rejection keeps the loaded points' numbering for the truth.
   std::vector<double> loaded_pixels, all_points;
@@ -513,6 +580,10 @@ int SolveMain(const std::vector<std::string>& args) {
   Communicator comm(nullptr, nullptr);
   try {
     return RunSolveCommand(options, &comm, std::cout);
+  } catch (const UsageError& e) {
+    if (comm.size() > 1) comm.Abort(e.what());
+    std::cerr << "dba solve: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     if (comm.size() > 1) comm.Abort(e.what());  // ends every rank
     std::cerr << "dba solve: error: " << e.what() << "\n";

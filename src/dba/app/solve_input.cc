@@ -1,6 +1,8 @@
 // dba solve's inputs and outputs; see solve_input.h.
 #include "dba/app/solve_input.h"
 
+#include "dba/app/arguments.h"
+
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
@@ -32,7 +34,7 @@ ColmapProblemOptions ColmapOptions(const UnknownsOptions& u) {
   o.fixed_intrinsics = u.fixed_intrinsics;
   for (int64_t id : u.fixed_images) {
     if (id < 0 || id > 0xffffffffLL) {
-      throw std::invalid_argument("--fix-images: " + std::to_string(id) +
+      throw UsageError("--fix-images: " + std::to_string(id) +
                                   " is not a COLMAP image id");
     }
     o.fixed_image_ids.push_back(static_cast<uint32_t>(id));
@@ -48,14 +50,14 @@ uint8_t ParseIntrinsicsList(const std::string& flag, const std::string& value) {
   static const char* const kNames[kPhotoIntrinsicsSize] = {"f", "cx", "cy", "k1", "k2"};
   uint8_t mask = 0;
   const std::vector<std::string> items = SplitCommas(value);
-  if (items.empty()) throw std::invalid_argument(flag + ": empty list (use none to fix nothing)");
+  if (items.empty()) throw UsageError(flag + ": empty list (use none to fix nothing)");
   for (const std::string& item : items) {
     int bit = -1;
     for (int d = 0; d < kPhotoIntrinsicsSize; ++d) {
       if (item == kNames[d]) bit = d;
     }
     if (bit < 0) {
-      throw std::invalid_argument(flag + ": unknown intrinsic parameter '" + item +
+      throw UsageError(flag + ": unknown intrinsic parameter '" + item +
                                   "' (expected all, none, or a comma-separated list of f, "
                                   "cx, cy, k1, k2)");
     }
@@ -75,12 +77,12 @@ std::vector<int64_t> ParseIdList(const std::string& flag, const std::string& val
       used = 0;
     }
     if (item.empty() || used != item.size() || id < 0) {
-      throw std::invalid_argument(flag + ": '" + item +
+      throw UsageError(flag + ": '" + item +
                                   "' is not a non-negative integer (expected e.g. 0,5,17)");
     }
     ids.push_back(id);
   }
-  if (ids.empty()) throw std::invalid_argument(flag + ": empty list");
+  if (ids.empty()) throw UsageError(flag + ": empty list");
   return ids;
 }
 
@@ -91,7 +93,7 @@ bool IsColmapInput(const std::string& path) {
 
 void ApplyFixings(const UnknownsOptions& u, BalProblem* p) {
   if (!u.shared_intrinsics) {
-    throw std::invalid_argument(
+    throw UsageError(
         "--intrinsics per-image applies to COLMAP models only (a .dba problem holds its "
         "own intrinsic groups)");
   }
@@ -99,7 +101,7 @@ void ApplyFixings(const UnknownsOptions& u, BalProblem* p) {
     p->fixed_cameras.resize(p->num_cameras(), 0);  // added to those the file holds
     for (int64_t i : u.fixed_images) {
       if (i >= p->num_cameras()) {
-        throw std::invalid_argument("--fix-images: camera " + std::to_string(i) +
+        throw UsageError("--fix-images: camera " + std::to_string(i) +
                                     " does not exist (the problem has " +
                                     std::to_string(p->num_cameras()) + " cameras, 0-based)");
       }
@@ -108,7 +110,7 @@ void ApplyFixings(const UnknownsOptions& u, BalProblem* p) {
   }
   if (u.fixed_intrinsics != 0) {
     if (p->model != CameraModel::kPhoto) {
-      throw std::invalid_argument(
+      throw UsageError(
           "--fix-intrinsics needs the photogrammetric model (a COLMAP model, or a .dba "
           "problem with shared intrinsics); a BAL camera's 9 parameters are one block");
     }
@@ -128,12 +130,12 @@ OutputKind CheckOutput(const std::string& input, const std::string& output, Came
                        std::optional<ColmapFormat> colmap_format) {
   const bool file = EndsWith(output, ".dba") || EndsWith(output, ".txt") || EndsWith(output, ".bz2");
   if (file && colmap_format.has_value()) {
-    throw std::invalid_argument("--colmap-format: -o " + output + " is not a COLMAP model directory");
+    throw UsageError("--colmap-format: -o " + output + " is not a COLMAP model directory");
   }
   if (EndsWith(output, ".dba")) return OutputKind::kBinary;
   if (EndsWith(output, ".txt") || EndsWith(output, ".bz2")) {
     if (model == CameraModel::kPhoto) {
-      throw std::invalid_argument(
+      throw UsageError(
           "-o " + output +
           ": BAL text cannot hold shared intrinsics; write a .dba file" +
           (IsColmapInput(input) ? " or a COLMAP model directory" : ""));
@@ -141,14 +143,14 @@ OutputKind CheckOutput(const std::string& input, const std::string& output, Came
     return OutputKind::kBalText;
   }
   if (!IsColmapInput(input)) {
-    throw std::invalid_argument("-o " + output +
+    throw UsageError("-o " + output +
                                 ": expected a .txt, .bz2 or .dba file (a COLMAP model "
                                 "directory is written only for a COLMAP input)");
   }
   const ColmapFormat format = colmap_format.value_or(*DetectColmapFormat(input));
   const std::optional<ColmapFormat> there = DetectColmapFormat(output);
   if (there.has_value() && *there != format) {
-    throw std::invalid_argument(
+    throw UsageError(
         "-o " + output + ": holds a COLMAP model in " +
         (*there == ColmapFormat::kText ? "text" : "binary") +
         " form, which would be read instead of the one written; remove it or use "

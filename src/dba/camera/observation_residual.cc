@@ -3,6 +3,8 @@
 
 #include "dba/camera/photo_camera.h"
 
+#include <cmath>
+
 namespace dba {
 
 Vec2 ObservationResidual(const BalProblem& side, const double* cameras, int32_t i,
@@ -14,6 +16,23 @@ Vec2 ObservationResidual(const BalProblem& side, const double* cameras, int32_t 
   return PhotoResidual(cameras + kPhotoPoseSize * int64_t{i},
                        cameras + intrinsics + kPhotoIntrinsicsSize * int64_t{side.camera_intrinsics[i]},
                        X, pixel);
+}
+
+NonFiniteResiduals FindNonFiniteResiduals(const BalProblem& problem, int keep) {
+  NonFiniteResiduals bad;
+  for (int64_t k = 0; k < problem.num_points(); ++k) {
+    for (int64_t o = problem.point_offsets[k]; o < problem.point_offsets[k + 1]; ++o) {
+      const int32_t i = problem.obs_camera[o];
+      if (std::isfinite(ObservationResidual(problem, problem.cameras.data(), i, problem.point(k),
+                                            problem.pixel(o))
+                            .squaredNorm())) {
+        continue;
+      }
+      if (static_cast<int>(bad.first.size()) < keep) bad.first.push_back({o, k, i});
+      ++bad.count;
+    }
+  }
+  return bad;
 }
 
 }  // namespace dba

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "dba/camera/bal_camera.h"
 #include "dba/problem/bal_problem.h"
@@ -17,5 +18,18 @@ namespace dba {
 // model and image groups from `side`.
 Vec2 ObservationResidual(const BalProblem& side, const double* cameras, int32_t i,
                          const double* X, const double* pixel);
+
+// Observations whose squared residual at the problem's current parameters is
+// not finite (a point at a camera centre, an overflowing value): how many,
+// and the first `keep` of them with their camera and point.
+struct NonFiniteResiduals {
+  int64_t count = 0;
+  struct Where {
+    int64_t observation, point;
+    int32_t camera;
+  };
+  std::vector<Where> first;
+};
+NonFiniteResiduals FindNonFiniteResiduals(const BalProblem& problem, int keep = 5);
 
 }  // namespace dba

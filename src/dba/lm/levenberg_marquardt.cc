@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
+#include <string>
 
 #include "dba/common/timer.h"
 
@@ -61,6 +63,10 @@ LmSummary SolveLevenbergMarquardt(
   RcsSystem* sys = &workers->FormRcs(lambda);
   summary.times.rcs_formation += phase.Seconds();
   double cost = sys->cost;
+  if (!std::isfinite(cost)) {
+    throw std::runtime_error("the initial cost is not finite (" + std::to_string(cost) +
+                             "): some observation's reprojection error is nan or inf");
+  }
   summary.initial_cost = cost;
   summary.final_cost = cost;
   summary.initial_residuals = sys->residuals;
