@@ -46,4 +46,15 @@ check "nothing written for photo text" test ! -e "$tmp/p.txt"
 check "photo solve to text says why" grep -q "cannot hold shared intrinsics" "$tmp/err"
 check "no text output for photo" test ! -e "$tmp/p.out.txt"
 
+# SIGTERM or SIGHUP during a write removes the temporary (and leaves no
+# output): a generation that is still writing is interrupted.
+for sig in TERM HUP; do  # (a background job ignores SIGINT)
+  "$dba" generate "$tmp/interrupted.dba" --images 60000 >/dev/null 2>&1 &
+  pid=$!
+  for _ in $(seq 600); do ls "$tmp" | grep -q "interrupted.dba.tmp" && break; sleep 0.1; done
+  check "a temporary exists while writing ($sig)" test -e "$tmp/interrupted.dba.tmp.$pid"
+  kill -"$sig" "$pid"; wait "$pid" 2>/dev/null
+  check "SIG$sig leaves no temporary" test -z "$(ls "$tmp" | grep interrupted)"
+done
+
 finish

@@ -7,6 +7,7 @@
 #include "dba/app/convert_command.h"
 #include "dba/app/generate_command.h"
 #include "dba/app/solve_command.h"
+#include "dba/io/temporary_registry.h"
 
 namespace {
 
@@ -42,6 +43,8 @@ void PrintUsage(std::ostream& out) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // An interrupted write leaves no temporary behind.
+  dba::RemoveTemporariesOnSignals();
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "-h" || args[0] == "--help" || args[0] == "help") {
     PrintUsage(std::cout);

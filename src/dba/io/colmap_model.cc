@@ -2,6 +2,8 @@
 // the intrinsics mapping; see colmap_model.h.
 #include "dba/io/colmap_model.h"
 
+#include "dba/io/temporary_registry.h"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -370,6 +372,7 @@ void CheckWritable(const ColmapModel& model, bool text) {
 
 AtomicOutputFile::AtomicOutputFile(const std::string& path)
     : path_(path), tmp_(path + ".tmp." + std::to_string(::getpid())) {
+  registry_slot_ = RegisterTemporary(tmp_);
   file_ = std::fopen(tmp_.c_str(), "wb");
   if (file_ == nullptr) Fail("cannot create temporary file");
   buffer_.reserve(1 << 20);
@@ -378,6 +381,7 @@ AtomicOutputFile::AtomicOutputFile(const std::string& path)
 AtomicOutputFile::~AtomicOutputFile() {
   if (file_ != nullptr) std::fclose(file_);
   if (!committed_) std::remove(tmp_.c_str());
+  UnregisterTemporary(registry_slot_);
 }
 
 void AtomicOutputFile::Fail(const char* what) {

@@ -226,6 +226,7 @@ class AtomicOutputFile {
   std::FILE* file_ = nullptr;
   std::vector<char> buffer_;
   bool committed_ = false;
+  int registry_slot_ = -1;  // io/temporary_registry.h
 };
 
 }  // namespace colmap_internal

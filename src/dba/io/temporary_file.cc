@@ -1,6 +1,8 @@
 // Atomic output through a temporary file; see temporary_file.h.
 #include "dba/io/temporary_file.h"
 
+#include "dba/io/temporary_registry.h"
+
 #include <unistd.h>
 
 #include <cerrno>
@@ -11,13 +13,19 @@ namespace dba {
 
 TemporaryFile::TemporaryFile(const std::string& path)
     : path_(path), tmp_(path + ".tmp." + std::to_string(::getpid())) {
+  registry_slot_ = RegisterTemporary(tmp_);
   file_ = std::fopen(tmp_.c_str(), "wb");
-  if (file_ == nullptr) Fail("cannot create '" + tmp_ + "'", errno);
+  if (file_ == nullptr) {
+    const int err = errno;
+    UnregisterTemporary(registry_slot_);
+    Fail("cannot create '" + tmp_ + "'", err);
+  }
 }
 
 TemporaryFile::~TemporaryFile() {
   if (file_ != nullptr) std::fclose(file_);
   if (!committed_) std::remove(tmp_.c_str());
+  UnregisterTemporary(registry_slot_);
 }
 
 void TemporaryFile::Fail(const std::string& what, int err) const {

@@ -1,7 +1,8 @@
 // Atomic output: a file written under a temporary name (path.tmp.<pid>) and
 // renamed over `path` only by Commit(), after flushing and fsync. Destroyed
 // without Commit() (an error, an exception), it removes the temporary, so a
-// failed run never leaves a half-written result.
+// failed run never leaves a half-written result; a run ended by SIGINT,
+// SIGTERM or SIGHUP neither (io/temporary_registry.h).
 //
 // Thread safety: one owner.
 #pragma once
@@ -33,6 +34,7 @@ class TemporaryFile {
   std::string path_, tmp_;
   std::FILE* file_ = nullptr;
   bool committed_ = false;
+  int registry_slot_ = -1;  // io/temporary_registry.h
 };
 
 }  // namespace dba
