@@ -131,6 +131,27 @@ check "mismatched --truth exits 2" test $? -eq 2
 check "mismatched --truth is refused before the solve" lacks "$tmp/out" "iter "
 check "mismatched --truth names the counts" contains "$tmp/out" "the problem has 5"
 
+# Lines without end are refused by file and line, fast and in bounded memory;
+# a COLMAP text file cut inside its last number is refused.
+head -c 70000000 /dev/zero | tr '\0' '7' >"$tmp/noline.txt"
+/usr/bin/time -f "%e %M" -o "$tmp/noline.time" "$dba" solve "$tmp/noline.txt" -q >"$tmp/out" 2>&1
+check "a 70 MB line exits 1" test $? -eq 1
+check "a 70 MB line is refused by file and line" contains "$tmp/out" "$tmp/noline.txt:1: line longer than 64 MiB"
+check "a 70 MB line is refused in under 3 s and 400 MB" \
+  awk 'END { exit !($1 < 3 && $2 < 400000) }' "$tmp/noline.time"
+mkdir -p "$tmp/cut"
+cp "$colmap/mithunnallana_6img/sparse/0/"*.txt "$tmp/cut/"
+cameras_txt=$(cat "$tmp/cut/cameras.txt")
+printf '%s' "${cameras_txt%?}" >"$tmp/cut/cameras.txt"  # no newline, last digit gone
+"$dba" solve "$tmp/cut" -q >"$tmp/out" 2>&1
+check "COLMAP text cut inside its last number exits 1" test $? -eq 1
+check "COLMAP text cut short is named" contains "$tmp/out" "cameras.txt"
+check "COLMAP text cut short says so" contains "$tmp/out" "cut short"
+printf '%s\n' "${cameras_txt%?}" >"$tmp/cut/cameras.txt"
+{ head -c 70000000 /dev/zero | tr '\0' ' '; echo; } >>"$tmp/cut/cameras.txt"
+"$dba" solve "$tmp/cut" -q >"$tmp/out" 2>&1
+check "a 70 MB COLMAP line is refused by file and line" contains "$tmp/out" "line longer than 64 MiB"
+
 # A real solve: summary, output and report.
 "$dba" solve "$data/balbianello-5-544-from-bundler.txt.bz2" -t 2 \
   -o "$tmp/adjusted.txt" --report "$tmp/report.json" >"$tmp/out" 2>&1

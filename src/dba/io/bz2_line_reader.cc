@@ -108,10 +108,16 @@ bool Bz2LineReader::ReadLine(std::string_view* line) {
     size_t len;
     if (nl != nullptr) {
       len = static_cast<const char*>(nl) - (base + begin_);
+      unterminated_ = false;
     } else if (eof_) {
       if (begin_ == end_) return false;
       len = end_ - begin_;
+      unterminated_ = true;
     } else {
+      if (end_ - begin_ > kMaxLineBytes) {
+        Fail("line longer than " + std::to_string(kMaxLineBytes >> 20) +
+             " MiB (no line end: not a text problem file?)");
+      }
       // Keep the partial line at the front, grow if it fills the buffer.
       size_t partial = end_ - begin_;
       std::memmove(buf_.data(), base + begin_, partial);

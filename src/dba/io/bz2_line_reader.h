@@ -28,10 +28,19 @@ class Bz2LineReader {
   Bz2LineReader(const Bz2LineReader&) = delete;
   Bz2LineReader& operator=(const Bz2LineReader&) = delete;
 
+  // Lines longer than this are refused (a file with no line ends, or not
+  // text): memory stays bounded and the error comes in well under a second.
+  static constexpr size_t kMaxLineBytes = size_t{64} << 20;
+
   // Reads the next line, without its terminator ("\n" or "\r\n"), into *line.
   // The view stays valid until the next call. Returns false at end of file.
-  // A last line without a final newline is still returned.
+  // A last line without a final newline is still returned (see
+  // last_line_unterminated()). Throws InputError for a line over
+  // kMaxLineBytes.
   bool ReadLine(std::string_view* line);
+  // True when the line last returned ended at the end of the file without a
+  // newline (a file cut short may end inside its last number).
+  bool last_line_unterminated() const { return unterminated_; }
 
   // 1-based number of the line last returned by ReadLine (0 before the first).
   int64_t line_number() const { return line_; }
@@ -46,6 +55,7 @@ class Bz2LineReader {
 
   std::string path_;
   FILE* file_ = nullptr;
+  bool unterminated_ = false;
   bool bz2_ = false;
 
   // Raw bytes from the file; strm_.next_in / avail_in mark the unread part

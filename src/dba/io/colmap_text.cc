@@ -1,6 +1,8 @@
 // COLMAP text models: reading and writing; see colmap_text.h.
 #include "dba/io/colmap_text.h"
 
+#include "dba/io/bz2_line_reader.h"
+
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -30,26 +32,21 @@ std::string Quote(std::string_view tok) {
   return q;
 }
 
-// A text file read line by line, counting lines from 1.
+// A text file read line by line, counting lines from 1 (line length
+// bounded by Bz2LineReader). A file must end with a line end: one cut short
+// could otherwise end inside its last number and be read without error.
 class LineFile {
  public:
-  explicit LineFile(std::string path) : path_(std::move(path)) {
-    buffer_ = std::make_unique<char[]>(kBufferSize);
-    in_.rdbuf()->pubsetbuf(buffer_.get(), kBufferSize);
-    in_.open(path_, std::ios::binary);
-    if (!in_) throw InputError(path_, 0, "cannot open file");
-  }
-  const std::string& path() const { return path_; }
-  int64_t line_number() const { return line_number_; }
+  explicit LineFile(std::string path) : reader_(path) {}
+  const std::string& path() const { return reader_.path(); }
+  int64_t line_number() const { return reader_.line_number(); }
 
   // The next line without its line end; false at the end of the file.
   bool Next(std::string_view* line) {
-    if (!std::getline(in_, line_)) {
-      if (in_.bad()) throw InputError(path_, line_number_, "read error");
-      return false;
+    if (!reader_.ReadLine(line)) return false;
+    if (reader_.last_line_unterminated() && !Trim(*line).empty()) {
+      Fail("the file ends inside this line (no line end after the last record): cut short?");
     }
-    ++line_number_;
-    *line = line_;
     return true;
   }
   // The next line that is neither empty nor a comment.
@@ -64,16 +61,11 @@ class LineFile {
     return false;
   }
   [[noreturn]] void Fail(const std::string& what) const {
-    throw InputError(path_, line_number_, what);
+    throw InputError(path(), line_number(), what);
   }
 
  private:
-  static constexpr size_t kBufferSize = 1 << 20;
-  std::string path_;
-  std::unique_ptr<char[]> buffer_;
-  std::ifstream in_;
-  std::string line_;
-  int64_t line_number_ = 0;
+  Bz2LineReader reader_;
 };
 
 // Blank-separated tokens of one line; errors name the file and line.
