@@ -51,6 +51,18 @@ class Parser {
     return true;
   }
 
+  // Tokens left on the current line (not consumed).
+  int TokensLeftOnLine() const {
+    int n = 0;
+    for (size_t p = pos_; p < line_.size();) {
+      while (p < line_.size() && IsSpace(line_[p])) ++p;
+      if (p == line_.size()) break;
+      ++n;
+      while (p < line_.size() && !IsSpace(line_[p])) ++p;
+    }
+    return n;
+  }
+
   template <class What>
   std::string_view Token(const What& what) {
     std::string_view t;
@@ -137,6 +149,10 @@ BalProblem ReadBal(const std::string& path) {
   const int64_t num_points = in.Int(header);
   if (num_points <= 0) in.Fail("num_points must be positive, found " + Str(num_points));
   const int64_t num_observations = in.Int(header);
+  // Tokens may split over lines any way, but a header line with one number
+  // too many (four counts, or a first observation glued on) is the likely
+  // cause when the first observation then fails: say so there.
+  const int header_extra = in.TokensLeftOnLine();
   if (num_observations <= 0) {
     in.Fail("num_observations must be positive, found " + Str(num_observations));
   }
@@ -174,8 +190,13 @@ BalProblem ReadBal(const std::string& path) {
     };
     const int64_t c = in.Int(what);
     if (c < 0 || c >= num_cameras) {
-      in.Fail("camera index " + Str(c) + " of observation " + Str(j) +
-              " is out of range [0, " + Str(num_cameras) + ")");
+      in.Fail("camera index " + Str(c) + " of observation " + Str(j) + " is out of range [0, " +
+              Str(num_cameras) + ")" +
+              (j == 0 && header_extra % 4 != 0
+                   ? " (the header's line has " + Str(header_extra) +
+                         " more value(s) after 'num_cameras num_points num_observations': a "
+                         "BAL header holds exactly three)"
+                   : std::string()));
     }
     const int64_t k = in.Int(what);
     if (k < 0 || k >= num_points) {

@@ -221,6 +221,9 @@ INSTANTIATE_TEST_SUITE_P(
                 "every point needs an observation"},
         BadCase{"camera_index_out_of_range", kHead + "0 0 1 2\n2 0 3 4\n1 1 5 6\n", 3,
                 "camera index 2 of observation 1 is out of range [0, 2)"},
+        BadCase{"four_header_counts", "3 20 60 7\n0 0 1.0 2.0\n", 1,
+                "the header's line has 1 more value(s) after 'num_cameras num_points "
+                "num_observations': a BAL header holds exactly three"},
         BadCase{"negative_point_index", kHead + "0 0 1 2\n1 -1 3 4\n1 1 5 6\n", 3,
                 "point index -1 of observation 1 is out of range [0, 2)"},
         BadCase{"point_index_out_of_range", kHead + "0 0 1 2\n1 0 3 4\n1 2 5 6\n", 4,

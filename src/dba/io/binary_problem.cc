@@ -280,6 +280,18 @@ BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
       raw.counts[1] > limit || raw.counts[2] > limit || raw.counts[1] > raw.counts[2]) {
     throw InputError(path, 0, "implausible counts in the header");
   }
+  // Every camera, point and observation takes bytes of the file (at least
+  // 48, 32 and 20): counts the file cannot hold are refused before any
+  // layout arithmetic, which then stays far from overflow.
+  const uint64_t bytes = static_cast<uint64_t>(std::max<int64_t>(size, 0));
+  if (raw.counts[0] > bytes / 48 || raw.counts[1] > bytes / 32 || raw.counts[2] > bytes / 20 ||
+      (v2 && raw.intrinsic_groups > bytes / 40)) {
+    throw InputError(path, 0,
+                     "the header's counts (" + std::to_string(raw.counts[0]) + " cameras, " +
+                         std::to_string(raw.counts[1]) + " points, " +
+                         std::to_string(raw.counts[2]) + " observations) need more than the " +
+                         std::to_string(size) + " bytes of the file (corrupt header or truncated file)");
+  }
   const int64_t cameras = static_cast<int64_t>(raw.counts[0]);
   if (v2) {
     if ((raw.optional_sections & ~(kHasFixedCameras | kHasIntrinsicsFree)) != 0 ||
@@ -322,8 +334,13 @@ BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
       }
     }
   }
-  if (static_cast<int64_t>(raw.file_size) != h.file_size || size != h.file_size) {
-    throw InputError(path, 0, "truncated or padded: " + std::to_string(size) +
+  if (static_cast<int64_t>(raw.file_size) != h.file_size) {
+    throw InputError(path, 0, "the header's file-size field says " +
+                                  std::to_string(raw.file_size) + " bytes, its counts need " +
+                                  std::to_string(h.file_size) + " (corrupt header)");
+  }
+  if (size != h.file_size) {
+    throw InputError(path, 0, "truncated or padded: the file has " + std::to_string(size) +
                                   " bytes, the header's counts need " +
                                   std::to_string(h.file_size));
   }

@@ -151,6 +151,33 @@ TEST_F(CorruptBinaryTest, RefusesEachFailureMode) {
   ExpectRefused(b, "non-finite");
 }
 
+// Issue "Nothing lost, nothing wrong", items 7 and 8: counts whose layout
+// sums would wrap are refused before any arithmetic; a wrong file-size field
+// is named as such; a .dba with a damaged magic is not read as BAL text.
+TEST_F(CorruptBinaryTest, HugeCountsAFieldAndTheMagicAreNamedRight) {
+  std::string b = bytes_;
+  const uint64_t counts[3] = {1, 3 * (uint64_t{1} << 57) + 10, uint64_t{1} << 60};
+  std::memcpy(b.data() + 24, counts, sizeof counts);  // RawHeader::counts
+  ExpectRefused(b, "need more than the " + std::to_string(bytes_.size()) + " bytes of the file");
+  b = bytes_;
+  uint64_t file_size = 0;
+  std::memcpy(&file_size, b.data() + 88, 8);  // RawHeader::file_size
+  file_size += 8;
+  std::memcpy(b.data() + 88, &file_size, 8);
+  ExpectRefused(b, "the header's file-size field says " + std::to_string(file_size));
+  b = bytes_;
+  b[2] ^= 0x20;
+  WriteBytes(bad_, b);
+  try {
+    ReadProblem(bad_);
+    FAIL() << "a .dba with a damaged magic was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("does not start with the dba binary magic"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(BinaryProblem, FailedWriteLeavesNothing) {
   BalProblem p;
   p.cameras.assign(9, 0.0);

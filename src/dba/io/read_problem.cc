@@ -2,6 +2,8 @@
 #include "dba/io/read_problem.h"
 
 #include <filesystem>
+#include <new>
+#include <stdexcept>
 
 #include "dba/common/error.h"
 #include "dba/io/bal_writer.h"
@@ -19,7 +21,21 @@ BalProblem ReadProblem(const std::string& path) {
     }
     throw InputError(path, 0, "is a directory; expected a BAL (.txt, .bz2) or .dba problem file");
   }
-  return IsBinaryProblem(path) ? ReadBinaryProblem(path) : ReadBal(path);
+  if (!IsBinaryProblem(path) && path.size() >= 4 &&
+      path.compare(path.size() - 4, 4, ".dba") == 0) {
+    // Not read as BAL text: a .dba whose magic is damaged would fail there
+    // with a misleading message.
+    throw InputError(path, 0, "does not start with the dba binary magic (corrupt or not a .dba "
+                              "file); BAL text files end in .txt or .bz2");
+  }
+  try {
+    return IsBinaryProblem(path) ? ReadBinaryProblem(path) : ReadBal(path);
+  } catch (const std::bad_alloc&) {
+    throw InputError(path, 0, "out of memory reading the problem (its counts need more memory "
+                              "than this machine has)");
+  } catch (const std::length_error& e) {
+    throw InputError(path, 0, std::string("counts too large to hold in memory (") + e.what() + ")");
+  }
 }
 
 void WriteProblem(const BalProblem& problem, const std::string& path) {
