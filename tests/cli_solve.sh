@@ -152,6 +152,18 @@ printf '%s\n' "${cameras_txt%?}" >"$tmp/cut/cameras.txt"
 "$dba" solve "$tmp/cut" -q >"$tmp/out" 2>&1
 check "a 70 MB COLMAP line is refused by file and line" contains "$tmp/out" "line longer than 64 MiB"
 
+# A COLMAP output that fails half-way (here a file-size limit, as a full disk)
+# leaves the model that was there whole: no file of it replaced, no temporary.
+mkdir -p "$tmp/keep"
+cp "$colmap/mithunnallana_6img/sparse/0/"*.txt "$tmp/keep/"
+chmod u+w "$tmp/keep/"*
+before=$(cat "$tmp/keep/"*.txt | md5sum)
+(trap '' XFSZ; ulimit -f 16; "$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q -o "$tmp/keep") >"$tmp/out" 2>&1
+check "a COLMAP output over the size limit exits 1" test $? -eq 1
+check "the failing file is named" contains "$tmp/out" "images.txt"
+check "the old model is left whole" test "$(cat "$tmp/keep/"*.txt | md5sum)" = "$before"
+check "no temporary left in the model" test -z "$(ls "$tmp/keep" | grep tmp)"
+
 # A real solve: summary, output and report.
 "$dba" solve "$data/balbianello-5-544-from-bundler.txt.bz2" -t 2 \
   -o "$tmp/adjusted.txt" --report "$tmp/report.json" >"$tmp/out" 2>&1

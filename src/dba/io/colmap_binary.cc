@@ -239,14 +239,13 @@ class BinaryOut {
     file_.Write(&v, sizeof v);
   }
   void Bytes(const void* p, size_t n) { file_.Write(p, n); }
-  void Commit() { file_.Commit(); }
+  AtomicOutputFile& file() { return file_; }
 
  private:
   AtomicOutputFile file_;
 };
 
-void WriteCameras(const ColmapModel& model, const std::string& path) {
-  BinaryOut out(path);
+void WriteCameras(const ColmapModel& model, BinaryOut& out) {
   out.Put<uint64_t>(model.cameras.size());
   for (const ColmapCamera& c : model.cameras) {
     out.Put<uint32_t>(c.camera_id);
@@ -255,11 +254,9 @@ void WriteCameras(const ColmapModel& model, const std::string& path) {
     out.Put<uint64_t>(c.height);
     out.Bytes(c.params.data(), sizeof(double) * c.params.size());
   }
-  out.Commit();
 }
 
-void WriteImages(const ColmapModel& model, const std::string& path) {
-  BinaryOut out(path);
+void WriteImages(const ColmapModel& model, BinaryOut& out) {
   out.Put<uint64_t>(model.images.size());
   for (const ColmapImage& im : model.images) {
     out.Put<uint32_t>(im.image_id);
@@ -279,11 +276,9 @@ void WriteImages(const ColmapModel& model, const std::string& path) {
       out.Bytes(raw, sizeof raw);
     }
   }
-  out.Commit();
 }
 
-void WritePoints3D(const ColmapModel& model, const std::string& path) {
-  BinaryOut out(path);
+void WritePoints3D(const ColmapModel& model, BinaryOut& out) {
   out.Put<uint64_t>(model.points3D.size());
   for (const ColmapPoint3D& p : model.points3D) {
     out.Put<uint64_t>(static_cast<uint64_t>(p.point3D_id));
@@ -293,7 +288,6 @@ void WritePoints3D(const ColmapModel& model, const std::string& path) {
     out.Put<uint64_t>(p.track.size());
     out.Bytes(p.track.data(), 8 * p.track.size());
   }
-  out.Commit();
 }
 
 }  // namespace
@@ -310,9 +304,14 @@ ColmapModel ReadColmapBinary(const std::string& dir) {
 void WriteColmapBinary(const ColmapModel& model, const std::string& dir) {
   colmap_internal::CheckWritable(model, false);
   colmap_internal::EnsureDirectory(dir);
-  WriteCameras(model, JoinPath(dir, "cameras.bin"));
-  WriteImages(model, JoinPath(dir, "images.bin"));
-  WritePoints3D(model, JoinPath(dir, "points3D.bin"));
+  BinaryOut cameras(JoinPath(dir, "cameras.bin")), images(JoinPath(dir, "images.bin")),
+      points(JoinPath(dir, "points3D.bin"));
+  WriteCameras(model, cameras);
+  WriteImages(model, images);
+  WritePoints3D(model, points);
+  // All three on disk before any replaces a file of the old model.
+  for (BinaryOut* out : {&cameras, &images, &points}) out->file().Finish();
+  for (BinaryOut* out : {&cameras, &images, &points}) out->file().Rename();
 }
 
 }  // namespace dba

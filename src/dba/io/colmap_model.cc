@@ -407,7 +407,7 @@ void AtomicOutputFile::Write(const void* data, size_t size) {
   buffer_.insert(buffer_.end(), p, p + size);
 }
 
-void AtomicOutputFile::Commit() {
+void AtomicOutputFile::Finish() {
   if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size()) {
     Fail("write failed");
   }
@@ -417,6 +417,9 @@ void AtomicOutputFile::Commit() {
   const int rc = std::fclose(file_);
   file_ = nullptr;
   if (rc != 0) Fail("close failed");
+}
+
+void AtomicOutputFile::Rename() {
   if (std::rename(tmp_.c_str(), path_.c_str()) != 0) Fail("rename failed");
   committed_ = true;
 }

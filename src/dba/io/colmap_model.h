@@ -208,6 +208,9 @@ void CheckWritable(const ColmapModel& model, bool text);
 
 // A file written through a buffer to `path.tmp.<pid>` and renamed over `path`
 // by Commit() after fsync; destroyed uncommitted, it removes the temporary.
+// Commit() = Finish() (flush, fsync, close: the data is on disk) + Rename():
+// the three files of a model are all finished before any is renamed, so a
+// failed write (a full disk) leaves the old model whole.
 class AtomicOutputFile {
  public:
   explicit AtomicOutputFile(const std::string& path);
@@ -217,7 +220,12 @@ class AtomicOutputFile {
 
   void Write(const void* data, size_t size);
   void Write(std::string_view s) { Write(s.data(), s.size()); }
-  void Commit();
+  void Finish();
+  void Rename();
+  void Commit() {
+    Finish();
+    Rename();
+  }
 
  private:
   [[noreturn]] void Fail(const char* what);

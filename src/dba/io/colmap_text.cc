@@ -245,7 +245,7 @@ class TextOut {
   TextOut& operator<<(uint64_t v) { return Number(v); }
   TextOut& operator<<(int64_t v) { return Number(v); }
   TextOut& operator<<(uint32_t v) { return Number(v); }
-  void Commit() { file_.Commit(); }
+  AtomicOutputFile& file() { return file_; }
 
  private:
   template <typename T>
@@ -262,8 +262,7 @@ double Mean(int64_t total, size_t count) {
   return count == 0 ? 0.0 : static_cast<double>(total) / static_cast<double>(count);
 }
 
-void WriteCameras(const ColmapModel& model, const std::string& path) {
-  TextOut out(path);
+void WriteCameras(const ColmapModel& model, TextOut& out) {
   out << "# Camera list with one line of data per camera:\n"
       << "#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n"
       << "# Number of cameras: " << uint64_t{model.cameras.size()} << '\n';
@@ -273,11 +272,9 @@ void WriteCameras(const ColmapModel& model, const std::string& path) {
     for (double p : c.params) out << ' ' << p;
     out << '\n';
   }
-  out.Commit();
 }
 
-void WriteImages(const ColmapModel& model, const std::string& path) {
-  TextOut out(path);
+void WriteImages(const ColmapModel& model, TextOut& out) {
   out << "# Image list with two lines of data per image:\n"
       << "#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n"
       << "#   POINTS2D[] as (X, Y, POINT3D_ID)\n"
@@ -297,11 +294,9 @@ void WriteImages(const ColmapModel& model, const std::string& path) {
     }
     out << '\n';
   }
-  out.Commit();
 }
 
-void WritePoints3D(const ColmapModel& model, const std::string& path) {
-  TextOut out(path);
+void WritePoints3D(const ColmapModel& model, TextOut& out) {
   out << "# 3D point list with one line of data per point:\n"
       << "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, TRACK[] as (IMAGE_ID, POINT2D_IDX)\n"
       << "# Number of points: " << uint64_t{model.points3D.size()}
@@ -314,7 +309,6 @@ void WritePoints3D(const ColmapModel& model, const std::string& path) {
     for (const ColmapTrackElement& e : p.track) out << ' ' << e.image_id << ' ' << e.point2D_idx;
     out << '\n';
   }
-  out.Commit();
 }
 
 }  // namespace
@@ -332,9 +326,14 @@ ColmapModel ReadColmapText(const std::string& dir) {
 void WriteColmapText(const ColmapModel& model, const std::string& dir) {
   colmap_internal::CheckWritable(model, true);
   colmap_internal::EnsureDirectory(dir);
-  WriteCameras(model, JoinPath(dir, "cameras.txt"));
-  WriteImages(model, JoinPath(dir, "images.txt"));
-  WritePoints3D(model, JoinPath(dir, "points3D.txt"));
+  TextOut cameras(JoinPath(dir, "cameras.txt")), images(JoinPath(dir, "images.txt")),
+      points(JoinPath(dir, "points3D.txt"));
+  WriteCameras(model, cameras);
+  WriteImages(model, images);
+  WritePoints3D(model, points);
+  // All three on disk before any replaces a file of the old model.
+  for (TextOut* out : {&cameras, &images, &points}) out->file().Finish();
+  for (TextOut* out : {&cameras, &images, &points}) out->file().Rename();
 }
 
 }  // namespace dba
