@@ -27,6 +27,28 @@ SubRcsMap MapSubRcs(std::span<const uint64_t> local_blocks,
   return map;
 }
 
+GlobalRcs BuildGlobalRcs(UnknownLayout layout,
+                         const std::vector<std::vector<uint64_t>>& local_patterns,
+                         std::vector<std::vector<int32_t>> rows) {
+  std::vector<uint64_t> pattern;
+  for (int32_t i = 0; i < layout.num_rows(); ++i) pattern.push_back(PackBlock(i, i));
+  for (size_t r = 0; r < local_patterns.size(); ++r) {
+    for (uint64_t b : local_patterns[r]) {
+      pattern.push_back(PackBlock(rows[r][PackedRow(b)], rows[r][PackedCol(b)]));
+    }
+  }
+  std::sort(pattern.begin(), pattern.end());
+  pattern.erase(std::unique(pattern.begin(), pattern.end()), pattern.end());
+  GlobalRcs global;
+  global.system = RcsSystem::ForPattern(std::move(layout), pattern);
+  global.maps.resize(local_patterns.size());
+  for (size_t r = 0; r < local_patterns.size(); ++r) {
+    if (local_patterns[r].empty()) continue;
+    global.maps[r] = MapSubRcs(local_patterns[r], std::move(rows[r]), global.system.S);
+  }
+  return global;
+}
+
 void PackSubRcs(const RcsSystem& sub, std::vector<double>* message) {
   message->clear();
   message->reserve(sub.S.values().size() + 3 * sub.b.size() + 5);

@@ -36,6 +36,18 @@ struct SubRcsMap {
 SubRcsMap MapSubRcs(std::span<const uint64_t> local_blocks,
                     std::vector<int32_t> global_row, const BsmcMatrix& global);
 
+// The global system of the main rank (symbolic phase): its pattern is every
+// diagonal block plus the union of the sub-RCS patterns `local_patterns[r]`
+// with their rows in global numbering `rows[r]` (an empty pattern: a rank
+// that forms no sub-RCS, which gets an empty map); and each sub-RCS's map.
+struct GlobalRcs {
+  RcsSystem system;
+  std::vector<SubRcsMap> maps;
+};
+GlobalRcs BuildGlobalRcs(UnknownLayout layout,
+                         const std::vector<std::vector<uint64_t>>& local_patterns,
+                         std::vector<std::vector<int32_t>> rows);
+
 // Packs a rank's system into one message: S values, b, g_c, diag(U), cost,
 // max |g_p|, residual sums.
 void PackSubRcs(const RcsSystem& sub, std::vector<double>* message);

@@ -96,21 +96,9 @@ MpiPointWorkers::MpiPointWorkers(Communicator* comm, UnknownLayout layout,
     local_patterns[r] = comm->RecvVector<uint64_t>(r, Traffic::kDistribution);
     rows[r] = layout.RowsOfEntities(comm->RecvVector<int64_t>(r, Traffic::kDistribution));
   }
-  std::vector<uint64_t> pattern;
-  for (int32_t i = 0; i < layout.num_rows(); ++i) pattern.push_back(PackBlock(i, i));
-  for (int r = 0; r < comm->size(); ++r) {
-    for (uint64_t b : local_patterns[r]) {
-      pattern.push_back(PackBlock(rows[r][PackedRow(b)], rows[r][PackedCol(b)]));
-    }
-  }
-  std::sort(pattern.begin(), pattern.end());
-  pattern.erase(std::unique(pattern.begin(), pattern.end()), pattern.end());
-  global_ = RcsSystem::ForPattern(std::move(layout), pattern);
-  maps_.resize(comm->size());
-  for (int r = 0; r < comm->size(); ++r) {
-    if (r == 0 && own == nullptr) continue;
-    maps_[r] = MapSubRcs(local_patterns[r], std::move(rows[r]), global_.S);
-  }
+  GlobalRcs global = BuildGlobalRcs(std::move(layout), local_patterns, std::move(rows));
+  global_ = std::move(global.system);
+  maps_ = std::move(global.maps);
 }
 
 RcsSystem& MpiPointWorkers::FormRcs(double lambda) {

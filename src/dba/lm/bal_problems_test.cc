@@ -1,6 +1,7 @@
 // End to end on every real BAL problem in ../shared/data/bal, with each
 // linear solver and with the defaults (auto): the exact final cost (from a
-// direct sparse Schur factorization) within 0.1%, and 1 and 2 threads within
+// direct sparse Schur factorization) within 1e-5 (dba and Ceres agree to
+// 2e-6; the issue allows 0.1%, this guards the optimum), and 1 and 2 threads within
 // 1e-5 of each other (LM stops at a 1e-6 relative decrease, so inexact PCG
 // steps leave runs about that far apart). A generated survey, solved with
 // every solver, reaches one optimum.
@@ -49,7 +50,7 @@ TEST_P(BalProblemsTest, ReachesTheExactCostWithAnyThreadCount) {
     options.num_threads = threads;
     options.linear_solver.type = solver;
     const LmSummary s = BundleAdjust(options, &problem).lm;
-    EXPECT_LE(std::abs(s.final_cost - c.exact_final_cost), 1e-3 * c.exact_final_cost)
+    EXPECT_LE(std::abs(s.final_cost - c.exact_final_cost), 1e-5 * c.exact_final_cost)
         << c.file << " with " << threads << " threads: final cost " << s.final_cost
         << " after " << s.iterations << " iterations ("
         << TerminationReasonName(s.termination) << ")";

@@ -66,7 +66,11 @@ TEST_P(FormRcsTest, MatchesDenseSchurComplement) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Damping, FormRcsTest, ::testing::Values(1e-4, 1.0, 1e3));
+INSTANTIATE_TEST_SUITE_P(Damping, FormRcsTest, ::testing::Values(1e-4, 1.0, 1e3),
+                         [](const ::testing::TestParamInfo<double>& info) {
+                           return std::string("lambda_") +
+                                  (info.param < 1 ? "1e_4" : info.param > 1 ? "1e3" : "1");
+                         });
 
 TEST(FormRcs, DuplicateCameraInATrackCountsBothObservations) {
   BalProblem problem = PerturbedProblem(9).problem;
@@ -78,17 +82,6 @@ TEST(FormRcs, DuplicateCameraInATrackCountsBothObservations) {
   DampCameraBlocks(0.1, bounds, sys.camera_jtj_diagonal, &sys.S);
   const auto dense = testing::BuildDenseNormalEquations(problem, 0.1, bounds);
   EXPECT_LT(RelativeError(testing::DenseFromBsmc(sys.S), dense.ReducedCameraMatrix()), 1e-10);
-}
-
-TEST(FormRcs, OneAndTwoThreadsAgree) {
-  BalProblem problem = PerturbedProblem(4).problem;
-  const DampingBounds bounds;
-  RcsSystem a = RcsSystem::ForProblem(problem), b = RcsSystem::ForProblem(problem);
-  FormRcs(problem, 1e-2, bounds, 1, &a);
-  FormRcs(problem, 1e-2, bounds, 2, &b);
-  const Eigen::MatrixXd Sa = testing::DenseFromBsmc(a.S), Sb = testing::DenseFromBsmc(b.S);
-  EXPECT_LT(RelativeError(Sa, Sb), 1e-14);
-  EXPECT_NEAR(a.cost, b.cost, 1e-14 * a.cost);
 }
 
 TEST(FormRcs, RefillingGivesTheSameValues) {
@@ -251,6 +244,67 @@ INSTANTIATE_TEST_SUITE_P(Losses, RobustFormRcsTest,
                          [](const ::testing::TestParamInfo<LossType>& info) {
                            return std::string(LossName(info.param));
                          });
+
+}  // namespace
+}  // namespace dba
+
+namespace dba {
+namespace {
+
+// |a - b|∞ / |a|∞ of two vectors (0 for two empty ones).
+double VectorRelativeError(const std::vector<double>& a, const std::vector<double>& b) {
+  EXPECT_EQ(a.size(), b.size());
+  double diff = 0.0, scale = 0.0;
+  for (size_t i = 0; i < a.size() && i < b.size(); ++i) {
+    diff = std::max(diff, std::abs(a[i] - b[i]));
+    scale = std::max(scale, std::abs(a[i]));
+  }
+  return scale > 0 ? diff / scale : diff;
+}
+
+struct ThreadCase {
+  bool photo;
+  int threads;
+};
+void PrintTo(const ThreadCase& c, std::ostream* out) {
+  *out << (c.photo ? "photo" : "bal") << " with " << c.threads << " threads";
+}
+
+class FormRcsThreadsTest : public ::testing::TestWithParam<ThreadCase> {};
+
+// Every field of the formed system is the same with 1 and with 2, 4 or 8
+// threads (up to the order of the sums), both camera models, a robust loss
+// on the photogrammetric one.
+TEST_P(FormRcsThreadsTest, EveryFieldMatchesOneThread) {
+  const ThreadCase& c = GetParam();
+  const BalProblem problem = c.photo ? PhotoProblem(PhotoCase{"all_free", kAllIntrinsics, {2}}, 4)
+                                     : PerturbedProblem(4).problem;
+  const RobustLoss loss = c.photo ? RobustLoss{LossType::kCauchy, 1.0} : RobustLoss{};
+  const DampingBounds bounds;
+  RcsSystem one = RcsSystem::ForProblem(problem), many = RcsSystem::ForProblem(problem);
+  FormRcs(problem, 1e-2, bounds, 1, &one, loss);
+  FormRcs(problem, 1e-2, bounds, c.threads, &many, loss);
+  EXPECT_LT(VectorRelativeError(one.S.values(), many.S.values()), 1e-13) << "S";
+  EXPECT_LT(VectorRelativeError(one.b, many.b), 1e-13) << "b";
+  EXPECT_LT(VectorRelativeError(one.camera_gradient, many.camera_gradient), 1e-13) << "g_c";
+  EXPECT_LT(VectorRelativeError(one.camera_jtj_diagonal, many.camera_jtj_diagonal), 1e-13)
+      << "diag U";
+  EXPECT_NEAR(one.cost, many.cost, 1e-13 * one.cost);
+  EXPECT_NEAR(one.residuals.squared, many.residuals.squared, 1e-13 * one.residuals.squared);
+  EXPECT_NEAR(one.residuals.inlier_squared, many.residuals.inlier_squared,
+              1e-13 * one.residuals.squared);
+  EXPECT_EQ(one.residuals.inliers, many.residuals.inliers);
+  EXPECT_EQ(one.max_abs_point_gradient, many.max_abs_point_gradient);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    ModelsAndThreads, FormRcsThreadsTest,
+    ::testing::Values(ThreadCase{false, 2}, ThreadCase{false, 4}, ThreadCase{false, 8},
+                      ThreadCase{true, 2}, ThreadCase{true, 4}, ThreadCase{true, 8}),
+    [](const ::testing::TestParamInfo<ThreadCase>& info) {
+      return std::string(info.param.photo ? "photo" : "bal") + "_" +
+             std::to_string(info.param.threads) + "_threads";
+    });
 
 }  // namespace
 }  // namespace dba
