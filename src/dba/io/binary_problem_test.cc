@@ -539,3 +539,47 @@ TEST_F(CorruptBinaryTest, Version1RelabelledAsVersion2OrAnUnknownVersionIsRefuse
 
 }  // namespace
 }  // namespace dba
+
+namespace dba {
+namespace {
+
+// Files written by earlier versions of the writer, checked in
+// (tests/data): a version-1 BAL file and a version-2 photogrammetric one
+// with a fixed image and fixed intrinsics read back to these exact values,
+// so a layout change that breaks old files fails here.
+TEST(CheckedInBinaryFiles, Version1BalDecodes) {
+  const BalProblem p = ReadBinaryProblem(DBA_TEST_DATA_DIR "/v1_bal.dba");
+  EXPECT_EQ(ReadBinaryProblemHeader(DBA_TEST_DATA_DIR "/v1_bal.dba").version, 1u);
+  EXPECT_EQ(p.model, CameraModel::kBal);
+  EXPECT_EQ(p.cameras, (std::vector<double>{0.1, -0.2, 0.3, 1, 2, -10, 500, -1e-3, 2e-6, -0.05,
+                                            0.01, 0.02, -1.5, 0.5, -9, 510, 1e-3, -3e-6}));
+  EXPECT_EQ(p.points, (std::vector<double>{0.25, -0.5, 1.0, -1.25, 0.75, 2.5}));
+  EXPECT_EQ(p.point_offsets, (std::vector<int64_t>{0, 2, 3}));
+  EXPECT_EQ(p.obs_camera, (std::vector<int32_t>{0, 1, 1}));
+  EXPECT_EQ(p.obs_pixel, (std::vector<double>{10.5, -20.25, 11.0, -19.5, -30.125, 40.0625}));
+  EXPECT_TRUE(p.fixed_cameras.empty());
+}
+
+TEST(CheckedInBinaryFiles, Version2PhotoWithFixingsDecodes) {
+  const BalProblem p = ReadBinaryProblem(DBA_TEST_DATA_DIR "/v2_photo_fixings.dba");
+  EXPECT_EQ(ReadBinaryProblemHeader(DBA_TEST_DATA_DIR "/v2_photo_fixings.dba").version, 2u);
+  EXPECT_EQ(p.model, CameraModel::kPhoto);
+  EXPECT_EQ(p.num_cameras(), 3);
+  EXPECT_EQ(p.num_intrinsics(), 2);
+  EXPECT_EQ(p.cameras,
+            (std::vector<double>{0.01, 0.02, 0.03, 1, 2, 3, -0.01, 0.0, 0.02, 4, 5, 6, 0, 0.1, 0,
+                                 7, 8, 9, 800, 320, 240, 0.01, -0.001, 900, 330, 250, -0.02,
+                                 0.002}));
+  EXPECT_EQ(p.camera_intrinsics, (std::vector<int32_t>{0, 1, 0}));
+  EXPECT_EQ(p.fixed_cameras, (std::vector<uint8_t>{0, 1, 0}));
+  EXPECT_EQ(p.intrinsics_free,
+            (std::vector<uint8_t>{kAllIntrinsics, kIntrinsicF | kIntrinsicK1 | kIntrinsicK2}));
+  EXPECT_EQ(p.points, (std::vector<double>{0.5, 0.25, 10, -0.5, 1.5, 12}));
+  EXPECT_EQ(p.point_offsets, (std::vector<int64_t>{0, 2, 4}));
+  EXPECT_EQ(p.obs_camera, (std::vector<int32_t>{0, 2, 1, 2}));
+  EXPECT_EQ(p.obs_pixel,
+            (std::vector<double>{300.5, 200.25, 310, 210.5, 280.75, 260, 290.125, 250.5}));
+}
+
+}  // namespace
+}  // namespace dba
