@@ -232,7 +232,11 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       o.lm.linear_solver.pcg.max_iterations =
           static_cast<int>(ParseIntegerArgument(a, value(), 1, 1000000000));
     } else if (a == "--partition") {
-      o.distributed.partition = ParsePartitionScheme(value());
+      try {
+        o.distributed.partition = ParsePartitionScheme(value());
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(a + ": " + e.what());
+      }
     } else if (a == "--main-rank") {
       const std::string& v = value();
       using Role = DistributedOptions::MainRole;

@@ -1,0 +1,84 @@
+// `dba solve`'s argument parser: every refusal names the flag and what it did
+// not accept (a table of cases), and the accepted options land in the options.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "dba/app/solve_command.h"
+
+namespace dba {
+namespace {
+
+struct Refusal {
+  const char* name;
+  std::vector<std::string> args;
+  const char* message;  // a part of the error message
+};
+void PrintTo(const Refusal& r, std::ostream* out) { *out << r.name; }
+
+class SolveArgumentRefusals : public ::testing::TestWithParam<Refusal> {};
+
+TEST_P(SolveArgumentRefusals, NamesTheFlagAndTheValue) {
+  const Refusal& r = GetParam();
+  bool help = false;
+  try {
+    ParseSolveArguments(r.args, &help);
+    FAIL() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(r.message), std::string::npos) << e.what();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, SolveArgumentRefusals,
+    ::testing::Values(
+        Refusal{"no_input", {}, "missing INPUT"},
+        Refusal{"two_inputs", {"a.txt", "b.txt"}, "more than one input file: 'a.txt' and 'b.txt'"},
+        Refusal{"unknown_option", {"a.txt", "--bogus"}, "unknown option '--bogus'"},
+        Refusal{"missing_value", {"a.txt", "-o"}, "-o: missing value"},
+        Refusal{"threads_zero", {"a.txt", "-t", "0"}, "-t"},
+        Refusal{"threads_too_many", {"a.txt", "-t", "100000"}, "[1, 1024]"},
+        Refusal{"threads_not_a_number", {"a.txt", "--threads", "two"}, "--threads"},
+        Refusal{"bad_main_rank", {"a.txt", "--main-rank", "boss"}, "--main-rank: expected auto, forms or coordinates, got 'boss'"},
+        Refusal{"bad_intrinsics", {"a.txt", "--intrinsics", "some"}, "--intrinsics: expected shared or per-image, got 'some'"},
+        Refusal{"bad_colmap_format", {"a.txt", "-o", "d", "--colmap-format", "json"}, "--colmap-format: expected text or binary, got 'json'"},
+        Refusal{"colmap_format_without_output", {"a.txt", "--colmap-format", "text"}, "--colmap-format: no -o output"},
+        Refusal{"bad_linear_solver", {"a.txt", "--linear-solver", "qr"}, "--linear-solver: expected auto, dense, sparse or pcg, got 'qr'"},
+        Refusal{"bad_preconditioner", {"a.txt", "--preconditioner", "ilu"}, "--preconditioner: expected jacobi or two-level, got 'ilu'"},
+        Refusal{"bad_coarse_basis", {"a.txt", "--coarse-basis", "affine"}, "--coarse-basis: expected rigid or parameters, got 'affine'"},
+        Refusal{"negative_eta", {"a.txt", "--eta", "-1"}, "--eta"},
+        Refusal{"bad_loss", {"a.txt", "--loss", "l1"}, "--loss: expected trivial, huber, soft_l1, cauchy, arctan or tukey, got 'l1'"},
+        Refusal{"zero_loss_scale", {"a.txt", "--loss-scale", "0"}, "--loss-scale: must be > 0"},
+        Refusal{"zero_reject_outliers", {"a.txt", "--reject-outliers", "0"}, "--reject-outliers: must be > 0"},
+        Refusal{"bad_partition", {"a.txt", "--partition", "random"}, "--partition: unknown partition scheme 'random'"},
+        Refusal{"bad_fix_intrinsics", {"a.txt", "--fix-intrinsics", "q"}, "unknown intrinsic parameter 'q'"},
+        Refusal{"bad_max_iterations", {"a.txt", "--max-iterations", "-3"}, "--max-iterations"},
+        Refusal{"nan_tolerance", {"a.txt", "--function-tolerance", "nan"}, "--function-tolerance"}),
+    [](const ::testing::TestParamInfo<Refusal>& info) { return std::string(info.param.name); });
+
+TEST(SolveArguments, AcceptedOptionsLandInTheOptions) {
+  bool help = false;
+  const SolveCommandOptions o = ParseSolveArguments(
+      {"in.dba", "-o", "out.dba", "--report", "r.json", "-t", "3", "--linear-solver", "sparse",
+       "--loss", "huber", "--loss-scale", "2.5", "--reject-outliers", "4", "--eta", "0.2",
+       "--coarse-basis", "parameters", "-q"},
+      &help);
+  EXPECT_FALSE(help);
+  EXPECT_EQ(o.input, "in.dba");
+  EXPECT_EQ(o.output, "out.dba");
+  EXPECT_EQ(o.report_path, "r.json");
+  EXPECT_EQ(o.lm.num_threads, 3);
+  EXPECT_EQ(o.lm.linear_solver.type, LinearSolverType::kSparse);
+  EXPECT_EQ(o.lm.loss.type, LossType::kHuber);
+  EXPECT_EQ(o.lm.loss.scale, 2.5);
+  EXPECT_EQ(o.reject_outliers_px, 4.0);
+  EXPECT_EQ(o.lm.linear_solver.pcg.eta, 0.2);
+  EXPECT_FALSE(o.lm.linear_solver.rigid_coarse_basis);
+  EXPECT_TRUE(o.quiet);
+  ParseSolveArguments({"--help"}, &help);
+  EXPECT_TRUE(help);
+}
+
+}  // namespace
+}  // namespace dba
