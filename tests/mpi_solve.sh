@@ -194,6 +194,27 @@ if [ "$status" -ne 0 ] && [ "$status" -ne 124 ] && grep -q "rank 2: error: injec
 else
   fail "injected fault on rank 2: status $status after ${elapsed}s"; cat "$tmp/fault.out" >&2
 fi
+# A fault at every protocol step, on the main rank and on another: reading a
+# .dba share, formation, step evaluation, finish, end, and rank 0 writing after
+# the solve. Each: non-zero status, "rank N: error: injected fault", no
+# output, within 60 s.
+"$dba" convert "$problem" "$tmp/faults.dba" >/dev/null
+for spec in 1:read:1 0:read:1 1:form:2 0:form:1 2:step:2 0:step:1 1:finish:1 0:finish:2 \
+            2:end:1 0:end:1 0:write:1; do
+  rank=${spec%%:*}
+  rm -f "$tmp/fault.dba"
+  start=$(date +%s)
+  DBA_INJECT_FAULT=$spec mpirun_n 3 "$dba" solve "$tmp/faults.dba" -q "${tight[@]}" \
+    -o "$tmp/fault.dba" >"$tmp/fault.out" 2>&1
+  status=$?
+  elapsed=$(( $(date +%s) - start ))
+  if [ "$status" -ne 0 ] && [ "$status" -ne 124 ] && grep -q "rank $rank: error: injected fault" "$tmp/fault.out" \
+     && [ ! -e "$tmp/fault.dba" ] && [ -z "$(ls "$tmp" | grep 'fault.dba.tmp')" ] && [ "$elapsed" -lt 60 ]; then
+    passes=$((passes + 1)); echo "ok   injected fault $spec"
+  else
+    fail "injected fault $spec: status $status after ${elapsed}s"; cat "$tmp/fault.out" >&2
+  fi
+done
 # Bad input read by the main rank stops every rank too.
 printf '2 1 2\n0 0 1.0 2.0\n1 0 1.0 abc\n' >"$tmp/bad.txt"
 mpirun_n 3 "$dba" solve "$tmp/bad.txt" -o "$tmp/bad_out.txt" >"$tmp/bad.out" 2>&1

@@ -22,6 +22,7 @@
 #include "dba/io/ply_writer.h"
 #include "dba/app/arguments.h"
 #include "dba/app/solve_report.h"
+#include "dba/cluster/mpi_point_workers.h"
 #include "dba/synthetic/ground_truth.h"
 #include "dba/synthetic/uav_generator.h"
 #include "dba/lm/bundle_adjust.h"
@@ -523,6 +524,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     report.has_truth = true;
   }
   Timer write_timer;
+  if (comm->size() > 1) MaybeInjectFault(0, "write", 1);
   // A COLMAP input is read once more, for what the outputs keep from it
   // (names, colours, tracks; the observations a distributed run handed out).
   const bool colmap_in = IsColmapInput(options.input);

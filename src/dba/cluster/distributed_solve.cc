@@ -50,9 +50,10 @@ void Release(std::vector<T>& v) {
 }
 
 // This rank's points read from the binary file, cameras renumbered locally.
-RankShare ReadShare(const std::string& path, const std::vector<int32_t>& group, int32_t g,
-                    const DistributedOptions& options) {
+RankShare ReadShare(int rank, const std::string& path, const std::vector<int32_t>& group,
+                    int32_t g, const DistributedOptions& options) {
   RankShare share;
+  MaybeInjectFault(rank, "read", 1);
   share.problem = ReadBinaryPoints(path, group, g, &share.global_point);
   if (options.prepare_camera_side) options.prepare_camera_side(&share.problem);
   KeepTouchedCameras(&share);
@@ -108,7 +109,7 @@ DistributedSummary DistributedBundleAdjust(
     if (from_file) {
       const std::vector<int32_t> group =
           BinaryPointGroups(comm, binary_input, header, groups, distributed.partition);
-      share = ReadShare(binary_input, group, comm->rank() - first_rank, distributed);
+      share = ReadShare(comm->rank(), binary_input, group, comm->rank() - first_rank, distributed);
     } else {
       share = RecvShare(comm);
     }
@@ -125,7 +126,7 @@ DistributedSummary DistributedBundleAdjust(
   if (from_file) {
     const std::vector<int32_t> group =
         BinaryPointGroups(comm, binary_input, header, groups, distributed.partition);
-    if (summary.main_forms) own = ReadShare(binary_input, group, 0, distributed);
+    if (summary.main_forms) own = ReadShare(0, binary_input, group, 0, distributed);
     // The main rank keeps the camera side (model, image groups, fixed flags:
     // its unknowns must be the ranks') and point coordinates, not
     // observations.

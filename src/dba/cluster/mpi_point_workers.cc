@@ -2,7 +2,9 @@
 #include "dba/cluster/mpi_point_workers.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -52,14 +54,17 @@ std::vector<double> Pack(const StepEvaluation& e) {
 
 }  // namespace
 
-void MaybeInjectFault(int rank, int formation) {
+void MaybeInjectFault(int rank, const char* step, int count) {
   const char* spec = std::getenv("DBA_INJECT_FAULT");
   if (spec == nullptr) return;
-  int fault_rank = -1, fault_formation = -1;
-  if (std::sscanf(spec, "%d:%d", &fault_rank, &fault_formation) == 2 &&
-      fault_rank == rank && fault_formation == formation) {
-    throw std::runtime_error("injected fault (DBA_INJECT_FAULT=" + std::string(spec) +
-                             ") at sub-RCS formation " + std::to_string(formation));
+  int fault_rank = -1, fault_count = -1;
+  char fault_step[16] = "form";
+  const bool parsed =
+      std::sscanf(spec, "%d:%15[a-z]:%d", &fault_rank, fault_step, &fault_count) == 3 ||
+      std::sscanf(spec, "%d:%d", &fault_rank, &fault_count) == 2;
+  if (parsed && fault_rank == rank && fault_count == count && std::strcmp(fault_step, step) == 0) {
+    throw std::runtime_error("injected fault (DBA_INJECT_FAULT=" + std::string(spec) + ") at " +
+                             step + " " + std::to_string(count));
   }
 }
 
@@ -106,7 +111,7 @@ RcsSystem& MpiPointWorkers::FormRcs(double lambda) {
   ++formations_;
   ClearRcs(&global_);
   if (own_ != nullptr) {
-    MaybeInjectFault(0, formations_);
+    MaybeInjectFault(0, "form", formations_);
     PackSubRcs(own_->FormRcs(lambda), &message_);
     AggregateSubRcs(maps_[0], message_, &global_);
   }
@@ -123,6 +128,7 @@ StepEvaluation MpiPointWorkers::EvaluateStep(double lambda,
                                              const std::vector<double>& candidate_cameras) {
   (void)candidate_cameras;  // ranks add δc to their own copies of the cameras
   BroadcastCommand(comm_, {Op::kStep, 0, lambda});
+  MaybeInjectFault(0, "step", ++steps_);
   for (int r = 1; r < comm_->size(); ++r) {
     const std::vector<double> local = LocalDelta(delta_c, global_.layout, maps_[r].global_row);
     comm_->Send(r, Traffic::kCameraUpdate, std::span<const double>(local));
@@ -147,12 +153,14 @@ StepEvaluation MpiPointWorkers::EvaluateStep(double lambda,
 
 void MpiPointWorkers::FinishStep(bool accept) {
   BroadcastCommand(comm_, {Op::kFinish, accept ? 1 : 0, 0.0});
+  MaybeInjectFault(0, "finish", ++finishes_);
   if (own_ != nullptr) own_->FinishStep(accept);
 }
 
 std::vector<RankReport> MpiPointWorkers::Finish(std::vector<double>* points) {
   const bool collect = points != nullptr;
   BroadcastCommand(comm_, {Op::kEnd, collect ? 1 : 0, 0.0});
+  MaybeInjectFault(0, "end", 1);
   std::vector<RankReport> reports(comm_->size());
   auto place = [&](const std::vector<int64_t>& ids, const std::vector<double>& xyz) {
     if (!collect) return;
@@ -183,18 +191,19 @@ void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* worke
                    workers->system().layout.RowEntities(share->global_camera,
                                                         share->global_intrinsics));
   std::vector<double> message, delta(workers->system().layout.num_unknowns());
-  int formations = 0;
+  int formations = 0, steps = 0, finishes = 0;
   double lambda = 0.0;
   for (;;) {
     Command c{};
     comm->Broadcast(Traffic::kControl, &c);
     switch (c.op) {
       case Op::kForm:
-        MaybeInjectFault(comm->rank(), ++formations);
+        MaybeInjectFault(comm->rank(), "form", ++formations);
         PackSubRcs(workers->FormRcs(c.lambda), &message);
         comm->Send(0, Traffic::kSubRcs, std::span<const double>(message));
         break;
       case Op::kStep: {
+        MaybeInjectFault(comm->rank(), "step", ++steps);
         lambda = c.lambda;
         comm->Recv(0, Traffic::kCameraUpdate, std::span<double>(delta));
         const StepEvaluation e = workers->EvaluateStep(
@@ -203,9 +212,11 @@ void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* worke
         break;
       }
       case Op::kFinish:
+        MaybeInjectFault(comm->rank(), "finish", ++finishes);
         workers->FinishStep(c.accept != 0);
         break;
       case Op::kEnd: {
+        MaybeInjectFault(comm->rank(), "end", 1);
         if (c.accept != 0) {  // the main rank wants the points
           comm->SendVector(0, Traffic::kResult, share->global_point);
           comm->SendVector(0, Traffic::kResult, share->problem.points);

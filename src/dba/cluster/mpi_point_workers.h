@@ -39,9 +39,12 @@ struct RankReport {
   int64_t traffic_bytes = 0;
 };
 
-// Fault injection for tests: DBA_INJECT_FAULT="RANK:N" makes rank RANK throw
-// at its N-th sub-RCS formation (1-based).
-void MaybeInjectFault(int rank, int formation);
+// Fault injection for tests: DBA_INJECT_FAULT="RANK:STEP:N" makes rank RANK
+// throw at its N-th (1-based) protocol step STEP: read (its share of a .dba
+// file), form (sub-RCS formation), step (back-substitution and step
+// evaluation), finish (accept or drop the step), end (the final reports),
+// write (rank 0's outputs after the solve). "RANK:N" means "RANK:form:N".
+void MaybeInjectFault(int rank, const char* step, int count);
 
 class MpiPointWorkers : public PointWorkers {
  public:
@@ -67,6 +70,7 @@ class MpiPointWorkers : public PointWorkers {
   Communicator* comm_;
   RankShare* own_share_;
   LocalPointWorkers* own_;
+  int steps_ = 0, finishes_ = 0;  // for MaybeInjectFault
   std::vector<SubRcsMap> maps_;  // per rank; maps_[0] is the main rank's own
   RcsSystem global_;
   std::vector<double> message_;
