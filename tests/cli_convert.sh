@@ -7,6 +7,7 @@ source "$(dirname "$0")/lib/check.sh"
 dba=$1
 root=$2
 data=$root/../shared/data/bal
+need_shared "$data"
 
 "$dba" convert "$data/problem-49-7776-pre.txt.bz2" "$tmp/p.dba" >/dev/null; check "convert to binary" test $? -eq 0
 "$dba" convert "$tmp/p.dba" "$tmp/p.txt" >/dev/null; check "convert back to text" test $? -eq 0

@@ -10,6 +10,7 @@ dba=$1
 root=$2
 bal=$root/data/problem-49-7776-pre.txt.bz2
 colmap=$root/../shared/data/colmap/mithunnallana_6img/sparse/0
+need_shared "$colmap" "$root/../shared/data/bal"
 printf '2 1 2\n0 0 1.0 2.0\n1 0 1.0 abc\n' >"$tmp/malformed.txt"
 printf '2 2 4\n0 0 1.0 2.0\n1 0 1.5 2.0\n0 1 1.0 1e200\n1 1 3.0 2.0\n0 0 0 0 0 -5 500 0 0\n0.01 0 0 0 0 -5 500 0 0\n0 0 1\n0.1 0.1 0.5\n' >"$tmp/nonfinite.txt"
 "$dba" generate "$tmp/photo.dba" --model photo --images 20 >/dev/null

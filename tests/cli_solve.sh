@@ -7,6 +7,7 @@ source "$(dirname "$0")/lib/check.sh"
 dba=$1
 root=$2
 data=$root/../shared/data/bal
+need_shared "$data" "$root/../shared/data/colmap"
 
 # Help tells the truth: every option the parser knows is listed.
 "$dba" --help >"$tmp/help" 2>&1; check "dba --help exits 0" test $? -eq 0

@@ -13,6 +13,8 @@
 set -uo pipefail
 dba=$1
 root=$2
+source "$(dirname "$0")/lib/need_shared.sh"
+need_shared "$root/../shared/data/bal" "$root/../shared/data/colmap"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 mpirun_n() { local n=$1; shift; timeout 300 mpirun --allow-run-as-root --oversubscribe --bind-to none -np "$n" "$@"; }

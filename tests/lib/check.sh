@@ -20,3 +20,4 @@ finish() {
   echo "$passes passed, $failures failed"
   test "$failures" -eq 0
 }
+source "$(dirname "${BASH_SOURCE[0]}")/need_shared.sh"
