@@ -59,6 +59,8 @@ check "COLMAP final RMS below the initial" grep -qE '"final_rms_px": 0\.52' "$tm
 check "COLMAP output in the input's format" test -s "$tmp/colmap_out/images.txt"
 check "COLMAP output keeps image names" grep -q "l-537.jpg" "$tmp/colmap_out/images.txt"
 check "PLY written" grep -qa "element vertex 2028" "$tmp/cloud.ply"
+check "PLY holds the adjusted points and their colours" \
+  ply_matches_points3d "$tmp/cloud.ply" "$tmp/colmap_out/points3D.txt"
 "$dba" solve "$tmp/colmap_out" -q --max-iterations 0 --report "$tmp/colmap_reread.json" >/dev/null 2>&1
 check "COLMAP output re-reads at the final cost" test \
   "$(grep -m1 '"initial_cost"' "$tmp/colmap_reread.json" | cut -c1-28)" = \

@@ -100,7 +100,14 @@ fountain_p11 3 cameras --fix-images 1
 EOF2
 # A COLMAP model written by a distributed run re-reads at its final cost.
 mpirun_n 2 "$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q "${tight[@]}" -o "$tmp/colmap_out" \
-  --colmap-format binary --report "$tmp/co.json" >/dev/null 2>&1 || fail "COLMAP output under mpirun"
+  --colmap-format binary --report "$tmp/co.json" --ply "$tmp/mpi.ply" >/dev/null 2>&1 || fail "COLMAP output under mpirun"
+mpirun_n 2 "$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q "${tight[@]}" -o "$tmp/colmap_text_out" \
+  --ply "$tmp/mpi_text.ply" >/dev/null 2>&1 || fail "COLMAP text output under mpirun"
+if ply_matches_points3d "$tmp/mpi_text.ply" "$tmp/colmap_text_out/points3D.txt"; then
+  passes=$((passes + 1)); echo "ok   PLY of a distributed run holds the adjusted points and colours"
+else
+  fail "PLY of a distributed run does not match its points3D.txt"
+fi
 "$dba" solve "$tmp/colmap_out" -q "${tight[@]}" --max-iterations 0 --report "$tmp/co_reread.json" >/dev/null 2>&1
 if test -s "$tmp/colmap_out/images.bin" && \
    awk -v a="$(final_cost "$tmp/co.json")" -v b="$(grep -m1 '"initial_cost"' "$tmp/co_reread.json" | sed -E 's/.*: ([^,]*),?/\1/')" \

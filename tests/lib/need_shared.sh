@@ -14,3 +14,21 @@ need_shared() {
     exit 1
   fi
 }
+
+# ply_matches_points3d PLY POINTS3D_TXT: every vertex of a binary PLY (x y z
+# as doubles, r g b) equals the X Y Z R G B of the same line of a COLMAP
+# points3D.txt (coordinates to 1e-12 relative, colours exactly), and the
+# counts agree. (perl: part of every Debian.)
+ply_matches_points3d() {
+  perl -e '
+    local $/; open(my $f, "<", $ARGV[0]) or die; binmode $f; my $d = <$f>;
+    my ($n) = $d =~ /element vertex (\d+)/; my $i = index($d, "end_header\n") + 11;
+    open(my $t, "<", $ARGV[1]) or die; my @pts = grep { !/^#/ } split /\n/, <$t>;
+    exit 1 if @pts != $n || length($d) != $i + 27 * $n;
+    for my $k (0 .. $n - 1) {
+      my @v = unpack("d<3 C3", substr($d, $i + 27 * $k, 27));
+      my @w = (split / /, $pts[$k])[1 .. 6];
+      for my $j (0 .. 2) { exit 1 if abs($v[$j] - $w[$j]) > 1e-12 * (1 + abs($w[$j])); }
+      for my $j (3 .. 5) { exit 1 if $v[$j] != $w[$j]; }
+    }' "$1" "$2"
+}
