@@ -141,7 +141,7 @@ def _arguments(options):
         if isinstance(value, (list, tuple, np.ndarray)):
             value = ",".join(str(int(v)) if name == "fix_images" else str(v) for v in value)
         elif isinstance(value, float):
-            value = repr(value)  # round-trips exactly
+            value = repr(float(value))  # round-trips exactly (NumPy floats too)
         args += [flag, str(value)]
     return args
 
