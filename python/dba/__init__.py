@@ -31,6 +31,8 @@ import numpy as np
 from . import _dba
 from ._dba import InputError
 
+InputError.__module__ = "dba"  # shown as dba.InputError
+
 __all__ = ["solve", "solve_arrays", "read_problem", "Problem", "Result", "Summary",
            "Iteration", "InputError"]
 
@@ -85,7 +87,7 @@ class Summary:
     termination_message: str
     linear_solver: str
     seconds: dict          # load, setup, rcs_formation, linear_solve, back_substitution, write, total
-    history: list          # of Iteration
+    history: list = field(repr=False)  # of Iteration
     report: dict = field(repr=False)
 
     @classmethod
