@@ -310,24 +310,6 @@ void CheckTruthFile(const std::string& path, const SolveReport& report) {
   }
 }
 
-// A problem whose initial cost is not finite cannot be adjusted: refused,
-// naming the first observations that make it so.
-void RefuseNonFiniteResiduals(const std::string& input, const BalProblem& problem) {
-  const NonFiniteResiduals bad = FindNonFiniteResiduals(problem);
-  if (bad.count == 0) return;
-  std::string where;
-  for (const NonFiniteResiduals::Where& w : bad.first) {
-    where += (where.empty() ? "" : "; ") + std::string("observation ") +
-             std::to_string(w.observation) + " (camera " + std::to_string(w.camera) +
-             ", point " + std::to_string(w.point) + ")";
-  }
-  throw std::runtime_error(input + ": " + std::to_string(bad.count) +
-                           " observation(s) have a non-finite reprojection error (nan or inf) at "
-                           "the initial parameters, e.g. " + where +
-                           "; correct or remove them (a point at a camera centre, or values "
-                           "beyond double range)");
-}
-
 // `total` followed by `next` (a solve after a rejection round): iterations,
 // times and the log add up; the final state is next's.
 void AppendSolve(const BundleAdjustSummary& next, BundleAdjustSummary* total) {
@@ -412,8 +394,26 @@ void CountTrueOutliers(const BalProblem& truth, const std::vector<double>& loade
 
 }  // namespace
 
+// A problem whose initial cost is not finite cannot be adjusted: refused,
+// naming the first observations that make it so.
+void RefuseNonFiniteResiduals(const std::string& input, const BalProblem& problem) {
+  const NonFiniteResiduals bad = FindNonFiniteResiduals(problem);
+  if (bad.count == 0) return;
+  std::string where;
+  for (const NonFiniteResiduals::Where& w : bad.first) {
+    where += (where.empty() ? "" : "; ") + std::string("observation ") +
+             std::to_string(w.observation) + " (camera " + std::to_string(w.camera) +
+             ", point " + std::to_string(w.point) + ")";
+  }
+  throw std::runtime_error(input + ": " + std::to_string(bad.count) +
+                           " observation(s) have a non-finite reprojection error (nan or inf) at "
+                           "the initial parameters, e.g. " + where +
+                           "; correct or remove them (a point at a camera centre, or values "
+                           "beyond double range)");
+}
+
 int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
-                    std::ostream& out) {
+                    std::ostream& out, SolveOutcome* outcome) {
   const bool main = comm->is_main();
   LmOptions lm = options.lm;
   if (lm.num_threads == 0) {
@@ -566,6 +566,10 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   if (!options.report_path.empty()) {
     WriteFileAtomically(options.report_path, SolveReportJson(report));
     out << "  report              " << options.report_path << "\n";
+  }
+  if (outcome != nullptr) {
+    outcome->report = std::move(report);
+    outcome->problem = std::move(problem);
   }
   return 0;
 }

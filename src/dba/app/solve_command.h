@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dba/app/solve_input.h"
+#include "dba/app/solve_report.h"
 #include "dba/cluster/communicator.h"
 #include "dba/cluster/distributed_solve.h"
 #include "dba/lm/levenberg_marquardt.h"
@@ -33,10 +34,23 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
                                         bool* help);
 void PrintSolveHelp(std::ostream& out);
 
+// What a solve leaves besides what it prints and writes (main rank): the
+// summary and the adjusted problem (after --reject-outliers, the observations
+// and points kept). For library callers such as the Python module.
+struct SolveOutcome {
+  SolveReport report;
+  BalProblem problem;
+};
+
 // Runs the command on every rank of `comm` (collective); only the main rank
 // prints and writes. Returns the process exit status; throws on failure.
+// `outcome` (optional) receives the summary and the adjusted problem.
 int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
-                    std::ostream& out);
+                    std::ostream& out, SolveOutcome* outcome = nullptr);
+
+// Refuses (std::runtime_error naming `input` and the first observations) a
+// problem whose initial cost is not finite.
+void RefuseNonFiniteResiduals(const std::string& input, const BalProblem& problem);
 
 // `dba solve ARGS...`: parses, runs, reports errors; returns the exit status
 // (0 success, 1 failure, 2 bad arguments).

@@ -39,6 +39,10 @@ class Communicator {
   // Initializes MPI when launched by MPI; otherwise a single rank without
   // MPI. Aborts the job on failure.
   Communicator(int* argc, char*** argv);
+  // A single rank without MPI, even under an MPI launcher (a library caller,
+  // e.g. the Python module, that solves in its own process).
+  struct SingleRank {};
+  explicit Communicator(SingleRank) {}
   ~Communicator();
   Communicator(const Communicator&) = delete;
   Communicator& operator=(const Communicator&) = delete;

@@ -1,0 +1,29 @@
+# `cmake --install`: the dba program, the static library dba_core as the
+# imported target dba::dba with its public headers, and the CMake package
+# (dbaConfig.cmake, dbaConfigVersion.cmake, dbaTargets.cmake) under
+# lib/cmake/dba, so that find_package(dba) + target_link_libraries(x dba::dba)
+# builds against an installed dba. The Python module installs itself
+# (python/CMakeLists.txt).
+include(CMakePackageConfigHelpers)
+
+set(DBA_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/dba)
+
+install(TARGETS dba RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(TARGETS dba_core EXPORT dbaTargets
+  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+# Every header of the library but the test helpers, in their directories
+# (include/dba/lm/bundle_adjust.h, ...).
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/dba DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+  FILES_MATCHING PATTERN "*.h"
+  PATTERN "testing" EXCLUDE)
+install(EXPORT dbaTargets NAMESPACE dba:: DESTINATION ${DBA_INSTALL_CMAKEDIR})
+
+configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/dbaConfig.cmake.in
+  ${PROJECT_BINARY_DIR}/dbaConfig.cmake
+  INSTALL_DESTINATION ${DBA_INSTALL_CMAKEDIR})
+# 0.x: only the same minor version is compatible.
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/dbaConfigVersion.cmake
+  VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)
+install(FILES ${PROJECT_BINARY_DIR}/dbaConfig.cmake ${PROJECT_BINARY_DIR}/dbaConfigVersion.cmake
+  DESTINATION ${DBA_INSTALL_CMAKEDIR})

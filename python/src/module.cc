@@ -1,0 +1,185 @@
+// The extension module dba._dba: the solve of `dba solve` on a file or on
+// NumPy arrays, and problem reading, for the Python package dba
+// (python/dba/__init__.py turns keyword options into command-line arguments
+// and the results into Python objects).
+//
+// Options are parsed by ParseSolveArguments, so names, defaults and
+// validation are the command line's. The GIL is released while reading and
+// solving. C++ exceptions become Python exceptions with the same messages:
+// dba::InputError -> dba.InputError (a ValueError, with .file and .line),
+// std::invalid_argument -> ValueError, other errors -> RuntimeError.
+#include <algorithm>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "dba/app/solve_command.h"
+#include "dba/app/solve_report.h"
+#include "dba/common/error.h"
+#include "dba/common/memory.h"
+#include "dba/common/timer.h"
+#include "dba/lm/bundle_adjust.h"
+#include "dba/io/read_problem.h"
+#include "problem_arrays.h"
+
+namespace py = pybind11;
+
+namespace dba::python {
+namespace {
+
+// What solve and solve_arrays return: the JSON report (as `dba solve
+// --report` writes it), the adjusted problem's arrays, and the printed text.
+py::tuple Outcome(const SolveReport& report, const BalProblem& problem, const std::string& log) {
+  return py::make_tuple(SolveReportJson(report), ProblemToArrays(problem), log);
+}
+
+SolveCommandOptions Parse(const std::vector<std::string>& args) {
+  bool help = false;
+  SolveCommandOptions options = ParseSolveArguments(args, &help);
+  if (help) throw std::invalid_argument("help: see help(dba.solve) and `dba solve --help`");
+  return options;
+}
+
+// dba.solve: the whole of `dba solve ARGS` in this process (one rank), its
+// outputs (-o, --report, --ply) included.
+py::tuple Solve(const std::vector<std::string>& args, bool verbose) {
+  const SolveCommandOptions options = Parse(args);
+  SolveOutcome outcome;
+  std::ostringstream log;
+  {
+    py::gil_scoped_release release;
+    Communicator comm(Communicator::SingleRank{});
+    RunSolveCommand(options, &comm, verbose ? std::cout : log, &outcome);
+    if (verbose) std::cout.flush();
+  }
+  return Outcome(outcome.report, outcome.problem, log.str());
+}
+
+// dba.solve_arrays: the solve of `dba solve` on a problem given as arrays;
+// the options about files are refused.
+py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string>& option_args,
+                      bool verbose) {
+  std::vector<std::string> args = {"<arrays>"};
+  args.insert(args.end(), option_args.begin(), option_args.end());
+  const SolveCommandOptions options = Parse(args);
+  const auto refuse = [](bool given, const char* name) {
+    if (given) {
+      throw std::invalid_argument(std::string(name) +
+                                  ": applies to dba.solve on a file, not to solve_arrays");
+    }
+  };
+  refuse(!options.output.empty(), "output");
+  refuse(!options.report_path.empty(), "report (the summary is returned)");
+  refuse(!options.truth_path.empty(), "truth");
+  refuse(!options.ply_path.empty(), "ply");
+  refuse(options.colmap_format.has_value(), "colmap_format");
+  refuse(!options.unknowns.shared_intrinsics, "intrinsics");
+  refuse(options.reject_outliers_px > 0, "reject_outliers");
+
+  Timer load_timer;
+  BalProblem problem = ProblemFromArrays(arrays);
+  ApplyFixings(options.unknowns, &problem);  // fix_images, fix_intrinsics
+  LmOptions lm = options.lm;
+  if (lm.num_threads == 0) {
+    lm.num_threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  }
+  SolveReport report;
+  report.input = "<arrays>";
+  report.threads = lm.num_threads;
+  report.loss = lm.loss;
+  report.num_cameras = problem.num_cameras();
+  report.num_intrinsic_groups = problem.num_intrinsics();
+  report.num_points = problem.num_points();
+  report.num_observations = problem.num_observations();
+  report.problem_bytes = problem.MemoryBytes();
+  std::ostringstream log;
+  {
+    py::gil_scoped_release release;
+    RefuseNonFiniteResiduals("arrays", problem);
+    report.load_seconds = load_timer.Seconds();
+    std::ostream& out = verbose ? std::cout : log;
+    if (!options.quiet) out << IterationLogHeader();
+    report.solve.ba = BundleAdjust(lm, &problem, [&](const IterationSummary& it) {
+      if (!options.quiet) out << IterationLogLine(it) << std::flush;
+    });
+    report.peak_memory_bytes = PeakResidentBytes();
+    PrintSolveReport(report, out);
+    out.flush();
+  }
+  return Outcome(report, problem, log.str());
+}
+
+// The Python class dba.InputError; leaked on purpose: it must outlive every
+// translation, and a static py::object would be destroyed after the
+// interpreter.
+py::exception<dba::InputError>* input_error = nullptr;
+
+void TranslateInputError(std::exception_ptr p) {
+  try {
+    if (p) std::rethrow_exception(p);
+  } catch (const dba::InputError& e) {
+    py::object error = py::handle(input_error->ptr())(e.what());
+    error.attr("file") = e.file();
+    error.attr("line") = e.line();
+    PyErr_SetObject(input_error->ptr(), error.ptr());
+  }
+}
+
+py::dict Read(const std::string& path) {
+  BalProblem problem;
+  {
+    py::gil_scoped_release release;
+    problem = LoadSolveInput(path, UnknownsOptions{});
+  }
+  return ProblemToArrays(problem);
+}
+
+}  // namespace
+}  // namespace dba::python
+
+PYBIND11_MODULE(_dba, m) {
+  using namespace dba::python;
+  m.doc() = "dba's bundle adjuster (use the package dba, not this module)";
+  input_error = new py::exception<dba::InputError>(m, "InputError", PyExc_ValueError);
+  input_error->attr("__doc__") =
+      "Malformed input: the message names the file and the line (attributes file, line; "
+      "line 0 when the error is not at a line)";
+  py::register_exception_translator(&TranslateInputError);
+
+  m.def("solve", &Solve, py::arg("args"), py::arg("verbose") = false,
+        "dba solve ARGS in this process: (report JSON, adjusted problem arrays, printed text)");
+  m.def(
+      "solve_arrays",
+      [](const std::string& camera_model, DoubleArray cameras, DoubleArray points,
+         DoubleArray observations, IndexArray camera_indices, IndexArray point_indices,
+         std::optional<DoubleArray> intrinsics, std::optional<IndexArray> camera_intrinsics,
+         std::optional<FlagArray> fixed_cameras, std::optional<FlagArray> fixed_intrinsics,
+         const std::vector<std::string>& args, bool verbose) {
+        ProblemArrays a;
+        a.camera_model = camera_model;
+        a.cameras = std::move(cameras);
+        a.points = std::move(points);
+        a.observations = std::move(observations);
+        a.camera_indices = std::move(camera_indices);
+        a.point_indices = std::move(point_indices);
+        a.intrinsics = std::move(intrinsics);
+        a.camera_intrinsics = std::move(camera_intrinsics);
+        a.fixed_cameras = std::move(fixed_cameras);
+        a.fixed_intrinsics = std::move(fixed_intrinsics);
+        return SolveArrays(a, args, verbose);
+      },
+      py::arg("camera_model"), py::arg("cameras"), py::arg("points"), py::arg("observations"),
+      py::arg("camera_indices"), py::arg("point_indices"), py::arg("intrinsics"),
+      py::arg("camera_intrinsics"), py::arg("fixed_cameras"), py::arg("fixed_intrinsics"),
+      py::arg("args"), py::arg("verbose") = false,
+      "the solve of dba solve on arrays: (report JSON, adjusted problem arrays, printed text)");
+  m.def("read_problem", &Read, py::arg("path"),
+        "the problem at path (BAL, .dba, COLMAP directory) as a dict of arrays");
+}

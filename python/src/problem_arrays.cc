@@ -1,0 +1,203 @@
+// NumPy arrays <-> BalProblem; see problem_arrays.h.
+#include "problem_arrays.h"
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <vector>
+
+namespace dba::python {
+namespace {
+
+std::invalid_argument Bad(const std::string& what) { return std::invalid_argument(what); }
+
+std::string Shape(const py::array& a) {
+  std::string s = "(";
+  for (py::ssize_t d = 0; d < a.ndim(); ++d) s += (d ? ", " : "") + std::to_string(a.shape(d));
+  return s + (a.ndim() == 1 ? ",)" : ")");
+}
+
+// Rows of a (rows, cols) array; a 1-D array of cols values, or an empty one,
+// is taken as one row or none.
+int64_t Rows(const py::array& a, int cols, const char* name, const char* expected) {
+  if (a.ndim() == 2 && a.shape(1) == cols) return a.shape(0);
+  if (a.ndim() == 1 && a.shape(0) == 0) return 0;
+  throw Bad(std::string(name) + ": expected shape " + expected + ", got " + Shape(a));
+}
+
+int64_t Length(const py::array& a, const char* name) {
+  if (a.ndim() != 1) throw Bad(std::string(name) + ": expected a 1-D array, got shape " + Shape(a));
+  return a.shape(0);
+}
+
+std::vector<double> Finite(const DoubleArray& a, const char* name) {
+  std::vector<double> v(a.data(), a.data() + a.size());
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (!std::isfinite(v[i])) {
+      throw Bad(std::string(name) + ": value " + std::to_string(i) + " is not finite");
+    }
+  }
+  return v;
+}
+
+template <typename T>
+py::array_t<T> Array(const std::vector<T>& v, std::vector<py::ssize_t> shape) {
+  py::array_t<T> a(shape);
+  if (!v.empty()) std::memcpy(a.mutable_data(), v.data(), v.size() * sizeof(T));
+  return a;
+}
+
+}  // namespace
+
+BalProblem ProblemFromArrays(const ProblemArrays& in) {
+  BalProblem p;
+  if (in.camera_model == "bal") {
+    p.model = CameraModel::kBal;
+  } else if (in.camera_model == "photo") {
+    p.model = CameraModel::kPhoto;
+  } else {
+    throw Bad("camera_model: expected 'bal' or 'photo', got '" + in.camera_model + "'");
+  }
+  const bool bal = p.model == CameraModel::kBal;
+  const int64_t n = Rows(in.cameras, p.camera_size(), "cameras", bal ? "(N, 9)" : "(N, 6)");
+  const int64_t num_points = Rows(in.points, kPointSize, "points", "(P, 3)");
+  const int64_t m = Rows(in.observations, 2, "observations", "(M, 2)");
+  if (Length(in.camera_indices, "camera_indices") != m ||
+      Length(in.point_indices, "point_indices") != m) {
+    throw Bad("camera_indices and point_indices: expected " + std::to_string(m) +
+              " entries each (one per observation), got " + Shape(in.camera_indices) + " and " +
+              Shape(in.point_indices));
+  }
+  if (n == 0 || num_points == 0 || m == 0) {
+    throw Bad("the problem is empty: " + std::to_string(n) + " cameras, " +
+              std::to_string(num_points) + " points, " + std::to_string(m) + " observations");
+  }
+  if (n > INT32_MAX) throw Bad("cameras: more than 2^31 - 1 cameras");
+  p.cameras = Finite(in.cameras, "cameras");
+
+  int64_t groups = 0;
+  const bool has_intrinsics = in.intrinsics && in.intrinsics->size() > 0;
+  const bool has_groups = in.camera_intrinsics && in.camera_intrinsics->size() > 0;
+  if (bal) {
+    if (has_intrinsics || has_groups || (in.fixed_intrinsics && in.fixed_intrinsics->size() > 0)) {
+      throw Bad("intrinsics, camera_intrinsics, fixed_intrinsics: a 'bal' camera holds its own "
+                "f, k1, k2 (use camera_model='photo' for shared intrinsics)");
+    }
+  } else {
+    if (!has_intrinsics || !has_groups) {
+      throw Bad("camera_model 'photo' needs intrinsics (G, 5) and camera_intrinsics (N,)");
+    }
+    groups = Rows(*in.intrinsics, kPhotoIntrinsicsSize, "intrinsics", "(G, 5)");
+    if (Length(*in.camera_intrinsics, "camera_intrinsics") != n) {
+      throw Bad("camera_intrinsics: expected " + std::to_string(n) + " entries (one per camera), got " +
+                Shape(*in.camera_intrinsics));
+    }
+    const std::vector<double> intrinsics = Finite(*in.intrinsics, "intrinsics");
+    p.cameras.insert(p.cameras.end(), intrinsics.begin(), intrinsics.end());
+    p.camera_intrinsics.resize(n);
+    for (int64_t i = 0; i < n; ++i) {
+      const int64_t g = in.camera_intrinsics->data()[i];
+      if (g < 0 || g >= groups) {
+        throw Bad("camera_intrinsics[" + std::to_string(i) + "] = " + std::to_string(g) +
+                  ": out of range (" + std::to_string(groups) + " intrinsic groups)");
+      }
+      p.camera_intrinsics[i] = static_cast<int32_t>(g);
+    }
+    if (in.fixed_intrinsics && in.fixed_intrinsics->size() > 0) {
+      if (Rows(*in.fixed_intrinsics, kPhotoIntrinsicsSize, "fixed_intrinsics", "(G, 5)") != groups) {
+        throw Bad("fixed_intrinsics: expected shape (" + std::to_string(groups) + ", 5), got " +
+                  Shape(*in.fixed_intrinsics));
+      }
+      p.intrinsics_free.assign(groups, 0);
+      for (int64_t g = 0; g < groups; ++g) {
+        for (int d = 0; d < kPhotoIntrinsicsSize; ++d) {
+          if (!in.fixed_intrinsics->data()[kPhotoIntrinsicsSize * g + d]) {
+            p.intrinsics_free[g] |= static_cast<uint8_t>(1u << d);
+          }
+        }
+      }
+    }
+  }
+  if (in.fixed_cameras && in.fixed_cameras->size() > 0) {
+    if (Length(*in.fixed_cameras, "fixed_cameras") != n) {
+      throw Bad("fixed_cameras: expected " + std::to_string(n) + " entries (one per camera), got " +
+                Shape(*in.fixed_cameras));
+    }
+    p.fixed_cameras.assign(in.fixed_cameras->data(), in.fixed_cameras->data() + n);
+  }
+  p.points = Finite(in.points, "points");
+
+  // Observations, stable counting sort by point.
+  const int64_t* cam = in.camera_indices.data();
+  const int64_t* pt = in.point_indices.data();
+  const double* px = in.observations.data();
+  p.point_offsets.assign(num_points + 1, 0);
+  for (int64_t o = 0; o < m; ++o) {
+    if (cam[o] < 0 || cam[o] >= n) {
+      throw Bad("camera_indices[" + std::to_string(o) + "] = " + std::to_string(cam[o]) +
+                ": out of range (" + std::to_string(n) + " cameras)");
+    }
+    if (pt[o] < 0 || pt[o] >= num_points) {
+      throw Bad("point_indices[" + std::to_string(o) + "] = " + std::to_string(pt[o]) +
+                ": out of range (" + std::to_string(num_points) + " points)");
+    }
+    if (!std::isfinite(px[2 * o]) || !std::isfinite(px[2 * o + 1])) {
+      throw Bad("observations[" + std::to_string(o) + "]: not finite");
+    }
+    ++p.point_offsets[pt[o] + 1];
+  }
+  for (int64_t k = 0; k < num_points; ++k) {
+    if (p.point_offsets[k + 1] == 0) {
+      throw Bad("point " + std::to_string(k) + " has no observations (remove it)");
+    }
+    p.point_offsets[k + 1] += p.point_offsets[k];
+  }
+  p.obs_camera.resize(m);
+  p.obs_pixel.resize(2 * m);
+  std::vector<int64_t> next(p.point_offsets.begin(), p.point_offsets.end() - 1);
+  for (int64_t o = 0; o < m; ++o) {
+    const int64_t slot = next[pt[o]]++;
+    p.obs_camera[slot] = static_cast<int32_t>(cam[o]);
+    p.obs_pixel[2 * slot] = px[2 * o];
+    p.obs_pixel[2 * slot + 1] = px[2 * o + 1];
+  }
+  return p;
+}
+
+py::dict ProblemToArrays(const BalProblem& p) {
+  const int64_t n = p.num_cameras(), groups = p.num_intrinsics();
+  const int64_t num_points = p.num_points(), m = p.num_observations();
+  const int size = p.camera_size();
+  py::dict d;
+  d["camera_model"] = p.model == CameraModel::kBal ? "bal" : "photo";
+  const std::vector<double> poses(p.cameras.begin(), p.cameras.begin() + size * n);
+  const std::vector<double> intrinsics(p.cameras.begin() + size * n, p.cameras.end());
+  d["cameras"] = Array(poses, {n, size});
+  d["intrinsics"] = Array(intrinsics, {groups, kPhotoIntrinsicsSize});
+  std::vector<int64_t> groups_of(p.camera_intrinsics.begin(), p.camera_intrinsics.end());
+  d["camera_intrinsics"] = Array(groups_of, {static_cast<py::ssize_t>(groups_of.size())});
+  d["points"] = Array(p.points, {num_points, kPointSize});
+  d["observations"] = Array(p.obs_pixel, {m, 2});
+  std::vector<int64_t> cams(p.obs_camera.begin(), p.obs_camera.end());
+  std::vector<int64_t> pts(m);
+  // point_offsets may be empty after a distributed solve (no observations kept).
+  for (int64_t k = 0; k + 1 < static_cast<int64_t>(p.point_offsets.size()); ++k) {
+    for (int64_t o = p.point_offsets[k]; o < p.point_offsets[k + 1]; ++o) pts[o] = k;
+  }
+  d["camera_indices"] = Array(cams, {m});
+  d["point_indices"] = Array(pts, {m});
+  py::array_t<bool> fixed(std::vector<py::ssize_t>{n});
+  for (int64_t i = 0; i < n; ++i) fixed.mutable_data()[i] = p.camera_fixed(i);
+  d["fixed_cameras"] = fixed;
+  py::array_t<bool> fixed_intrinsics(std::vector<py::ssize_t>{groups, kPhotoIntrinsicsSize});
+  for (int64_t g = 0; g < groups; ++g) {
+    for (int b = 0; b < kPhotoIntrinsicsSize; ++b) {
+      fixed_intrinsics.mutable_data()[kPhotoIntrinsicsSize * g + b] =
+          (p.intrinsics_free_mask(g) & (1u << b)) == 0;
+    }
+  }
+  d["fixed_intrinsics"] = fixed_intrinsics;
+  return d;
+}
+
+}  // namespace dba::python

@@ -1,0 +1,49 @@
+// NumPy arrays <-> BalProblem for the Python module: the problem as flat
+// arrays (cameras, points, observations with their camera and point indices,
+// intrinsic groups, fixed flags) and back, checked on the way in.
+//
+// Thread safety: call with the GIL held (the functions create and read
+// Python objects).
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include "dba/problem/bal_problem.h"
+
+namespace dba::python {
+
+namespace py = pybind11;
+
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using IndexArray = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
+using FlagArray = py::array_t<bool, py::array::c_style | py::array::forcecast>;
+
+// The arrays of solve_arrays. camera_model "bal": cameras (N, 9), no
+// intrinsics. "photo": cameras (N, 6) poses, intrinsics (G, 5) and
+// camera_intrinsics (N,) the group of each image. observations (M, 2) pixels
+// with camera_indices (M,) and point_indices (M,) in any order.
+struct ProblemArrays {
+  std::string camera_model = "bal";
+  DoubleArray cameras, points, observations;
+  IndexArray camera_indices, point_indices;
+  std::optional<DoubleArray> intrinsics;
+  std::optional<IndexArray> camera_intrinsics;
+  std::optional<FlagArray> fixed_cameras;     // (N,) True: the pose/camera is held
+  std::optional<FlagArray> fixed_intrinsics;  // (G, 5) True: held (f, cx, cy, k1, k2)
+};
+
+// Builds the problem (observations stored point-major, stable). Throws
+// std::invalid_argument naming the array and what is wrong: a shape, an
+// index out of range, a non-finite value, a point without observations.
+BalProblem ProblemFromArrays(const ProblemArrays& arrays);
+
+// The problem as a dict of new arrays with the keys of ProblemArrays
+// (camera_model a string; for "bal", intrinsics (0, 5) and camera_intrinsics
+// (0,); fixed_cameras (N,) and fixed_intrinsics (G, 5) always present).
+py::dict ProblemToArrays(const BalProblem& problem);
+
+}  // namespace dba::python

@@ -1,0 +1,104 @@
+# dba.solve on a file: the shipped BAL problem to its exact final cost, the
+# summary's fields and history, outputs written like the command line's, and
+# options parsed and refused as on the command line.
+import math
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import dba
+from conftest import LADYBUG, LADYBUG_EXACT_COST, LADYBUG_INITIAL_COST, SHARED_DATA
+
+
+def test_reaches_the_exact_final_cost(ladybug_result):
+    s = ladybug_result.summary
+    assert s.initial_cost == pytest.approx(LADYBUG_INITIAL_COST, rel=1e-6)
+    assert s.final_cost == pytest.approx(LADYBUG_EXACT_COST, rel=1e-3)
+    assert s.termination == "function_tolerance"
+    assert 0 < s.accepted_iterations <= s.iterations < 100
+    # RMS is sqrt(2 F / observations) for the squared loss.
+    assert s.final_rms_px == pytest.approx(math.sqrt(2 * s.final_cost / 31843), rel=1e-9)
+
+
+def test_summary_holds_history_and_times(ladybug_result):
+    s = ladybug_result.summary
+    assert len(s.history) == s.iterations
+    assert s.history[0].iteration == 1 or s.history[0].iteration == 0
+    assert s.history[0].cost == pytest.approx(s.initial_cost, rel=1e-12)
+    accepted = [it for it in s.history if it.accepted]
+    assert len(accepted) == s.accepted_iterations
+    assert accepted[-1].candidate_cost == pytest.approx(s.final_cost, rel=1e-12)
+    for phase in ("load", "setup", "rcs_formation", "linear_solve", "back_substitution", "total"):
+        assert s.seconds[phase] >= 0
+    assert s.seconds["total"] > 0
+    assert s.report["num_cameras"] == 49 and s.report["num_observations"] == 31843
+    assert "final cost" in ladybug_result.log
+
+
+def test_returns_the_adjusted_arrays(ladybug_result, ladybug_problem):
+    r = ladybug_result
+    assert r.cameras.shape == (49, 9) and r.points.shape == (7776, 3)
+    assert r.problem.camera_model == "bal"
+    # Observations are the input's; parameters moved.
+    np.testing.assert_array_equal(r.problem.observations, ladybug_problem.observations)
+    np.testing.assert_array_equal(r.problem.camera_indices, ladybug_problem.camera_indices)
+    assert not np.allclose(r.points, ladybug_problem.points)
+
+
+def test_output_file_holds_the_returned_arrays(tmp_path):
+    out = tmp_path / "adjusted.txt"
+    report = tmp_path / "report.json"
+    r = dba.solve(LADYBUG, threads=2, max_iterations=3, output=out, report=report)
+    assert r.summary.iterations == 3 and r.summary.termination == "max_iterations"
+    written = dba.read_problem(out)
+    np.testing.assert_array_equal(written.cameras, r.cameras)
+    np.testing.assert_array_equal(written.points, r.points)
+    assert report.exists()
+    # The file's initial cost is the solve's final cost.
+    again = dba.solve(out, threads=2, max_iterations=0)
+    assert again.summary.initial_cost == pytest.approx(r.summary.final_cost, rel=1e-12)
+
+
+def test_options_have_the_command_line_names_and_checks():
+    with pytest.raises(ValueError, match="--linear-solver: expected auto, dense, sparse or pcg, got 'qr'"):
+        dba.solve(LADYBUG, linear_solver="qr")
+    with pytest.raises(ValueError, match="unknown option '--frobnicate'"):
+        dba.solve(LADYBUG, frobnicate=1)
+    with pytest.raises(ValueError, match="--loss-scale: expected a number >= 0"):
+        dba.solve(LADYBUG, loss="huber", loss_scale=-1.0)
+
+
+def test_robust_loss_and_solver_options_apply():
+    r = dba.solve(LADYBUG, threads=2, linear_solver="pcg", loss="huber", loss_scale=2.0,
+                  max_iterations=2, quiet=True)
+    assert r.summary.linear_solver == "pcg"
+    assert r.summary.report["loss"] == {"type": "huber", "scale_px": 2.0}
+    assert r.summary.iterations == 2
+    assert "iter " not in r.log  # quiet: no per-iteration log
+
+
+def test_colmap_model_directory():
+    model = SHARED_DATA / "colmap" / "mithunnallana_6img" / "sparse" / "0"
+    r = dba.solve(model, threads=2)
+    assert r.problem.camera_model == "photo"
+    assert r.cameras.shape == (6, 6) and r.intrinsics.shape == (1, 5)
+    # As tests/cli_solve.sh: the final RMS is 0.52 px.
+    assert 0.52 <= r.summary.final_rms_px < 0.53
+
+
+def test_the_gil_is_released_during_the_solve():
+    done = []
+    worker = threading.Thread(
+        target=lambda: done.append(dba.solve(LADYBUG, threads=1, linear_solver="pcg")))
+    worker.start()
+    ticks = 0
+    while worker.is_alive():
+        ticks += 1
+        time.sleep(0.002)
+    worker.join()
+    solve_seconds = done[0].summary.seconds["total"]
+    assert solve_seconds > 0.2
+    # Held, the main thread would wait for the whole solve.
+    assert ticks > 0.2 * solve_seconds / 0.002
