@@ -13,13 +13,6 @@ namespace {
 
 constexpr size_t kInputChunk = size_t{1} << 18;  // raw bytes per fread
 constexpr size_t kInitialBuffer = size_t{1} << 20;  // decoded text buffer
-constexpr size_t kDecodedChunk = size_t{1} << 20;   // decoder thread's unit
-constexpr size_t kChunksAhead = 4;                  // decoded, not yet read
-
-// A decoding failure on the decoder thread (no line number there).
-struct DecodeError {
-  std::string what;
-};
 
 std::string Bz2ErrorText(int code) {
   switch (code) {
@@ -41,78 +34,16 @@ Bz2LineReader::Bz2LineReader(const std::string& path)
   }
   try {
     RefillInput();
-  } catch (const DecodeError& e) {
+  } catch (...) {
     std::fclose(file_);
-    throw InputError(path, 0, e.what);
+    throw;
   }
   bz2_ = strm_.avail_in >= 3 && std::memcmp(strm_.next_in, "BZh", 3) == 0;
-  if (bz2_) decoder_ = std::thread([this] { DecodeAhead(); });
 }
 
 Bz2LineReader::~Bz2LineReader() {
-  if (decoder_.joinable()) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stop_decoder_ = true;
-    }
-    changed_.notify_all();
-    decoder_.join();
-  }
   if (in_stream_) BZ2_bzDecompressEnd(&strm_);
   if (file_ != nullptr) std::fclose(file_);
-}
-
-void Bz2LineReader::DecodeAhead() {
-  std::string error;
-  for (;;) {
-    std::vector<char> chunk(kDecodedChunk);
-    size_t n = 0;
-    try {
-      n = Decode(chunk.data(), chunk.size());
-    } catch (const DecodeError& e) {
-      error = e.what;
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-    std::unique_lock<std::mutex> lock(mutex_);
-    if (n == 0 || !error.empty()) {
-      error_ = error;
-      decoder_done_ = true;
-      changed_.notify_all();
-      return;
-    }
-    chunk.resize(n);
-    decoded_.push_back(std::move(chunk));
-    changed_.notify_all();
-    changed_.wait(lock, [this] { return stop_decoder_ || decoded_.size() < kChunksAhead; });
-    if (stop_decoder_) return;
-  }
-}
-
-size_t Bz2LineReader::Fill(char* dst, size_t cap) {
-  if (!bz2_) {
-    try {
-      return Decode(dst, cap);
-    } catch (const DecodeError& e) {
-      Fail(e.what);
-    }
-  }
-  if (chunk_at_ == chunk_.size()) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    changed_.wait(lock, [this] { return !decoded_.empty() || decoder_done_; });
-    if (decoded_.empty()) {
-      if (!error_.empty()) Fail(error_);
-      return 0;
-    }
-    chunk_ = std::move(decoded_.front());
-    decoded_.pop_front();
-    chunk_at_ = 0;
-    changed_.notify_all();
-  }
-  const size_t n = std::min(cap, chunk_.size() - chunk_at_);
-  std::memcpy(dst, chunk_.data() + chunk_at_, n);
-  chunk_at_ += n;
-  return n;
 }
 
 void Bz2LineReader::Fail(const std::string& what) const {
@@ -122,14 +53,14 @@ void Bz2LineReader::Fail(const std::string& what) const {
 void Bz2LineReader::RefillInput() {
   size_t n = std::fread(in_.data(), 1, in_.size(), file_);
   if (n < in_.size()) {
-    if (std::ferror(file_)) throw DecodeError{std::string("read error: ") + std::strerror(errno)};
+    if (std::ferror(file_)) Fail(std::string("read error: ") + std::strerror(errno));
     in_eof_ = true;
   }
   strm_.next_in = in_.data();
   strm_.avail_in = static_cast<unsigned>(n);
 }
 
-size_t Bz2LineReader::Decode(char* dst, size_t cap) {
+size_t Bz2LineReader::Fill(char* dst, size_t cap) {
   cap = std::min<size_t>(cap, UINT_MAX);
   if (!bz2_) {
     if (strm_.avail_in == 0 && !in_eof_) RefillInput();
@@ -147,7 +78,7 @@ size_t Bz2LineReader::Decode(char* dst, size_t cap) {
       strm_.bzfree = nullptr;
       strm_.opaque = nullptr;
       int rc = BZ2_bzDecompressInit(&strm_, 0, 0);
-      if (rc != BZ_OK) throw DecodeError{Bz2ErrorText(rc)};
+      if (rc != BZ_OK) Fail(Bz2ErrorText(rc));
       in_stream_ = true;
     }
     strm_.next_out = dst;
@@ -159,11 +90,11 @@ size_t Bz2LineReader::Decode(char* dst, size_t cap) {
       in_stream_ = false;
       stream_ended_ = true;
     } else if (rc == BZ_DATA_ERROR_MAGIC && stream_ended_) {
-      throw DecodeError{"trailing data after the bzip2 stream is not bzip2"};
+      Fail("trailing data after the bzip2 stream is not bzip2");
     } else if (rc != BZ_OK) {
-      throw DecodeError{Bz2ErrorText(rc)};
+      Fail(Bz2ErrorText(rc));
     } else if (produced == 0 && strm_.avail_in == 0 && in_eof_) {
-      throw DecodeError{"truncated bzip2 data: unexpected end of file inside a stream"};
+      Fail("truncated bzip2 data: unexpected end of file inside a stream");
     }
     if (produced > 0) return produced;
   }

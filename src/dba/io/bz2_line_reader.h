@@ -2,10 +2,7 @@
 //
 // The format is detected from the content ("BZh" magic), not from the file
 // name. bzip2 data is decompressed in a streaming fashion (fixed-size chunks
-// through BZ2_bzDecompress) on a second thread, a few chunks ahead of the
-// lines being parsed (decompression is most of the time of reading a .bz2
-// problem: 0.08 of 0.12 s on problem-73-11032), so memory stays bounded by
-// the longest line plus those chunks, and
+// through BZ2_bzDecompress), so memory stays bounded by the longest line, and
 // concatenated bzip2 streams (as written by `pbzip2` or `cat a.bz2 b.bz2`) are
 // read as one text. Errors (unreadable file, corrupt or truncated bzip2 data)
 // are thrown as dba::InputError naming the file and line.
@@ -15,14 +12,10 @@
 
 #include <bzlib.h>
 
-#include <condition_variable>
 #include <cstdint>
 #include <cstdio>
-#include <deque>
-#include <mutex>
 #include <string>
 #include <string_view>
-#include <thread>
 #include <vector>
 
 namespace dba {
@@ -57,9 +50,7 @@ class Bz2LineReader {
 
  private:
   void RefillInput();                  // next raw chunk of the file
-  size_t Decode(char* dst, size_t cap);  // next decoded bytes; 0 at end
-  size_t Fill(char* dst, size_t cap);  // next decoded bytes (from the decoder thread)
-  void DecodeAhead();                  // the decoder thread's loop
+  size_t Fill(char* dst, size_t cap);  // next decoded bytes; 0 at end
   [[noreturn]] void Fail(const std::string& what) const;
 
   std::string path_;
@@ -74,18 +65,6 @@ class Bz2LineReader {
   bz_stream strm_{};
   bool in_stream_ = false;      // strm_ is initialised for decompression
   bool stream_ended_ = false;   // at least one bzip2 stream was completed
-
-  // The decoder thread (bzip2 only) and the chunks it has decoded ahead;
-  // error_: what stopped it (raised when the reader gets there).
-  std::thread decoder_;
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  std::deque<std::vector<char>> decoded_;
-  std::vector<char> chunk_;    // being read by Fill, from chunk_at_
-  size_t chunk_at_ = 0;
-  bool decoder_done_ = false;  // no more chunks will come
-  bool stop_decoder_ = false;
-  std::string error_;
 
   // Decoded text; [begin_, end_) is not yet returned.
   std::vector<char> buf_;
