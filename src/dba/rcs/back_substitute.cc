@@ -35,7 +35,9 @@ StepEvaluation BackSubstituteWith(const BalProblem& problem, const UnknownLayout
     reduction(+ : model_cost, candidate_cost, step_sq, x_sq, squared, inlier_squared, inliers)
   {
     PointSystem<Model> p;
-#pragma omp for schedule(dynamic, 256)
+    // Static: each thread always sums the same points, so the costs (and
+    // with them every LM decision) are the same from run to run.
+#pragma omp for schedule(static)
     for (int64_t k = 0; k < num_points; ++k) {
       LinearizePoint(problem, layout, loss, k, &p);
       InvertDampedV(lambda, bounds, &p);
