@@ -12,14 +12,19 @@
 namespace dba {
 namespace {
 
-TEST(BackSubstitute, RecoversTheFullNewtonStepAndItsCosts) {
+// A small perturbed BAL problem (6 cameras, 50 points).
+BalProblem SmallProblem() {
   testing::SyntheticBalOptions o;
   o.num_cameras = 6;
   o.num_points = 50;
   o.pixel_noise = 0.5;
   o.rotation_perturbation = 0.01;
   o.point_perturbation = 0.05;
-  const BalProblem problem = testing::MakeSyntheticBal(o).problem;
+  return testing::MakeSyntheticBal(o).problem;
+}
+
+TEST(BackSubstitute, RecoversTheFullNewtonStepAndItsCosts) {
+  const BalProblem problem = SmallProblem();
   const double lambda = 0.3;
   const DampingBounds bounds;
   const auto dense = testing::BuildDenseNormalEquations(problem, lambda, bounds);
@@ -108,23 +113,11 @@ TEST(BackSubstitute, PhotoModelWithFixedParameters) {
   EXPECT_NEAR(e.candidate_cost, candidate, 1e-12 * candidate);
 }
 
-}  // namespace
-}  // namespace dba
-
-namespace dba {
-namespace {
-
 // With a robust loss: the model cost is Triggs's second-order model of the
 // robust cost, ½ Σ ρ + gᵀδ + ½ δᵀ (Σ Jᵀ Ω J) δ (undamped), and the candidate
 // cost ½ Σ ρ(|r(x + δ)|²).
 TEST(BackSubstitute, RobustModelAndCandidateCosts) {
-  testing::SyntheticBalOptions o;
-  o.num_cameras = 6;
-  o.num_points = 50;
-  o.pixel_noise = 0.5;
-  o.rotation_perturbation = 0.01;
-  o.point_perturbation = 0.05;
-  BalProblem problem = testing::MakeSyntheticBal(o).problem;
+  BalProblem problem = SmallProblem();
   for (int64_t a = 0; a < problem.num_observations(); a += 4) problem.obs_pixel[2 * a] += 12.0;
   const RobustLoss loss{LossType::kCauchy, 1.0};
   const double lambda = 0.3;
