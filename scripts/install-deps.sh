@@ -10,7 +10,7 @@ packages=(
   openmpi-bin libopenmpi-dev
   libsuitesparse-dev libopenblas0-pthread
   time
-  python3-dev python3-pybind11 python3-numpy python3-pytest
+  python3-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
 )
 
 missing=()

@@ -1,0 +1,37 @@
+# dba.plot draws a solve's report: a PNG of the expected size from the
+# Ladybug solve's report (given as a dict and as a JSON file), and a clear
+# error for a report without history.
+import json
+import struct
+
+import pytest
+
+from dba import plot
+
+
+def png_size(path):
+    with open(path, "rb") as f:
+        head = f.read(24)
+    assert head[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
+    return struct.unpack(">II", head[16:24])
+
+
+def test_plots_a_report_dict_and_file(ladybug_result, tmp_path):
+    report = ladybug_result.summary.report
+    plot.plot_report(report, tmp_path / "dict.png")
+    assert png_size(tmp_path / "dict.png") == (1200, 800)
+    path = tmp_path / "report.json"
+    path.write_text(json.dumps(report))
+    assert plot.main([str(path), "-o", str(tmp_path / "file.png")]) == 0
+    assert png_size(tmp_path / "file.png") == (1200, 800)
+
+
+def test_a_report_without_history_is_refused(ladybug_result, tmp_path):
+    report = dict(ladybug_result.summary.report)
+    report["history"] = []
+    with pytest.raises(ValueError, match="no per-iteration history"):
+        plot.plot_report(report, tmp_path / "x.png")
+    path = tmp_path / "empty.json"
+    path.write_text(json.dumps(report))
+    assert plot.main([str(path), "-o", str(tmp_path / "y.png")]) == 1
+    assert not (tmp_path / "y.png").exists()
