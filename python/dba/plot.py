@@ -1,6 +1,8 @@
 """Plots of a `dba solve --report` (or Result.summary.report): cost and RMS
 against time and against LM iteration, the linear solver's iterations per LM
-iteration (why each stopped), and the time per phase.
+iteration (why each stopped), and the time per phase; for a generated
+problem solved with --truth, also a top view of the camera-centre errors
+over the survey (after the similarity alignment).
 
     python3 -m dba.plot REPORT.json -o FILE.png
     dba.plot.plot_report("report.json", "run.png")
@@ -42,7 +44,9 @@ def plot_report(report, output, title=None):
     iterations = [it["iteration"] for it in history]
     rms = [it["rms_px"] for it in history]
 
-    fig, axes = plt.subplots(2, 2, figsize=(12, 8))
+    cameras = r.get("ground_truth", {}).get("cameras")
+    columns = 3 if cameras else 2
+    fig, axes = plt.subplots(2, columns, figsize=(6 * columns, 8))
     fig.suptitle(title or f'{r.get("input", "")}: {r.get("num_cameras")} cameras, '
                  f'{r.get("num_points")} points, {r.get("num_observations")} observations, '
                  f'{r.get("threads")} threads x {r.get("ranks")} ranks')
@@ -94,6 +98,27 @@ def plot_report(report, output, title=None):
     ax.set_xlabel("seconds")
     ax.set_title(f'time per phase ({seconds["total"]:.2f} s in all)')
     ax.set_xlim(0, max(values) * 1.35 if max(values) > 0 else 1)
+
+    if cameras:
+        gt = r["ground_truth"]
+        ax = axes[0][2]
+        errors = sorted(cameras["centre_error"])
+        vmax = errors[int(0.98 * (len(errors) - 1))] if errors else 1.0  # a few far ones aside
+        points = ax.scatter(cameras["true_x"], cameras["true_y"], c=cameras["centre_error"],
+                            s=max(0.2, min(12.0, 4000.0 / max(len(cameras["true_x"]), 1))),
+                            cmap="viridis", vmin=0.0, vmax=vmax)
+        fig.colorbar(points, ax=ax, label="camera-centre error after alignment (98th percentile up)")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_xlabel("x (true)")
+        ax.set_ylabel("y (true)")
+        ax.set_title(f'camera centres: RMS {gt["camera_centre_rms"]:.4g}, scale '
+                     f'{gt["similarity_scale"]:.6f}')
+        ax = axes[1][2]
+        ax.hist(cameras["centre_error"], bins=50, color="C5")
+        ax.set_xlabel("camera-centre error")
+        ax.set_ylabel("cameras")
+        ax.set_title(f'RMS to noise-free observations {gt["rms_to_noise_free_px"]:.4f} px, '
+                     f'points {gt["point_rms"]:.4g}')
 
     fig.tight_layout()
     fig.savefig(output, dpi=100)

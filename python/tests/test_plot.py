@@ -35,3 +35,13 @@ def test_a_report_without_history_is_refused(ladybug_result, tmp_path):
     path.write_text(json.dumps(report))
     assert plot.main([str(path), "-o", str(tmp_path / "y.png")]) == 1
     assert not (tmp_path / "y.png").exists()
+
+
+def test_a_report_with_truth_gets_the_top_view(ladybug_result, tmp_path):
+    report = dict(ladybug_result.summary.report)
+    report["ground_truth"] = {"rms_to_noise_free_px": 0.5, "similarity_scale": 1.0,
+                              "camera_centre_rms": 0.1, "point_rms": 0.2,
+                              "cameras": {"true_x": [0, 1, 2], "true_y": [0, 1, 0],
+                                          "centre_error": [0.1, 0.2, 0.05]}}
+    plot.plot_report(report, tmp_path / "truth.png")
+    assert png_size(tmp_path / "truth.png") == (1800, 800)

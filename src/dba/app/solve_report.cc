@@ -295,6 +295,10 @@ std::string SolveReportJson(const SolveReport& r) {
       }
       j["ground_truth"]["intrinsics_error"] = groups;
     }
+    // Per camera, for a top view of the errors (python3 -m dba.plot).
+    j["ground_truth"]["cameras"] = {{"true_x", r.truth.centre_x},
+                                    {"true_y", r.truth.centre_y},
+                                    {"centre_error", r.truth.centre_error}};
   }
   if (r.solve.ranks > 1) {
     nlohmann::ordered_json d;

@@ -77,8 +77,17 @@ GroundTruthErrors GeometryErrors(const BalProblem& truth, const std::vector<doub
   const Eigen::Matrix3d sR = T.topLeftCorner<3, 3>();
   const Vec3 shift = T.topRightCorner<3, 1>();
   e.similarity_scale = std::cbrt(sR.determinant());
-  e.camera_centre_rms = std::sqrt(
-      ((sR * solved).colwise() + shift - true_centres).colwise().squaredNorm().mean());
+  const Eigen::RowVectorXd squared =
+      ((sR * solved).colwise() + shift - true_centres).colwise().squaredNorm();
+  e.camera_centre_rms = std::sqrt(squared.mean());
+  e.centre_x.resize(true_centres.cols());
+  e.centre_y.resize(true_centres.cols());
+  e.centre_error.resize(true_centres.cols());
+  for (Eigen::Index i = 0; i < true_centres.cols(); ++i) {
+    e.centre_x[i] = true_centres(0, i);
+    e.centre_y[i] = true_centres(1, i);
+    e.centre_error[i] = std::sqrt(squared[i]);
+  }
   double point_sum = 0.0;
   int64_t point_count = 0;
   for (int64_t k = 0; k < truth.num_points(); ++k) {

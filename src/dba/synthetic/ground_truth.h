@@ -33,6 +33,9 @@ struct GroundTruthErrors {
   double camera_centre_rms = 0.0;  // in the truth's units, after alignment
   double point_rms = 0.0;
   double similarity_scale = 1.0;
+  // Per camera (image): the true centre's x and y and the aligned centre's
+  // distance from it (for a top view of the errors over the survey).
+  std::vector<double> centre_x, centre_y, centre_error;
   // kPhoto: per intrinsic group, |solved - true| of f, cx, cy, k1, k2 (in
   // that order); the true f of each group, for relative errors. Empty for
   // kBal.

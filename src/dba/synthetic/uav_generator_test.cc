@@ -90,6 +90,18 @@ TEST(UavGenerator, SolvedToTheInjectedNoiseAndTheTruth) {
   EXPECT_NEAR(streamed.rms_to_noise_free_px, after.rms_to_noise_free_px,
               1e-12 * after.rms_to_noise_free_px);
   EXPECT_DOUBLE_EQ(streamed.camera_centre_rms, after.camera_centre_rms);
+  // Per camera: the true centre and the error, whose RMS is the figure above.
+  ASSERT_EQ(static_cast<int64_t>(after.centre_error.size()), p.num_cameras());
+  ASSERT_EQ(after.centre_x.size(), after.centre_error.size());
+  double squared = 0.0;
+  for (double err : after.centre_error) squared += err * err;
+  EXPECT_NEAR(std::sqrt(squared / p.num_cameras()), after.camera_centre_rms,
+              1e-12 * after.camera_centre_rms);
+  const Vec3 c0 = -AngleAxisToRotation(Vec3(truth.camera(0)[0], truth.camera(0)[1],
+                                            truth.camera(0)[2])).transpose() *
+                  Vec3(truth.camera(0)[3], truth.camera(0)[4], truth.camera(0)[5]);
+  EXPECT_NEAR(after.centre_x[0], c0.x(), 1e-9);
+  EXPECT_NEAR(after.centre_y[0], c0.y(), 1e-9);
   // At the optimum the RMS (per observation, sqrt(2F/n)) is the noise's,
   // σ√2, less what the p parameters absorb: σ√2 · sqrt(1 - p / 2n).
   const double n = static_cast<double>(p.num_observations());
