@@ -182,6 +182,16 @@ for input in "$tmp/det.txt" "$bal5" "$tmp/det_photo.dba"; do
   rm -f "$tmp/det_out_"*
 done
 
+# Progress of long phases: on a terminal only (script(1) gives one), not
+# with -q, never into a pipe or file. DBA_PROGRESS_DELAY=0 shows every phase.
+DBA_PROGRESS_DELAY=0 script -qc "'$dba' solve '$bal5' -t 2" "$tmp/tty.log" >/dev/null 2>&1
+check "progress on a terminal" grep -qa "RCS formation" "$tmp/tty.log"
+check "progress on a terminal names PCG or the factorization's phases" grep -qa "back-substitution" "$tmp/tty.log"
+DBA_PROGRESS_DELAY=0 script -qc "'$dba' solve '$bal5' -t 2 -q" "$tmp/tty_q.log" >/dev/null 2>&1
+check "no progress with -q" lacks "$tmp/tty_q.log" "RCS formation"
+DBA_PROGRESS_DELAY=0 "$dba" solve "$bal5" -t 2 >"$tmp/piped.log" 2>&1
+check "no progress into a pipe" lacks "$tmp/piped.log" "RCS formation"
+
 # A real solve: summary, output and report.
 "$dba" solve "$data/balbianello-5-544-from-bundler.txt.bz2" -t 2 \
   -o "$tmp/adjusted.txt" --report "$tmp/report.json" >"$tmp/out" 2>&1

@@ -50,7 +50,8 @@ SolveCommandOptions Parse(const std::vector<std::string>& args) {
 // dba.solve: the whole of `dba solve ARGS` in this process (one rank), its
 // outputs (-o, --report, --ply) included.
 py::tuple Solve(const std::vector<std::string>& args, bool verbose) {
-  const SolveCommandOptions options = Parse(args);
+  SolveCommandOptions options = Parse(args);
+  options.progress = verbose;  // the terminal's progress line only when printing the log
   SolveOutcome outcome;
   std::ostringstream log;
   {

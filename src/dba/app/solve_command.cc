@@ -15,6 +15,7 @@
 
 #include "dba/camera/observation_residual.h"
 #include "dba/common/memory.h"
+#include "dba/common/progress.h"
 #include "dba/common/timer.h"
 #include "dba/io/atomic_file.h"
 #include "dba/io/read_problem.h"
@@ -138,7 +139,9 @@ void PrintSolveHelp(std::ostream& out) {
          "  --main-rank auto|forms|coordinates\n"
          "                             whether rank 0 also forms a sub-RCS (auto: yes for\n"
          "                             up to 4 ranks)\n"
-         "  -q, --quiet                no per-iteration log\n"
+         "  -q, --quiet                no per-iteration log, and no progress of long phases\n"
+         "                             (shown on a terminal only: RCS formation, PCG,\n"
+         "                             back-substitution, with the time left)\n"
          "  -h, --help                 this text\n"
          "\n"
          "Exit status: 0 on success (whatever the termination reason), 1 on bad\n"
@@ -419,6 +422,8 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   if (lm.num_threads == 0) {
     lm.num_threads = std::max(1, DefaultThreads() / comm->ranks_on_node());
   }
+  // Progress of long phases: the main rank, on a terminal, without -q.
+  EnableProgress(main && !options.quiet && options.progress);
   SolveReport report;
   report.input = options.input;
   report.threads = lm.num_threads;

@@ -23,6 +23,7 @@ struct SolveCommandOptions {
   std::optional<ColmapFormat> colmap_format;  // COLMAP output; default: the input's
   UnknownsOptions unknowns; // what is held fixed, shared intrinsics
   bool quiet = false;       // no per-iteration log
+  bool progress = true;     // progress of long phases on a terminal (not with quiet)
   double reject_outliers_px = 0.0;  // > 0: rounds of outlier rejection (lm/outlier_rejection.h)
   LmOptions lm;             // num_threads 0: the node's cores / its ranks
   DistributedOptions distributed;

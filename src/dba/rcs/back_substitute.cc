@@ -4,7 +4,10 @@
 
 #include <omp.h>
 
+#include <algorithm>
+
 #include "dba/camera/observation_residual.h"
+#include "dba/common/progress.h"
 
 namespace dba {
 namespace {
@@ -31,14 +34,19 @@ StepEvaluation BackSubstituteWith(const BalProblem& problem, const UnknownLayout
   double squared = 0.0, inlier_squared = 0.0, inliers = 0.0;
   const double inlier_bound = loss.scale * loss.scale;
   const int64_t num_points = problem.num_points();
+  ProgressPhase progress("back-substitution");
+  const double first_share =
+      std::max<double>(1.0, static_cast<double>((num_points + num_threads - 1) / num_threads));
 #pragma omp parallel num_threads(num_threads) \
     reduction(+ : model_cost, candidate_cost, step_sq, x_sq, squared, inlier_squared, inliers)
   {
     PointSystem<Model> p;
+    const bool first_thread = omp_get_thread_num() == 0;
     // Static: each thread always sums the same points, so the costs (and
     // with them every LM decision) are the same from run to run.
 #pragma omp for schedule(static)
     for (int64_t k = 0; k < num_points; ++k) {
+      if (first_thread && (k & 4095) == 0) progress.Report(static_cast<double>(k) / first_share);
       LinearizePoint(problem, layout, loss, k, &p);
       InvertDampedV(lambda, bounds, &p);
       const int64_t begin = problem.point_offsets[k];

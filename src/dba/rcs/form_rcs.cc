@@ -1,6 +1,8 @@
 // Point-by-point RCS formation (paper eq. 4); see form_rcs.h.
 #include "dba/rcs/form_rcs.h"
 
+#include "dba/common/progress.h"
+
 #include <omp.h>
 
 #include <algorithm>
@@ -198,6 +200,11 @@ void FormRcsWith(const BalProblem& problem, double lambda, const DampingBounds& 
       num_threads > 1 && (num_threads - 1) * (values + 3 * rows) * 8 <= kPrivateCopyBytes;
   // Thread t > 0 of the private scheme: values, then b, gradient, diagonal.
   std::vector<std::vector<double>> copies(private_copies ? num_threads - 1 : 0);
+  // The first thread reports its share (a static schedule: the first
+  // ceil(n / threads) points).
+  ProgressPhase progress("RCS formation");
+  const double first_share =
+      std::max<double>(1.0, static_cast<double>((num_points + num_threads - 1) / num_threads));
 #pragma omp parallel num_threads(num_threads) reduction(+ : cost, squared, inlier_squared, inliers) \
     reduction(max : max_g_p)
   {
@@ -220,6 +227,7 @@ void FormRcsWith(const BalProblem& problem, double lambda, const DampingBounds& 
     // contiguous ranges take 3.0 s.
 #pragma omp for schedule(static)
     for (int64_t k = 0; k < num_points; ++k) {
+      if (thread == 0 && (k & 4095) == 0) progress.Report(static_cast<double>(k) / first_share);
       LinearizePoint(problem, sys->layout, loss, k, &p);
       EliminatePoint(lambda, bounds, &p);
       AddPointToRcs(p, groups, sys->S, target);

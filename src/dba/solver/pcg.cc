@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "dba/common/progress.h"
+
 namespace dba {
 namespace {
 
@@ -62,7 +64,9 @@ PcgSummary SolvePcg(const SymmetricMultiplier& S, const Preconditioner& M,
   double r_norm = b_norm;
   double q_previous = 0.0;  // Q(0)
   summary.stop = PcgStop::kIterationLimit;
+  ProgressPhase progress("PCG");
   for (int k = 1; k <= options.max_iterations; ++k) {
+    progress.Report(0.0);
     S.Multiply(d, Sd);
     const double dSd = Dot(d, Sd, n, nt);
     if (!(dSd > 0.0) || !std::isfinite(dSd)) {
