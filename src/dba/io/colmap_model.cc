@@ -419,6 +419,11 @@ void AtomicOutputFile::Finish() {
   if (rc != 0) Fail("close failed");
 }
 
+void CommitTogether(std::initializer_list<AtomicOutputFile*> files) {
+  for (AtomicOutputFile* f : files) f->Finish();
+  for (AtomicOutputFile* f : files) f->Rename();
+}
+
 void AtomicOutputFile::Rename() {
   if (std::rename(tmp_.c_str(), path_.c_str()) != 0) Fail("rename failed");
   committed_ = true;

@@ -29,6 +29,7 @@
 #include <cstdio>
 #include <optional>
 #include <span>
+#include <initializer_list>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -236,6 +237,10 @@ class AtomicOutputFile {
   bool committed_ = false;
   int registry_slot_ = -1;  // io/temporary_registry.h
 };
+
+// Finishes every file, then renames them all: a failure while any is being
+// written leaves every old file in place.
+void CommitTogether(std::initializer_list<AtomicOutputFile*> files);
 
 }  // namespace colmap_internal
 }  // namespace dba

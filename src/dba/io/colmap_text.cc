@@ -332,8 +332,7 @@ void WriteColmapText(const ColmapModel& model, const std::string& dir) {
   WriteImages(model, images);
   WritePoints3D(model, points);
   // All three on disk before any replaces a file of the old model.
-  for (TextOut* out : {&cameras, &images, &points}) out->file().Finish();
-  for (TextOut* out : {&cameras, &images, &points}) out->file().Rename();
+  colmap_internal::CommitTogether({&cameras.file(), &images.file(), &points.file()});
 }
 
 }  // namespace dba

@@ -32,7 +32,6 @@ StepEvaluation BackSubstituteWith(const BalProblem& problem, const UnknownLayout
   };
   double model_cost = 0.0, candidate_cost = 0.0, step_sq = 0.0, x_sq = 0.0;
   double squared = 0.0, inlier_squared = 0.0, inliers = 0.0;
-  const double inlier_bound = loss.scale * loss.scale;
   const int64_t num_points = problem.num_points();
   ProgressPhase progress("back-substitution");
   const double first_share =
@@ -83,7 +82,7 @@ StepEvaluation BackSubstituteWith(const BalProblem& problem, const UnknownLayout
                              .squaredNorm();
         candidate_cost += 0.5 * loss.Rho(s);
         squared += s;
-        if (loss.trivial() || s <= inlier_bound) inlier_squared += s, inliers += 1.0;
+        if (loss.IsInlier(s)) inlier_squared += s, inliers += 1.0;
       }
     }
   }

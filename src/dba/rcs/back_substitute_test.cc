@@ -12,6 +12,20 @@
 namespace dba {
 namespace {
 
+// ½ Σ ρ(|r|²) of a BAL problem at the given cameras and points, directly.
+double CandidateCost(const BalProblem& problem, const std::vector<double>& cameras,
+                     const std::vector<double>& points, const RobustLoss& loss = RobustLoss()) {
+  double cost = 0.0;
+  for (int64_t k = 0; k < problem.num_points(); ++k) {
+    for (int64_t obs = problem.point_offsets[k]; obs < problem.point_offsets[k + 1]; ++obs) {
+      cost += 0.5 * loss.Rho(BalResidual(cameras.data() + 9 * problem.obs_camera[obs],
+                                         points.data() + 3 * k, problem.pixel(obs))
+                                 .squaredNorm());
+    }
+  }
+  return cost;
+}
+
 // A small perturbed BAL problem (6 cameras, 50 points).
 BalProblem SmallProblem() {
   testing::SyntheticBalOptions o;
@@ -47,14 +61,7 @@ TEST(BackSubstitute, RecoversTheFullNewtonStepAndItsCosts) {
   // Model cost ½|r + J δ|² and the true cost at x + δ.
   const double model = 0.5 * (dense.r + dense.J * step).squaredNorm();
   EXPECT_NEAR(e.model_cost, model, 1e-10 * dense.cost);
-  double candidate = 0.0;
-  for (int64_t k = 0; k < problem.num_points(); ++k) {
-    for (int64_t obs = problem.point_offsets[k]; obs < problem.point_offsets[k + 1]; ++obs) {
-      candidate += 0.5 * BalResidual(candidate_cameras.data() + 9 * problem.obs_camera[obs],
-                                     candidate_points.data() + 3 * k, problem.pixel(obs))
-                             .squaredNorm();
-    }
-  }
+  const double candidate = CandidateCost(problem, candidate_cameras, candidate_points);
   EXPECT_NEAR(e.candidate_cost, candidate, 1e-12 * candidate);
   EXPECT_NEAR(e.point_step_squared_norm, dX.squaredNorm(), 1e-9 * dX.squaredNorm());
   const Eigen::VectorXd X = Eigen::Map<const Eigen::VectorXd>(problem.points.data(),
@@ -140,14 +147,8 @@ TEST(BackSubstitute, RobustModelAndCandidateCosts) {
   const double model = dense.cost + undamped.g.dot(step) + 0.5 * step.dot(undamped.H * step);
   EXPECT_NEAR(e.model_cost, model, 1e-10 * dense.cost);
   EXPECT_LT(e.model_cost, dense.cost);
-  double candidate = 0.0;
-  for (int64_t k = 0; k < problem.num_points(); ++k) {
-    for (int64_t obs = problem.point_offsets[k]; obs < problem.point_offsets[k + 1]; ++obs) {
-      candidate += 0.5 * loss.Rho(BalResidual(candidate_cameras.data() + 9 * problem.obs_camera[obs],
-                                              candidate_points.data() + 3 * k, problem.pixel(obs))
-                                      .squaredNorm());
-    }
-  }
+  const double candidate =
+      CandidateCost(problem, candidate_cameras, candidate_points, loss);
   EXPECT_NEAR(e.candidate_cost, candidate, 1e-12 * candidate);
 }
 

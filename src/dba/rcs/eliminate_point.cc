@@ -66,15 +66,13 @@ void LinearizePoint(const BalProblem& problem, const UnknownLayout& layout,
   sys->cost = 0.0;
   sys->model_offset = 0.0;
   sys->residuals = ResidualSums();
-  const double inlier_bound = loss.scale * loss.scale;
   for (int a = 0; a < m; ++a) {
     sys->r[a] = Linearize(problem, layout, begin + a, X, a, sys);
     const double s = sys->r[a].squaredNorm();
+    sys->residuals.Add(s, loss.IsInlier(s));
     if (loss.trivial()) {
       sys->cost += 0.5 * s;
-      sys->residuals.Add(s, true);
     } else {
-      sys->residuals.Add(s, s <= inlier_bound);
       double rho[3];
       loss.Evaluate(s, rho);
       const LossCorrection correction(s, rho);

@@ -50,6 +50,9 @@ struct RobustLoss {
   void Evaluate(double s, double rho[3]) const;
   // ρ(s) alone.
   double Rho(double s) const;
+  // An inlier for the RMS figures: |r| within the scale (every observation
+  // for the squared loss).
+  bool IsInlier(double s) const { return trivial() || s <= scale * scale; }
 };
 
 // The correction of one observation with squared residual norm s.
