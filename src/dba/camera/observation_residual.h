@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "dba/camera/bal_camera.h"
+#include "dba/camera/rotation_frame_cache.h"
 #include "dba/problem/bal_problem.h"
 
 namespace dba {
@@ -18,6 +19,11 @@ namespace dba {
 // model and image groups from `side`.
 Vec2 ObservationResidual(const BalProblem& side, const double* cameras, int32_t i,
                          const double* X, const double* pixel);
+// The same with image i's rotation taken from `frames`, which must hold
+// frames of `cameras` only (the trigonometry once per image, not per
+// observation).
+Vec2 ObservationResidual(const BalProblem& side, const double* cameras, RotationFrameCache* frames,
+                         int32_t i, const double* X, const double* pixel);
 
 // Observations whose squared residual at the problem's current parameters is
 // not finite (a point at a camera centre, an overflowing value): how many,

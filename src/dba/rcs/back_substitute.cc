@@ -40,6 +40,7 @@ StepEvaluation BackSubstituteWith(const BalProblem& problem, const UnknownLayout
     reduction(+ : model_cost, candidate_cost, step_sq, x_sq, squared, inlier_squared, inliers)
   {
     PointSystem<Model> p;
+    RotationFrameCache candidate_frames;
     const bool first_thread = omp_get_thread_num() == 0;
     // Static: each thread always sums the same points, so the costs (and
     // with them every LM decision) are the same from run to run.
@@ -49,22 +50,21 @@ StepEvaluation BackSubstituteWith(const BalProblem& problem, const UnknownLayout
       LinearizePoint(problem, layout, loss, k, &p);
       InvertDampedV(lambda, bounds, &p);
       const int64_t begin = problem.point_offsets[k];
-      // Model residuals start as r + Σ_e J_e δ_e; J_p δX is added below.
-      Vec3 rhs = -p.g_p;
+      // Model residuals start as r + Σ_e J_e δ_e (J_p δX is added below),
+      // and rhs = -Σ_a J_pᵀ (r + Σ_e J_e δ_e) = -g_p - Σ_a Σ_e W_eᵀ δ_e.
+      Vec3 rhs = Vec3::Zero();
       for (int a = 0; a < p.num_obs; ++a) {
         if (p.camera_row[a] >= 0) {
           const auto dc = Eigen::Map<const CameraVec>(delta_c.data() +
                                                       layout.row_offset(p.camera_row[a]));
-          rhs.noalias() -= p.W_c[a].transpose() * dc;
           p.r[a].noalias() += p.J_c[a] * dc;
         }
         if constexpr (Model::kIntrinsics > 0) {
           if (p.intrinsics_row[a] >= 0) {
-            const IntrinsicsVec di = intrinsics_delta(p.intrinsics_row[a]);
-            rhs.noalias() -= p.W_i[a].transpose() * di;
-            p.r[a].noalias() += p.J_i[a] * di;
+            p.r[a].noalias() += p.J_i[a] * intrinsics_delta(p.intrinsics_row[a]);
           }
         }
+        rhs.noalias() -= p.J_p[a].transpose() * p.r[a];
       }
       const Vec3 dX = p.V_inv * rhs;
       const Vec3 X = Eigen::Map<const Vec3>(problem.point(k));
@@ -76,7 +76,7 @@ StepEvaluation BackSubstituteWith(const BalProblem& problem, const UnknownLayout
       for (int a = 0; a < p.num_obs; ++a) {
         model_cost += 0.5 * (p.r[a] + p.J_p[a] * dX).squaredNorm();
         const int64_t obs = begin + a;
-        const double s = ObservationResidual(problem, candidate_cameras.data(),
+        const double s = ObservationResidual(problem, candidate_cameras.data(), &candidate_frames,
                                              problem.obs_camera[obs], X_new.data(),
                                              problem.pixel(obs))
                              .squaredNorm();

@@ -29,14 +29,14 @@ Vec2 Linearize(const BalProblem& problem, const UnknownLayout& layout, int64_t o
   sys->camera_row[a] = layout.camera_row(i);
   if constexpr (Model::kIntrinsics == 0) {
     sys->intrinsics_row[a] = -1;
-    return BalResidualAndJacobians(sys->Frame(i, problem.camera(i)), problem.camera(i), X,
+    return BalResidualAndJacobians(sys->frames.Get(i, problem.camera(i)), problem.camera(i), X,
                                    problem.pixel(obs), &sys->J_c[a], &sys->J_p[a]);
   } else {
     const int32_t g = problem.camera_intrinsics[i];
     const int32_t row = layout.intrinsics_row(g);
     sys->intrinsics_row[a] = row;
     IntrinsicsJacobian full;
-    const Vec2 r = PhotoResidualAndJacobians(sys->Frame(i, problem.camera(i)), problem.camera(i),
+    const Vec2 r = PhotoResidualAndJacobians(sys->frames.Get(i, problem.camera(i)), problem.camera(i),
                                              problem.intrinsics(g), X,
                                              problem.pixel(obs), &sys->J_c[a],
                                              row >= 0 ? &full : nullptr, &sys->J_p[a]);
@@ -86,12 +86,6 @@ void LinearizePoint(const BalProblem& problem, const UnknownLayout& layout,
     }
     sys->V.noalias() += sys->J_p[a].transpose() * sys->J_p[a];
     sys->g_p.noalias() += sys->J_p[a].transpose() * sys->r[a];
-    if (sys->camera_row[a] >= 0) {
-      sys->W_c[a].noalias() = sys->J_c[a].transpose() * sys->J_p[a];
-    }
-    if (sys->intrinsics_row[a] >= 0) {
-      sys->W_i[a].noalias() = sys->J_i[a].transpose() * sys->J_p[a];
-    }
   }
 }
 
@@ -106,7 +100,13 @@ template <class Model>
 void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys) {
   InvertDampedV(lambda, bounds, sys);
   for (int a = 0; a < sys->num_obs; ++a) {
-    if (sys->camera_row[a] >= 0) sys->T_c[a].noalias() = sys->W_c[a] * sys->V_inv;
+    if (sys->camera_row[a] >= 0) {
+      sys->W_c[a].noalias() = sys->J_c[a].transpose() * sys->J_p[a];
+      sys->T_c[a].noalias() = sys->W_c[a] * sys->V_inv;
+    }
+    if (sys->intrinsics_row[a] >= 0) {
+      sys->W_i[a].noalias() = sys->J_i[a].transpose() * sys->J_p[a];
+    }
   }
 }
 

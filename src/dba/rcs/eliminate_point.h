@@ -15,7 +15,8 @@
 // The point's sub-RCS (eq. 4) is the dense block over its blocks
 //   S_ef += [a == b] J_e,aᵀ J_f,b - T_e,a W_f,bᵀ
 // and its right-hand side contribution b_e += -J_e,aᵀ r_a + T_e,a g_p.
-// Back-substitution (eq. 5): δX = V_λ⁻¹ (-g_p - Σ_a Σ_e W_e,aᵀ δ_e).
+// Back-substitution (eq. 5): δX = V_λ⁻¹ (-g_p - Σ_a Σ_e W_e,aᵀ δ_e), computed
+// as V_λ⁻¹ (-Σ_a J_p,aᵀ (r_a + Σ_e J_e,a δ_e)), which needs no W.
 //
 // The intrinsics Jacobian keeps only the free parameters, packed into its
 // first columns (the rest zero), so fixed ones are not unknowns.
@@ -29,6 +30,7 @@
 
 #include "dba/camera/bal_camera.h"
 #include "dba/camera/photo_camera.h"
+#include "dba/camera/rotation_frame_cache.h"
 #include "dba/problem/bal_problem.h"
 #include "dba/rcs/robust_loss.h"
 #include "dba/rcs/unknown_layout.h"
@@ -92,21 +94,9 @@ struct PointSystem {
   std::vector<IntrinsicsW> W_i;        // (T_i is formed per group, form_rcs.cc)
   Eigen::Matrix3d V;
   Eigen::Matrix3d V_inv;  // V_λ⁻¹
-  // Rotation frames of recently seen cameras, direct-mapped by camera index:
-  // neighbouring points share cameras, so most observations find theirs.
-  // Valid for one set of camera parameters: a PointSystem lives for one
-  // formation or back-substitution.
-  static constexpr int kFrameSlots = 256;
-  std::vector<int32_t> frame_camera = std::vector<int32_t>(kFrameSlots, -1);
-  std::vector<RotationFrame> frames = std::vector<RotationFrame>(kFrameSlots);
-  const RotationFrame& Frame(int32_t camera, const double* omega) {
-    const int slot = camera & (kFrameSlots - 1);
-    if (frame_camera[slot] != camera) {
-      frames[slot] = MakeRotationFrame(omega);
-      frame_camera[slot] = camera;
-    }
-    return frames[slot];
-  }
+  // Rotation frames of the current cameras (a PointSystem lives for one
+  // formation or back-substitution).
+  RotationFrameCache frames;
   Vec3 g_p;
   double cost = 0.0;  // ½ Σ ρ(|r_a|²) (r, J above are the corrected ones)
   // ½ Σ (ρ(|r_a|²) - |r̃_a|²): the model ½ |r̃ + J̃ δ|² plus this is the
@@ -115,7 +105,7 @@ struct PointSystem {
   ResidualSums residuals;  // of the uncorrected residuals
 };
 
-// Residuals, Jacobians, V, g_p, W and the cost of point k at the problem's
+// Residuals, Jacobians, V, g_p and the cost of point k at the problem's
 // current parameters, each observation's residual and Jacobians corrected
 // for `loss` (rcs/robust_loss.h); `problem.model` must match Model.
 template <class Model>
@@ -126,7 +116,7 @@ void LinearizePoint(const BalProblem& problem, const UnknownLayout& layout,
 template <class Model>
 void InvertDampedV(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys);
 
-// InvertDampedV, then T_c = W_c V_λ⁻¹.
+// InvertDampedV, then W = J_eᵀ J_p and T_c = W_c V_λ⁻¹.
 template <class Model>
 void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys);
 
