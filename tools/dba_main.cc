@@ -7,6 +7,7 @@
 #include "dba/app/convert_command.h"
 #include "dba/app/generate_command.h"
 #include "dba/app/solve_command.h"
+#include "dba/common/blas_threads.h"
 #include "dba/io/temporary_registry.h"
 
 namespace {
@@ -45,6 +46,7 @@ void PrintUsage(std::ostream& out) {
 int main(int argc, char** argv) {
   // An interrupted write leaves no temporary behind.
   dba::RemoveTemporariesOnSignals();
+  dba::StopBlasThreads();
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "-h" || args[0] == "--help" || args[0] == "help") {
     PrintUsage(std::cout);

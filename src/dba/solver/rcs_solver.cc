@@ -103,7 +103,6 @@ std::unique_ptr<CholeskySolver> MakeCholeskySolver(const BsmcMatrix& S, int64_t 
 std::unique_ptr<RcsSolver> MakeRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options,
                                          RcsSolverChoice* choice_out) {
   RcsSolverChoice choice;
-  SetBlasThreads(std::max(1, options.num_threads));
   const double n = static_cast<double>(S.num_rows());
   choice.pcg_bytes = PcgPathBytes(S);
   choice.dense_bytes = static_cast<int64_t>(n * n * 8);
@@ -139,7 +138,7 @@ std::unique_ptr<RcsSolver> MakeRcsSolver(const BsmcMatrix& S, const LinearSolver
         if (choice.sparse_bytes <= budget && choice.estimated_sparse_seconds < best) {
           // The estimate picked it: the scalar analysis gives the exact
           // factor size, checked against the budget again.
-          auto sparse = std::make_unique<SparseCholeskySolver>(S);
+          auto sparse = std::make_unique<SparseCholeskySolver>(S, options.num_threads);
           choice.sparse_bytes = static_cast<int64_t>(sparse->factor_values() * 8);
           if (choice.sparse_bytes <= budget) {
             choice.type = LinearSolverType::kSparse;
@@ -158,7 +157,8 @@ std::unique_ptr<RcsSolver> MakeRcsSolver(const BsmcMatrix& S, const LinearSolver
 
   switch (choice.type) {
     case LinearSolverType::kDense: return std::make_unique<DenseCholeskySolver>(S);
-    case LinearSolverType::kSparse: return std::make_unique<SparseCholeskySolver>(S);
+    case LinearSolverType::kSparse:
+      return std::make_unique<SparseCholeskySolver>(S, options.num_threads);
     case LinearSolverType::kPcg:
     case LinearSolverType::kAuto: {
       LinearSolverOptions pcg = options;

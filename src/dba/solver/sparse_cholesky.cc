@@ -1,4 +1,5 @@
 // Sparse Cholesky of the damped RCS; see sparse_cholesky.h.
+#include "dba/common/blas_threads.h"
 #include "dba/solver/sparse_cholesky.h"
 
 #include <limits>
@@ -7,7 +8,6 @@
 #include <string>
 #include <vector>
 
-#include <dlfcn.h>
 
 #ifdef DBA_HAVE_CHOLMOD
 #include <cholmod.h>
@@ -85,13 +85,6 @@ void FillUpperValues(const BsmcMatrix& S, const UpperPattern& p, double* values)
 }
 
 }  // namespace
-
-void SetBlasThreads(int num_threads) {
-  using SetThreads = void (*)(int);
-  static const auto set =
-      reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-  if (set != nullptr) set(num_threads);
-}
 
 #ifdef DBA_HAVE_CHOLMOD
 
@@ -178,7 +171,8 @@ struct SparseCholeskySolver::Impl {
   }
 };
 
-SparseCholeskySolver::SparseCholeskySolver(const BsmcMatrix& S) : impl_(std::make_unique<Impl>()) {
+SparseCholeskySolver::SparseCholeskySolver(const BsmcMatrix& S, int blas_threads)
+    : impl_(std::make_unique<Impl>()), blas_threads_(blas_threads) {
   Impl& m = *impl_;
   const BlockAnalysis blocks = AnalyseBlockGraph(S);
   std::vector<int> perm;
@@ -235,6 +229,7 @@ int64_t SparseCholeskySolver::MemoryBytes() const {
 bool SparseCholeskySolver::Factorize(const BsmcMatrix& S) {
   Impl& m = *impl_;
   FillUpperValues(S, m.pattern, static_cast<double*>(m.A->x));
+  const BlasThreads blas(blas_threads_);
   const int ok = cholmod_factorize(m.A, m.L, &m.cm.c);
   if (m.cm.c.status == CHOLMOD_NOT_POSDEF) return false;
   if (!ok || m.cm.c.status < 0) {
@@ -248,6 +243,7 @@ void SparseCholeskySolver::SolveFactored(const double* b, double* x) {
   Impl& m = *impl_;
   const int64_t n = static_cast<int64_t>(m.B->nrow);
   std::copy(b, b + n, static_cast<double*>(m.B->x));
+  const BlasThreads blas(blas_threads_);
   if (!cholmod_solve2(CHOLMOD_A, m.L, m.B, nullptr, &m.X, nullptr, &m.Y, &m.E, &m.cm.c)) {
     throw std::runtime_error("sparse Cholesky: solve failed (CHOLMOD status " +
                              std::to_string(m.cm.c.status) + ")");
@@ -266,7 +262,8 @@ struct SparseCholeskySolver::Impl {
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
 };
 
-SparseCholeskySolver::SparseCholeskySolver(const BsmcMatrix& S) : impl_(std::make_unique<Impl>()) {
+SparseCholeskySolver::SparseCholeskySolver(const BsmcMatrix& S, int blas_threads)
+    : impl_(std::make_unique<Impl>()), blas_threads_(blas_threads) {
   impl_->pattern = BuildUpperPattern(S);
   impl_->values.assign(impl_->pattern.row_idx.size(), 0.0);
   const int n = static_cast<int>(S.num_rows());

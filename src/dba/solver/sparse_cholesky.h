@@ -29,15 +29,11 @@ struct SparseFactorEstimate {
 };
 SparseFactorEstimate EstimateSparseFactor(const BsmcMatrix& S);
 
-// Threads of the BLAS under CHOLMOD's supernodal kernels. OpenBLAS's
-// threads otherwise default to every core and busy-wait (sched_yield) next
-// to dba's own: on problem-49-7776 with -t 1 that was 30% of the run. A no-op
-// for a BLAS without openblas_set_num_threads.
-void SetBlasThreads(int num_threads);
-
 class SparseCholeskySolver : public CholeskySolver {
  public:
-  explicit SparseCholeskySolver(const BsmcMatrix& S);
+  // `blas_threads`: the BLAS threads of CHOLMOD's factorization and solves
+  // (common/blas_threads.h); 1 for a small system factorized often.
+  explicit SparseCholeskySolver(const BsmcMatrix& S, int blas_threads = 1);
   ~SparseCholeskySolver() override;
   bool Factorize(const BsmcMatrix& S) override;
   void SolveFactored(const double* b, double* x) override;
@@ -49,6 +45,7 @@ class SparseCholeskySolver : public CholeskySolver {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  int blas_threads_ = 1;
 };
 
 }  // namespace dba

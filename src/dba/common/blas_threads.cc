@@ -1,0 +1,46 @@
+// The BLAS's threads; see blas_threads.h.
+#include "dba/common/blas_threads.h"
+
+#include <dlfcn.h>
+
+namespace dba {
+namespace {
+
+struct OpenBlas {
+  void (*set_threads)(int) = nullptr;
+  int (*get_threads)() = nullptr;
+  int (*shutdown)() = nullptr;
+  OpenBlas() {
+    set_threads = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    get_threads = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+    shutdown = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "blas_thread_shutdown_"));
+  }
+  bool loaded() const { return set_threads && get_threads && shutdown; }
+};
+
+const OpenBlas& Blas() {
+  static const OpenBlas blas;
+  return blas;
+}
+
+}  // namespace
+
+void StopBlasThreads() {
+  if (!Blas().loaded()) return;
+  Blas().set_threads(1);
+  Blas().shutdown();
+}
+
+BlasThreads::BlasThreads(int num_threads) {
+  if (!Blas().loaded()) return;
+  previous_ = Blas().get_threads();
+  Blas().set_threads(num_threads);
+}
+
+BlasThreads::~BlasThreads() {
+  if (previous_ == 0) return;
+  Blas().set_threads(previous_);
+  Blas().shutdown();
+}
+
+}  // namespace dba

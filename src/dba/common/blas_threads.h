@@ -1,0 +1,39 @@
+// The threads of the BLAS under CHOLMOD (the sparse solver, the two-level
+// preconditioner's coarse factorization).
+//
+// Debian's OpenBLAS (libopenblas0-pthread) starts one thread per core when
+// the library loads, and an idle one spins in sched_yield for 2^28 cycles
+// (about 0.1 s) at start-up and after every multithreaded BLAS call before
+// it sleeps. On a 2-core machine that takes a core from dba's own threads:
+// problem-73-11032 from plain text took 0.22 s instead of 0.19 s (2
+// threads, alternating, medians of 9). But the sparse RCS factorization
+// needs BLAS's threads: on a 2,500-image survey with one BLAS thread it took
+// 12.0 s instead of 7.7 s. So dba runs BLAS on one thread, except inside a
+// BlasThreads scope, which stops the pool when it ends.
+//
+// Everything looks OpenBLAS up at run time (the BLAS behind CHOLMOD is
+// chosen by Debian's alternatives) and does nothing under another BLAS.
+// Thread safety: while no other thread uses BLAS.
+#pragma once
+
+namespace dba {
+
+// For a program's start: one BLAS thread, and the pool's threads joined
+// (blas_thread_shutdown_). Not for a library: it would take the host
+// program's (numpy's) BLAS threads too.
+void StopBlasThreads();
+
+// `num_threads` BLAS threads for the scope; after it, the count it found and
+// the pool's threads joined (a later multithreaded call starts them again).
+class BlasThreads {
+ public:
+  explicit BlasThreads(int num_threads);
+  ~BlasThreads();
+  BlasThreads(const BlasThreads&) = delete;
+  BlasThreads& operator=(const BlasThreads&) = delete;
+
+ private:
+  int previous_ = 0;  // 0: no OpenBLAS
+};
+
+}  // namespace dba
