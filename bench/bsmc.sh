@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# BSMC versus CSR (paper section 4, issue 3): builds and runs
+# BSMC versus CSR (paper section 4): builds and runs
 # build/bench/bsmc_benchmark (Google Benchmark) and turns its JSON output into
 # one Markdown table, bench/results/bsmc.md (raw figures, not kept in git:
 # build/bench/bsmc.json).

@@ -1,4 +1,4 @@
-// BSMC versus CSR (paper section 4, issue 3), on the RCS of every real BAL
+// BSMC versus CSR (paper section 4), on the RCS of every real BAL
 // problem and of synthetic UAV surveys of growing size (real values: the RCS
 // is formed by FormRcs at the initial parameters).
 //

@@ -1,4 +1,4 @@
-// Ceres baseline for the comparison benchmarks (issue 3): solves a BAL problem
+// Ceres baseline for the comparison benchmarks: solves a BAL problem
 // with Ceres's public API and the standard BAL reprojection model (the same as
 // dba's, data/README.md), and writes a JSON report with the keys of
 // `dba solve --report`. It builds against Ceres 2.1 (Debian's libceres-dev)

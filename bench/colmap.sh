@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Every COLMAP model in ../shared/data/colmap solved in both forms of the
-# photogrammetric model (issue 6): shared intrinsics (one group per COLMAP
+# photogrammetric model: shared intrinsics (one group per COLMAP
 # camera) and one intrinsic group per image. Prints a Markdown table: images,
 # groups, points, observations, unknowns, initial and final RMS
 # (sqrt(2F/observations), pixels), iterations, termination and time.

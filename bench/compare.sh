@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # dba against Ceres, side by side on the same machine in the same run
-# (issue 3; the yardstick of "fast by default at every scale"). For every
+# (the yardstick of "fast by default at every scale"). For every
 # BAL problem given (default: ../shared/data/bal/*.bz2) and synthetic
 # problems made on the fly, runs under /usr/bin/time -v, alternately and
 # several times each:

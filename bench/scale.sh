@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Scale on one machine (issue 5): generates UAV surveys of growing size with
+# Scale on one machine : generates UAV surveys of growing size with
 # `dba generate` and solves them with `dba solve --truth`, both under
 # /usr/bin/time -v, and prints a Markdown table: generation time and memory,
 # cameras/points/observations, solve time (total and per LM iteration),

@@ -1,5 +1,6 @@
-# `cmake --install`: the dba program, the static library dba_core as the
-# imported target dba::dba with its public headers, and the CMake package
+# `cmake --install`: the dba program, the library as the imported target
+# dba::dba (dba_core: the modules' static libraries, dba::common, dba::io, ...)
+# with its public headers, and the CMake package
 # (dbaConfig.cmake, dbaConfigVersion.cmake, dbaTargets.cmake) under
 # lib/cmake/dba, so that find_package(dba) + target_link_libraries(x dba::dba)
 # builds against an installed dba. The Python module installs itself
@@ -9,7 +10,11 @@ include(CMakePackageConfigHelpers)
 set(DBA_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/dba)
 
 install(TARGETS dba RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-install(TARGETS dba_core EXPORT dbaTargets
+set(DBA_MODULE_TARGETS "")
+foreach(m ${DBA_MODULES})
+  list(APPEND DBA_MODULE_TARGETS dba_${m})
+endforeach()
+install(TARGETS dba_core dba_headers ${DBA_MODULE_TARGETS} EXPORT dbaTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 # Every header of the library but the test helpers, in their directories

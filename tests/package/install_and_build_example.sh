@@ -14,11 +14,16 @@ prefix=$tmp/prefix
 cmake --install "$build" --prefix "$prefix" >"$tmp/install.log" 2>&1
 check "cmake --install succeeds" test $? -eq 0
 for f in lib/cmake/dba/dbaConfig.cmake lib/cmake/dba/dbaConfigVersion.cmake \
-         lib/cmake/dba/dbaTargets.cmake lib/libdba_core.a bin/dba \
+         lib/cmake/dba/dbaTargets.cmake bin/dba \
          include/dba/lm/bundle_adjust.h include/dba/io/read_problem.h; do
   check "installed $f" test -f "$prefix/$f"
 done
+# One static library per module (src/dba/CMakeLists.txt; problem is headers only).
+for m in common bsmc camera io solver rcs lm cluster synthetic app; do
+  check "installed lib/libdba_$m.a" test -f "$prefix/lib/libdba_$m.a"
+done
 check "test helpers are not installed" test ! -e "$prefix/include/dba/testing"
+check "the test library is not installed" test ! -e "$prefix/lib/libdba_testing.a"
 
 # Only the prefix: the example must not see the source or build trees.
 cmake -S "$root/examples" -B "$tmp/example-build" -DCMAKE_PREFIX_PATH="$prefix" \

@@ -1,4 +1,4 @@
-// Block-based sparse matrix compression (BSMC), paper section 4, DESIGN.md §3.
+// Block-based sparse matrix compression (BSMC), paper section 4, docs/design.md §2.
 //
 // A symmetric block matrix S stored as its upper triangle (diagonal blocks
 // included), one block as the storage unit:
@@ -81,7 +81,7 @@ class BsmcMatrix {
   void SetZero();
 
   // Bytes of the structure (block sizes, offsets, column ids) and of the
-  // values, as held (DESIGN.md §3, paper eq. 9).
+  // values, as held (docs/design.md §2, paper eq. 9).
   int64_t StructureBytes() const;
   int64_t ValueBytes() const { return num_values() * int64_t{sizeof(double)}; }
   // Bytes of the same matrix in scalar CSR (paper eq. 8): both triangles,

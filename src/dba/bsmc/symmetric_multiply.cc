@@ -6,6 +6,8 @@
 #include <Eigen/Core>
 #include <algorithm>
 
+#include "dba/bsmc/block_shape.h"
+
 namespace dba {
 namespace {
 
@@ -41,12 +43,9 @@ void MultiplyRows(const BsmcMatrix& m, int32_t row0, int32_t row1,
       const int64_t oj = m.scalar_offset(j);
       double* y_j = nullptr;
       if (j != i) y_j = oj < own_end ? y + oj : spill + (oj - spill_begin);
-      if (r == 9 && c == 9) {
-        ApplyBlock<9, 9>(m.block_values(b), r, c, x + oj, x + oi, y + oi, y_j);
-      } else {
-        ApplyBlock<Eigen::Dynamic, Eigen::Dynamic>(m.block_values(b), r, c,
-                                                   x + oj, x + oi, y + oi, y_j);
-      }
+      WithBlockShape(r, c, [&]<int R, int C>() {
+        ApplyBlock<R, C>(m.block_values(b), r, c, x + oj, x + oi, y + oi, y_j);
+      });
     }
   }
 }

@@ -1,4 +1,4 @@
-// The photogrammetric camera model with shared intrinsics (issue 6, the
+// The photogrammetric camera model with shared intrinsics (the
 // paper's 6 exterior + 5 interior unknowns), in COLMAP's conventions (camera
 // looks down +z, image origin at the top-left pixel corner, y down):
 //

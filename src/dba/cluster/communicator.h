@@ -1,4 +1,4 @@
-// The transport layer: the only place that talks MPI (DESIGN.md §2). Ranks
+// The transport layer: the only place that talks MPI (docs/design.md §4). Ranks
 // exchange typed arrays; every transfer is counted, in bytes and seconds, under
 // a traffic category, so the communication cost of a solve is measured (paper
 // Table 5).

@@ -1,4 +1,4 @@
-// Distributed bundle adjustment (paper section 6, DESIGN.md §2): the main
+// Distributed bundle adjustment (paper section 6, docs/design.md §4): the main
 // rank partitions the points, sends each rank its share, and runs LM over
 // MpiPointWorkers; every other rank serves its share until the solve ends.
 //

@@ -1,4 +1,4 @@
-// PointWorkers spread over MPI ranks: the iteration protocol of DESIGN.md §2.
+// PointWorkers spread over MPI ranks: the iteration protocol of docs/design.md §4.
 //
 //   main rank (MpiPointWorkers)            every rank (RunPointRank, or the
 //                                          main rank's own share)

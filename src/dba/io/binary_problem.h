@@ -1,6 +1,6 @@
 // The dba binary problem format: a versioned, mmap/pread-friendly layout of
 // a BalProblem, observations point-major, so a rank can read the points it
-// owns without reading the rest (DESIGN.md §2, §5).
+// owns without reading the rest (docs/design.md §4, §6).
 //
 // Version 1 holds BAL problems; version 2 adds the photogrammetric model
 // (poses plus shared intrinsic groups) and the fixed flags. A writer uses

@@ -196,7 +196,7 @@ TEST(BinaryProblem, FailedWriteLeavesNothing) {
 namespace dba {
 namespace {
 
-// 64-bit sizes (DESIGN.md §5): a header announcing 3 billion observations over
+// 64-bit sizes (docs/design.md §6): a header announcing 3 billion observations over
 // a sparse file of the matching size (nothing is allocated on disk or in
 // memory) is accepted, its section offsets are exact, and reading the
 // all-zero offsets fails cleanly instead of overflowing.

@@ -1,4 +1,4 @@
-// The exact Levenberg-Marquardt loop (paper eq. 1, DESIGN.md §1):
+// The exact Levenberg-Marquardt loop (paper eq. 1, docs/design.md §1):
 //
 //   (JᵀJ + λ D) δ = -Jᵀ r,   D = clamp(diag JᵀJ)
 //

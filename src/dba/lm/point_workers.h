@@ -1,5 +1,5 @@
 // The points' side of a solve, as the LM loop on the main node sees it
-// (DESIGN.md §2). Every rank holds a share of the points; the main node holds
+// (docs/design.md §4). Every rank holds a share of the points; the main node holds
 // the cameras and the global RCS. One rank (LocalPointWorkers) or many (the
 // MPI transport) implement the same three steps:
 //

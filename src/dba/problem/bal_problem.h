@@ -11,7 +11,7 @@
 // parameters each, then (kPhoto) the intrinsic groups' 5 each. The LM loop
 // steps that vector as a whole.
 //
-// This is also the share of one rank in the distributed design (DESIGN.md §2):
+// This is also the share of one rank in the distributed design (docs/design.md §4):
 // a rank holds its points, their observations and the cameras they touch, with
 // cameras renumbered locally. A single process is one rank holding everything.
 //

@@ -5,7 +5,7 @@
 //   candidate residual r_a(c_a + δc_a, X_k + δX_k)  (the true cost at the step)
 // With a robust loss, r and J are the corrected ones (rcs/robust_loss.h) and
 // the costs are ½ Σ ρ.
-// Jacobians are recomputed, not stored (DESIGN.md §4).
+// Jacobians are recomputed, not stored (docs/design.md §7.1).
 //
 // Thread safety: runs its own threads; the outputs are written per point.
 #pragma once

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <utility>
 
+#include "dba/common/check.h"
 #include "dba/common/striped_locks.h"
 #include "dba/rcs/rcs_pattern.h"
 
@@ -126,7 +127,9 @@ void AddPointToRcs(const PointSystem<Model>& p,
   constexpr int kC = Model::kCamera;
   constexpr int kI = PointSystem<Model>::kI;
   auto block_values = [&](int32_t row, int32_t col) {
-    return t.values + S.value_offset(S.FindBlock(row, col));
+    const int64_t block = S.FindBlock(row, col);
+    DBA_DCHECK(block >= 0);  // the pattern (rcs_pattern) holds every pair of a point's rows
+    return t.values + S.value_offset(block);
   };
   if constexpr (Model::kIntrinsics > 0) SumByGroup(p, &groups);
   for (int a = 0; a < p.num_obs; ++a) {

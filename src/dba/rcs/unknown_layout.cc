@@ -10,7 +10,7 @@ namespace dba {
 UnknownLayout::UnknownLayout(const BalProblem& problem) {
   const int64_t num_cameras = problem.num_cameras();
   if (num_cameras + problem.num_intrinsics() > std::numeric_limits<int32_t>::max()) {
-    // Block rows are 32-bit ids (DESIGN.md §3).
+    // Block rows are 32-bit ids (docs/design.md §2).
     throw std::invalid_argument("more than 2^31 - 1 cameras and intrinsic groups");
   }
   const int cs = problem.camera_size();

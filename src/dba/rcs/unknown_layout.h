@@ -1,5 +1,5 @@
 // The unknowns of the reduced camera system: which camera-side parameters the
-// solve moves, and where they sit in the RCS (DESIGN.md §3).
+// solve moves, and where they sit in the RCS (docs/design.md §2).
 //
 // Block rows of the RCS, in this order:
 //   1. every camera (image) that is not held fixed, in camera order:

@@ -1,4 +1,5 @@
 // Block-Jacobi preconditioner (paper eq. 7); see block_jacobi.h.
+#include "dba/bsmc/block_shape.h"
 #include "dba/solver/block_jacobi.h"
 
 #include <Eigen/Cholesky>
@@ -51,17 +52,13 @@ void BlockJacobiPreconditioner::Apply(const double* r, double* z) const {
   for (int32_t i = 0; i < n; ++i) {
     const int c = S_.block_size(i);
     const int64_t o = S_.scalar_offset(i);
-    if (c == 9) {  // the BAL camera: a fixed-size kernel
-      using Mat9 = Eigen::Matrix<double, 9, 9, Eigen::RowMajor>;
-      using Vec9 = Eigen::Matrix<double, 9, 1>;
-      Eigen::Map<Vec9>(z + o).noalias() =
-          Eigen::Map<const Mat9>(inverse_.data() + offset_[i])
-              .lazyProduct(Eigen::Map<const Vec9>(r + o));
-      continue;
-    }
-    Eigen::Map<const RowMat> inv(inverse_.data() + offset_[i], c, c);
-    Eigen::Map<Eigen::VectorXd>(z + o, c).noalias() =
-        inv * Eigen::Map<const Eigen::VectorXd>(r + o, c);
+    WithSquareBlockSize(c, [&]<int N>() {
+      using Vec = Eigen::Matrix<double, N, 1>;
+      using Mat = Eigen::Matrix<double, N, N, Eigen::RowMajor>;
+      Eigen::Map<Vec>(z + o, c).noalias() =
+          Eigen::Map<const Mat>(inverse_.data() + offset_[i], c, c)
+              .lazyProduct(Eigen::Map<const Vec>(r + o, c));
+    });
   }
 }
 

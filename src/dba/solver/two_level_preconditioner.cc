@@ -1,5 +1,6 @@
 // Two-level additive preconditioner M⁻¹ = B⁻¹ + Rᵀ (R S Rᵀ)⁻¹ R; see
 // two_level_preconditioner.h.
+#include "dba/common/check.h"
 #include "dba/solver/two_level_preconditioner.h"
 
 #include <omp.h>
@@ -143,6 +144,7 @@ TwoLevelPreconditioner::TwoLevelPreconditioner(const BsmcMatrix& S, int aggregat
       const int32_t j = S.block_col(b);
       const int32_t ai = aggregate_[i], aj = aggregate_[j];
       coarse_block_[b] = coarse_.FindBlock(std::min(ai, aj), std::max(ai, aj));
+      DBA_DCHECK(coarse_block_[b] >= 0);  // the coarse pattern holds every aggregate pair
       transposed_[b] = ai > aj;
       mirrored_[b] = ai == aj && i != j;
     }

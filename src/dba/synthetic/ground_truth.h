@@ -1,5 +1,5 @@
 // How close a solution is to the known ground truth of a synthetic problem
-// (issue 5):
+// :
 //   - reprojection RMS of the solved cameras and points against the
 //     noise-free observations (pixels, per observation: sqrt(Σ|r|² / n), as
 //     the solver's RMS), which for an exact solver is well below the

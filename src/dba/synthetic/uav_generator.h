@@ -1,4 +1,4 @@
-// Synthetic UAV surveys with a known ground truth (issue 5), like the paper's
+// Synthetic UAV surveys with a known ground truth like the paper's
 // synthetic datasets: nadir images taken along parallel flight strips over
 // gently rolling terrain, each ground point observed by every image whose
 // footprint holds it, so track lengths follow from the forward and side
