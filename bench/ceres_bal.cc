@@ -52,7 +52,7 @@
 #include <string>
 #include <vector>
 
-#include "dba/io/atomic_file.h"
+#include "dba/io/atomic_output_file.h"
 #include "dba/io/read_problem.h"
 
 namespace {

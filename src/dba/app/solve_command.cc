@@ -19,7 +19,7 @@
 #include "dba/common/error.h"
 #include "dba/common/progress.h"
 #include "dba/common/timer.h"
-#include "dba/io/atomic_file.h"
+#include "dba/io/atomic_output_file.h"
 #include "dba/io/bz2_line_reader.h"
 #include "dba/io/read_problem.h"
 #include "dba/io/bal_writer.h"

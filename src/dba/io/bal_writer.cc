@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <string_view>
 
-#include "dba/io/temporary_file.h"
+#include "dba/io/atomic_output_file.h"
 
 namespace dba {
 namespace {
@@ -38,7 +38,7 @@ void CheckConsistent(const BalProblem& p) {
   if (!ok) throw std::invalid_argument("WriteBal: inconsistent BalProblem arrays");
 }
 
-// Buffered output to a plain or bzip2 file, through a TemporaryFile that is
+// Buffered output to a plain or bzip2 file, through a AtomicOutputFile that is
 // renamed over the path by Commit() and removed otherwise.
 class Output {
  public:
@@ -110,7 +110,7 @@ class Output {
     buf_.clear();
   }
 
-  TemporaryFile out_;
+  AtomicOutputFile out_;
   BZFILE* bz_ = nullptr;
   std::string buf_;
 };

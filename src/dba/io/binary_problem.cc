@@ -11,7 +11,7 @@
 #include <cstring>
 
 #include "dba/common/error.h"
-#include "dba/io/temporary_file.h"
+#include "dba/io/atomic_output_file.h"
 
 namespace dba {
 namespace {

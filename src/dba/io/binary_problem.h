@@ -64,7 +64,7 @@
 #include <string>
 #include <vector>
 
-#include "dba/io/temporary_file.h"
+#include "dba/io/atomic_output_file.h"
 #include "dba/problem/bal_problem.h"
 
 namespace dba {
@@ -186,7 +186,7 @@ class BinaryProblemWriter {
   void Flush();
   void Write(int64_t offset, const void* data, int64_t bytes);
 
-  TemporaryFile out_;
+  AtomicOutputFile out_;
   BinaryProblemHeader h_;
   int64_t points_ = 0, observations_ = 0;  // written so far (flushed or buffered)
   int64_t flushed_points_ = 0, flushed_observations_ = 0;

@@ -1,4 +1,5 @@
 // COLMAP binary models: reading and writing; see colmap_binary.h.
+#include "dba/io/atomic_output_file.h"
 #include "dba/io/colmap_binary.h"
 
 #include <bit>
@@ -16,7 +17,6 @@ namespace {
 static_assert(std::endian::native == std::endian::little,
               "COLMAP binary I/O assumes a little-endian host");
 
-using colmap_internal::AtomicOutputFile;
 using colmap_internal::JoinPath;
 
 constexpr uint64_t kInvalidPoint3D = std::numeric_limits<uint64_t>::max();
@@ -310,7 +310,7 @@ void WriteColmapBinary(const ColmapModel& model, const std::string& dir) {
   WriteImages(model, images);
   WritePoints3D(model, points);
   // All three on disk before any replaces a file of the old model.
-  colmap_internal::CommitTogether({&cameras.file(), &images.file(), &points.file()});
+  CommitTogether({&cameras.file(), &images.file(), &points.file()});
 }
 
 }  // namespace dba

@@ -370,65 +370,6 @@ void CheckWritable(const ColmapModel& model, bool text) {
   }
 }
 
-AtomicOutputFile::AtomicOutputFile(const std::string& path)
-    : path_(path), tmp_(path + ".tmp." + std::to_string(::getpid())) {
-  registry_slot_ = RegisterTemporary(tmp_);
-  file_ = std::fopen(tmp_.c_str(), "wb");
-  if (file_ == nullptr) Fail("cannot create temporary file");
-  buffer_.reserve(1 << 20);
-}
-
-AtomicOutputFile::~AtomicOutputFile() {
-  if (file_ != nullptr) std::fclose(file_);
-  if (!committed_) std::remove(tmp_.c_str());
-  UnregisterTemporary(registry_slot_);
-}
-
-void AtomicOutputFile::Fail(const char* what) {
-  const int err = errno;
-  if (file_ != nullptr) std::fclose(file_);
-  file_ = nullptr;
-  std::remove(tmp_.c_str());
-  throw std::runtime_error(path_ + ": " + what + ": " + std::strerror(err));
-}
-
-void AtomicOutputFile::Write(const void* data, size_t size) {
-  const char* p = static_cast<const char*>(data);
-  if (buffer_.size() + size > buffer_.capacity()) {
-    if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size()) {
-      Fail("write failed");
-    }
-    buffer_.clear();
-    if (size >= buffer_.capacity()) {
-      if (std::fwrite(p, 1, size, file_) != size) Fail("write failed");
-      return;
-    }
-  }
-  buffer_.insert(buffer_.end(), p, p + size);
-}
-
-void AtomicOutputFile::Finish() {
-  if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size()) {
-    Fail("write failed");
-  }
-  buffer_.clear();
-  if (std::fflush(file_) != 0) Fail("write failed");
-  if (::fsync(::fileno(file_)) != 0) Fail("fsync failed");
-  const int rc = std::fclose(file_);
-  file_ = nullptr;
-  if (rc != 0) Fail("close failed");
-}
-
-void CommitTogether(std::initializer_list<AtomicOutputFile*> files) {
-  for (AtomicOutputFile* f : files) f->Finish();
-  for (AtomicOutputFile* f : files) f->Rename();
-}
-
-void AtomicOutputFile::Rename() {
-  if (std::rename(tmp_.c_str(), path_.c_str()) != 0) Fail("rename failed");
-  committed_ = true;
-}
-
 }  // namespace colmap_internal
 
 void ValidateColmapModel(const ColmapModel& model, const std::string& dir,

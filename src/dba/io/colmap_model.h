@@ -207,40 +207,6 @@ void EnsureDirectory(const std::string& dir);
 // not read back). std::invalid_argument otherwise.
 void CheckWritable(const ColmapModel& model, bool text);
 
-// A file written through a buffer to `path.tmp.<pid>` and renamed over `path`
-// by Commit() after fsync; destroyed uncommitted, it removes the temporary.
-// Commit() = Finish() (flush, fsync, close: the data is on disk) + Rename():
-// the three files of a model are all finished before any is renamed, so a
-// failed write (a full disk) leaves the old model whole.
-class AtomicOutputFile {
- public:
-  explicit AtomicOutputFile(const std::string& path);
-  ~AtomicOutputFile();
-  AtomicOutputFile(const AtomicOutputFile&) = delete;
-  AtomicOutputFile& operator=(const AtomicOutputFile&) = delete;
-
-  void Write(const void* data, size_t size);
-  void Write(std::string_view s) { Write(s.data(), s.size()); }
-  void Finish();
-  void Rename();
-  void Commit() {
-    Finish();
-    Rename();
-  }
-
- private:
-  [[noreturn]] void Fail(const char* what);
-  std::string path_;
-  std::string tmp_;
-  std::FILE* file_ = nullptr;
-  std::vector<char> buffer_;
-  bool committed_ = false;
-  int registry_slot_ = -1;  // io/temporary_registry.h
-};
-
-// Finishes every file, then renames them all: a failure while any is being
-// written leaves every old file in place.
-void CommitTogether(std::initializer_list<AtomicOutputFile*> files);
 
 }  // namespace colmap_internal
 }  // namespace dba

@@ -1,4 +1,5 @@
 // COLMAP text models: reading and writing; see colmap_text.h.
+#include "dba/io/atomic_output_file.h"
 #include "dba/io/colmap_text.h"
 
 #include "dba/io/bz2_line_reader.h"
@@ -14,7 +15,6 @@
 namespace dba {
 namespace {
 
-using colmap_internal::AtomicOutputFile;
 using colmap_internal::JoinPath;
 
 bool IsBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
@@ -332,7 +332,7 @@ void WriteColmapText(const ColmapModel& model, const std::string& dir) {
   WriteImages(model, images);
   WritePoints3D(model, points);
   // All three on disk before any replaces a file of the old model.
-  colmap_internal::CommitTogether({&cameras.file(), &images.file(), &points.file()});
+  CommitTogether({&cameras.file(), &images.file(), &points.file()});
 }
 
 }  // namespace dba

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "dba/io/temporary_file.h"
+#include "dba/io/atomic_output_file.h"
 
 namespace dba {
 namespace {
@@ -83,7 +83,7 @@ void WritePointCloudPly(const std::string& path, std::span<const double> xyz,
     return HeightColour((z - z_lo) / (z_hi - z_lo));
   };
 
-  TemporaryFile out(path);
+  AtomicOutputFile out(path);
   std::string buf =
       "ply\n"
       "format binary_little_endian 1.0\n"
