@@ -12,6 +12,7 @@
 
 #include "dba/common/error.h"
 #include "dba/io/atomic_output_file.h"
+#include "dba/io/binary_file.h"
 
 namespace dba {
 namespace {
@@ -47,51 +48,6 @@ static_assert(sizeof(RawHeader) == kHeaderSize);
 
 int64_t Align8(int64_t x) { return (x + 7) & ~int64_t{7}; }
 
-// A file descriptor that closes itself.
-class File {
- public:
-  explicit File(const std::string& path) : path_(path), fd_(::open(path.c_str(), O_RDONLY)) {
-    if (fd_ < 0) throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
-  }
-  ~File() { ::close(fd_); }
-  File(const File&) = delete;
-  File& operator=(const File&) = delete;
-
-  int64_t Size() const {
-    const off_t end = ::lseek(fd_, 0, SEEK_END);
-    if (end < 0) throw InputError(path_, 0, std::string("cannot seek: ") + std::strerror(errno));
-    return end;
-  }
-  // Reads exactly `bytes` at `offset`.
-  void Read(int64_t offset, void* data, int64_t bytes, const char* what) const {
-    char* p = static_cast<char*>(data);
-    while (bytes > 0) {
-      const ssize_t n = ::pread(fd_, p, static_cast<size_t>(std::min<int64_t>(bytes, 1 << 30)),
-                                offset);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) {
-        throw InputError(path_, 0,
-                         std::string("truncated or unreadable while reading ") + what +
-                             " at byte " + std::to_string(offset) +
-                             (n < 0 ? std::string(": ") + std::strerror(errno) : ""));
-      }
-      p += n;
-      offset += n;
-      bytes -= n;
-    }
-  }
-  template <typename T>
-  std::vector<T> ReadArray(int64_t offset, int64_t count, const char* what) const {
-    std::vector<T> v(count);
-    Read(offset, v.data(), count * int64_t{sizeof(T)}, what);
-    return v;
-  }
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-  int fd_;
-};
 
 // The layout of a problem with these counts: version 2 only when the model
 // or the flags need it. Throws std::invalid_argument for a group count that
@@ -131,7 +87,7 @@ BinaryProblemHeader Layout(int64_t cameras, int64_t points, int64_t observations
   return Layout(CameraModel::kBal, cameras, 0, false, false, points, observations);
 }
 
-void CheckFinite(const File& f, const std::vector<double>& v, const char* what) {
+void CheckFinite(const BinaryFile& f, const std::vector<double>& v, const char* what) {
   for (size_t i = 0; i < v.size(); ++i) {
     if (!std::isfinite(v[i])) {
       throw InputError(f.path(), 0, std::string("non-finite value in ") + what + " at index " +
@@ -140,7 +96,7 @@ void CheckFinite(const File& f, const std::vector<double>& v, const char* what) 
   }
 }
 
-void CheckOffsets(const File& f, const std::vector<int64_t>& offsets, int64_t first_point,
+void CheckOffsets(const BinaryFile& f, const std::vector<int64_t>& offsets, int64_t first_point,
                   int64_t num_observations) {
   for (size_t k = 0; k + 1 < offsets.size(); ++k) {
     if (offsets[k + 1] <= offsets[k] || offsets[k + 1] > num_observations) {
@@ -152,7 +108,7 @@ void CheckOffsets(const File& f, const std::vector<int64_t>& offsets, int64_t fi
   }
 }
 
-void CheckCameras(const File& f, std::span<const int32_t> cameras, int64_t num_cameras,
+void CheckCameras(const BinaryFile& f, std::span<const int32_t> cameras, int64_t num_cameras,
                   int64_t first_observation) {
   for (size_t j = 0; j < cameras.size(); ++j) {
     if (cameras[j] < 0 || cameras[j] >= num_cameras) {
@@ -166,10 +122,10 @@ void CheckCameras(const File& f, std::span<const int32_t> cameras, int64_t num_c
 
 // The camera side of a file whose header `h` was checked: model, cameras
 // (poses, then intrinsics), image groups and fixed flags, each checked.
-BalProblem ReadCameraSide(const File& f, const BinaryProblemHeader& h) {
+BalProblem ReadCameraSide(const BinaryFile& f, const BinaryProblemHeader& h) {
   BalProblem p;
   p.model = h.model;
-  p.cameras = f.ReadArray<double>(h.cameras_offset, h.camera_side_size(), "cameras");
+  p.cameras = f.ReadArrayAt<double>(h.cameras_offset, h.camera_side_size(), "cameras");
   const int64_t poses = int64_t{h.camera_size} * h.num_cameras;
   for (int64_t i = 0; i < static_cast<int64_t>(p.cameras.size()); ++i) {
     if (std::isfinite(p.cameras[i])) continue;
@@ -182,7 +138,7 @@ BalProblem ReadCameraSide(const File& f, const BinaryProblemHeader& h) {
                          std::to_string((i - poses) % kPhotoIntrinsicsSize) + ")");
   }
   if (h.model == CameraModel::kPhoto) {
-    p.camera_intrinsics = f.ReadArray<int32_t>(h.image_groups_offset, h.num_cameras, "image groups");
+    p.camera_intrinsics = f.ReadArrayAt<int32_t>(h.image_groups_offset, h.num_cameras, "image groups");
     for (int64_t i = 0; i < h.num_cameras; ++i) {
       const int32_t g = p.camera_intrinsics[i];
       if (g < 0 || g >= h.num_intrinsics) {
@@ -195,7 +151,7 @@ BalProblem ReadCameraSide(const File& f, const BinaryProblemHeader& h) {
   }
   int64_t flags = h.flags_offset;
   if (h.has_fixed_cameras) {
-    p.fixed_cameras = f.ReadArray<uint8_t>(flags, h.num_cameras, "fixed cameras");
+    p.fixed_cameras = f.ReadArrayAt<uint8_t>(flags, h.num_cameras, "fixed cameras");
     flags += h.num_cameras;
     for (int64_t i = 0; i < h.num_cameras; ++i) {
       if (p.fixed_cameras[i] > 1) {
@@ -205,7 +161,7 @@ BalProblem ReadCameraSide(const File& f, const BinaryProblemHeader& h) {
     }
   }
   if (h.has_intrinsics_free) {
-    p.intrinsics_free = f.ReadArray<uint8_t>(flags, h.num_intrinsics, "free intrinsics");
+    p.intrinsics_free = f.ReadArrayAt<uint8_t>(flags, h.num_intrinsics, "free intrinsics");
     for (int64_t g = 0; g < h.num_intrinsics; ++g) {
       if (p.intrinsics_free[g] > kAllIntrinsics) {
         throw InputError(f.path(), 0, "free-intrinsics mask " +
@@ -247,14 +203,14 @@ bool IsBinaryProblem(const std::string& path) {
 }
 
 BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
-  const File f(path);
-  const int64_t size = f.Size();
+  const BinaryFile f(path);
+  const int64_t size = static_cast<int64_t>(f.size());
   if (size < kHeaderSize) {
     throw InputError(path, 0, "truncated: " + std::to_string(size) +
                                   " bytes, shorter than the 128-byte header");
   }
   RawHeader raw;
-  f.Read(0, &raw, kHeaderSize, "the header");
+  f.ReadAt(0, &raw, kHeaderSize, "the header");
   if (std::memcmp(raw.magic, kMagic, 8) != 0) {
     throw InputError(path, 0, "not a dba binary problem (bad magic)");
   }
@@ -349,32 +305,32 @@ BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
 
 BalProblem ReadBinaryProblem(const std::string& path) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
-  const File f(path);
+  const BinaryFile f(path);
   BalProblem p = ReadCameraSide(f, h);
-  p.points = f.ReadArray<double>(h.points_offset, kPointSize * h.num_points, "points");
+  p.points = f.ReadArrayAt<double>(h.points_offset, kPointSize * h.num_points, "points");
   CheckFinite(f, p.points, "points");
-  p.point_offsets = f.ReadArray<int64_t>(h.point_offsets_offset, h.num_points + 1, "point offsets");
+  p.point_offsets = f.ReadArrayAt<int64_t>(h.point_offsets_offset, h.num_points + 1, "point offsets");
   if (p.point_offsets.front() != 0 || p.point_offsets.back() != h.num_observations) {
     throw InputError(path, 0, "point offsets do not span the observations");
   }
   CheckOffsets(f, p.point_offsets, 0, h.num_observations);
-  p.obs_camera = f.ReadArray<int32_t>(h.obs_camera_offset, h.num_observations, "observation cameras");
+  p.obs_camera = f.ReadArrayAt<int32_t>(h.obs_camera_offset, h.num_observations, "observation cameras");
   CheckCameras(f, p.obs_camera, h.num_cameras, 0);
-  p.obs_pixel = f.ReadArray<double>(h.obs_pixel_offset, 2 * h.num_observations, "observation pixels");
+  p.obs_pixel = f.ReadArrayAt<double>(h.obs_pixel_offset, 2 * h.num_observations, "observation pixels");
   CheckFinite(f, p.obs_pixel, "observation pixels");
   return p;
 }
 
 BalProblem ReadBinaryCameraSide(const std::string& path) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
-  const File f(path);
+  const BinaryFile f(path);
   return ReadCameraSide(f, h);
 }
 
 std::vector<double> ReadBinaryPointCoordinates(const std::string& path) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
-  const File f(path);
-  std::vector<double> v = f.ReadArray<double>(h.points_offset, kPointSize * h.num_points, "points");
+  const BinaryFile f(path);
+  std::vector<double> v = f.ReadArrayAt<double>(h.points_offset, kPointSize * h.num_points, "points");
   CheckFinite(f, v, "points");
   return v;
 }
@@ -384,14 +340,14 @@ void ForEachObservationChunk(
     const std::function<void(int64_t, std::span<const int64_t>, std::span<const int32_t>,
                              std::span<const double>)>& fn) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
-  const File f(path);
+  const BinaryFile f(path);
   const int64_t points_per_read = 1 << 18;
   std::vector<int32_t> cameras;
   std::vector<double> pixels;
   for (int64_t k0 = 0; k0 < h.num_points;) {
     const int64_t n = std::min(points_per_read, h.num_points - k0);
     std::vector<int64_t> offsets =
-        f.ReadArray<int64_t>(h.point_offsets_offset + 8 * k0, n + 1, "point offsets");
+        f.ReadArrayAt<int64_t>(h.point_offsets_offset + 8 * k0, n + 1, "point offsets");
     CheckOffsets(f, offsets, k0, h.num_observations);
     // Split the read into chunks of at most max_observations_per_chunk
     // (a single point may exceed it).
@@ -401,12 +357,12 @@ void ForEachObservationChunk(
       while (b < n && offsets[b + 1] - offsets[a] <= max_observations_per_chunk) ++b;
       const int64_t obs0 = offsets[a], obs1 = offsets[b];
       cameras.resize(obs1 - obs0);
-      f.Read(h.obs_camera_offset + 4 * obs0, cameras.data(), 4 * (obs1 - obs0),
+      f.ReadAt(h.obs_camera_offset + 4 * obs0, cameras.data(), 4 * (obs1 - obs0),
              "observation cameras");
       CheckCameras(f, cameras, h.num_cameras, obs0);
       if (with_pixels) {
         pixels.resize(2 * (obs1 - obs0));
-        f.Read(h.obs_pixel_offset + 16 * obs0, pixels.data(), 16 * (obs1 - obs0),
+        f.ReadAt(h.obs_pixel_offset + 16 * obs0, pixels.data(), 16 * (obs1 - obs0),
                "observation pixels");
         CheckFinite(f, pixels, "observation pixels");
       }
@@ -433,14 +389,14 @@ BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> po
   if (static_cast<int64_t>(point_group.size()) != h.num_points) {
     throw std::invalid_argument("ReadBinaryPoints: point_group has the wrong size");
   }
-  const File f(path);
+  const BinaryFile f(path);
   BalProblem p = ReadCameraSide(f, h);
   // Count first (offsets only), so the arrays are allocated once, exactly.
   int64_t my_points = 0, my_observations = 0;
   for (int64_t k0 = 0; k0 < h.num_points; k0 += 1 << 18) {
     const int64_t n = std::min<int64_t>(1 << 18, h.num_points - k0);
     const std::vector<int64_t> offsets =
-        f.ReadArray<int64_t>(h.point_offsets_offset + 8 * k0, n + 1, "point offsets");
+        f.ReadArrayAt<int64_t>(h.point_offsets_offset + 8 * k0, n + 1, "point offsets");
     for (int64_t k = 0; k < n; ++k) {
       if (point_group[k0 + k] != group) continue;
       ++my_points;
@@ -466,10 +422,10 @@ BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> po
         if (!any) return;
         const int64_t obs0 = offsets[0];
         xyz.resize(3 * n);
-        f.Read(h.points_offset + 24 * first, xyz.data(), 24 * n, "points");
+        f.ReadAt(h.points_offset + 24 * first, xyz.data(), 24 * n, "points");
         CheckFinite(f, xyz, "points");
         pixels.resize(2 * (offsets[n] - obs0));
-        f.Read(h.obs_pixel_offset + 16 * obs0, pixels.data(), 16 * (offsets[n] - obs0),
+        f.ReadAt(h.obs_pixel_offset + 16 * obs0, pixels.data(), 16 * (offsets[n] - obs0),
                "observation pixels");
         for (int64_t k = 0; k < n; ++k) {
           if (point_group[first + k] != group) continue;

@@ -1,5 +1,4 @@
 // COLMAP binary models: reading and writing; see colmap_binary.h.
-#include "dba/io/atomic_output_file.h"
 #include "dba/io/colmap_binary.h"
 
 #include <bit>
@@ -10,138 +9,18 @@
 #include <string_view>
 
 #include "dba/common/error.h"
+#include "dba/io/atomic_output_file.h"
+#include "dba/io/binary_file.h"
 
 namespace dba {
 namespace {
-
-static_assert(std::endian::native == std::endian::little,
-              "COLMAP binary I/O assumes a little-endian host");
 
 using colmap_internal::JoinPath;
 
 constexpr uint64_t kInvalidPoint3D = std::numeric_limits<uint64_t>::max();
 
-// A binary file read through a buffer, tracking the byte offset; every error
-// names the file and the offset.
-class BinaryIn {
- public:
-  explicit BinaryIn(std::string path) : path_(std::move(path)), buffer_(new char[kBufferSize]) {
-    file_ = std::fopen(path_.c_str(), "rb");
-    if (file_ == nullptr) throw InputError(path_, 0, "cannot open file");
-    if (std::fseek(file_, 0, SEEK_END) != 0) Fail("cannot seek");
-    const long size = std::ftell(file_);
-    if (size < 0 || std::fseek(file_, 0, SEEK_SET) != 0) Fail("cannot seek");
-    size_ = static_cast<uint64_t>(size);
-  }
-  ~BinaryIn() { std::fclose(file_); }
-  BinaryIn(const BinaryIn&) = delete;
-  BinaryIn& operator=(const BinaryIn&) = delete;
-
-  const std::string& path() const { return path_; }
-  uint64_t offset() const { return offset_; }
-  uint64_t remaining() const { return size_ - offset_; }
-
-  [[noreturn]] void Fail(const std::string& what) const {
-    throw InputError(path_, 0, "at byte " + std::to_string(offset_) + ": " + what);
-  }
-
-  // The entry being read, named in error messages ("image #3 (id 7)"); kept
-  // as numbers so that nothing is formatted unless an error occurs.
-  void SetEntry(const char* kind, uint64_t index) {
-    kind_ = kind, index_ = index, has_id_ = false;
-  }
-  void SetEntryId(uint64_t id) { id_ = id, has_id_ = true; }
-  std::string Entry() const {
-    if (kind_ == nullptr) return "";
-    std::string s = std::string(kind_) + " #" + std::to_string(index_);
-    if (has_id_) s += " (id " + std::to_string(id_) + ")";
-    return s + " ";
-  }
-
-  // Reads `n` bytes holding the current entry's `what`; a short file is
-  // reported as truncated.
-  void Read(void* out, size_t n, const char* what) {
-    if (n > remaining()) {
-      Fail("file truncated: " + Entry() + what + " needs " + std::to_string(n) +
-           " bytes, only " + std::to_string(remaining()) + " left (file size " +
-           std::to_string(size_) + ")");
-    }
-    char* dst = static_cast<char*>(out);
-    while (n > 0) {
-      if (pos_ == end_) Refill();
-      const size_t k = std::min(n, end_ - pos_);
-      std::memcpy(dst, buffer_.get() + pos_, k);
-      pos_ += k, dst += k, n -= k, offset_ += k;
-    }
-  }
-  template <typename T>
-  T Get(const char* what) {
-    T v;
-    Read(&v, sizeof v, what);
-    return v;
-  }
-  // A NUL-terminated string.
-  std::string String(const char* what) {
-    std::string s;
-    for (;;) {
-      if (remaining() == 0) {
-        Fail("file truncated: " + Entry() + what + " has no terminating NUL byte");
-      }
-      if (pos_ == end_) Refill();
-      const char* begin = buffer_.get() + pos_;
-      const void* nul = std::memchr(begin, '\0', end_ - pos_);
-      const size_t k = nul != nullptr ? static_cast<const char*>(nul) - begin : end_ - pos_;
-      s.append(begin, k);
-      pos_ += k, offset_ += k;
-      if (nul != nullptr) {
-        ++pos_, ++offset_;
-        return s;
-      }
-    }
-  }
-  // A count of entries of `entry_bytes` each (at least) that must fit in the
-  // rest of the file: guards against allocating for a corrupt count.
-  uint64_t Count(const char* what, uint64_t entry_bytes) {
-    const uint64_t at = offset_;
-    const uint64_t n = Get<uint64_t>(what);
-    if (entry_bytes > 0 && n > remaining() / entry_bytes) {
-      throw InputError(path_, 0,
-                       "at byte " + std::to_string(at) + ": " + Entry() + what + " is " +
-                           std::to_string(n) + " but only " + std::to_string(remaining()) +
-                           " bytes follow (at least " + std::to_string(entry_bytes) +
-                           " per entry): file truncated or corrupt");
-    }
-    return n;
-  }
-  void ExpectEnd(const char* after) {
-    kind_ = nullptr;
-    if (remaining() != 0) {
-      Fail(std::to_string(remaining()) + " unexpected bytes after " + after);
-    }
-  }
-
- private:
-  static constexpr size_t kBufferSize = 1 << 20;
-  void Refill() {
-    pos_ = 0;
-    end_ = std::fread(buffer_.get(), 1, kBufferSize, file_);
-    if (end_ == 0) Fail("read error or file shrank while reading");
-  }
-  std::string path_;
-  std::FILE* file_ = nullptr;
-  std::unique_ptr<char[]> buffer_;
-  size_t pos_ = 0;
-  size_t end_ = 0;
-  uint64_t offset_ = 0;
-  uint64_t size_ = 0;
-  const char* kind_ = nullptr;
-  uint64_t index_ = 0;
-  uint64_t id_ = 0;
-  bool has_id_ = false;
-};
-
 void ReadCameras(const std::string& path, ColmapModel* model) {
-  BinaryIn in(path);
+  BinaryFile in(path);
   const uint64_t n = in.Count("the number of cameras", 24);
   model->cameras.resize(n);
   for (uint64_t i = 0; i < n; ++i) {
@@ -169,7 +48,7 @@ void ReadCameras(const std::string& path, ColmapModel* model) {
 }
 
 void ReadImages(const std::string& path, ColmapModel* model) {
-  BinaryIn in(path);
+  BinaryFile in(path);
   // Smallest image: id, qvec, tvec, camera_id, name NUL, point count.
   const uint64_t n = in.Count("the number of images", 4 + 56 + 4 + 1 + 8);
   model->images.resize(n);
@@ -206,7 +85,7 @@ void ReadImages(const std::string& path, ColmapModel* model) {
 }
 
 void ReadPoints3D(const std::string& path, ColmapModel* model) {
-  BinaryIn in(path);
+  BinaryFile in(path);
   // Smallest point: id, xyz, rgb, error, track length.
   const uint64_t n = in.Count("the number of points", 8 + 24 + 3 + 8 + 8);
   model->points3D.resize(n);

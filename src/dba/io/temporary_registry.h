@@ -1,4 +1,4 @@
-// The temporaries of atomic outputs (io/temporary_file.h) that exist right
+// The temporaries of atomic outputs (io/atomic_output_file.h) that exist right
 // now, so that SIGINT, SIGTERM and SIGHUP remove them before the process
 // ends: an interrupted run leaves neither a half-written result nor its
 // temporary.
