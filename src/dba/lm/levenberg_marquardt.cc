@@ -10,6 +10,7 @@
 #include <string>
 
 #include "dba/common/timer.h"
+#include "dba/lm/nielsen_damping.h"
 
 namespace dba {
 namespace {
@@ -24,12 +25,6 @@ double MaxAbs(const std::vector<double>& v) {
   double m = 0.0;
   for (double x : v) m = std::max(m, std::abs(x));
   return m;
-}
-
-// Nielsen: a rejected step multiplies λ by ν and doubles ν.
-void RejectStep(double* lambda, double* nu) {
-  *lambda *= *nu;
-  *nu *= 2.0;
 }
 
 }  // namespace
@@ -49,144 +44,214 @@ double LmSummary::Rms(double cost) const {
   return num_observations > 0 ? std::sqrt(2.0 * cost / num_observations) : 0.0;
 }
 
-LmSummary SolveLevenbergMarquardt(
-    const LmOptions& options, int64_t num_observations,
-    std::vector<double>* cameras, PointWorkers* workers,
-    const std::function<void(const IterationSummary&)>& on_iteration) {
-  LmSummary summary;
-  summary.num_observations = num_observations;
-  Timer total_timer;
-  double lambda = options.initial_lambda;
-  double nu = 2.0;
+namespace {
 
-  Timer phase;
-  RcsSystem* sys = &workers->FormRcs(lambda);
-  summary.times.rcs_formation += phase.Seconds();
-  double cost = sys->cost;
-  if (!std::isfinite(cost)) {
-    throw std::runtime_error("the initial cost is not finite (" + std::to_string(cost) +
-                             "): some observation's reprojection error is nan or inf");
+// One solve, each decision of the loop a named step. State: the RCS system
+// at the current parameters (`sys_`, owned by the workers), its cost and
+// residual sums, the damping, the linear solver (built once, at the first
+// solve: S keeps its structure), and the scratch vectors δc and the
+// candidate cameras, sized once.
+class Minimizer {
+ public:
+  Minimizer(const LmOptions& options, int64_t num_observations, std::vector<double>* cameras,
+            PointWorkers* workers, const std::function<void(const IterationSummary&)>& on_iteration)
+      : options_(options),
+        num_observations_(num_observations),
+        cameras_(cameras),
+        workers_(workers),
+        on_iteration_(on_iteration),
+        damping_(options.initial_lambda) {
+    summary_.num_observations = num_observations;
   }
-  summary.initial_cost = cost;
-  summary.final_cost = cost;
-  summary.initial_residuals = sys->residuals;
-  ResidualSums residuals = sys->residuals;  // at the current parameters
 
-  // δc has one value per unknown (fixed parameters are not unknowns); the
-  // candidate is cameras ⊞ δc (rcs/unknown_layout.h).
-  std::vector<double> delta_c(sys->layout.num_unknowns()), candidate(cameras->size());
-  std::unique_ptr<RcsSolver> linear_solver;
-  bool done = false;
-  while (!done) {
-    if (summary.iterations >= options.max_iterations) {
-      summary.termination = TerminationReason::kMaxIterations;
-      summary.termination_message = "reached the iteration limit";
-      break;
-    }
-    Timer iteration_timer;
-    IterationSummary it;
-    it.iteration = summary.iterations + 1;
-    it.cost = cost;
-    it.rms_pixels = LmSummary::Rms(residuals.squared, static_cast<double>(num_observations));
-    it.lambda = lambda;
-    it.gradient_max_norm =
-        std::max(MaxAbs(sys->camera_gradient), sys->max_abs_point_gradient);
-    if (it.gradient_max_norm <= options.gradient_tolerance) {
-      summary.termination = TerminationReason::kGradientTolerance;
-      summary.termination_message = "gradient max-norm below tolerance";
-      break;
-    }
-
-    // Camera damping, then the linear solve of the damped RCS.
-    phase.Reset();
-    DampCameraBlocks(lambda, options.damping, sys->camera_jtj_diagonal, &sys->S);
-    if (!linear_solver) {  // symbolic phase, once: S keeps its structure
-      LinearSolverOptions linear = options.linear_solver;
-      linear.num_threads = options.num_threads;
-      linear.num_observations = num_observations;
-      // Observations (camera index, pixel), parameters, point offsets: about
-      // 29 bytes per observation over the problems measured (bench/README.md).
-      linear.problem_bytes = 29 * num_observations;
-      if (linear.rigid_coarse_basis && linear.preconditioner == PreconditionerType::kTwoLevel) {
-        linear.coarse_row_bases = RigidMotionBases(sys->layout, cameras->data());
+  LmSummary Run() {
+    Linearize();
+    CheckInitialCost();
+    // δc has one value per unknown (fixed parameters are not unknowns); the
+    // candidate is cameras ⊞ δc (rcs/unknown_layout.h).
+    delta_c_.resize(sys_->layout.num_unknowns());
+    candidate_.resize(cameras_->size());
+    for (bool done = false; !done;) {
+      if (ReachedIterationLimit()) break;
+      Timer iteration_timer;
+      IterationSummary it = StartIteration();
+      if (GradientIsSmall(it)) break;
+      const bool solved = SolveDampedRcs(&it);
+      // A step whose RCS was not positive definite counts as rejected.
+      const StepOutcome outcome = solved ? EvaluateStep(&it) : StepOutcome::kRejected;
+      switch (outcome) {
+        case StepOutcome::kTooSmall: done = DropTinyStep(&it); break;
+        case StepOutcome::kAccepted: done = AcceptStep(it); break;
+        case StepOutcome::kRejected: done = RejectStep(); break;
       }
-      linear_solver = MakeRcsSolver(sys->S, linear, &summary.linear_solver);
-      summary.linear_solver_bytes = linear_solver->MemoryBytes();
-    }
-    const LinearSolveSummary solve = linear_solver->Solve(sys->S, sys->b.data(), delta_c.data());
-    it.linear_iterations = solve.iterations;
-    it.linear_relative_residual = solve.relative_residual;
-    it.linear_stop = solve.stop;
-    summary.total_linear_iterations += solve.iterations;
-    summary.times.linear_solve += phase.Seconds();
-    ++summary.iterations;
-
-    // Back-substitution and evaluation of the step (none when S was not
-    // positive definite: that counts as a rejected step).
-    bool small_step = false;
-    ResidualSums candidate_residuals;
-    if (solve.ok) {
-      phase.Reset();
-      sys->layout.Plus(cameras->data(), delta_c.data(), candidate.data());
-      const StepEvaluation eval = workers->EvaluateStep(lambda, delta_c, candidate);
-      candidate_residuals = eval.candidate_residuals;
-      summary.times.back_substitution += phase.Seconds();
-      const double step_norm = std::sqrt(SquaredNorm(delta_c) + eval.point_step_squared_norm);
-      const double x_norm = std::sqrt(SquaredNorm(*cameras) + eval.point_squared_norm);
-      const double model_decrease = cost - eval.model_cost;
-      it.candidate_cost = eval.candidate_cost;
-      it.gain_ratio = model_decrease > 0 ? (cost - eval.candidate_cost) / model_decrease : 0.0;
-      it.step_accepted = std::isfinite(eval.candidate_cost) && model_decrease > 0 &&
-                         it.gain_ratio > options.min_relative_decrease;
-      small_step =
-          step_norm <= options.parameter_tolerance * (x_norm + options.parameter_tolerance);
-      workers->FinishStep(it.step_accepted && !small_step);
-    }
-
-    if (small_step) {
-      it.step_accepted = false;  // dropped: the parameters stay where they are
-      summary.termination = TerminationReason::kParameterTolerance;
-      summary.termination_message = "step size below tolerance";
-      done = true;
-    } else if (it.step_accepted) {
-      cameras->swap(candidate);
-      ++summary.accepted_iterations;
-      const double r = 2.0 * it.gain_ratio - 1.0;
-      lambda *= std::max(1.0 / 3.0, 1.0 - r * r * r);
-      nu = 2.0;
-      if (cost - it.candidate_cost <= options.function_tolerance * cost) {
-        summary.termination = TerminationReason::kFunctionTolerance;
-        summary.termination_message = "relative cost decrease below tolerance";
-        done = true;
-      }
-      cost = it.candidate_cost;
-      residuals = candidate_residuals;
-    } else {
-      RejectStep(&lambda, &nu);
-      if (lambda > options.max_lambda) {
-        summary.termination = TerminationReason::kLambdaTooLarge;
-        summary.termination_message = "no acceptable step: damping too large";
-        done = true;
-      }
-    }
-
-    if (!done) {
       // Next linearization: at the new point after an accepted step, with
       // the new λ after a rejected one.
-      phase.Reset();
-      sys = &workers->FormRcs(lambda);
-      summary.times.rcs_formation += phase.Seconds();
-      cost = sys->cost;
-      residuals = sys->residuals;
+      if (!done) Linearize();
+      it.seconds = iteration_timer.Seconds();
+      summary_.history.push_back(it);
+      if (on_iteration_) on_iteration_(it);
     }
-    it.seconds = iteration_timer.Seconds();
-    summary.history.push_back(it);
-    if (on_iteration) on_iteration(it);
+    summary_.final_cost = cost_;
+    summary_.final_residuals = residuals_;
+    summary_.times.total = total_timer_.Seconds();
+    return summary_;
   }
-  summary.final_cost = cost;
-  summary.final_residuals = residuals;
-  summary.times.total = total_timer.Seconds();
-  return summary;
+
+ private:
+  enum class StepOutcome { kAccepted, kRejected, kTooSmall };
+
+  // RCS, right-hand side, gradient and cost at the current parameters and λ.
+  void Linearize() {
+    Timer phase;
+    sys_ = &workers_->FormRcs(damping_.lambda());
+    summary_.times.rcs_formation += phase.Seconds();
+    cost_ = sys_->cost;
+    residuals_ = sys_->residuals;
+  }
+
+  void CheckInitialCost() {
+    if (!std::isfinite(cost_)) {
+      throw std::runtime_error("the initial cost is not finite (" + std::to_string(cost_) +
+                               "): some observation's reprojection error is nan or inf");
+    }
+    summary_.initial_cost = cost_;
+    summary_.final_cost = cost_;
+    summary_.initial_residuals = residuals_;
+  }
+
+  bool ReachedIterationLimit() {
+    if (summary_.iterations < options_.max_iterations) return false;
+    Terminate(TerminationReason::kMaxIterations, "reached the iteration limit");
+    return true;
+  }
+
+  IterationSummary StartIteration() const {
+    IterationSummary it;
+    it.iteration = summary_.iterations + 1;
+    it.cost = cost_;
+    it.rms_pixels = LmSummary::Rms(residuals_.squared, static_cast<double>(num_observations_));
+    it.lambda = damping_.lambda();
+    it.gradient_max_norm = std::max(MaxAbs(sys_->camera_gradient), sys_->max_abs_point_gradient);
+    return it;
+  }
+
+  bool GradientIsSmall(const IterationSummary& it) {
+    if (it.gradient_max_norm > options_.gradient_tolerance) return false;
+    Terminate(TerminationReason::kGradientTolerance, "gradient max-norm below tolerance");
+    return true;
+  }
+
+  // Damps the camera blocks and solves S δc = b; false when S is not
+  // numerically positive definite. Counts the iteration.
+  bool SolveDampedRcs(IterationSummary* it) {
+    Timer phase;
+    DampCameraBlocks(damping_.lambda(), options_.damping, sys_->camera_jtj_diagonal, &sys_->S);
+    if (!linear_solver_) linear_solver_ = MakeLinearSolver();
+    const LinearSolveSummary solve = linear_solver_->Solve(sys_->S, sys_->b.data(), delta_c_.data());
+    it->linear_iterations = solve.iterations;
+    it->linear_relative_residual = solve.relative_residual;
+    it->linear_stop = solve.stop;
+    summary_.total_linear_iterations += solve.iterations;
+    summary_.times.linear_solve += phase.Seconds();
+    ++summary_.iterations;
+    return solve.ok;
+  }
+
+  // The symbolic phase of the linear solve, once per solve.
+  std::unique_ptr<RcsSolver> MakeLinearSolver() {
+    LinearSolverOptions linear = options_.linear_solver;
+    linear.num_threads = options_.num_threads;
+    linear.num_observations = num_observations_;
+    // Observations (camera index, pixel), parameters, point offsets: about
+    // 29 bytes per observation over the problems measured (bench/README.md).
+    linear.problem_bytes = 29 * num_observations_;
+    if (linear.rigid_coarse_basis && linear.preconditioner == PreconditionerType::kTwoLevel) {
+      linear.coarse_row_bases = RigidMotionBases(sys_->layout, cameras_->data());
+    }
+    std::unique_ptr<RcsSolver> solver = MakeRcsSolver(sys_->S, linear, &summary_.linear_solver);
+    summary_.linear_solver_bytes = solver->MemoryBytes();
+    return solver;
+  }
+
+  // Back-substitutes the points, evaluates the candidate's cost against the
+  // model's (the gain ratio) and tells the workers whether to keep it.
+  StepOutcome EvaluateStep(IterationSummary* it) {
+    Timer phase;
+    sys_->layout.Plus(cameras_->data(), delta_c_.data(), candidate_.data());
+    const StepEvaluation eval = workers_->EvaluateStep(damping_.lambda(), delta_c_, candidate_);
+    candidate_residuals_ = eval.candidate_residuals;
+    summary_.times.back_substitution += phase.Seconds();
+    const double step_norm = std::sqrt(SquaredNorm(delta_c_) + eval.point_step_squared_norm);
+    const double x_norm = std::sqrt(SquaredNorm(*cameras_) + eval.point_squared_norm);
+    const double model_decrease = cost_ - eval.model_cost;
+    it->candidate_cost = eval.candidate_cost;
+    it->gain_ratio = model_decrease > 0 ? (cost_ - eval.candidate_cost) / model_decrease : 0.0;
+    it->step_accepted = std::isfinite(eval.candidate_cost) && model_decrease > 0 &&
+                        it->gain_ratio > options_.min_relative_decrease;
+    const bool tiny =
+        step_norm <= options_.parameter_tolerance * (x_norm + options_.parameter_tolerance);
+    workers_->FinishStep(it->step_accepted && !tiny);
+    if (tiny) return StepOutcome::kTooSmall;
+    return it->step_accepted ? StepOutcome::kAccepted : StepOutcome::kRejected;
+  }
+
+  // A step below the parameter tolerance ends the solve; the parameters stay.
+  bool DropTinyStep(IterationSummary* it) {
+    it->step_accepted = false;
+    Terminate(TerminationReason::kParameterTolerance, "step size below tolerance");
+    return true;
+  }
+
+  // Takes the candidate; true when the cost fell by less than the function
+  // tolerance.
+  bool AcceptStep(const IterationSummary& it) {
+    cameras_->swap(candidate_);
+    ++summary_.accepted_iterations;
+    damping_.StepAccepted(it.gain_ratio);
+    const bool converged = cost_ - it.candidate_cost <= options_.function_tolerance * cost_;
+    if (converged) {
+      Terminate(TerminationReason::kFunctionTolerance, "relative cost decrease below tolerance");
+    }
+    cost_ = it.candidate_cost;
+    residuals_ = candidate_residuals_;
+    return converged;
+  }
+
+  // Raises the damping; true when it passed its limit.
+  bool RejectStep() {
+    damping_.StepRejected();
+    if (damping_.lambda() <= options_.max_lambda) return false;
+    Terminate(TerminationReason::kLambdaTooLarge, "no acceptable step: damping too large");
+    return true;
+  }
+
+  void Terminate(TerminationReason reason, const char* message) {
+    summary_.termination = reason;
+    summary_.termination_message = message;
+  }
+
+  const LmOptions& options_;
+  const int64_t num_observations_;
+  std::vector<double>* cameras_;
+  PointWorkers* workers_;
+  const std::function<void(const IterationSummary&)>& on_iteration_;
+  NielsenDamping damping_;
+  Timer total_timer_;
+  LmSummary summary_;
+  RcsSystem* sys_ = nullptr;
+  double cost_ = 0.0;       // at the current parameters
+  ResidualSums residuals_;  // at the current parameters
+  ResidualSums candidate_residuals_;
+  std::unique_ptr<RcsSolver> linear_solver_;
+  std::vector<double> delta_c_, candidate_;
+};
+
+}  // namespace
+
+LmSummary SolveLevenbergMarquardt(
+    const LmOptions& options, int64_t num_observations, std::vector<double>* cameras,
+    PointWorkers* workers, const std::function<void(const IterationSummary&)>& on_iteration) {
+  return Minimizer(options, num_observations, cameras, workers, on_iteration).Run();
 }
 
 }  // namespace dba

@@ -7,9 +7,11 @@
 // and point back-substitution (eq. 5). An RCS that is not positive definite
 // counts as a rejected step. Step control is a trust region on λ: the gain ratio
 //   ρ = (F(x) - F(x + δ)) / (F(x) - L(δ)),  L(δ) = ½ |r + J δ|²
-// accepts the step when ρ > min_relative_decrease, then
-//   λ ← λ · max(1/3, 1 - (2ρ - 1)³), ν ← 2;
-// a rejected step sets λ ← λ ν, ν ← 2ν (Nielsen's update).
+// accepts the step when ρ > min_relative_decrease; λ follows Nielsen's update
+// (lm/nielsen_damping.h). The loop itself (levenberg_marquardt.cc) is a
+// Minimizer whose steps are named: Linearize, SolveDampedRcs, EvaluateStep,
+// then AcceptStep, RejectStep or DropTinyStep, each ending the solve when its
+// stopping rule holds.
 //
 // Thread safety: one solve at a time per PointWorkers.
 #pragma once

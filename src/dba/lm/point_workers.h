@@ -1,17 +1,29 @@
-// The points' side of a solve, as the LM loop on the main node sees it
-// (docs/design.md §4). Every rank holds a share of the points; the main node holds
-// the cameras and the global RCS. One rank (LocalPointWorkers) or many (the
-// MPI transport) implement the same three steps:
+// The points' side of a solve, as the LM loop on the main rank sees it
+// (docs/design.md §4): every rank holds a share of the points, the main rank
+// the cameras and the global RCS. One process (LocalPointWorkers) and many
+// MPI ranks (MpiPointWorkers) implement the same contract.
 //
-//   FormRcs      every rank linearizes and eliminates its points; the sub-RCSs
-//                are aggregated into the global RCS (paper eq. 4, section 6.1)
-//   EvaluateStep δc goes out; every rank back-substitutes its points (eq. 5)
-//                and evaluates the model and the true cost at the step; the
-//                partial sums are reduced
-//   FinishStep   the accept/reject decision goes out; ranks keep or drop their
-//                candidate points
+// Lifecycle (the LM loop is the one caller; the test fake in
+// lm/lm_control_test.cc checks the order):
+//   construct   the symbolic phase: RCS structure, scratch sized once
+//   FormRcs(λ)  first call; then after every FinishStep that did not end the
+//               solve. Linearizes and eliminates every point at the current
+//               parameters (paper eq. 4) and returns the global RCS, its
+//               right-hand side, gradient and cost, camera blocks undamped.
+//               The system belongs to the workers and stays valid until the
+//               next FormRcs; the caller may damp S in place.
+//   EvaluateStep(λ, δc, cameras ⊞ δc)  at most once per FormRcs, with the
+//               same λ: back-substitutes every point (eq. 5) into a candidate
+//               and returns the model and candidate costs and norms, summed
+//               over all points.
+//   FinishStep(accept)  exactly once after each EvaluateStep: accept makes
+//               the candidate points current, otherwise they are dropped.
+//               The cameras are the caller's to update.
+//   destroy     any time after a FinishStep or before the first
+//               EvaluateStep; the points hold the last accepted values.
+// Errors (a rank failing) are thrown from whichever call meets them.
 //
-// Thread safety: one caller (the LM loop).
+// Thread safety: one caller (the LM loop); the work inside is threaded.
 #pragma once
 
 #include <vector>

@@ -1,0 +1,40 @@
+// The damping λ of Levenberg–Marquardt and its update after each step
+// (Nielsen, "Damping parameter in Marquardt's method", IMM-REP-1999-05;
+// Madsen, Nielsen & Tingleff, "Methods for non-linear least squares
+// problems", 2004, eq. 2.21; docs/design.md §1.2):
+//
+//   accepted step with gain ratio ρ:  λ ← λ · max(1/3, 1 − (2ρ − 1)³),  ν ← 2
+//   rejected step:                    λ ← λ · ν,                         ν ← 2ν
+//
+// A good step (ρ near 1) shrinks λ by up to 3, a poor accepted one grows it
+// by up to 2; rejections grow it ever faster.
+// Thread safety: a value.
+#pragma once
+
+#include <algorithm>
+
+namespace dba {
+
+class NielsenDamping {
+ public:
+  explicit NielsenDamping(double initial_lambda) : lambda_(initial_lambda) {}
+
+  double lambda() const { return lambda_; }
+  double nu() const { return nu_; }
+
+  void StepAccepted(double gain_ratio) {
+    const double r = 2.0 * gain_ratio - 1.0;
+    lambda_ *= std::max(1.0 / 3.0, 1.0 - r * r * r);
+    nu_ = 2.0;
+  }
+  void StepRejected() {
+    lambda_ *= nu_;
+    nu_ *= 2.0;
+  }
+
+ private:
+  double lambda_;
+  double nu_ = 2.0;
+};
+
+}  // namespace dba

@@ -1,0 +1,37 @@
+// NielsenDamping: the λ and ν sequence of accepted and rejected steps.
+#include "dba/lm/nielsen_damping.h"
+
+#include <gtest/gtest.h>
+
+namespace dba {
+namespace {
+
+TEST(NielsenDamping, AcceptedStepsScaleLambdaByTheGainRatio) {
+  NielsenDamping d(1e-4);
+  d.StepAccepted(1.0);  // 1 - 1³ = 0: the floor 1/3
+  EXPECT_DOUBLE_EQ(d.lambda(), 1e-4 / 3.0);
+  d.StepAccepted(0.5);  // 1 - 0 = 1: unchanged
+  EXPECT_DOUBLE_EQ(d.lambda(), 1e-4 / 3.0);
+  d.StepAccepted(0.25);  // 1 - (-0.5)³ = 1.125
+  EXPECT_DOUBLE_EQ(d.lambda(), 1e-4 / 3.0 * 1.125);
+  d.StepAccepted(0.0);  // 1 - (-1)³ = 2
+  EXPECT_DOUBLE_EQ(d.lambda(), 1e-4 / 3.0 * 1.125 * 2.0);
+  EXPECT_EQ(d.nu(), 2.0);
+}
+
+TEST(NielsenDamping, RejectionsDoubleNuAndAnAcceptanceResetsIt) {
+  NielsenDamping d(1.0);
+  d.StepRejected();
+  d.StepRejected();
+  d.StepRejected();
+  EXPECT_DOUBLE_EQ(d.lambda(), 2.0 * 4.0 * 8.0);
+  EXPECT_EQ(d.nu(), 16.0);
+  d.StepAccepted(0.5);
+  EXPECT_DOUBLE_EQ(d.lambda(), 64.0);
+  EXPECT_EQ(d.nu(), 2.0);
+  d.StepRejected();
+  EXPECT_DOUBLE_EQ(d.lambda(), 128.0);
+}
+
+}  // namespace
+}  // namespace dba
