@@ -163,7 +163,7 @@ std::vector<std::string> CaseNames() {
   return names;
 }
 
-BalProblem LoadCase(const std::string& name) {
+Problem LoadCase(const std::string& name) {
   if (name.rfind("bal/", 0) == 0) {
     for (const char* ext : {".txt.bz2", ".bz2", ".txt", ""}) {
       const std::string path = BalDir() + "/" + name.substr(4) + ext;
@@ -176,7 +176,7 @@ BalProblem LoadCase(const std::string& name) {
   const std::string path = (std::filesystem::temp_directory_path() /
                             ("dba-bsmc-benchmark-" + std::to_string(getpid()) + ".dba")).string();
   GenerateUavSurvey(o, path, "");
-  BalProblem p = ReadProblem(path);
+  Problem p = ReadProblem(path);
   std::filesystem::remove(path);
   return p;
 }
@@ -188,12 +188,12 @@ Case& GetCase(const std::string& name) {
   if (it != cases.end()) return *it->second;
   auto c = std::make_unique<Case>();
   {
-    BalProblem p = LoadCase(name);
+    Problem p = LoadCase(name);
     RcsSystem sys = RcsSystem::ForProblem(p);
     FormRcs(p, 1e-4, DampingBounds{}, 2, &sys);
     c->observations = p.num_observations();
     c->matrix = std::move(sys.S);
-    c->jtj_diagonal = std::move(sys.camera_jtj_diagonal);
+    c->jtj_diagonal = std::move(sys.camera_side_jtj_diagonal);
   }
   c->csr = ToCsr(c->matrix);
   return *cases.emplace(name, std::move(c)).first->second;

@@ -169,7 +169,7 @@ int main(int argc, char** argv) {
   }
   try {
     const auto t0 = std::chrono::steady_clock::now();
-    dba::BalProblem p = dba::ReadProblem(input);
+    dba::Problem p = dba::ReadProblem(input);
     const double load_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
@@ -186,7 +186,7 @@ int main(int argc, char** argv) {
       }
       ordering->AddElementToGroup(p.point(k), 0);
     }
-    for (int64_t i = 0; i < p.num_cameras(); ++i) ordering->AddElementToGroup(p.camera(i), 1);
+    for (int64_t i = 0; i < p.num_images(); ++i) ordering->AddElementToGroup(p.camera(i), 1);
     const double build_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
 
@@ -225,7 +225,7 @@ int main(int argc, char** argv) {
       j["input"] = input;
       j["solver"] = "ceres " + solver;
       j["ceres_version"] = CERES_VERSION_STRING;
-      j["num_cameras"] = p.num_cameras();
+      j["num_cameras"] = p.num_images();
       j["num_points"] = p.num_points();
       j["num_observations"] = p.num_observations();
       j["threads"] = threads;

@@ -17,11 +17,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    dba::BalProblem problem = dba::ReadProblem(argv[1]);
+    dba::Problem problem = dba::ReadProblem(argv[1]);
     dba::LmOptions options;
     options.num_threads = argc == 3 ? std::atoi(argv[2]) : 1;
     std::printf("%lld cameras, %lld points, %lld observations\n",
-                static_cast<long long>(problem.num_cameras()),
+                static_cast<long long>(problem.num_images()),
                 static_cast<long long>(problem.num_points()),
                 static_cast<long long>(problem.num_observations()));
     const dba::BundleAdjustSummary s =

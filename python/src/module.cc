@@ -36,7 +36,7 @@ namespace {
 
 // What solve and solve_arrays return: the JSON report (as `dba solve
 // --report` writes it), the adjusted problem's arrays, and the printed text.
-py::tuple Outcome(const SolveReport& report, const BalProblem& problem, const std::string& log) {
+py::tuple Outcome(const SolveReport& report, const Problem& problem, const std::string& log) {
   return py::make_tuple(SolveReportJson(report), ProblemToArrays(problem), log);
 }
 
@@ -85,7 +85,7 @@ py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string
   refuse(options.reject_outliers_px > 0, "reject_outliers");
 
   Timer load_timer;
-  BalProblem problem = ProblemFromArrays(arrays);
+  Problem problem = ProblemFromArrays(arrays);
   ApplyFixings(options.unknowns, &problem);  // fix_images, fix_intrinsics
   LmOptions lm = options.lm;
   if (lm.num_threads == 0) {
@@ -95,8 +95,8 @@ py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string
   report.input = "<arrays>";
   report.threads = lm.num_threads;
   report.loss = lm.loss;
-  report.num_cameras = problem.num_cameras();
-  report.num_intrinsic_groups = problem.num_intrinsics();
+  report.num_cameras = problem.num_images();
+  report.num_intrinsic_groups = problem.num_groups();
   report.num_points = problem.num_points();
   report.num_observations = problem.num_observations();
   report.problem_bytes = problem.MemoryBytes();
@@ -134,7 +134,7 @@ void TranslateInputError(std::exception_ptr p) {
 }
 
 py::dict Read(const std::string& path) {
-  BalProblem problem;
+  Problem problem;
   {
     py::gil_scoped_release release;
     problem = LoadSolveInput(path, UnknownsOptions{});

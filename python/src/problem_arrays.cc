@@ -1,4 +1,4 @@
-// NumPy arrays <-> BalProblem; see problem_arrays.h.
+// NumPy arrays <-> Problem; see problem_arrays.h.
 #include "problem_arrays.h"
 
 #include <cmath>
@@ -49,8 +49,8 @@ py::array_t<T> Array(const std::vector<T>& v, std::vector<py::ssize_t> shape) {
 
 }  // namespace
 
-BalProblem ProblemFromArrays(const ProblemArrays& in) {
-  BalProblem p;
+Problem ProblemFromArrays(const ProblemArrays& in) {
+  Problem p;
   if (in.camera_model == "bal") {
     p.model = CameraModel::kBal;
   } else if (in.camera_model == "photo") {
@@ -164,8 +164,8 @@ BalProblem ProblemFromArrays(const ProblemArrays& in) {
   return p;
 }
 
-py::dict ProblemToArrays(const BalProblem& p) {
-  const int64_t n = p.num_cameras(), groups = p.num_intrinsics();
+py::dict ProblemToArrays(const Problem& p) {
+  const int64_t n = p.num_images(), groups = p.num_groups();
   const int64_t num_points = p.num_points(), m = p.num_observations();
   const int size = p.camera_size();
   py::dict d;

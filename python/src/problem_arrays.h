@@ -1,4 +1,4 @@
-// NumPy arrays <-> BalProblem for the Python module: the problem as flat
+// NumPy arrays <-> Problem for the Python module: the problem as flat
 // arrays (cameras, points, observations with their camera and point indices,
 // intrinsic groups, fixed flags) and back, checked on the way in.
 //
@@ -12,7 +12,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba::python {
 
@@ -39,11 +39,11 @@ struct ProblemArrays {
 // Builds the problem (observations stored point-major, stable). Throws
 // std::invalid_argument naming the array and what is wrong: a shape, an
 // index out of range, a non-finite value, a point without observations.
-BalProblem ProblemFromArrays(const ProblemArrays& arrays);
+Problem ProblemFromArrays(const ProblemArrays& arrays);
 
 // The problem as a dict of new arrays with the keys of ProblemArrays
 // (camera_model a string; for "bal", intrinsics (0, 5) and camera_intrinsics
 // (0,); fixed_cameras (N,) and fixed_intrinsics (G, 5) always present).
-py::dict ProblemToArrays(const BalProblem& problem);
+py::dict ProblemToArrays(const Problem& problem);
 
 }  // namespace dba::python

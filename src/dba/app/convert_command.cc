@@ -57,22 +57,22 @@ int ConvertMain(const std::vector<std::string>& args) {
   }
   try {
     Timer timer;
-    const BalProblem problem = ReadProblem(args[0]);
+    const Problem problem = ReadProblem(args[0]);
     const std::string& out = args[1];
     if (problem.model == CameraModel::kPhoto &&
         !(out.size() >= 4 && out.compare(out.size() - 4, 4, ".dba") == 0)) {
       throw std::invalid_argument(
-          args[0] + " is a photogrammetric problem (" + std::to_string(problem.num_cameras()) +
-          " images sharing " + std::to_string(problem.num_intrinsics()) +
+          args[0] + " is a photogrammetric problem (" + std::to_string(problem.num_images()) +
+          " images sharing " + std::to_string(problem.num_groups()) +
           " intrinsic groups): the BAL format cannot hold shared intrinsics, so it converts to "
           ".dba only");
     }
     WriteProblem(problem, out);
     const std::string cameras =
         problem.model == CameraModel::kPhoto
-            ? std::to_string(problem.num_cameras()) + " images, " +
-                  std::to_string(problem.num_intrinsics()) + " intrinsic groups"
-            : std::to_string(problem.num_cameras()) + " cameras";
+            ? std::to_string(problem.num_images()) + " images, " +
+                  std::to_string(problem.num_groups()) + " intrinsic groups"
+            : std::to_string(problem.num_images()) + " cameras";
     std::printf("%s -> %s: %s, %ld points, %ld observations, %.2f s\n",
                 args[0].c_str(), args[1].c_str(), cameras.c_str(),
                 static_cast<long>(problem.num_points()),
@@ -97,8 +97,8 @@ int InfoMain(const std::vector<std::string>& args) {
     return WantsHelp(args) ? 0 : 2;
   }
   try {
-    const BalProblem p = ReadProblem(args[0]);
-    const int64_t nc = p.num_cameras();
+    const Problem p = ReadProblem(args[0]);
+    const int64_t nc = p.num_images();
     const bool photo = p.model == CameraModel::kPhoto;
     const Stats track = Statistics(p.num_points(), [&](int64_t k) {
       return p.point_offsets[k + 1] - p.point_offsets[k];
@@ -117,7 +117,7 @@ int InfoMain(const std::vector<std::string>& args) {
     const UnknownLayout layout(p);
     const std::vector<uint64_t> rcs = RcsBlockPattern(p, layout);
     const BsmcMatrix S = BsmcMatrix::BuildFromPattern(layout.block_sizes(), rcs);
-    const double rows = layout.num_rows();
+    const double rows = layout.num_block_rows();
     const double sparsity = (2.0 * static_cast<double>(rcs.size()) - rows) / (rows * rows);
     std::printf("%s (%s)\n", args[0].c_str(), IsBinaryProblem(args[0]) ? "dba binary" : "BAL text");
     std::printf("  model         %s\n",
@@ -126,7 +126,7 @@ int InfoMain(const std::vector<std::string>& args) {
                       : "BAL (9 parameters per camera)");
     std::printf("  %s  %ld\n", photo ? "images      " : "cameras     ", static_cast<long>(nc));
     if (photo) {
-      std::printf("  intrinsic groups  %ld\n", static_cast<long>(p.num_intrinsics()));
+      std::printf("  intrinsic groups  %ld\n", static_cast<long>(p.num_groups()));
     }
     std::printf("  points        %ld\n  observations  %ld\n",
                 static_cast<long>(p.num_points()), static_cast<long>(p.num_observations()));
@@ -147,7 +147,7 @@ int InfoMain(const std::vector<std::string>& args) {
                 static_cast<long>(degree.min), degree.mean, static_cast<long>(degree.max));
     std::printf("  RCS: %ld block rows, %ld unknowns, %ld blocks in the upper triangle, "
                 "sparsity %.3g\n",
-                static_cast<long>(layout.num_rows()), static_cast<long>(layout.num_unknowns()),
+                static_cast<long>(layout.num_block_rows()), static_cast<long>(layout.num_unknowns()),
                 static_cast<long>(S.num_blocks()), sparsity);
     std::printf("  RCS in BSMC: %.3f MiB (structure %.3f MiB, values %.3f MiB); CSR: %.3f MiB (%.2fx)\n",
                 (S.StructureBytes() + S.ValueBytes()) / 1048576.0, S.StructureBytes() / 1048576.0,

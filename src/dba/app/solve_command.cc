@@ -20,7 +20,7 @@
 #include "dba/common/progress.h"
 #include "dba/common/timer.h"
 #include "dba/io/atomic_output_file.h"
-#include "dba/io/bz2_line_reader.h"
+#include "dba/io/text_line_reader.h"
 #include "dba/io/read_problem.h"
 #include "dba/io/bal_writer.h"
 #include "dba/io/ply_writer.h"
@@ -303,7 +303,7 @@ void CheckTruthFile(const std::string& path, const SolveReport& report) {
     cameras = h.num_cameras, points = h.num_points, observations = h.num_observations;
   } else {
     // The header line only: the whole truth is read after the solve.
-    Bz2LineReader reader(path);
+    TextLineReader reader(path);
     std::string_view line;
     while (reader.ReadLine(&line) && line.find_first_not_of(" \t\r") == std::string_view::npos) {
     }
@@ -349,7 +349,7 @@ void AppendSolve(const BundleAdjustSummary& next, BundleAdjustSummary* total) {
 }
 
 // Writes the problem's points into `all` at their loaded positions.
-void ScatterPoints(const BalProblem& problem, const OriginalIndices& original,
+void ScatterPoints(const Problem& problem, const OriginalIndices& original,
                    std::vector<double>* all) {
   for (size_t k = 0; k < original.point.size(); ++k) {
     for (int d = 0; d < 3; ++d) (*all)[3 * original.point[k] + d] = problem.points[3 * k + d];
@@ -360,7 +360,7 @@ void ScatterPoints(const BalProblem& problem, const OriginalIndices& original,
 // a round changes fewer than 0.05% of the observations or after 5 rounds.
 void RejectOutlierRounds(double max_error_px, const LmOptions& lm,
                          const std::function<void(const IterationSummary&)>& log,
-                         BalProblem* problem, OriginalIndices* original,
+                         Problem* problem, OriginalIndices* original,
                          std::vector<double>* all_points, SolveReport* report, std::ostream& out) {
   constexpr int kMaxRounds = 5;
   constexpr double kSettled = 5e-4;  // fraction of the observations
@@ -389,7 +389,7 @@ void RejectOutlierRounds(double max_error_px, const LmOptions& lm,
 // The generator's mismatches among the loaded observations (their pixels
 // `loaded_pixels`, the truth's order), and how many of them and of the true
 // inliers the rejection dropped.
-void CountTrueOutliers(const BalProblem& truth, const std::vector<double>& loaded_pixels,
+void CountTrueOutliers(const Problem& truth, const std::vector<double>& loaded_pixels,
                        const OriginalIndices& original, SolveReport* report) {
   if (static_cast<int64_t>(loaded_pixels.size()) != 2 * truth.num_observations()) {
     throw std::invalid_argument("the ground truth does not match the problem (different numbers "
@@ -409,7 +409,7 @@ void CountTrueOutliers(const BalProblem& truth, const std::vector<double>& loade
 
 // A problem whose initial cost is not finite cannot be adjusted: refused,
 // naming the first observations that make it so.
-void RefuseNonFiniteResiduals(const std::string& input, const BalProblem& problem) {
+void RefuseNonFiniteResiduals(const std::string& input, const Problem& problem) {
   const NonFiniteResiduals bad = FindNonFiniteResiduals(problem);
   if (bad.count == 0) return;
   std::string where;
@@ -438,7 +438,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   report.input = options.input;
   report.threads = lm.num_threads;
   report.loss = lm.loss;
-  BalProblem problem;
+  Problem problem;
   // Distributed runs on a binary file: every rank reads its own points.
   const bool ranks_read_file = comm->size() > 1 && IsBinaryProblem(options.input);
   if (main) {
@@ -454,8 +454,8 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     } else {
       problem = LoadSolveInput(options.input, options.unknowns);
       model = problem.model;
-      report.num_cameras = problem.num_cameras();
-      report.num_intrinsic_groups = problem.num_intrinsics();
+      report.num_cameras = problem.num_images();
+      report.num_intrinsic_groups = problem.num_groups();
       report.num_points = problem.num_points();
       report.num_observations = problem.num_observations();
       report.problem_bytes = problem.MemoryBytes();
@@ -510,7 +510,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     }
   } else {
     DistributedOptions distributed = options.distributed;
-    distributed.prepare_camera_side = [&options](BalProblem* p) {
+    distributed.prepare_camera_side = [&options](Problem* p) {
       ApplyFixings(options.unknowns, p);
     };
     report.solve = DistributedBundleAdjust(comm, lm, distributed,
@@ -564,7 +564,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     } else {
       if (comm->size() > 1) {
         // The observations were handed to the ranks: read them again.
-        BalProblem full = colmap ? std::move(colmap->source.problem)
+        Problem full = colmap ? std::move(colmap->source.problem)
                                  : LoadSolveInput(options.input, options.unknowns);
         full.cameras.swap(problem.cameras);
         full.points.swap(problem.points);

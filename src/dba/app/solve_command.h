@@ -40,7 +40,7 @@ void PrintSolveHelp(std::ostream& out);
 // and points kept). For library callers such as the Python module.
 struct SolveOutcome {
   SolveReport report;
-  BalProblem problem;
+  Problem problem;
 };
 
 // Runs the command on every rank of `comm` (collective); only the main rank
@@ -51,7 +51,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
 
 // Refuses (std::runtime_error naming `input` and the first observations) a
 // problem whose initial cost is not finite.
-void RefuseNonFiniteResiduals(const std::string& input, const BalProblem& problem);
+void RefuseNonFiniteResiduals(const std::string& input, const Problem& problem);
 
 // `dba solve ARGS...`: parses, runs, reports errors; returns the exit status
 // (0 success, 1 failure, 2 bad arguments).

@@ -91,19 +91,19 @@ bool IsColmapInput(const std::string& path) {
   return std::filesystem::is_directory(path, ec) && DetectColmapFormat(path).has_value();
 }
 
-void ApplyFixings(const UnknownsOptions& u, BalProblem* p) {
+void ApplyFixings(const UnknownsOptions& u, Problem* p) {
   if (!u.shared_intrinsics) {
     throw UsageError(
         "--intrinsics per-image applies to COLMAP models only (a .dba problem holds its "
         "own intrinsic groups)");
   }
   if (!u.fixed_images.empty()) {
-    p->fixed_cameras.resize(p->num_cameras(), 0);  // added to those the file holds
+    p->fixed_cameras.resize(p->num_images(), 0);  // added to those the file holds
     for (int64_t i : u.fixed_images) {
-      if (i >= p->num_cameras()) {
+      if (i >= p->num_images()) {
         throw UsageError("--fix-images: camera " + std::to_string(i) +
                                     " does not exist (the problem has " +
-                                    std::to_string(p->num_cameras()) + " cameras, 0-based)");
+                                    std::to_string(p->num_images()) + " cameras, 0-based)");
       }
       p->fixed_cameras[i] = 1;
     }
@@ -114,14 +114,14 @@ void ApplyFixings(const UnknownsOptions& u, BalProblem* p) {
           "--fix-intrinsics needs the photogrammetric model (a COLMAP model, or a .dba "
           "problem with shared intrinsics); a BAL camera's 9 parameters are one block");
     }
-    p->intrinsics_free.resize(p->num_intrinsics(), kAllIntrinsics);
+    p->intrinsics_free.resize(p->num_groups(), kAllIntrinsics);
     for (uint8_t& m : p->intrinsics_free) m &= static_cast<uint8_t>(~u.fixed_intrinsics);
   }
 }
 
-BalProblem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns) {
+Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns) {
   if (IsColmapInput(path)) return std::move(ReadColmapInput(path, unknowns).source.problem);
-  BalProblem p = ReadProblem(path);
+  Problem p = ReadProblem(path);
   ApplyFixings(unknowns, &p);
   return p;
 }
@@ -170,7 +170,7 @@ ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unkn
 void WriteColmapOutput(const std::vector<double>& cameras, const std::vector<double>& points,
                        const std::string& output, std::optional<ColmapFormat> format,
                        ColmapInput* input) {
-  BalProblem& adjusted = input->source.problem;
+  Problem& adjusted = input->source.problem;
   if (adjusted.cameras.size() != cameras.size() || adjusted.points.size() != points.size()) {
     throw std::runtime_error("the COLMAP model changed during the solve");
   }

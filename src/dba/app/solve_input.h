@@ -13,7 +13,7 @@
 
 #include "dba/io/colmap_model.h"
 #include "dba/io/colmap_problem.h"
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba {
 
@@ -43,10 +43,10 @@ bool IsColmapInput(const std::string& path);
 // input (file, line or entry, what is wrong), std::invalid_argument for
 // fixings that do not fit the problem (an index out of range, intrinsics of
 // a BAL problem).
-BalProblem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns);
+Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns);
 
 // Marks the fixed parameters of a problem read from a file (not COLMAP).
-void ApplyFixings(const UnknownsOptions& unknowns, BalProblem* problem);
+void ApplyFixings(const UnknownsOptions& unknowns, Problem* problem);
 
 // Output kinds, by the output path: .dba binary, .txt/.bz2 BAL text,
 // anything else a COLMAP model directory (COLMAP input only).

@@ -7,7 +7,7 @@
 
 #include "dba/cluster/distributed_solve.h"
 #include "dba/lm/outlier_rejection.h"
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 #include "dba/synthetic/ground_truth.h"
 
 namespace dba {

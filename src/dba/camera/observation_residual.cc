@@ -7,32 +7,32 @@
 
 namespace dba {
 
-Vec2 ObservationResidual(const BalProblem& side, const double* cameras, int32_t i,
+Vec2 ObservationResidual(const Problem& side, const double* cameras, int32_t i,
                          const double* X, const double* pixel) {
   if (side.model == CameraModel::kBal) {
     return BalResidual(cameras + kBalCameraSize * int64_t{i}, X, pixel);
   }
-  const int64_t intrinsics = kPhotoPoseSize * side.num_cameras();
+  const int64_t intrinsics = kPhotoPoseSize * side.num_images();
   return PhotoResidual(cameras + kPhotoPoseSize * int64_t{i},
                        cameras + intrinsics + kPhotoIntrinsicsSize * int64_t{side.camera_intrinsics[i]},
                        X, pixel);
 }
 
-Vec2 ObservationResidual(const BalProblem& side, const double* cameras, RotationFrameCache* frames,
+Vec2 ObservationResidual(const Problem& side, const double* cameras, RotationFrameCache* frames,
                          int32_t i, const double* X, const double* pixel) {
   if (side.model == CameraModel::kBal) {
     const double* camera = cameras + kBalCameraSize * int64_t{i};
     return BalResidualAndJacobians(frames->Get(i, camera), camera, X, pixel, nullptr, nullptr);
   }
   const double* pose = cameras + kPhotoPoseSize * int64_t{i};
-  const int64_t intrinsics = kPhotoPoseSize * side.num_cameras();
+  const int64_t intrinsics = kPhotoPoseSize * side.num_images();
   return PhotoResidualAndJacobians(
       frames->Get(i, pose), pose,
       cameras + intrinsics + kPhotoIntrinsicsSize * int64_t{side.camera_intrinsics[i]}, X, pixel,
       nullptr, nullptr, nullptr);
 }
 
-NonFiniteResiduals FindNonFiniteResiduals(const BalProblem& problem, int keep) {
+NonFiniteResiduals FindNonFiniteResiduals(const Problem& problem, int keep) {
   NonFiniteResiduals bad;
   for (int64_t k = 0; k < problem.num_points(); ++k) {
     for (int64_t o = problem.point_offsets[k]; o < problem.point_offsets[k + 1]; ++o) {

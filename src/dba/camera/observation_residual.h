@@ -1,5 +1,5 @@
 // The residual of one observation in either camera model of a problem
-// (problem/bal_problem.h): BalResidual for kBal, PhotoResidual with the
+// (problem/problem.h): BalResidual for kBal, PhotoResidual with the
 // image's intrinsic group for kPhoto.
 //
 // Thread safety: pure function.
@@ -10,19 +10,19 @@
 
 #include "dba/camera/bal_camera.h"
 #include "dba/camera/rotation_frame_cache.h"
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba {
 
 // r = project(camera i, X) - pixel, with the camera-side parameters taken
 // from `cameras` (laid out as side.cameras; e.g. a candidate step) and the
 // model and image groups from `side`.
-Vec2 ObservationResidual(const BalProblem& side, const double* cameras, int32_t i,
+Vec2 ObservationResidual(const Problem& side, const double* cameras, int32_t i,
                          const double* X, const double* pixel);
 // The same with image i's rotation taken from `frames`, which must hold
 // frames of `cameras` only (the trigonometry once per image, not per
 // observation).
-Vec2 ObservationResidual(const BalProblem& side, const double* cameras, RotationFrameCache* frames,
+Vec2 ObservationResidual(const Problem& side, const double* cameras, RotationFrameCache* frames,
                          int32_t i, const double* X, const double* pixel);
 
 // Observations whose squared residual at the problem's current parameters is
@@ -36,6 +36,6 @@ struct NonFiniteResiduals {
   };
   std::vector<Where> first;
 };
-NonFiniteResiduals FindNonFiniteResiduals(const BalProblem& problem, int keep = 5);
+NonFiniteResiduals FindNonFiniteResiduals(const Problem& problem, int keep = 5);
 
 }  // namespace dba

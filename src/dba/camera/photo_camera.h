@@ -20,7 +20,7 @@
 // All functions are pure and thread-safe.
 #pragma once
 
-#include "dba/camera/bal_camera.h"
+#include "dba/camera/rotation.h"
 
 namespace dba {
 

@@ -1,9 +1,11 @@
 // Analytic Jacobians of the photogrammetric camera against central
 // differences, and its agreement with the BAL model it generalizes.
 #include "dba/camera/photo_camera.h"
+#include "dba/camera/bal_camera.h"
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <random>
 
 namespace dba {

@@ -11,7 +11,7 @@
 #include <array>
 #include <cstdint>
 
-#include "dba/camera/bal_camera.h"
+#include "dba/camera/rotation.h"
 
 namespace dba {
 

@@ -31,7 +31,7 @@ GlobalRcs BuildGlobalRcs(UnknownLayout layout,
                          const std::vector<std::vector<uint64_t>>& local_patterns,
                          std::vector<std::vector<int32_t>> rows) {
   std::vector<uint64_t> pattern;
-  for (int32_t i = 0; i < layout.num_rows(); ++i) pattern.push_back(PackBlock(i, i));
+  for (int32_t i = 0; i < layout.num_block_rows(); ++i) pattern.push_back(PackBlock(i, i));
   for (size_t r = 0; r < local_patterns.size(); ++r) {
     for (uint64_t b : local_patterns[r]) {
       pattern.push_back(PackBlock(rows[r][PackedRow(b)], rows[r][PackedCol(b)]));
@@ -54,9 +54,9 @@ void PackSubRcs(const RcsSystem& sub, std::vector<double>* message) {
   message->reserve(sub.S.values().size() + 3 * sub.b.size() + 5);
   message->insert(message->end(), sub.S.values().begin(), sub.S.values().end());
   message->insert(message->end(), sub.b.begin(), sub.b.end());
-  message->insert(message->end(), sub.camera_gradient.begin(), sub.camera_gradient.end());
-  message->insert(message->end(), sub.camera_jtj_diagonal.begin(),
-                  sub.camera_jtj_diagonal.end());
+  message->insert(message->end(), sub.camera_side_gradient.begin(), sub.camera_side_gradient.end());
+  message->insert(message->end(), sub.camera_side_jtj_diagonal.begin(),
+                  sub.camera_side_jtj_diagonal.end());
   message->push_back(sub.cost);
   message->push_back(sub.max_abs_point_gradient);
   message->push_back(sub.residuals.squared);
@@ -75,7 +75,7 @@ void AggregateSubRcs(const SubRcsMap& map, std::span<const double> message,
     in += n;
   }
   for (std::vector<double>* vec :
-       {&global->b, &global->camera_gradient, &global->camera_jtj_diagonal}) {
+       {&global->b, &global->camera_side_gradient, &global->camera_side_jtj_diagonal}) {
     for (int32_t g : map.global_row) {
       const int64_t o = S.scalar_offset(g);
       for (int d = 0; d < S.block_size(g); ++d) (*vec)[o + d] += *in++;
@@ -89,8 +89,8 @@ void AggregateSubRcs(const SubRcsMap& map, std::span<const double> message,
 void ClearRcs(RcsSystem* global) {
   global->S.SetZero();
   std::fill(global->b.begin(), global->b.end(), 0.0);
-  std::fill(global->camera_gradient.begin(), global->camera_gradient.end(), 0.0);
-  std::fill(global->camera_jtj_diagonal.begin(), global->camera_jtj_diagonal.end(), 0.0);
+  std::fill(global->camera_side_gradient.begin(), global->camera_side_gradient.end(), 0.0);
+  std::fill(global->camera_side_jtj_diagonal.begin(), global->camera_side_jtj_diagonal.end(), 0.0);
   global->cost = 0.0;
   global->residuals = ResidualSums();
   global->max_abs_point_gradient = 0.0;

@@ -28,7 +28,7 @@ void PrintTo(const AggregationCase& c, std::ostream* out) {
        << (c.scheme == PartitionScheme::kEqual ? "equal" : "cameras");
 }
 
-BalProblem Problem(bool photo) {
+Problem MakeProblem(bool photo) {
   testing::SyntheticBalOptions o;
   o.num_cameras = 12;
   o.num_points = 150;
@@ -41,12 +41,12 @@ BalProblem Problem(bool photo) {
   p.num_groups = 3;
   p.focal_perturbation = 0.01;
   p.principal_perturbation = 2.0;
-  BalProblem problem = testing::MakeSyntheticPhoto(p).problem;
+  Problem problem = testing::MakeSyntheticPhoto(p).problem;
   // Fixings: two images held, the principal point of every group, and all of
   // group 2's intrinsics.
-  problem.fixed_cameras.assign(problem.num_cameras(), 0);
+  problem.fixed_cameras.assign(problem.num_images(), 0);
   problem.fixed_cameras[0] = problem.fixed_cameras[5] = 1;
-  problem.intrinsics_free.assign(problem.num_intrinsics(), kIntrinsicF | kIntrinsicK1 | kIntrinsicK2);
+  problem.intrinsics_free.assign(problem.num_groups(), kIntrinsicF | kIntrinsicK1 | kIntrinsicK2);
   problem.intrinsics_free[2] = 0;
   return problem;
 }
@@ -59,7 +59,7 @@ class AggregateSubRcsTest : public ::testing::TestWithParam<AggregationCase> {};
 // equations of the whole problem.
 TEST_P(AggregateSubRcsTest, SumOfSubRcsEqualsTheDenseSchurComplement) {
   const AggregationCase& c = GetParam();
-  const BalProblem problem = Problem(c.photo);
+  const Problem problem = MakeProblem(c.photo);
   const DampingBounds bounds;
   const double lambda = 0.01;
   const UnknownLayout layout(problem);
@@ -86,15 +86,15 @@ TEST_P(AggregateSubRcsTest, SumOfSubRcsEqualsTheDenseSchurComplement) {
     AggregateSubRcs(global.maps[g], message, &global.system);
   }
   RcsSystem& sys = global.system;
-  DampCameraBlocks(lambda, bounds, sys.camera_jtj_diagonal, &sys.S);
+  DampCameraBlocks(lambda, bounds, sys.camera_side_jtj_diagonal, &sys.S);
   const testing::DenseNormalEquations dense =
       testing::BuildDenseNormalEquations(problem, lambda, bounds);
   const Eigen::MatrixXd S_ref = dense.ReducedCameraMatrix();
   EXPECT_LT((testing::DenseFromBsmc(sys.S) - S_ref).norm(), 1e-10 * S_ref.norm());
   const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(sys.b.data(), sys.b.size());
   EXPECT_LT((b - dense.ReducedRhs()).norm(), 1e-10 * dense.ReducedRhs().norm());
-  const Eigen::VectorXd g_c = Eigen::Map<const Eigen::VectorXd>(sys.camera_gradient.data(),
-                                                                sys.camera_gradient.size());
+  const Eigen::VectorXd g_c = Eigen::Map<const Eigen::VectorXd>(sys.camera_side_gradient.data(),
+                                                                sys.camera_side_gradient.size());
   EXPECT_LT((g_c - dense.g.head(dense.num_camera_params)).norm(),
             1e-10 * dense.g.head(dense.num_camera_params).norm());
   EXPECT_NEAR(sys.cost, dense.cost, 1e-12 * dense.cost);

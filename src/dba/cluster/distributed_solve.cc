@@ -83,7 +83,7 @@ std::vector<int32_t> BinaryPointGroups(Communicator* comm, const std::string& pa
 
 DistributedSummary DistributedBundleAdjust(
     Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
-    const std::string& binary_input, bool collect_points, BalProblem* problem,
+    const std::string& binary_input, bool collect_points, Problem* problem,
     const std::function<void(const IterationSummary&)>& on_iteration) {
   DistributedSummary summary;
   summary.ranks = comm->size();

@@ -26,7 +26,7 @@ struct DistributedOptions {
   // With a binary input read by every rank: applied by every rank to the
   // camera side it reads (global numbering), before its share is cut out,
   // e.g. to mark fixed parameters. Must do the same on every rank.
-  std::function<void(BalProblem*)> prepare_camera_side;
+  std::function<void(Problem*)> prepare_camera_side;
 };
 
 struct DistributedSummary {
@@ -53,7 +53,7 @@ struct DistributedSummary {
 // ignored on the other ranks.
 DistributedSummary DistributedBundleAdjust(
     Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
-    const std::string& binary_input, bool collect_points, BalProblem* problem,
+    const std::string& binary_input, bool collect_points, Problem* problem,
     const std::function<void(const IterationSummary&)>& on_iteration = {});
 
 }  // namespace dba

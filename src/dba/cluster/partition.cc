@@ -25,7 +25,7 @@ PartitionScheme ParsePartitionScheme(const std::string& name) {
 
 namespace {
 
-VisibilityStream WholeProblem(const BalProblem& problem) {
+VisibilityStream WholeProblem(const Problem& problem) {
   return [&problem](const VisibilityChunkFn& visit) {
     visit(0, problem.point_offsets, problem.obs_camera);
   };
@@ -33,13 +33,13 @@ VisibilityStream WholeProblem(const BalProblem& problem) {
 
 }  // namespace
 
-std::vector<int32_t> CameraGraphOrder(const BalProblem& problem) {
-  return CameraGraphOrder(problem.num_cameras(), WholeProblem(problem));
+std::vector<int32_t> CameraGraphOrder(const Problem& problem) {
+  return CameraGraphOrder(problem.num_images(), WholeProblem(problem));
 }
 
-std::vector<int32_t> PartitionPoints(const BalProblem& problem, int num_groups,
+std::vector<int32_t> PartitionPoints(const Problem& problem, int num_groups,
                                      PartitionScheme scheme) {
-  return PartitionPoints(problem.num_cameras(), problem.num_points(),
+  return PartitionPoints(problem.num_images(), problem.num_points(),
                          problem.num_observations(), num_groups, scheme,
                          WholeProblem(problem));
 }

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba {
 
@@ -27,7 +27,7 @@ const char* PartitionSchemeName(PartitionScheme scheme);
 PartitionScheme ParsePartitionScheme(const std::string& name);
 
 // Group (0..num_groups-1) of every point.
-std::vector<int32_t> PartitionPoints(const BalProblem& problem, int num_groups,
+std::vector<int32_t> PartitionPoints(const Problem& problem, int num_groups,
                                      PartitionScheme scheme);
 
 // The visibility graph as a stream of chunks of whole points: calls
@@ -47,7 +47,7 @@ std::vector<int32_t> PartitionPoints(int64_t num_cameras, int64_t num_points,
 // Cameras in breadth-first order over the camera graph (cameras adjacent when
 // they share a point), each component started from its lowest-degree camera,
 // neighbours visited by increasing degree.
-std::vector<int32_t> CameraGraphOrder(const BalProblem& problem);
+std::vector<int32_t> CameraGraphOrder(const Problem& problem);
 std::vector<int32_t> CameraGraphOrder(int64_t num_cameras, const VisibilityStream& stream);
 
 }  // namespace dba

@@ -14,8 +14,8 @@ namespace dba {
 namespace {
 
 // A strip of cameras where each point is seen by 2-3 consecutive cameras.
-BalProblem Strip(int cameras, int points_per_camera) {
-  BalProblem p;
+Problem Strip(int cameras, int points_per_camera) {
+  Problem p;
   p.cameras.assign(9 * cameras, 0.0);
   p.point_offsets.push_back(0);
   for (int c = 0; c + 2 < cameras; ++c) {
@@ -33,7 +33,7 @@ BalProblem Strip(int cameras, int points_per_camera) {
 }
 
 TEST(Partition, EqualSplitHasEqualContiguousGroups) {
-  const BalProblem p = Strip(20, 10);  // 180 points
+  const Problem p = Strip(20, 10);  // 180 points
   const auto group = PartitionPoints(p, 4, PartitionScheme::kEqual);
   ASSERT_EQ(static_cast<int64_t>(group.size()), p.num_points());
   EXPECT_TRUE(std::is_sorted(group.begin(), group.end()));
@@ -41,7 +41,7 @@ TEST(Partition, EqualSplitHasEqualContiguousGroups) {
 }
 
 TEST(Partition, CameraLocalityKeepsCameraSetsSmallAndBalanced) {
-  const BalProblem p = Strip(40, 10);
+  const Problem p = Strip(40, 10);
   const int groups = 4;
   const auto group = PartitionPoints(p, groups, PartitionScheme::kCameraLocality);
   int64_t total_cameras = 0, total_obs = 0;
@@ -62,7 +62,7 @@ TEST(Partition, CameraGraphOrderIsAPermutation) {
   testing::SyntheticBalOptions o;
   o.num_cameras = 15;
   o.num_points = 60;
-  const BalProblem p = testing::MakeSyntheticBal(o).problem;
+  const Problem p = testing::MakeSyntheticBal(o).problem;
   std::vector<int32_t> order = CameraGraphOrder(p);
   std::sort(order.begin(), order.end());
   for (int i = 0; i < 15; ++i) EXPECT_EQ(order[i], i);
@@ -78,7 +78,7 @@ TEST(RankShare, RenumbersCamerasInGlobalOrderAndKeepsObservations) {
   testing::SyntheticBalOptions o;
   o.num_cameras = 9;
   o.num_points = 50;
-  const BalProblem p = testing::MakeSyntheticBal(o).problem;
+  const Problem p = testing::MakeSyntheticBal(o).problem;
   const auto group = PartitionPoints(p, 3, PartitionScheme::kEqual);
   for (int g = 0; g < 3; ++g) {
     const RankShare s = ExtractShare(p, group, g);

@@ -3,10 +3,10 @@
 
 namespace dba {
 
-RankShare ExtractShare(const BalProblem& full, std::span<const int32_t> point_group,
+RankShare ExtractShare(const Problem& full, std::span<const int32_t> point_group,
                        int32_t group) {
   RankShare s;
-  BalProblem& p = s.problem;
+  Problem& p = s.problem;
   p.model = full.model;
   p.cameras = full.cameras;
   p.camera_intrinsics = full.camera_intrinsics;
@@ -29,20 +29,20 @@ RankShare ExtractShare(const BalProblem& full, std::span<const int32_t> point_gr
 }
 
 void KeepTouchedCameras(RankShare* share) {
-  BalProblem& p = share->problem;
-  BalProblem old;  // the camera side as it was
+  Problem& p = share->problem;
+  Problem old;  // the camera side as it was
   old.model = p.model;
   old.cameras.swap(p.cameras);
   old.camera_intrinsics.swap(p.camera_intrinsics);
   old.fixed_cameras.swap(p.fixed_cameras);
   old.intrinsics_free.swap(p.intrinsics_free);
   const bool photo = old.model == CameraModel::kPhoto;
-  std::vector<int32_t> local_camera(old.num_cameras(), -1);
-  std::vector<int32_t> local_group(old.num_intrinsics(), -1);
+  std::vector<int32_t> local_camera(old.num_images(), -1);
+  std::vector<int32_t> local_group(old.num_groups(), -1);
   for (int32_t c : p.obs_camera) local_camera[c] = 0;
   share->global_camera.clear();
   share->global_intrinsics.clear();
-  for (int64_t i = 0; i < old.num_cameras(); ++i) {
+  for (int64_t i = 0; i < old.num_images(); ++i) {
     if (local_camera[i] < 0) continue;
     local_camera[i] = static_cast<int32_t>(share->global_camera.size());
     share->global_camera.push_back(static_cast<int32_t>(i));
@@ -52,7 +52,7 @@ void KeepTouchedCameras(RankShare* share) {
   }
   for (int32_t& c : p.obs_camera) c = local_camera[c];
   if (!photo) return;
-  for (int64_t g = 0; g < old.num_intrinsics(); ++g) {
+  for (int64_t g = 0; g < old.num_groups(); ++g) {
     if (local_group[g] < 0) continue;
     local_group[g] = static_cast<int32_t>(share->global_intrinsics.size());
     share->global_intrinsics.push_back(static_cast<int32_t>(g));

@@ -10,19 +10,19 @@
 #include <span>
 #include <vector>
 
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba {
 
 struct RankShare {
-  BalProblem problem;                     // local camera and group ids
+  Problem problem;                     // local camera and group ids
   std::vector<int32_t> global_camera;     // local camera -> global camera
   std::vector<int32_t> global_intrinsics; // local group -> global group (kPhoto)
   std::vector<int64_t> global_point;      // local point -> global point
 };
 
 // The points with point_group[k] == group, in global order.
-RankShare ExtractShare(const BalProblem& full, std::span<const int32_t> point_group,
+RankShare ExtractShare(const Problem& full, std::span<const int32_t> point_group,
                        int32_t group);
 
 // Keeps only the cameras that `share.problem`'s observations touch (and

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "dba/common/error.h"
-#include "dba/io/bz2_line_reader.h"
+#include "dba/io/text_line_reader.h"
 
 namespace dba {
 namespace {
@@ -26,7 +26,7 @@ bool IsSpace(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
 }
 
-// Whitespace-separated tokens over the lines of a Bz2LineReader. Every
+// Whitespace-separated tokens over the lines of a TextLineReader. Every
 // message built through `what` reads "expected <what>, found ...".
 class Parser {
  public:
@@ -113,7 +113,7 @@ class Parser {
   }
 
  private:
-  Bz2LineReader reader_;
+  TextLineReader reader_;
   std::string_view line_;
   size_t pos_ = 0;
 };
@@ -133,7 +133,7 @@ void PushCapped(std::vector<T>& v, T value, int64_t limit) {
 
 }  // namespace
 
-BalProblem ReadBal(const std::string& path) {
+Problem ReadBal(const std::string& path) {
   Parser in(path);
 
   // Header.
@@ -165,7 +165,7 @@ BalProblem ReadBal(const std::string& path) {
   // file lists them grouped by point (as BAL files do): then no copy of the
   // observations is ever made. Only if a point index goes down do we start
   // recording point indices, and sort at the end.
-  BalProblem problem;
+  Problem problem;
   std::vector<int64_t>& offsets = problem.point_offsets;
   offsets.assign(1, 0);
   offsets.reserve(std::min(num_points, kMaxReserve) + 1);

@@ -10,7 +10,7 @@
 
 #include <string>
 
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba {
 
@@ -20,6 +20,6 @@ namespace dba {
 // tokens, non-positive counts, indices out of range, NaN/inf values, a point
 // without observations, or data left after the last point coordinate.
 // No geometric checks: points behind their camera are accepted.
-BalProblem ReadBal(const std::string& path);
+Problem ReadBal(const std::string& path);
 
 }  // namespace dba

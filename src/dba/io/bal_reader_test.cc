@@ -38,7 +38,7 @@ std::string Compress(const std::string& text) {
   return std::string(out.data(), len);
 }
 
-void ExpectSameProblem(const BalProblem& a, const BalProblem& b) {
+void ExpectSameProblem(const Problem& a, const Problem& b) {
   EXPECT_EQ(a.cameras, b.cameras);
   EXPECT_EQ(a.points, b.points);
   EXPECT_EQ(a.point_offsets, b.point_offsets);
@@ -66,7 +66,7 @@ void Rotate(const double* r, const double* x, double* y) {
   }
 }
 
-int64_t CountBehindCamera(const BalProblem& p) {
+int64_t CountBehindCamera(const Problem& p) {
   int64_t behind = 0;
   for (int64_t k = 0; k < p.num_points(); ++k) {
     for (int64_t j = p.point_offsets[k]; j < p.point_offsets[k + 1]; ++j) {
@@ -94,8 +94,8 @@ TEST(BalReaderTest, ReadsEverySharedFileWithReadmeCounts) {
   };
   for (const SharedFile& f : files) {
     SCOPED_TRACE(f.name);
-    BalProblem p = ReadBal(std::string(DBA_SHARED_DATA_DIR "/bal/") + f.name);
-    EXPECT_EQ(p.num_cameras(), f.cameras);
+    Problem p = ReadBal(std::string(DBA_SHARED_DATA_DIR "/bal/") + f.name);
+    EXPECT_EQ(p.num_images(), f.cameras);
     EXPECT_EQ(p.num_points(), f.points);
     EXPECT_EQ(p.num_observations(), f.observations);
     ASSERT_EQ(static_cast<int64_t>(p.point_offsets.size()), f.points + 1);
@@ -111,7 +111,7 @@ TEST(BalReaderTest, ReadsEverySharedFileWithReadmeCounts) {
 }
 
 TEST(BalReaderTest, ParsesValuesExactly) {
-  BalProblem p = ReadBal(DBA_SHARED_DATA_DIR "/bal/problem-49-7776-pre.txt.bz2");
+  Problem p = ReadBal(DBA_SHARED_DATA_DIR "/bal/problem-49-7776-pre.txt.bz2");
   // First lines of the file: "0 0 -3.326500e+02 2.620900e+02", "1 0 ...".
   EXPECT_EQ(p.obs_camera[0], 0);
   EXPECT_EQ(p.obs_pixel[0], -3.326500e+02);
@@ -124,7 +124,7 @@ TEST(BalReaderTest, ParsesValuesExactly) {
 TEST(BalReaderTest, BehindCameraObservationsNeedNoSpecialCase) {
   for (const char* name : {"problem-49-7776-pre.txt.bz2", "problem-73-11032-pre.txt.bz2"}) {
     SCOPED_TRACE(name);
-    BalProblem p = ReadBal(std::string(DBA_SHARED_DATA_DIR "/bal/") + name);
+    Problem p = ReadBal(std::string(DBA_SHARED_DATA_DIR "/bal/") + name);
     EXPECT_EQ(CountBehindCamera(p), 31);
   }
 }
@@ -142,7 +142,7 @@ const char kSmall[] =
     "1 2 3\n4 5 6\n7 8 9\n";
 
 TEST(BalReaderTest, StoresObservationsPointMajorInFileOrder) {
-  BalProblem p = ReadBal(WriteFile("small.txt", kSmall));
+  Problem p = ReadBal(WriteFile("small.txt", kSmall));
   EXPECT_EQ(p.point_offsets, (std::vector<int64_t>{0, 2, 3, 5}));
   EXPECT_EQ(p.obs_camera, (std::vector<int32_t>{0, 1, 1, 1, 0}));
   EXPECT_EQ(p.obs_pixel, (std::vector<double>{12, 13, 18, 19, 14, 15, 10, 11, 16, 17}));
@@ -153,7 +153,7 @@ TEST(BalReaderTest, StoresObservationsPointMajorInFileOrder) {
 }
 
 TEST(BalReaderTest, TokensMaySplitOverLinesAnyWay) {
-  BalProblem reference = ReadBal(WriteFile("layout_ref.txt", kSmall));
+  Problem reference = ReadBal(WriteFile("layout_ref.txt", kSmall));
   std::string one_line, one_per_line, ragged;
   int i = 0;
   for (char c : std::string(kSmall)) {

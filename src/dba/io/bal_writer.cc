@@ -22,7 +22,7 @@ bool EndsWith(std::string_view s, std::string_view suffix) {
   return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
 }
 
-void CheckConsistent(const BalProblem& p) {
+void CheckConsistent(const Problem& p) {
   const int64_t n = p.num_observations();
   bool ok = p.cameras.size() % kBalCameraSize == 0 &&
             p.points.size() % kPointSize == 0 &&
@@ -33,9 +33,9 @@ void CheckConsistent(const BalProblem& p) {
     ok = p.point_offsets[k] <= p.point_offsets[k + 1];
   }
   for (int64_t j = 0; ok && j < n; ++j) {
-    ok = p.obs_camera[j] >= 0 && p.obs_camera[j] < p.num_cameras();
+    ok = p.obs_camera[j] >= 0 && p.obs_camera[j] < p.num_images();
   }
-  if (!ok) throw std::invalid_argument("WriteBal: inconsistent BalProblem arrays");
+  if (!ok) throw std::invalid_argument("WriteBal: inconsistent Problem arrays");
 }
 
 // Buffered output to a plain or bzip2 file, through a AtomicOutputFile that is
@@ -117,18 +117,18 @@ class Output {
 
 }  // namespace
 
-void WriteBal(const BalProblem& problem, const std::string& path) {
+void WriteBal(const Problem& problem, const std::string& path) {
   if (problem.model != CameraModel::kBal) {
     throw std::invalid_argument(
         "cannot write " + path + " as BAL text: a photogrammetric problem (" +
-        std::to_string(problem.num_cameras()) + " image poses sharing " +
-        std::to_string(problem.num_intrinsics()) +
+        std::to_string(problem.num_images()) + " image poses sharing " +
+        std::to_string(problem.num_groups()) +
         " intrinsic groups) has no BAL form, the BAL format cannot hold shared intrinsics; "
         "write the dba binary format (.dba) instead");
   }
   CheckConsistent(problem);
   Output out(path, EndsWith(path, ".bz2"));
-  out.Int(problem.num_cameras(), ' ');
+  out.Int(problem.num_images(), ' ');
   out.Int(problem.num_points(), ' ');
   out.Int(problem.num_observations(), '\n');
   for (int64_t k = 0; k < problem.num_points(); ++k) {

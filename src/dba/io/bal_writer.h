@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba {
 
@@ -20,6 +20,6 @@ namespace dba {
 // and for a photogrammetric problem (CameraModel::kPhoto: the BAL format has
 // no intrinsics shared by several images; write .dba), before creating any
 // file. The fixed flags are not written (BAL has no place for them).
-void WriteBal(const BalProblem& problem, const std::string& path);
+void WriteBal(const Problem& problem, const std::string& path);
 
 }  // namespace dba

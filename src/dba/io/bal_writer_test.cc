@@ -42,7 +42,7 @@ void ExpectBitwiseEqual(const std::vector<T>& a, const std::vector<T>& b,
   EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(T)), 0) << what;
 }
 
-void ExpectBitwiseEqual(const BalProblem& a, const BalProblem& b) {
+void ExpectBitwiseEqual(const Problem& a, const Problem& b) {
   ExpectBitwiseEqual(a.cameras, b.cameras, "cameras");
   ExpectBitwiseEqual(a.points, b.points, "points");
   ExpectBitwiseEqual(a.point_offsets, b.point_offsets, "point_offsets");
@@ -58,8 +58,8 @@ void ExpectDirHolds(const std::string& dir, const std::string& keep) {
 }
 
 // One camera, one point, with values that stress exact round trips.
-BalProblem TrickyProblem() {
-  BalProblem p;
+Problem TrickyProblem() {
+  Problem p;
   p.cameras = {-0.0,
                std::numeric_limits<double>::denorm_min(),
                std::numeric_limits<double>::min(),
@@ -81,11 +81,11 @@ TEST(BalWriterTest, RoundTripOfSharedFilesIsExact) {
   for (const char* name : {"problem-49-7776-pre.txt.bz2", "problem-16-22106-pre.txt.bz2",
                            "balbianello-5-544-from-bundler.txt.bz2"}) {
     SCOPED_TRACE(name);
-    BalProblem original = ReadBal(std::string(DBA_SHARED_DATA_DIR "/bal/") + name);
+    Problem original = ReadBal(std::string(DBA_SHARED_DATA_DIR "/bal/") + name);
     for (const char* ext : {".txt", ".txt.bz2"}) {
       std::string path = dir + "/" + name + ext;
       WriteBal(original, path);
-      BalProblem again = ReadBal(path);
+      Problem again = ReadBal(path);
       ExpectBitwiseEqual(original, again);
       // Writing is deterministic: read→write→read→write gives the same bytes.
       std::string path2 = path + ".second" + ext;
@@ -99,7 +99,7 @@ TEST(BalWriterTest, RoundTripOfSharedFilesIsExact) {
 
 TEST(BalWriterTest, RoundTripOfExtremeValuesIsExact) {
   std::string dir = TestDir("extreme");
-  BalProblem p = TrickyProblem();
+  Problem p = TrickyProblem();
   for (const char* name : {"/p.txt", "/p.bz2"}) {
     WriteBal(p, dir + name);
     ExpectBitwiseEqual(p, ReadBal(dir + name));
@@ -108,7 +108,7 @@ TEST(BalWriterTest, RoundTripOfExtremeValuesIsExact) {
 
 TEST(BalWriterTest, WritesPointMajorBalText) {
   std::string dir = TestDir("text");
-  BalProblem p;
+  Problem p;
   p.cameras.assign(2 * kBalCameraSize, 0.5);
   p.points = {1, 2, 3, 4, 5, 6};
   p.point_offsets = {0, 1, 3};
@@ -180,7 +180,7 @@ class FileSizeLimit {
 };
 
 TEST(BalWriterTest, FailedWriteRemovesTheTemporaryAndKeepsTheOldFile) {
-  BalProblem big = ReadBal(DBA_SHARED_DATA_DIR "/bal/problem-49-7776-pre.txt.bz2");
+  Problem big = ReadBal(DBA_SHARED_DATA_DIR "/bal/problem-49-7776-pre.txt.bz2");
   std::string dir = TestDir("full");
   for (const char* name : {"p.txt", "p.txt.bz2"}) {
     SCOPED_TRACE(name);
@@ -206,7 +206,7 @@ TEST(BalWriterTest, FailedWriteRemovesTheTemporaryAndKeepsTheOldFile) {
 
 TEST(BalWriterTest, RefusesNonFiniteValuesAndInconsistentArrays) {
   std::string dir = TestDir("invalid");
-  BalProblem p = TrickyProblem();
+  Problem p = TrickyProblem();
   p.points[1] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(WriteBal(p, dir + "/nan.txt"), std::invalid_argument);
   p = TrickyProblem();
@@ -229,7 +229,7 @@ namespace {
 TEST(BalWriterTest, RefusesAPhotogrammetricProblem) {
   testing::SyntheticPhotoOptions o;
   o.num_groups = 2;
-  const BalProblem photo = testing::MakeSyntheticPhoto(o).problem;
+  const Problem photo = testing::MakeSyntheticPhoto(o).problem;
   const std::string dir = TestDir("photo");
   try {
     WriteBal(photo, dir + "/p.txt");

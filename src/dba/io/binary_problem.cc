@@ -122,8 +122,8 @@ void CheckCameras(const BinaryFile& f, std::span<const int32_t> cameras, int64_t
 
 // The camera side of a file whose header `h` was checked: model, cameras
 // (poses, then intrinsics), image groups and fixed flags, each checked.
-BalProblem ReadCameraSide(const BinaryFile& f, const BinaryProblemHeader& h) {
-  BalProblem p;
+Problem ReadCameraSide(const BinaryFile& f, const BinaryProblemHeader& h) {
+  Problem p;
   p.model = h.model;
   p.cameras = f.ReadArrayAt<double>(h.cameras_offset, h.camera_side_size(), "cameras");
   const int64_t poses = int64_t{h.camera_size} * h.num_cameras;
@@ -176,9 +176,9 @@ BalProblem ReadCameraSide(const BinaryFile& f, const BinaryProblemHeader& h) {
 // The layout for the camera side `c` (model, cameras, image groups, flags)
 // with these point counts; throws std::invalid_argument if `c` is
 // inconsistent.
-BinaryProblemHeader CameraSideLayout(const BalProblem& c, int64_t points, int64_t observations) {
+BinaryProblemHeader CameraSideLayout(const Problem& c, int64_t points, int64_t observations) {
   const bool photo = c.model == CameraModel::kPhoto;
-  const int64_t n = c.num_cameras(), g = c.num_intrinsics();
+  const int64_t n = c.num_images(), g = c.num_groups();
   const bool sizes_ok =
       photo ? static_cast<int64_t>(c.cameras.size()) == kPhotoPoseSize * n + kPhotoIntrinsicsSize * g
             : c.cameras.size() % kBalCameraSize == 0 && c.camera_intrinsics.empty();
@@ -303,10 +303,10 @@ BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
   return h;
 }
 
-BalProblem ReadBinaryProblem(const std::string& path) {
+Problem ReadBinaryProblem(const std::string& path) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
   const BinaryFile f(path);
-  BalProblem p = ReadCameraSide(f, h);
+  Problem p = ReadCameraSide(f, h);
   p.points = f.ReadArrayAt<double>(h.points_offset, kPointSize * h.num_points, "points");
   CheckFinite(f, p.points, "points");
   p.point_offsets = f.ReadArrayAt<int64_t>(h.point_offsets_offset, h.num_points + 1, "point offsets");
@@ -321,7 +321,7 @@ BalProblem ReadBinaryProblem(const std::string& path) {
   return p;
 }
 
-BalProblem ReadBinaryCameraSide(const std::string& path) {
+Problem ReadBinaryCameraSide(const std::string& path) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
   const BinaryFile f(path);
   return ReadCameraSide(f, h);
@@ -383,14 +383,14 @@ void ForEachVisibilityChunk(
                           });
 }
 
-BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> point_group,
+Problem ReadBinaryPoints(const std::string& path, std::span<const int32_t> point_group,
                             int32_t group, std::vector<int64_t>* global_point) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
   if (static_cast<int64_t>(point_group.size()) != h.num_points) {
     throw std::invalid_argument("ReadBinaryPoints: point_group has the wrong size");
   }
   const BinaryFile f(path);
-  BalProblem p = ReadCameraSide(f, h);
+  Problem p = ReadCameraSide(f, h);
   // Count first (offsets only), so the arrays are allocated once, exactly.
   int64_t my_points = 0, my_observations = 0;
   for (int64_t k0 = 0; k0 < h.num_points; k0 += 1 << 18) {
@@ -446,7 +446,7 @@ BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> po
   return p;
 }
 
-void WriteBinaryProblem(const BalProblem& p, const std::string& path) {
+void WriteBinaryProblem(const Problem& p, const std::string& path) {
   BinaryProblemWriter writer(path, p, p.num_points(), p.num_observations());
   for (int64_t k = 0; k < p.num_points(); ++k) {
     const int64_t o0 = p.point_offsets[k], o1 = p.point_offsets[k + 1];
@@ -457,11 +457,11 @@ void WriteBinaryProblem(const BalProblem& p, const std::string& path) {
 }
 
 void WriteBinaryWithNewParameters(const std::string& input, const std::string& output,
-                                  const BalProblem& camera_side,
+                                  const Problem& camera_side,
                                   const std::vector<double>& points) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(input);
-  if (camera_side.model != h.model || camera_side.num_cameras() != h.num_cameras ||
-      camera_side.num_intrinsics() != h.num_intrinsics ||
+  if (camera_side.model != h.model || camera_side.num_images() != h.num_cameras ||
+      camera_side.num_groups() != h.num_intrinsics ||
       static_cast<int64_t>(camera_side.cameras.size()) != h.camera_side_size() ||
       static_cast<int64_t>(points.size()) != kPointSize * h.num_points) {
     throw std::invalid_argument("WriteBinaryWithNewParameters: model or parameter counts differ "
@@ -491,7 +491,7 @@ BinaryProblemWriter::BinaryProblemWriter(const std::string& path, int64_t num_ca
   WriteHeader();
 }
 
-BinaryProblemWriter::BinaryProblemWriter(const std::string& path, const BalProblem& c,
+BinaryProblemWriter::BinaryProblemWriter(const std::string& path, const Problem& c,
                                          int64_t num_points, int64_t num_observations)
     : out_(path), h_(CameraSideLayout(c, num_points, num_observations)) {
   WriteHeader();

@@ -1,5 +1,5 @@
 // The dba binary problem format: a versioned, mmap/pread-friendly layout of
-// a BalProblem, observations point-major, so a rank can read the points it
+// a Problem, observations point-major, so a rank can read the points it
 // owns without reading the rest (docs/design.md §4, §6).
 //
 // Version 1 holds BAL problems; version 2 adds the photogrammetric model
@@ -28,7 +28,7 @@
 //                                          axes, camera/photo_camera.h)
 //     intrinsics     f64[5 · groups]     (version 2) f, cx, cy, k1, k2 per
 //                                          group; right after the cameras,
-//                                          so the two are BalProblem::cameras
+//                                          so the two are Problem::cameras
 //     image groups   i32[cameras]        (version 2, model 2; else empty)
 //                                          group of each image, in
 //                                          [0, groups); zero-padded to 8 bytes
@@ -65,7 +65,7 @@
 #include <vector>
 
 #include "dba/io/atomic_output_file.h"
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba {
 
@@ -90,7 +90,7 @@ struct BinaryProblemHeader {
   int64_t obs_pixel_offset = 0;
   int64_t file_size = 0;
 
-  // Size of BalProblem::cameras: camera size · cameras + 5 · groups.
+  // Size of Problem::cameras: camera size · cameras + 5 · groups.
   int64_t camera_side_size() const {
     return int64_t{camera_size} * num_cameras + kPhotoIntrinsicsSize * num_intrinsics;
   }
@@ -107,7 +107,7 @@ BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path);
 // The whole problem. Throws InputError on any inconsistency (offsets not
 // monotonic, camera or group ids out of range, non-finite values, flags out
 // of range).
-BalProblem ReadBinaryProblem(const std::string& path);
+Problem ReadBinaryProblem(const std::string& path);
 
 // Visits the visibility graph in chunks of whole points without holding it:
 // fn(first_point, offsets (global observation indices, size n + 1),
@@ -130,29 +130,29 @@ void ForEachObservationChunk(
 // flags, model; global ids; see KeepTouchedCameras for the local
 // renumbering), read in chunks. `global_point` receives the global id of
 // each point read.
-BalProblem ReadBinaryPoints(const std::string& path, std::span<const int32_t> point_group,
+Problem ReadBinaryPoints(const std::string& path, std::span<const int32_t> point_group,
                             int32_t group, std::vector<int64_t>* global_point);
 
-// The camera side only: model, cameras (BalProblem::cameras: cameras or
+// The camera side only: model, cameras (Problem::cameras: cameras or
 // poses, then intrinsics), camera_intrinsics and the fixed flags; no points
 // or observations (point_offsets empty).
-BalProblem ReadBinaryCameraSide(const std::string& path);
+Problem ReadBinaryCameraSide(const std::string& path);
 
 // Only the point coordinates (3 per point).
 std::vector<double> ReadBinaryPointCoordinates(const std::string& path);
 
 // Writes `problem` to path.tmp.<pid>, then renames it over `path`.
-void WriteBinaryProblem(const BalProblem& problem, const std::string& path);
+void WriteBinaryProblem(const Problem& problem, const std::string& path);
 
 // Writes `output` as a copy of the binary problem `input` with its
-// camera-side vector (BalProblem::cameras) and point coordinates replaced,
+// camera-side vector (Problem::cameras) and point coordinates replaced,
 // streaming the observations through a buffer (they are never all in
 // memory). `camera_side` gives the model, the camera-side parameters, the
 // image groups and the fixed flags to write (e.g. what a solve ended with and
 // held fixed); its counts and image groups must be the input's. Atomic like
 // WriteBinaryProblem.
 void WriteBinaryWithNewParameters(const std::string& input, const std::string& output,
-                                  const BalProblem& camera_side,
+                                  const Problem& camera_side,
                                   const std::vector<double>& points);
 
 // Streams a problem into the binary format when the counts are known ahead:
@@ -171,7 +171,7 @@ class BinaryProblemWriter {
   // ignored). WriteCameras may replace the camera-side values later. Throws
   // std::invalid_argument when they are inconsistent (sizes, group ids out
   // of range, masks beyond kAllIntrinsics).
-  BinaryProblemWriter(const std::string& path, const BalProblem& camera_side,
+  BinaryProblemWriter(const std::string& path, const Problem& camera_side,
                       int64_t num_points, int64_t num_observations);
 
   // The camera-side vector: 9 per BAL camera, or 6 per image then 5 per

@@ -23,7 +23,7 @@ namespace {
 
 std::string Tmp(const std::string& name) { return testing::TempPath(name); }
 
-void ExpectSame(const BalProblem& a, const BalProblem& b) {
+void ExpectSame(const Problem& a, const Problem& b) {
   auto bits = [](const auto& x, const auto& y) {
     return x.size() == y.size() &&
            std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0;
@@ -43,11 +43,11 @@ void WriteBytes(const std::string& path, const std::string& bytes) {
 
 TEST(BinaryProblem, RoundTripsEverySharedBalProblemExactly) {
   for (const auto& entry : std::filesystem::directory_iterator(DBA_SHARED_DATA_DIR "/bal")) {
-    const BalProblem bal = ReadBal(entry.path());
+    const Problem bal = ReadBal(entry.path());
     const std::string bin = Tmp("round.dba"), txt = Tmp("round.txt");
     WriteBinaryProblem(bal, bin);
     EXPECT_TRUE(IsBinaryProblem(bin));
-    const BalProblem back = ReadBinaryProblem(bin);
+    const Problem back = ReadBinaryProblem(bin);
     ExpectSame(bal, back);
     // BAL -> binary -> BAL text -> read: still the same numbers.
     WriteBal(back, txt);
@@ -57,14 +57,14 @@ TEST(BinaryProblem, RoundTripsEverySharedBalProblemExactly) {
 }
 
 TEST(BinaryProblem, PointsOfAGroupEqualTheExtractedShare) {
-  const BalProblem bal = ReadBal(DBA_SHARED_DATA_DIR "/bal/problem-49-7776-pre.txt.bz2");
+  const Problem bal = ReadBal(DBA_SHARED_DATA_DIR "/bal/problem-49-7776-pre.txt.bz2");
   const std::string bin = Tmp("share.dba");
   WriteBinaryProblem(bal, bin);
   for (PartitionScheme scheme : {PartitionScheme::kEqual, PartitionScheme::kCameraLocality}) {
     const std::vector<int32_t> group = PartitionPoints(bal, 3, scheme);
     for (int g = 0; g < 3; ++g) {
       std::vector<int64_t> ids;
-      const BalProblem slice = ReadBinaryPoints(bin, group, g, &ids);
+      const Problem slice = ReadBinaryPoints(bin, group, g, &ids);
       const RankShare share = ExtractShare(bal, group, g);
       EXPECT_EQ(ids, share.global_point);
       EXPECT_EQ(slice.points, share.problem.points);
@@ -79,7 +79,7 @@ TEST(BinaryProblem, PointsOfAGroupEqualTheExtractedShare) {
 }
 
 TEST(BinaryProblem, VisibilityChunksCoverEveryObservationOnce) {
-  const BalProblem bal = ReadBal(DBA_SHARED_DATA_DIR "/bal/problem-21-11315-pre.txt.bz2");
+  const Problem bal = ReadBal(DBA_SHARED_DATA_DIR "/bal/problem-21-11315-pre.txt.bz2");
   const std::string bin = Tmp("chunks.dba");
   WriteBinaryProblem(bal, bin);
   int64_t next_point = 0, chunks = 0;
@@ -100,7 +100,7 @@ TEST(BinaryProblem, VisibilityChunksCoverEveryObservationOnce) {
 class CorruptBinaryTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    BalProblem p;
+    Problem p;
     p.cameras.assign(18, 0.5);
     p.points = {1, 2, 3, 4, 5, 6};
     p.point_offsets = {0, 2, 3};
@@ -179,7 +179,7 @@ TEST_F(CorruptBinaryTest, HugeCountsAFieldAndTheMagicAreNamedRight) {
 }
 
 TEST(BinaryProblem, FailedWriteLeavesNothing) {
-  BalProblem p;
+  Problem p;
   p.cameras.assign(9, 0.0);
   p.points = {0, 0, 0};
   p.point_offsets = {0, 1};
@@ -201,7 +201,7 @@ namespace {
 // memory) is accepted, its section offsets are exact, and reading the
 // all-zero offsets fails cleanly instead of overflowing.
 TEST(BinaryProblem, CountsPastTwoToThe31) {
-  BalProblem p;
+  Problem p;
   p.cameras.assign(9, 0.0);
   p.points = {0, 0, 0};
   p.point_offsets = {0, 1};
@@ -245,17 +245,17 @@ namespace dba {
 namespace {
 
 TEST(BinaryProblem, RewriteWithNewParametersKeepsTheObservations) {
-  const BalProblem bal = ReadBal(DBA_SHARED_DATA_DIR "/bal/problem-21-11315-pre.txt.bz2");
+  const Problem bal = ReadBal(DBA_SHARED_DATA_DIR "/bal/problem-21-11315-pre.txt.bz2");
   const std::string in = Tmp("params_in.dba");
   const std::string out = Tmp("params_out.dba");
   WriteBinaryProblem(bal, in);
   std::vector<double> cameras = bal.cameras, points = bal.points;
   for (double& c : cameras) c += 1.0;
   for (double& x : points) x *= 2.0;
-  BalProblem side = bal;
+  Problem side = bal;
   side.cameras = cameras;
   WriteBinaryWithNewParameters(in, out, side, points);
-  const BalProblem back = ReadBinaryProblem(out);
+  const Problem back = ReadBinaryProblem(out);
   EXPECT_EQ(back.cameras, cameras);
   EXPECT_EQ(back.points, points);
   EXPECT_EQ(back.point_offsets, bal.point_offsets);
@@ -274,7 +274,7 @@ namespace dba {
 namespace {
 
 // Every array and the model, bit for bit.
-void ExpectIdentical(const BalProblem& a, const BalProblem& b) {
+void ExpectIdentical(const Problem& a, const Problem& b) {
   EXPECT_EQ(a.model, b.model);
   EXPECT_EQ(a.camera_intrinsics, b.camera_intrinsics);
   EXPECT_EQ(a.fixed_cameras, b.fixed_cameras);
@@ -282,7 +282,7 @@ void ExpectIdentical(const BalProblem& a, const BalProblem& b) {
   ExpectSame(a, b);
 }
 
-BalProblem PhotoProblem(int num_groups = 3) {
+Problem PhotoProblem(int num_groups = 3) {
   testing::SyntheticPhotoOptions o;
   o.geometry.num_cameras = 7;
   o.geometry.num_points = 30;
@@ -296,9 +296,9 @@ BalProblem PhotoProblem(int num_groups = 3) {
 }
 
 TEST(BinaryProblemPhoto, RoundTripIsIdentical) {
-  BalProblem p = PhotoProblem();
+  Problem p = PhotoProblem();
   ASSERT_EQ(p.model, CameraModel::kPhoto);
-  ASSERT_EQ(p.num_intrinsics(), 3);
+  ASSERT_EQ(p.num_groups(), 3);
   const std::string path = Tmp("photo.dba");
   WriteBinaryProblem(p, path);
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
@@ -313,7 +313,7 @@ TEST(BinaryProblemPhoto, RoundTripIsIdentical) {
   EXPECT_EQ(h.camera_side_size(), static_cast<int64_t>(p.cameras.size()));
   ExpectIdentical(p, ReadBinaryProblem(path));
   EXPECT_EQ(ReadBinaryCameraSide(path).cameras, p.cameras);  // poses, then intrinsics
-  const BalProblem side = ReadBinaryCameraSide(path);
+  const Problem side = ReadBinaryCameraSide(path);
   EXPECT_EQ(side.model, CameraModel::kPhoto);
   EXPECT_EQ(side.cameras, p.cameras);
   EXPECT_EQ(side.camera_intrinsics, p.camera_intrinsics);
@@ -326,7 +326,7 @@ TEST(BinaryProblemPhoto, RoundTripIsIdentical) {
 
   // With fixed flags (each alone and both): still identical, emptiness kept.
   for (int variant = 0; variant < 3; ++variant) {
-    BalProblem q = p;
+    Problem q = p;
     if (variant != 1) q.fixed_cameras = {1, 0, 0, 1, 0, 0, 0};
     if (variant != 0) q.intrinsics_free = {kAllIntrinsics, kIntrinsicF | kIntrinsicK1, 0};
     WriteBinaryProblem(q, path);
@@ -334,20 +334,20 @@ TEST(BinaryProblemPhoto, RoundTripIsIdentical) {
     EXPECT_EQ(hq.has_fixed_cameras, !q.fixed_cameras.empty());
     EXPECT_EQ(hq.has_intrinsics_free, !q.intrinsics_free.empty());
     ExpectIdentical(q, ReadBinaryProblem(path));
-    const BalProblem s = ReadBinaryCameraSide(path);
+    const Problem s = ReadBinaryCameraSide(path);
     EXPECT_EQ(s.fixed_cameras, q.fixed_cameras);
     EXPECT_EQ(s.intrinsics_free, q.intrinsics_free);
   }
 }
 
 TEST(BinaryProblemPhoto, BalStaysVersion1AndFixedBalCamerasUseVersion2) {
-  const BalProblem bal = ReadBal(DBA_SHARED_DATA_DIR "/bal/problem-49-7776-pre.txt.bz2");
+  const Problem bal = ReadBal(DBA_SHARED_DATA_DIR "/bal/problem-49-7776-pre.txt.bz2");
   const std::string path = Tmp("bal_v1.dba");
   WriteBinaryProblem(bal, path);
   EXPECT_EQ(ReadBinaryProblemHeader(path).version, 1u);
   // Version 1 is the format as before: the streaming BAL writer gives the same bytes.
   {
-    BinaryProblemWriter w(Tmp("bal_v1_stream.dba"), bal.num_cameras(), bal.num_points(),
+    BinaryProblemWriter w(Tmp("bal_v1_stream.dba"), bal.num_images(), bal.num_points(),
                           bal.num_observations());
     w.WriteCameras(bal.cameras);
     for (int64_t k = 0; k < bal.num_points(); ++k) {
@@ -358,8 +358,8 @@ TEST(BinaryProblemPhoto, BalStaysVersion1AndFixedBalCamerasUseVersion2) {
     w.Commit();
   }
   EXPECT_EQ(ReadBytes(path), ReadBytes(Tmp("bal_v1_stream.dba")));
-  BalProblem fixed = bal;
-  fixed.fixed_cameras.assign(bal.num_cameras(), 0);
+  Problem fixed = bal;
+  fixed.fixed_cameras.assign(bal.num_images(), 0);
   fixed.fixed_cameras[3] = 1;
   WriteBinaryProblem(fixed, path);
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
@@ -371,7 +371,7 @@ TEST(BinaryProblemPhoto, BalStaysVersion1AndFixedBalCamerasUseVersion2) {
 }
 
 TEST(BinaryProblemPhoto, PointsOfAGroupCarryTheWholeCameraSide) {
-  BalProblem p = PhotoProblem();
+  Problem p = PhotoProblem();
   p.fixed_cameras = {0, 1, 0, 0, 0, 0, 0};
   p.intrinsics_free = {kAllIntrinsics, kAllIntrinsics & ~kIntrinsicK2, kIntrinsicF};
   const std::string path = Tmp("photo_share.dba");
@@ -397,17 +397,17 @@ TEST(BinaryProblemPhoto, PointsOfAGroupCarryTheWholeCameraSide) {
 }
 
 TEST(BinaryProblemPhoto, RewriteWithNewParametersKeepsGroupsAndFlags) {
-  BalProblem p = PhotoProblem();
+  Problem p = PhotoProblem();
   p.intrinsics_free = {kAllIntrinsics, kIntrinsicF, kIntrinsicF | kIntrinsicCx | kIntrinsicCy};
   const std::string in = Tmp("photo_params_in.dba"), out = Tmp("photo_params_out.dba");
   WriteBinaryProblem(p, in);
   std::vector<double> cameras = p.cameras, points = p.points;
   for (double& c : cameras) c *= 1.5;
   for (double& x : points) x -= 1.0;
-  BalProblem side = p;
+  Problem side = p;
   side.cameras = cameras;
   WriteBinaryWithNewParameters(in, out, side, points);
-  BalProblem want = p;
+  Problem want = p;
   want.cameras = cameras;
   want.points = points;
   ExpectIdentical(want, ReadBinaryProblem(out));
@@ -416,14 +416,14 @@ TEST(BinaryProblemPhoto, RewriteWithNewParametersKeepsGroupsAndFlags) {
 }
 
 TEST(BinaryProblemPhoto, WriterRefusesAnInconsistentCameraSideAndLeavesNothing) {
-  const BalProblem good = PhotoProblem();
+  const Problem good = PhotoProblem();
   const std::string path = Tmp("photo_refused.dba");
   std::filesystem::remove(path);
-  auto expect_refused = [&](const BalProblem& p, const std::string& what) {
+  auto expect_refused = [&](const Problem& p, const std::string& what) {
     EXPECT_THROW(WriteBinaryProblem(p, path), std::invalid_argument) << what;
     EXPECT_FALSE(std::filesystem::exists(path)) << what;
   };
-  BalProblem p = good;
+  Problem p = good;
   p.camera_intrinsics[2] = 3;  // only groups 0..2
   expect_refused(p, "group id out of range");
   p = good;
@@ -438,7 +438,7 @@ TEST(BinaryProblemPhoto, WriterRefusesAnInconsistentCameraSideAndLeavesNothing) 
   p = good;
   p.cameras.resize(6 * 7);  // no intrinsic group at all
   expect_refused(p, "no groups");
-  BalProblem bal;
+  Problem bal;
   bal.cameras.assign(18, 0.5);
   bal.camera_intrinsics = {0, 0};  // groups in a BAL problem
   bal.points = {1, 2, 3};
@@ -451,7 +451,7 @@ TEST(BinaryProblemPhoto, WriterRefusesAnInconsistentCameraSideAndLeavesNothing) 
 class CorruptPhotoBinaryTest : public CorruptBinaryTest {
  protected:
   void SetUp() override {
-    BalProblem p = PhotoProblem(2);
+    Problem p = PhotoProblem(2);
     p.fixed_cameras.assign(7, 0);
     p.fixed_cameras[0] = 1;
     p.intrinsics_free = {kAllIntrinsics, kIntrinsicF};
@@ -471,7 +471,7 @@ class CorruptPhotoBinaryTest : public CorruptBinaryTest {
 
 TEST_F(CorruptPhotoBinaryTest, RefusesEachFailureMode) {
   // The intact file reads.
-  EXPECT_EQ(ReadBinaryProblem(good_).num_intrinsics(), 2);
+  EXPECT_EQ(ReadBinaryProblem(good_).num_groups(), 2);
   // Group id out of range, and negative.
   ExpectRefused(With<int32_t>(h_.image_groups_offset + 4 * 3, 2),
                 "intrinsic group 2 of image 3 is out of range [0, 2)");
@@ -519,7 +519,7 @@ TEST_F(CorruptPhotoBinaryTest, EveryReaderRefusesABadGroup) {
   std::vector<int64_t> ids;
   const std::vector<int32_t> all(h_.num_points, 0);
   EXPECT_THROW(ReadBinaryPoints(bad_, all, 0, &ids), InputError);
-  BalProblem side;  // the camera side the file's header promises
+  Problem side;  // the camera side the file's header promises
   side.model = CameraModel::kPhoto;
   side.camera_intrinsics.assign(h_.num_cameras, 0);
   side.cameras.resize(h_.camera_side_size());
@@ -548,7 +548,7 @@ namespace {
 // with a fixed image and fixed intrinsics read back to these exact values,
 // so a layout change that breaks old files fails here.
 TEST(CheckedInBinaryFiles, Version1BalDecodes) {
-  const BalProblem p = ReadBinaryProblem(DBA_TEST_DATA_DIR "/v1_bal.dba");
+  const Problem p = ReadBinaryProblem(DBA_TEST_DATA_DIR "/v1_bal.dba");
   EXPECT_EQ(ReadBinaryProblemHeader(DBA_TEST_DATA_DIR "/v1_bal.dba").version, 1u);
   EXPECT_EQ(p.model, CameraModel::kBal);
   EXPECT_EQ(p.cameras, (std::vector<double>{0.1, -0.2, 0.3, 1, 2, -10, 500, -1e-3, 2e-6, -0.05,
@@ -561,11 +561,11 @@ TEST(CheckedInBinaryFiles, Version1BalDecodes) {
 }
 
 TEST(CheckedInBinaryFiles, Version2PhotoWithFixingsDecodes) {
-  const BalProblem p = ReadBinaryProblem(DBA_TEST_DATA_DIR "/v2_photo_fixings.dba");
+  const Problem p = ReadBinaryProblem(DBA_TEST_DATA_DIR "/v2_photo_fixings.dba");
   EXPECT_EQ(ReadBinaryProblemHeader(DBA_TEST_DATA_DIR "/v2_photo_fixings.dba").version, 2u);
   EXPECT_EQ(p.model, CameraModel::kPhoto);
-  EXPECT_EQ(p.num_cameras(), 3);
-  EXPECT_EQ(p.num_intrinsics(), 2);
+  EXPECT_EQ(p.num_images(), 3);
+  EXPECT_EQ(p.num_groups(), 2);
   EXPECT_EQ(p.cameras,
             (std::vector<double>{0.01, 0.02, 0.03, 1, 2, 3, -0.01, 0.0, 0.02, 4, 5, 6, 0, 0.1, 0,
                                  7, 8, 9, 800, 320, 240, 0.01, -0.001, 900, 330, 250, -0.02,

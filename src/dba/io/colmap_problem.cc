@@ -1,6 +1,7 @@
 // COLMAP model <-> photogrammetric problem; see colmap_problem.h.
 #include "dba/io/colmap_problem.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -108,7 +109,7 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
     image_camera[i] = it->second;
   }
 
-  BalProblem& bp = out.problem;
+  Problem& bp = out.problem;
   bp.model = CameraModel::kPhoto;
   bp.camera_intrinsics.resize(n);
   if (options.shared_intrinsics) {
@@ -184,9 +185,9 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
   return out;
 }
 
-void UpdateColmapModel(const ColmapProblem& source, const BalProblem& adjusted,
+void UpdateColmapModel(const ColmapProblem& source, const Problem& adjusted,
                        ColmapModel* model) {
-  const BalProblem& sp = source.problem;
+  const Problem& sp = source.problem;
   auto fail = [](const std::string& what) {
     throw std::invalid_argument("UpdateColmapModel: " + what);
   };
@@ -198,8 +199,8 @@ void UpdateColmapModel(const ColmapProblem& source, const BalProblem& adjusted,
       adjusted.obs_pixel.size() != sp.obs_pixel.size()) {
     fail("the adjusted problem's structure differs from the source problem's");
   }
-  const int64_t n = adjusted.num_cameras();
-  const int64_t num_groups = adjusted.num_intrinsics();
+  const int64_t n = adjusted.num_images();
+  const int64_t num_groups = adjusted.num_groups();
   if (static_cast<int64_t>(source.image_index.size()) != n ||
       static_cast<int64_t>(source.group_camera.size()) != num_groups ||
       static_cast<int64_t>(source.point_index.size()) != adjusted.num_points()) {

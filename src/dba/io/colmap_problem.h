@@ -1,5 +1,5 @@
 // A COLMAP sparse model as a photogrammetric bundle-adjustment problem
-// (BalProblem with CameraModel::kPhoto, camera/photo_camera.h), and the
+// (Problem with CameraModel::kPhoto, camera/photo_camera.h), and the
 // adjusted parameters written back into the model.
 //
 // Mapping (COLMAP's conventions are the photo model's, so no sign flips):
@@ -47,7 +47,7 @@
 #include <vector>
 
 #include "dba/io/colmap_model.h"
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba {
 
@@ -67,7 +67,7 @@ struct ColmapProblemOptions {
 };
 
 struct ColmapProblem {
-  BalProblem problem;                 // model kPhoto
+  Problem problem;                 // model kPhoto
   std::vector<int64_t> image_index;   // problem camera i -> index into model.images
   std::vector<int64_t> point_index;   // problem point k -> index into model.points3D
   std::vector<int64_t> group_camera;  // intrinsic group g -> index into model.cameras
@@ -93,7 +93,7 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
 // is left (2^32 - 1 in use), and (from SetColmapCameraIntrinsics) when a
 // camera would get a non-zero k1/k2 its model cannot hold. *model may be
 // partly updated when it throws.
-void UpdateColmapModel(const ColmapProblem& source, const BalProblem& adjusted,
+void UpdateColmapModel(const ColmapProblem& source, const Problem& adjusted,
                        ColmapModel* model);
 
 }  // namespace dba

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -49,7 +50,7 @@ void ExpectInputError(F f, const std::vector<std::string>& phrases) {
 }
 
 // Reprojection error |r| (pixels) of every observation.
-std::vector<double> ObservationErrors(const BalProblem& p) {
+std::vector<double> ObservationErrors(const Problem& p) {
   std::vector<double> e(p.num_observations());
   for (int64_t k = 0; k < p.num_points(); ++k) {
     for (int64_t o = p.point_offsets[k]; o < p.point_offsets[k + 1]; ++o) {
@@ -166,7 +167,7 @@ TEST(ColmapProblemTest, ReprojectionErrorAtColmapsSolutionIsSmall) {
     SCOPED_TRACE(folder);
     const ColmapModel model = ReadColmapModel(SharedDir(folder));
     const ColmapProblem cp = ProblemFromColmap(model, {}, SharedDir(folder));
-    const BalProblem& p = cp.problem;
+    const Problem& p = cp.problem;
     const std::vector<double> e = ObservationErrors(p);
     double sum2 = 0, max_e = 0;
     for (double x : e) sum2 += x * x, max_e = std::max(max_e, x);
@@ -215,7 +216,7 @@ TEST(ColmapProblemTest, ObservationsAreTheTracksOfKeptPoints) {
       ColmapProblemOptions options;
       options.min_track_length = min_track;
       const ColmapProblem cp = ProblemFromColmap(model, options, "m");
-      const BalProblem& p = cp.problem;
+      const Problem& p = cp.problem;
       int64_t kept = 0, observations = 0;
       std::set<int64_t> observing;
       for (const ColmapPoint3D& q : model.points3D) {
@@ -267,10 +268,10 @@ TEST(ColmapProblemTest, SharedAndPerImageGroups) {
     options.shared_intrinsics = false;
     options.fixed_intrinsics = kIntrinsicCx | kIntrinsicCy;
     const ColmapProblem per_image = ProblemFromColmap(model, options, "m");
-    EXPECT_EQ(shared.problem.num_cameras(), c.images);
-    EXPECT_EQ(shared.problem.num_intrinsics(), c.shared_groups);
-    EXPECT_EQ(per_image.problem.num_cameras(), c.images);
-    EXPECT_EQ(per_image.problem.num_intrinsics(), c.images);
+    EXPECT_EQ(shared.problem.num_images(), c.images);
+    EXPECT_EQ(shared.problem.num_groups(), c.shared_groups);
+    EXPECT_EQ(per_image.problem.num_images(), c.images);
+    EXPECT_EQ(per_image.problem.num_groups(), c.images);
     EXPECT_EQ(static_cast<int64_t>(shared.problem.cameras.size()),
               6 * c.images + 5 * c.shared_groups);
     // SIMPLE_RADIAL has no k2: f, cx, cy, k1 free; then cx, cy fixed too.
@@ -311,7 +312,7 @@ TEST(ColmapProblemTest, UnsupportedCameraModelIsRefused) {
   m.points3D[0].track.pop_back();
   m.images[3].points2D[0].point3D_id = kColmapNoPoint3D;
   const ColmapProblem cp = ProblemFromColmap(m, {}, "/some/model");
-  EXPECT_EQ(cp.problem.num_cameras(), 2);
+  EXPECT_EQ(cp.problem.num_images(), 2);
   EXPECT_EQ(cp.group_camera, std::vector<int64_t>{0});
 }
 
@@ -369,8 +370,8 @@ TEST(ColmapProblemTest, PerImageWriteBackCreatesNewCameras) {
   ColmapProblemOptions options;
   options.shared_intrinsics = false;
   const ColmapProblem cp = ProblemFromColmap(model, options, dir);
-  ASSERT_EQ(cp.problem.num_intrinsics(), 40);
-  BalProblem adjusted = cp.problem;
+  ASSERT_EQ(cp.problem.num_groups(), 40);
+  Problem adjusted = cp.problem;
   for (int64_t g = 0; g < 40; ++g) {
     double* x = adjusted.intrinsics(g);
     x[0] *= 1.0 + 0.001 * static_cast<double>(g);
@@ -409,7 +410,7 @@ TEST(ColmapProblemTest, PerImageWriteBackCreatesNewCameras) {
   // And a problem built from the written model, shared, has 40 groups equal
   // to the adjusted ones.
   const ColmapProblem again = ProblemFromColmap(back, {}, out);
-  ASSERT_EQ(again.problem.num_intrinsics(), 40);
+  ASSERT_EQ(again.problem.num_groups(), 40);
   for (int64_t i = 0; i < 40; ++i) {
     const double* a = again.problem.intrinsics(again.problem.camera_intrinsics[i]);
     const double* b = adjusted.intrinsics(i);
@@ -428,7 +429,7 @@ TEST(ColmapProblemTest, ChangedParametersAreWrittenBack) {
   // b's quaternion (-1, 0, 0, 0) is the identity.
   for (int d = 0; d < 3; ++d) EXPECT_EQ(cp.problem.camera(1)[d], 0.0);
 
-  BalProblem adjusted = cp.problem;
+  Problem adjusted = cp.problem;
   // A rotation of 3 rad about (2, -1, 2)/3 for image a; its quaternion has qw > 0.
   const Vec3 omega = Vec3(2, -1, 2);
   for (int d = 0; d < 3; ++d) adjusted.camera(0)[d] = omega[d];
@@ -484,8 +485,8 @@ TEST(ColmapProblemTest, ChangedParametersAreWrittenBack) {
   ColmapProblemOptions all;
   all.min_track_length = 1;
   const ColmapProblem cp1 = ProblemFromColmap(model, all, "small");
-  EXPECT_EQ(cp1.problem.num_cameras(), 4);
-  BalProblem adjusted1 = cp1.problem;
+  EXPECT_EQ(cp1.problem.num_images(), 4);
+  Problem adjusted1 = cp1.problem;
   adjusted1.intrinsics(0)[0] = 505;
   ColmapModel m1 = model;
   UpdateColmapModel(cp1, adjusted1, &m1);
@@ -493,7 +494,7 @@ TEST(ColmapProblemTest, ChangedParametersAreWrittenBack) {
   EXPECT_EQ(m1.cameras[0].params[0], 505.0);
 
   // A mismatched adjusted problem is refused.
-  BalProblem wrong = cp.problem;
+  Problem wrong = cp.problem;
   wrong.points.push_back(0);
   EXPECT_THROW(UpdateColmapModel(cp, wrong, &m), std::invalid_argument);
   wrong = cp.problem;

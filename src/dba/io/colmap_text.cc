@@ -2,7 +2,7 @@
 #include "dba/io/atomic_output_file.h"
 #include "dba/io/colmap_text.h"
 
-#include "dba/io/bz2_line_reader.h"
+#include "dba/io/text_line_reader.h"
 
 #include <charconv>
 #include <cmath>
@@ -33,7 +33,7 @@ std::string Quote(std::string_view tok) {
 }
 
 // A text file read line by line, counting lines from 1 (line length
-// bounded by Bz2LineReader). A file must end with a line end: one cut short
+// bounded by TextLineReader). A file must end with a line end: one cut short
 // could otherwise end inside its last number and be read without error.
 class LineFile {
  public:
@@ -65,7 +65,7 @@ class LineFile {
   }
 
  private:
-  Bz2LineReader reader_;
+  TextLineReader reader_;
 };
 
 // Blank-separated tokens of one line; errors name the file and line.

@@ -11,7 +11,7 @@
 
 namespace dba {
 
-BalProblem ReadProblem(const std::string& path) {
+Problem ReadProblem(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     if (DetectColmapFormat(path).has_value()) {
@@ -38,7 +38,7 @@ BalProblem ReadProblem(const std::string& path) {
   }
 }
 
-void WriteProblem(const BalProblem& problem, const std::string& path) {
+void WriteProblem(const Problem& problem, const std::string& path) {
   if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".dba") == 0) {
     WriteBinaryProblem(problem, path);
   } else {

@@ -10,10 +10,10 @@
 namespace dba {
 
 // A directory is refused with a message that says what it holds.
-BalProblem ReadProblem(const std::string& path);
+Problem ReadProblem(const std::string& path);
 
 // Writes BAL text (.txt, .bz2 compressed) or, for a .dba path, the binary
 // format.
-void WriteProblem(const BalProblem& problem, const std::string& path);
+void WriteProblem(const Problem& problem, const std::string& path);
 
 }  // namespace dba

@@ -45,7 +45,7 @@ TEST_P(BalProblemsTest, ReachesTheExactCostWithAnyThreadCount) {
   const std::string path = SharedBal(c.file);
   double final_cost[2];
   for (int threads = 1; threads <= 2; ++threads) {
-    BalProblem problem = ReadBal(path);
+    Problem problem = ReadBal(path);
     LmOptions options;
     options.num_threads = threads;
     options.linear_solver.type = solver;
@@ -100,7 +100,7 @@ TEST(GeneratedSurvey, EverySolverReachesTheSameOptimum) {
           Setting{LinearSolverType::kSparse, PreconditionerType::kBlockJacobi},
           Setting{LinearSolverType::kPcg, PreconditionerType::kBlockJacobi},
           Setting{LinearSolverType::kPcg, PreconditionerType::kTwoLevel}}) {
-      BalProblem problem = ReadProblem(file);
+      Problem problem = ReadProblem(file);
       LmOptions options;
       options.num_threads = 2;
       options.linear_solver.type = setting.solver;

@@ -7,7 +7,7 @@
 namespace dba {
 
 BundleAdjustSummary BundleAdjust(
-    const LmOptions& options, BalProblem* problem,
+    const LmOptions& options, Problem* problem,
     const std::function<void(const IterationSummary&)>& on_iteration) {
   BundleAdjustSummary summary;
   Timer symbolic;

@@ -5,7 +5,7 @@
 #include <functional>
 
 #include "dba/lm/levenberg_marquardt.h"
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba {
 
@@ -27,7 +27,7 @@ struct BundleAdjustSummary {
 
 // Adjusts `problem`'s cameras and points in place.
 BundleAdjustSummary BundleAdjust(
-    const LmOptions& options, BalProblem* problem,
+    const LmOptions& options, Problem* problem,
     const std::function<void(const IterationSummary&)>& on_iteration = {});
 
 }  // namespace dba

@@ -14,7 +14,7 @@
 namespace dba {
 namespace {
 
-testing::SyntheticBal SharedIntrinsicsProblem(double noise) {
+testing::SyntheticProblem SharedIntrinsicsProblem(double noise) {
   testing::SyntheticPhotoOptions o;
   o.geometry.num_cameras = 12;
   o.geometry.num_points = 250;
@@ -33,8 +33,8 @@ testing::SyntheticBal SharedIntrinsicsProblem(double noise) {
 
 TEST(BundleAdjust, SharedIntrinsicsAreRecoveredWithinTheNoise) {
   const double sigma = 0.5;
-  testing::SyntheticBal s = SharedIntrinsicsProblem(sigma);
-  BalProblem& p = s.problem;
+  testing::SyntheticProblem s = SharedIntrinsicsProblem(sigma);
+  Problem& p = s.problem;
   LmOptions options;
   options.num_threads = 2;
   const BundleAdjustSummary summary = BundleAdjust(options, &p);
@@ -57,7 +57,7 @@ TEST(BundleAdjust, SharedIntrinsicsAreRecoveredWithinTheNoise) {
   const Eigen::MatrixXd covariance =
       sigma * sigma * eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
   const UnknownLayout layout(p);
-  const testing::SyntheticBal start = SharedIntrinsicsProblem(sigma);
+  const testing::SyntheticProblem start = SharedIntrinsicsProblem(sigma);
   for (int g = 0; g < 2; ++g) {
     const double* got = p.intrinsics(g);
     const double* truth = s.truth.intrinsics(g);
@@ -75,12 +75,12 @@ TEST(BundleAdjust, SharedIntrinsicsAreRecoveredWithinTheNoise) {
 }
 
 TEST(BundleAdjust, FixedParametersStayAtTheirValues) {
-  testing::SyntheticBal s = SharedIntrinsicsProblem(0.5);
-  BalProblem& p = s.problem;
-  p.fixed_cameras.assign(p.num_cameras(), 0);
+  testing::SyntheticProblem s = SharedIntrinsicsProblem(0.5);
+  Problem& p = s.problem;
+  p.fixed_cameras.assign(p.num_images(), 0);
   p.fixed_cameras[0] = p.fixed_cameras[5] = 1;
   p.intrinsics_free = {kIntrinsicF | kIntrinsicK1 | kIntrinsicK2, 0};
-  const BalProblem start = p;
+  const Problem start = p;
   LmOptions options;
   options.num_threads = 2;
   const BundleAdjustSummary summary = BundleAdjust(options, &p);
@@ -98,7 +98,7 @@ TEST(BundleAdjust, FixedParametersStayAtTheirValues) {
 }
 
 TEST(BundleAdjust, PhotoModelOneAndTwoThreadsAgree) {
-  testing::SyntheticBal a = SharedIntrinsicsProblem(1.0), b = SharedIntrinsicsProblem(1.0);
+  testing::SyntheticProblem a = SharedIntrinsicsProblem(1.0), b = SharedIntrinsicsProblem(1.0);
   LmOptions options;
   options.num_threads = 1;
   const double cost1 = BundleAdjust(options, &a.problem).lm.final_cost;

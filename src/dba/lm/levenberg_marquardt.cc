@@ -131,7 +131,7 @@ class Minimizer {
     it.cost = cost_;
     it.rms_pixels = LmSummary::Rms(residuals_.squared, static_cast<double>(num_observations_));
     it.lambda = damping_.lambda();
-    it.gradient_max_norm = std::max(MaxAbs(sys_->camera_gradient), sys_->max_abs_point_gradient);
+    it.gradient_max_norm = std::max(MaxAbs(sys_->camera_side_gradient), sys_->max_abs_point_gradient);
     return it;
   }
 
@@ -145,7 +145,7 @@ class Minimizer {
   // numerically positive definite. Counts the iteration.
   bool SolveDampedRcs(IterationSummary* it) {
     Timer phase;
-    DampCameraBlocks(damping_.lambda(), options_.damping, sys_->camera_jtj_diagonal, &sys_->S);
+    DampCameraBlocks(damping_.lambda(), options_.damping, sys_->camera_side_jtj_diagonal, &sys_->S);
     if (!linear_solver_) linear_solver_ = MakeLinearSolver();
     const LinearSolveSummary solve = linear_solver_->Solve(sys_->S, sys_->b.data(), delta_c_.data());
     it->linear_iterations = solve.iterations;

@@ -10,7 +10,7 @@
 namespace dba {
 namespace {
 
-testing::SyntheticBal Problem(double noise, uint32_t seed) {
+testing::SyntheticProblem MakeProblem(double noise, uint32_t seed) {
   testing::SyntheticBalOptions o;
   o.num_cameras = 8;
   o.num_points = 200;
@@ -24,7 +24,7 @@ testing::SyntheticBal Problem(double noise, uint32_t seed) {
   return testing::MakeSyntheticBal(o);
 }
 
-double Cost(const BalProblem& p) {
+double Cost(const Problem& p) {
   double c = 0.0;
   for (int64_t k = 0; k < p.num_points(); ++k) {
     for (int64_t obs = p.point_offsets[k]; obs < p.point_offsets[k + 1]; ++obs) {
@@ -37,7 +37,7 @@ double Cost(const BalProblem& p) {
 
 TEST(LevenbergMarquardt, NoiseFreeProblemConvergesToZeroCost) {
   for (uint32_t seed = 1; seed <= 3; ++seed) {
-    testing::SyntheticBal s = Problem(0.0, seed);
+    testing::SyntheticProblem s = MakeProblem(0.0, seed);
     LmOptions options;
     options.num_threads = 2;
     options.function_tolerance = 1e-12;
@@ -51,9 +51,9 @@ TEST(LevenbergMarquardt, NoiseFreeProblemConvergesToZeroCost) {
 }
 
 TEST(LevenbergMarquardt, NoisyProblemEndsBelowTheTruthAtAStationaryPoint) {
-  testing::SyntheticBal s = Problem(1.0, 7);
+  testing::SyntheticProblem s = MakeProblem(1.0, 7);
   const double truth_cost = Cost([&] {
-    BalProblem t = s.truth;
+    Problem t = s.truth;
     t.obs_pixel = s.problem.obs_pixel;  // true parameters, noisy pixels
     return t;
   }());
@@ -73,7 +73,7 @@ TEST(LevenbergMarquardt, NoisyProblemEndsBelowTheTruthAtAStationaryPoint) {
 }
 
 TEST(LevenbergMarquardt, IterationLimitIsReportedByName) {
-  testing::SyntheticBal s = Problem(1.0, 3);
+  testing::SyntheticProblem s = MakeProblem(1.0, 3);
   LmOptions options;
   options.max_iterations = 2;
   const LmSummary summary = BundleAdjust(options, &s.problem).lm;
@@ -85,8 +85,8 @@ TEST(LevenbergMarquardt, IterationLimitIsReportedByName) {
 }
 
 TEST(LevenbergMarquardt, ZeroIterationsLeavesTheProblemUntouched) {
-  testing::SyntheticBal s = Problem(1.0, 3);
-  const BalProblem before = s.problem;
+  testing::SyntheticProblem s = MakeProblem(1.0, 3);
+  const Problem before = s.problem;
   LmOptions options;
   options.max_iterations = 0;
   const LmSummary summary = BundleAdjust(options, &s.problem).lm;
@@ -97,7 +97,7 @@ TEST(LevenbergMarquardt, ZeroIterationsLeavesTheProblemUntouched) {
 }
 
 TEST(LevenbergMarquardt, GradientToleranceStopsAtTheOptimum) {
-  testing::SyntheticBal s = Problem(0.0, 2);
+  testing::SyntheticProblem s = MakeProblem(0.0, 2);
   s.problem = s.truth;  // already optimal: zero residuals, zero gradient
   LmOptions options;
   options.gradient_tolerance = 1e-6;

@@ -53,7 +53,7 @@ Step CandidateCost(double c) {
 
 // What the workers report at one linearization (FormRcs call).
 struct Linearization {
-  double camera_gradient = 1.0;  // max |g_c| (entries ±this and ±half of it)
+  double camera_side_gradient = 1.0;  // max |g_c| (entries ±this and ±half of it)
   double point_gradient = 1.0;   // ‖g_p‖∞
   double rhs_scale = 1.0;        // scale of b, so δc ∝ this
 };
@@ -65,7 +65,7 @@ class ScriptedWorkers : public PointWorkers {
   ScriptedWorkers(double initial_cost, std::vector<Step> steps,
                   const std::vector<double>* cameras)
       : cost_(initial_cost), steps_(std::move(steps)), cameras_(cameras) {
-    BalProblem problem;
+    Problem problem;
     problem.cameras.assign(2 * kBalCameraSize, 0.0);
     layout_ = UnknownLayout(problem);
   }
@@ -93,8 +93,8 @@ class ScriptedWorkers : public PointWorkers {
     }
     for (int64_t i = 0; i < system_.S.num_rows(); ++i) {
       system_.b[i] = lin.rhs_scale * B(i);
-      system_.camera_gradient[i] = (i % 3 == 0 ? -1.0 : 0.5) * lin.camera_gradient;
-      system_.camera_jtj_diagonal[i] = Dii(i);
+      system_.camera_side_gradient[i] = (i % 3 == 0 ? -1.0 : 0.5) * lin.camera_side_gradient;
+      system_.camera_side_jtj_diagonal[i] = Dii(i);
     }
     system_.max_abs_point_gradient = lin.point_gradient;
     system_.cost = cost_;

@@ -3,7 +3,7 @@
 
 namespace dba {
 
-LocalPointWorkers::LocalPointWorkers(BalProblem* problem,
+LocalPointWorkers::LocalPointWorkers(Problem* problem,
                                      const DampingBounds& bounds,
                                      int num_threads, const RobustLoss& loss)
     : problem_(problem),

@@ -5,7 +5,7 @@
 #pragma once
 
 #include "dba/lm/point_workers.h"
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba {
 
@@ -14,7 +14,7 @@ class LocalPointWorkers : public PointWorkers {
   // Builds the RCS structure (symbolic phase). `problem` must outlive this
   // object; its cameras and points are updated in place on accepted steps.
   // `loss`: the robust loss of every observation (rcs/robust_loss.h).
-  LocalPointWorkers(BalProblem* problem, const DampingBounds& bounds,
+  LocalPointWorkers(Problem* problem, const DampingBounds& bounds,
                     int num_threads, const RobustLoss& loss = RobustLoss());
 
   RcsSystem& FormRcs(double lambda) override;
@@ -25,7 +25,7 @@ class LocalPointWorkers : public PointWorkers {
   const RcsSystem& system() const { return system_; }
 
  private:
-  BalProblem* problem_;
+  Problem* problem_;
   DampingBounds bounds_;
   int num_threads_;
   RobustLoss loss_;

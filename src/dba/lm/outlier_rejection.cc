@@ -7,7 +7,7 @@
 
 namespace dba {
 
-OriginalIndices OriginalIndices::Identity(const BalProblem& problem) {
+OriginalIndices OriginalIndices::Identity(const Problem& problem) {
   OriginalIndices o;
   o.observation.resize(problem.num_observations());
   std::iota(o.observation.begin(), o.observation.end(), int64_t{0});
@@ -16,7 +16,7 @@ OriginalIndices OriginalIndices::Identity(const BalProblem& problem) {
   return o;
 }
 
-RejectionRound DropOutliers(double max_error_px, int num_threads, BalProblem* problem,
+RejectionRound DropOutliers(double max_error_px, int num_threads, Problem* problem,
                             OriginalIndices* original) {
   const int64_t num_points = problem->num_points();
   const double bound = max_error_px * max_error_px;

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba {
 
@@ -26,13 +26,13 @@ struct OriginalIndices {
   std::vector<int64_t> observation;  // current observation -> loaded one
   std::vector<int64_t> point;        // current point -> loaded one
   // The identity for `problem`.
-  static OriginalIndices Identity(const BalProblem& problem);
+  static OriginalIndices Identity(const Problem& problem);
 };
 
 // Drops from `problem` the observations with |r| > max_error_px at its
 // current parameters, then the points with fewer than 2 observations left,
 // and updates `original` to match. The camera side is unchanged.
-RejectionRound DropOutliers(double max_error_px, int num_threads, BalProblem* problem,
+RejectionRound DropOutliers(double max_error_px, int num_threads, Problem* problem,
                             OriginalIndices* original);
 
 }  // namespace dba

@@ -16,8 +16,8 @@ TEST(DropOutliers, DropsFarObservationsAndPointsLeftWithOne) {
   o.num_points = 40;
   o.max_track = 4;
   o.pixel_noise = 0.5;
-  BalProblem problem = testing::MakeSyntheticBal(o).problem;
-  const BalProblem loaded = problem;
+  Problem problem = testing::MakeSyntheticBal(o).problem;
+  const Problem loaded = problem;
   // Moved by 30 px: every third observation of the problem, and all but one
   // observation of point 5 (which then has one left and goes).
   std::vector<uint8_t> moved(problem.num_observations(), 0);
@@ -26,7 +26,7 @@ TEST(DropOutliers, DropsFarObservationsAndPointsLeftWithOne) {
   for (int64_t a = 0; a < problem.num_observations(); ++a) {
     if (moved[a]) problem.obs_pixel[2 * a] += 30.0;
   }
-  const BalProblem before = problem;
+  const Problem before = problem;
   OriginalIndices original = OriginalIndices::Identity(problem);
   const RejectionRound round = DropOutliers(10.0, 2, &problem, &original);
 
@@ -62,7 +62,7 @@ TEST(DropOutliers, DropsFarObservationsAndPointsLeftWithOne) {
   EXPECT_EQ(problem.cameras, loaded.cameras);
 
   // A second round with nothing left to drop changes nothing.
-  const BalProblem after = problem;
+  const Problem after = problem;
   const RejectionRound again = DropOutliers(10.0, 1, &problem, &original);
   EXPECT_EQ(again.observations_dropped, 0);
   EXPECT_EQ(again.points_dropped, 0);

@@ -13,7 +13,7 @@ namespace dba {
 namespace {
 
 template <class Model>
-StepEvaluation BackSubstituteWith(const BalProblem& problem, const UnknownLayout& layout,
+StepEvaluation BackSubstituteWith(const Problem& problem, const UnknownLayout& layout,
                                   double lambda, const DampingBounds& bounds,
                                   const std::vector<double>& delta_c,
                                   const std::vector<double>& candidate_cameras,
@@ -97,7 +97,7 @@ StepEvaluation BackSubstituteWith(const BalProblem& problem, const UnknownLayout
 
 }  // namespace
 
-StepEvaluation BackSubstitute(const BalProblem& problem, const UnknownLayout& layout,
+StepEvaluation BackSubstitute(const Problem& problem, const UnknownLayout& layout,
                               double lambda, const DampingBounds& bounds,
                               const std::vector<double>& delta_c,
                               const std::vector<double>& candidate_cameras, int num_threads,

@@ -12,7 +12,7 @@
 
 #include <vector>
 
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 #include "dba/rcs/eliminate_point.h"
 #include "dba/rcs/unknown_layout.h"
 
@@ -29,7 +29,7 @@ struct StepEvaluation {
 // `delta_c` holds one value per unknown of `layout` (the problem's own);
 // `candidate_cameras` = cameras ⊞ δc, laid out as problem.cameras.
 // X + δX is written to `candidate_points`.
-StepEvaluation BackSubstitute(const BalProblem& problem, const UnknownLayout& layout,
+StepEvaluation BackSubstitute(const Problem& problem, const UnknownLayout& layout,
                               double lambda,
                               const DampingBounds& bounds,
                               const std::vector<double>& delta_c,

@@ -13,7 +13,7 @@ namespace dba {
 namespace {
 
 // ½ Σ ρ(|r|²) of a BAL problem at the given cameras and points, directly.
-double CandidateCost(const BalProblem& problem, const std::vector<double>& cameras,
+double CandidateCost(const Problem& problem, const std::vector<double>& cameras,
                      const std::vector<double>& points, const RobustLoss& loss = RobustLoss()) {
   double cost = 0.0;
   for (int64_t k = 0; k < problem.num_points(); ++k) {
@@ -27,7 +27,7 @@ double CandidateCost(const BalProblem& problem, const std::vector<double>& camer
 }
 
 // A small perturbed BAL problem (6 cameras, 50 points).
-BalProblem SmallProblem() {
+Problem SmallProblem() {
   testing::SyntheticBalOptions o;
   o.num_cameras = 6;
   o.num_points = 50;
@@ -38,7 +38,7 @@ BalProblem SmallProblem() {
 }
 
 TEST(BackSubstitute, RecoversTheFullNewtonStepAndItsCosts) {
-  const BalProblem problem = SmallProblem();
+  const Problem problem = SmallProblem();
   const double lambda = 0.3;
   const DampingBounds bounds;
   const auto dense = testing::BuildDenseNormalEquations(problem, lambda, bounds);
@@ -82,7 +82,7 @@ TEST(BackSubstitute, PhotoModelWithFixedParameters) {
   o.num_groups = 2;
   o.focal_perturbation = 0.01;
   o.distortion_perturbation = 0.01;
-  BalProblem problem = testing::MakeSyntheticPhoto(o).problem;
+  Problem problem = testing::MakeSyntheticPhoto(o).problem;
   problem.fixed_cameras = {0, 0, 1, 0, 0, 0};
   problem.intrinsics_free = {kIntrinsicF | kIntrinsicK1 | kIntrinsicK2, kAllIntrinsics};
   const double lambda = 0.3;
@@ -113,7 +113,7 @@ TEST(BackSubstitute, PhotoModelWithFixedParameters) {
   }
   const double model = 0.5 * (dense.r + dense.J * step).squaredNorm();
   EXPECT_NEAR(e.model_cost, model, 1e-10 * dense.cost);
-  BalProblem moved = problem;
+  Problem moved = problem;
   moved.cameras = candidate_cameras;
   moved.points = candidate_points;
   const double candidate = testing::BuildDenseNormalEquations(moved, 0.0, bounds).cost;
@@ -124,7 +124,7 @@ TEST(BackSubstitute, PhotoModelWithFixedParameters) {
 // robust cost, ½ Σ ρ + gᵀδ + ½ δᵀ (Σ Jᵀ Ω J) δ (undamped), and the candidate
 // cost ½ Σ ρ(|r(x + δ)|²).
 TEST(BackSubstitute, RobustModelAndCandidateCosts) {
-  BalProblem problem = SmallProblem();
+  Problem problem = SmallProblem();
   for (int64_t a = 0; a < problem.num_observations(); a += 4) problem.obs_pixel[2 * a] += 12.0;
   const RobustLoss loss{LossType::kCauchy, 1.0};
   const double lambda = 0.3;

@@ -23,7 +23,7 @@ void Resize(int m, PointSystem<Model>* sys) {
 // Residual and Jacobians of one observation; the intrinsics Jacobian packed
 // to the group's free parameters.
 template <class Model>
-Vec2 Linearize(const BalProblem& problem, const UnknownLayout& layout, int64_t obs,
+Vec2 Linearize(const Problem& problem, const UnknownLayout& layout, int64_t obs,
                const double* X, int a, PointSystem<Model>* sys) {
   const int32_t i = problem.obs_camera[obs];
   sys->camera_row[a] = layout.camera_row(i);
@@ -54,7 +54,7 @@ Vec2 Linearize(const BalProblem& problem, const UnknownLayout& layout, int64_t o
 }  // namespace
 
 template <class Model>
-void LinearizePoint(const BalProblem& problem, const UnknownLayout& layout,
+void LinearizePoint(const Problem& problem, const UnknownLayout& layout,
                     const RobustLoss& loss, int64_t k, PointSystem<Model>* sys) {
   const int64_t begin = problem.point_offsets[k];
   const int m = static_cast<int>(problem.point_offsets[k + 1] - begin);
@@ -110,9 +110,9 @@ void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Mode
   }
 }
 
-template void LinearizePoint(const BalProblem&, const UnknownLayout&, const RobustLoss&, int64_t,
+template void LinearizePoint(const Problem&, const UnknownLayout&, const RobustLoss&, int64_t,
                              PointSystem<BalModel>*);
-template void LinearizePoint(const BalProblem&, const UnknownLayout&, const RobustLoss&, int64_t,
+template void LinearizePoint(const Problem&, const UnknownLayout&, const RobustLoss&, int64_t,
                              PointSystem<PhotoModel>*);
 template void InvertDampedV(double, const DampingBounds&, PointSystem<BalModel>*);
 template void InvertDampedV(double, const DampingBounds&, PointSystem<PhotoModel>*);

@@ -31,7 +31,7 @@
 #include "dba/camera/bal_camera.h"
 #include "dba/camera/photo_camera.h"
 #include "dba/camera/rotation_frame_cache.h"
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 #include "dba/rcs/robust_loss.h"
 #include "dba/rcs/unknown_layout.h"
 
@@ -109,7 +109,7 @@ struct PointSystem {
 // current parameters, each observation's residual and Jacobians corrected
 // for `loss` (rcs/robust_loss.h); `problem.model` must match Model.
 template <class Model>
-void LinearizePoint(const BalProblem& problem, const UnknownLayout& layout,
+void LinearizePoint(const Problem& problem, const UnknownLayout& layout,
                     const RobustLoss& loss, int64_t k, PointSystem<Model>* sys);
 
 // V_λ⁻¹ = (V + λ clamp(diag V))⁻¹ only (all back-substitution needs).

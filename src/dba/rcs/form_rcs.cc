@@ -98,8 +98,8 @@ void SumByGroup(const PointSystem<Model>& p,
 struct RcsTarget {
   double* values;        // S's values (BSMC layout)
   double* b;
-  double* gradient;      // camera_gradient
-  double* jtj_diagonal;  // camera_jtj_diagonal
+  double* gradient;      // camera_side_gradient
+  double* jtj_diagonal;  // camera_side_jtj_diagonal
   StripedLocks* locks;   // null: private, no locking
   void Lock(int64_t row) const {
     if (locks != nullptr) locks->Lock(row);
@@ -192,7 +192,7 @@ void AddPointToRcs(const PointSystem<Model>& p,
 constexpr int64_t kPrivateCopyBytes = 32 << 20;
 
 template <class Model>
-void FormRcsWith(const BalProblem& problem, double lambda, const DampingBounds& bounds,
+void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bounds,
                  const RobustLoss& loss, int num_threads, RcsSystem* sys) {
   StripedLocks locks;
   double cost = 0.0, max_g_p = 0.0, squared = 0.0, inlier_squared = 0.0, inliers = 0.0;
@@ -214,8 +214,8 @@ void FormRcsWith(const BalProblem& problem, double lambda, const DampingBounds& 
     PointSystem<Model> p;
     std::vector<GroupSums<PointSystem<Model>::kI>> groups;
     const int thread = omp_get_thread_num();
-    RcsTarget target{sys->S.values().data(), sys->b.data(), sys->camera_gradient.data(),
-                     sys->camera_jtj_diagonal.data(), private_copies ? nullptr : &locks};
+    RcsTarget target{sys->S.values().data(), sys->b.data(), sys->camera_side_gradient.data(),
+                     sys->camera_side_jtj_diagonal.data(), private_copies ? nullptr : &locks};
     if (private_copies && thread > 0) {
       std::vector<double>& c = copies[thread - 1];
       c.assign(values + 3 * rows, 0.0);
@@ -247,8 +247,8 @@ void FormRcsWith(const BalProblem& problem, double lambda, const DampingBounds& 
       // system has them in four arrays.
       const std::pair<double*, int64_t> segments[4] = {{sys->S.values().data(), values},
                                                        {sys->b.data(), rows},
-                                                       {sys->camera_gradient.data(), rows},
-                                                       {sys->camera_jtj_diagonal.data(), rows}};
+                                                       {sys->camera_side_gradient.data(), rows},
+                                                       {sys->camera_side_jtj_diagonal.data(), rows}};
       int64_t start = 0;  // of the segment in a copy
       for (const auto& [out, length] : segments) {
         const int64_t begin = start + length * thread / num_threads;
@@ -267,7 +267,7 @@ void FormRcsWith(const BalProblem& problem, double lambda, const DampingBounds& 
 
 }  // namespace
 
-RcsSystem RcsSystem::ForProblem(const BalProblem& problem) {
+RcsSystem RcsSystem::ForProblem(const Problem& problem) {
   UnknownLayout layout(problem);
   const std::vector<uint64_t> pattern = RcsBlockPattern(problem, layout);
   return ForPattern(std::move(layout), pattern);
@@ -279,18 +279,18 @@ RcsSystem RcsSystem::ForPattern(UnknownLayout layout, std::span<const uint64_t> 
   sys.layout = std::move(layout);
   const int64_t rows = sys.S.num_rows();
   sys.b.assign(rows, 0.0);
-  sys.camera_gradient.assign(rows, 0.0);
-  sys.camera_jtj_diagonal.assign(rows, 0.0);
+  sys.camera_side_gradient.assign(rows, 0.0);
+  sys.camera_side_jtj_diagonal.assign(rows, 0.0);
   return sys;
 }
 
-void FormRcs(const BalProblem& problem, double lambda,
+void FormRcs(const Problem& problem, double lambda,
              const DampingBounds& bounds, int num_threads, RcsSystem* sys,
              const RobustLoss& loss) {
   sys->S.SetZero();
   std::fill(sys->b.begin(), sys->b.end(), 0.0);
-  std::fill(sys->camera_gradient.begin(), sys->camera_gradient.end(), 0.0);
-  std::fill(sys->camera_jtj_diagonal.begin(), sys->camera_jtj_diagonal.end(), 0.0);
+  std::fill(sys->camera_side_gradient.begin(), sys->camera_side_gradient.end(), 0.0);
+  std::fill(sys->camera_side_jtj_diagonal.begin(), sys->camera_side_jtj_diagonal.end(), 0.0);
   if (problem.model == CameraModel::kBal) {
     FormRcsWith<BalModel>(problem, lambda, bounds, loss, num_threads, sys);
   } else {
@@ -299,12 +299,12 @@ void FormRcs(const BalProblem& problem, double lambda,
 }
 
 void DampCameraBlocks(double lambda, const DampingBounds& bounds,
-                      const std::vector<double>& camera_jtj_diagonal,
+                      const std::vector<double>& camera_side_jtj_diagonal,
                       BsmcMatrix* S) {
   for (int32_t i = 0; i < S->num_block_rows(); ++i) {
     const int c = S->block_size(i);
     double* block = S->block_values(S->diagonal_block(i));
-    const double* diag = camera_jtj_diagonal.data() + S->scalar_offset(i);
+    const double* diag = camera_side_jtj_diagonal.data() + S->scalar_offset(i);
     for (int d = 0; d < c; ++d) block[d * c + d] += lambda * bounds.Clamp(diag[d]);
   }
 }

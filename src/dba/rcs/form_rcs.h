@@ -3,7 +3,7 @@
 //
 // S holds U - W V_λ⁻¹ Wᵀ with U undamped: the camera damping λ D_c needs
 // diag(U) summed over all points (over all ranks in a distributed run), so it
-// is added afterwards (DampCameraBlocks), from `camera_jtj_diagonal`.
+// is added afterwards (DampCameraBlocks), from `camera_side_jtj_diagonal`.
 //
 // Rows are the unknowns of rcs/unknown_layout.h: cameras (or poses) first,
 // then intrinsic groups.
@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "dba/bsmc/bsmc_matrix.h"
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 #include "dba/rcs/eliminate_point.h"
 #include "dba/rcs/unknown_layout.h"
 
@@ -34,15 +34,15 @@ struct RcsSystem {
   UnknownLayout layout;                     // rows of S: which parameters move
   BsmcMatrix S;                             // U - W V_λ⁻¹ Wᵀ, U undamped
   std::vector<double> b;                    // -g_c + W V_λ⁻¹ g_p
-  std::vector<double> camera_gradient;      // g_c = J_cᵀ r
-  std::vector<double> camera_jtj_diagonal;  // diag(U) = diag(J_cᵀ J_c)
+  std::vector<double> camera_side_gradient;      // g_c = J_cᵀ r
+  std::vector<double> camera_side_jtj_diagonal;  // diag(U) = diag(J_cᵀ J_c)
   double cost = 0.0;                        // ½ Σ ρ(|r|²)
   ResidualSums residuals;                   // plain |r|², all and inliers
   double max_abs_point_gradient = 0.0;      // ‖g_p‖∞
 
   // Symbolic phase: unknowns and structure of S from the problem's
   // visibility graph.
-  static RcsSystem ForProblem(const BalProblem& problem);
+  static RcsSystem ForProblem(const Problem& problem);
   // Symbolic phase from a block pattern over the layout's rows (sorted packed
   // blocks, see PackBlock).
   static RcsSystem ForPattern(UnknownLayout layout, std::span<const uint64_t> pattern);
@@ -50,14 +50,14 @@ struct RcsSystem {
 
 // Numeric phase: refills `system` at the problem's current parameters, for
 // the robust cost ½ Σ ρ(|r|²) of `loss` (default: the squared loss).
-void FormRcs(const BalProblem& problem, double lambda,
+void FormRcs(const Problem& problem, double lambda,
              const DampingBounds& bounds, int num_threads, RcsSystem* system,
              const RobustLoss& loss = RobustLoss());
 
 // S_ii += λ clamp(diag U_ii) on every diagonal block (the camera part of the
 // Marquardt damping λ D).
 void DampCameraBlocks(double lambda, const DampingBounds& bounds,
-                      const std::vector<double>& camera_jtj_diagonal,
+                      const std::vector<double>& camera_side_jtj_diagonal,
                       BsmcMatrix* S);
 
 }  // namespace dba

@@ -11,7 +11,7 @@
 namespace dba {
 namespace {
 
-testing::SyntheticBal PerturbedProblem(uint32_t seed) {
+testing::SyntheticProblem PerturbedProblem(uint32_t seed) {
   testing::SyntheticBalOptions o;
   o.num_cameras = 7;
   o.num_points = 60;
@@ -30,7 +30,7 @@ double RelativeError(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
 }
 
 // Point 0 gets a second observation by its first camera, 3.6 px away.
-void SeePointZeroTwiceByItsFirstCamera(BalProblem* problem) {
+void SeePointZeroTwiceByItsFirstCamera(Problem* problem) {
   const int32_t cam = problem->obs_camera[0];
   problem->obs_camera.insert(problem->obs_camera.begin() + 1, cam);
   problem->obs_pixel.insert(problem->obs_pixel.begin() + 2,
@@ -43,11 +43,11 @@ class FormRcsTest : public ::testing::TestWithParam<double> {};
 TEST_P(FormRcsTest, MatchesDenseSchurComplement) {
   const double lambda = GetParam();
   for (uint32_t seed = 1; seed <= 3; ++seed) {
-    BalProblem problem = PerturbedProblem(seed).problem;
+    Problem problem = PerturbedProblem(seed).problem;
     const DampingBounds bounds;
     RcsSystem sys = RcsSystem::ForProblem(problem);
     FormRcs(problem, lambda, bounds, 2, &sys);
-    DampCameraBlocks(lambda, bounds, sys.camera_jtj_diagonal, &sys.S);
+    DampCameraBlocks(lambda, bounds, sys.camera_side_jtj_diagonal, &sys.S);
 
     const testing::DenseNormalEquations dense =
         testing::BuildDenseNormalEquations(problem, lambda, bounds);
@@ -57,7 +57,7 @@ TEST_P(FormRcsTest, MatchesDenseSchurComplement) {
     const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(sys.b.data(), sys.b.size());
     EXPECT_LT(RelativeError(b, dense.ReducedRhs()), 1e-10);
     const Eigen::VectorXd g_c = Eigen::Map<const Eigen::VectorXd>(
-        sys.camera_gradient.data(), sys.camera_gradient.size());
+        sys.camera_side_gradient.data(), sys.camera_side_gradient.size());
     EXPECT_LT(RelativeError(g_c, dense.g.head(dense.num_camera_params)), 1e-12);
     EXPECT_NEAR(sys.cost, dense.cost, 1e-12 * dense.cost);
     const Eigen::VectorXd g_p = dense.g.tail(dense.g.size() - dense.num_camera_params);
@@ -73,19 +73,19 @@ INSTANTIATE_TEST_SUITE_P(Damping, FormRcsTest, ::testing::Values(1e-4, 1.0, 1e3)
                          });
 
 TEST(FormRcs, DuplicateCameraInATrackCountsBothObservations) {
-  BalProblem problem = PerturbedProblem(9).problem;
+  Problem problem = PerturbedProblem(9).problem;
   // Point 0 seen twice by its first camera, at a shifted pixel.
   SeePointZeroTwiceByItsFirstCamera(&problem);
   const DampingBounds bounds;
   RcsSystem sys = RcsSystem::ForProblem(problem);
   FormRcs(problem, 0.1, bounds, 1, &sys);
-  DampCameraBlocks(0.1, bounds, sys.camera_jtj_diagonal, &sys.S);
+  DampCameraBlocks(0.1, bounds, sys.camera_side_jtj_diagonal, &sys.S);
   const auto dense = testing::BuildDenseNormalEquations(problem, 0.1, bounds);
   EXPECT_LT(RelativeError(testing::DenseFromBsmc(sys.S), dense.ReducedCameraMatrix()), 1e-10);
 }
 
 TEST(FormRcs, RefillingGivesTheSameValues) {
-  BalProblem problem = PerturbedProblem(5).problem;
+  Problem problem = PerturbedProblem(5).problem;
   const DampingBounds bounds;
   RcsSystem sys = RcsSystem::ForProblem(problem);
   FormRcs(problem, 1e-2, bounds, 1, &sys);
@@ -108,7 +108,7 @@ struct PhotoCase {
 
 class PhotoFormRcsTest : public ::testing::TestWithParam<PhotoCase> {};
 
-BalProblem PhotoProblem(const PhotoCase& c, uint32_t seed) {
+Problem PhotoProblem(const PhotoCase& c, uint32_t seed) {
   testing::SyntheticPhotoOptions o;
   o.geometry.num_cameras = 7;
   o.geometry.num_points = 60;
@@ -122,9 +122,9 @@ BalProblem PhotoProblem(const PhotoCase& c, uint32_t seed) {
   o.focal_perturbation = 0.01;
   o.principal_perturbation = 2.0;
   o.distortion_perturbation = 0.01;
-  BalProblem p = testing::MakeSyntheticPhoto(o).problem;
-  p.intrinsics_free.assign(p.num_intrinsics(), c.intrinsics_free);
-  p.fixed_cameras.assign(p.num_cameras(), 0);
+  Problem p = testing::MakeSyntheticPhoto(o).problem;
+  p.intrinsics_free.assign(p.num_groups(), c.intrinsics_free);
+  p.fixed_cameras.assign(p.num_images(), 0);
   for (int i : c.fixed_images) p.fixed_cameras[i] = 1;
   return p;
 }
@@ -133,11 +133,11 @@ TEST_P(PhotoFormRcsTest, MatchesDenseSchurComplement) {
   const PhotoCase& c = GetParam();
   for (double lambda : {1e-4, 1.0}) {
     for (uint32_t seed = 1; seed <= 2; ++seed) {
-      const BalProblem problem = PhotoProblem(c, seed);
+      const Problem problem = PhotoProblem(c, seed);
       const DampingBounds bounds;
       RcsSystem sys = RcsSystem::ForProblem(problem);
       FormRcs(problem, lambda, bounds, 2, &sys);
-      DampCameraBlocks(lambda, bounds, sys.camera_jtj_diagonal, &sys.S);
+      DampCameraBlocks(lambda, bounds, sys.camera_side_jtj_diagonal, &sys.S);
       const auto dense = testing::BuildDenseNormalEquations(problem, lambda, bounds);
       ASSERT_EQ(sys.S.num_rows(), dense.num_camera_params);
       EXPECT_LT(RelativeError(testing::DenseFromBsmc(sys.S), dense.ReducedCameraMatrix()), 1e-10)
@@ -145,7 +145,7 @@ TEST_P(PhotoFormRcsTest, MatchesDenseSchurComplement) {
       const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(sys.b.data(), sys.b.size());
       EXPECT_LT(RelativeError(b, dense.ReducedRhs()), 1e-10);
       const Eigen::VectorXd g_c = Eigen::Map<const Eigen::VectorXd>(
-          sys.camera_gradient.data(), sys.camera_gradient.size());
+          sys.camera_side_gradient.data(), sys.camera_side_gradient.size());
       EXPECT_LT(RelativeError(g_c, dense.g.head(dense.num_camera_params)), 1e-12);
       EXPECT_NEAR(sys.cost, dense.cost, 1e-12 * dense.cost);
     }
@@ -163,7 +163,7 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<PhotoCase>& info) { return info.param.name; });
 
 TEST(FormRcs, PhotoRowsAndBlockSizes) {
-  const BalProblem problem =
+  const Problem problem =
       PhotoProblem({"", kIntrinsicF | kIntrinsicK1, {1}}, 3);
   const RcsSystem sys = RcsSystem::ForProblem(problem);
   // 6 free poses of 6, then 3 groups of 2 free parameters.
@@ -177,13 +177,13 @@ TEST(FormRcs, PhotoRowsAndBlockSizes) {
 
 
 TEST(FormRcs, PhotoDuplicateImageInATrackCountsBothObservations) {
-  BalProblem problem = PhotoProblem({"", kAllIntrinsics, {}}, 5);
+  Problem problem = PhotoProblem({"", kAllIntrinsics, {}}, 5);
   // COLMAP models hold such tracks.
   SeePointZeroTwiceByItsFirstCamera(&problem);
   const DampingBounds bounds;
   RcsSystem sys = RcsSystem::ForProblem(problem);
   FormRcs(problem, 0.1, bounds, 2, &sys);
-  DampCameraBlocks(0.1, bounds, sys.camera_jtj_diagonal, &sys.S);
+  DampCameraBlocks(0.1, bounds, sys.camera_side_jtj_diagonal, &sys.S);
   const auto dense = testing::BuildDenseNormalEquations(problem, 0.1, bounds);
   EXPECT_LT(RelativeError(testing::DenseFromBsmc(sys.S), dense.ReducedCameraMatrix()), 1e-10);
   const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(sys.b.data(), sys.b.size());
@@ -198,7 +198,7 @@ namespace {
 
 // A perturbed problem with every fifth observation moved by 6-20 px, so
 // residuals fall on both sides of a loss scale of 2 px.
-BalProblem WithGrossErrors(BalProblem problem) {
+Problem WithGrossErrors(Problem problem) {
   for (int64_t o = 0; o < problem.num_observations(); o += 5) {
     problem.obs_pixel[2 * o] += 6.0 + static_cast<double>(o % 15);
     problem.obs_pixel[2 * o + 1] -= 4.0;
@@ -215,12 +215,12 @@ TEST_P(RobustFormRcsTest, MatchesDenseRobustSchurComplement) {
   const RobustLoss loss{GetParam(), 2.0};
   const DampingBounds bounds;
   for (bool photo : {false, true}) {
-    const BalProblem problem =
+    const Problem problem =
         WithGrossErrors(photo ? PhotoProblem(PhotoCase{"all_free", kAllIntrinsics, {1}}, 3)
                               : PerturbedProblem(5).problem);
     RcsSystem sys = RcsSystem::ForProblem(problem);
     FormRcs(problem, 1e-2, bounds, 2, &sys, loss);
-    DampCameraBlocks(1e-2, bounds, sys.camera_jtj_diagonal, &sys.S);
+    DampCameraBlocks(1e-2, bounds, sys.camera_side_jtj_diagonal, &sys.S);
     const auto dense = testing::BuildDenseNormalEquations(problem, 1e-2, bounds, loss);
     const std::string what = std::string(LossName(loss.type)) + (photo ? " photo" : " bal");
     EXPECT_LT(RelativeError(testing::DenseFromBsmc(sys.S), dense.ReducedCameraMatrix()), 1e-10)
@@ -277,7 +277,7 @@ class FormRcsThreadsTest : public ::testing::TestWithParam<ThreadCase> {};
 // on the photogrammetric one.
 TEST_P(FormRcsThreadsTest, EveryFieldMatchesOneThread) {
   const ThreadCase& c = GetParam();
-  const BalProblem problem = c.photo ? PhotoProblem(PhotoCase{"all_free", kAllIntrinsics, {2}}, 4)
+  const Problem problem = c.photo ? PhotoProblem(PhotoCase{"all_free", kAllIntrinsics, {2}}, 4)
                                      : PerturbedProblem(4).problem;
   const RobustLoss loss = c.photo ? RobustLoss{LossType::kCauchy, 1.0} : RobustLoss{};
   const DampingBounds bounds;
@@ -286,8 +286,8 @@ TEST_P(FormRcsThreadsTest, EveryFieldMatchesOneThread) {
   FormRcs(problem, 1e-2, bounds, c.threads, &many, loss);
   EXPECT_LT(VectorRelativeError(one.S.values(), many.S.values()), 1e-13) << "S";
   EXPECT_LT(VectorRelativeError(one.b, many.b), 1e-13) << "b";
-  EXPECT_LT(VectorRelativeError(one.camera_gradient, many.camera_gradient), 1e-13) << "g_c";
-  EXPECT_LT(VectorRelativeError(one.camera_jtj_diagonal, many.camera_jtj_diagonal), 1e-13)
+  EXPECT_LT(VectorRelativeError(one.camera_side_gradient, many.camera_side_gradient), 1e-13) << "g_c";
+  EXPECT_LT(VectorRelativeError(one.camera_side_jtj_diagonal, many.camera_side_jtj_diagonal), 1e-13)
       << "diag U";
   EXPECT_NEAR(one.cost, many.cost, 1e-13 * one.cost);
   EXPECT_NEAR(one.residuals.squared, many.residuals.squared, 1e-13 * one.residuals.squared);

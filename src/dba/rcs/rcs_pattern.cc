@@ -56,9 +56,9 @@ std::vector<uint64_t> RcsBlockPattern(int64_t num_cameras,
                    });
 }
 
-std::vector<uint64_t> RcsBlockPattern(const BalProblem& problem, const UnknownLayout& layout) {
+std::vector<uint64_t> RcsBlockPattern(const Problem& problem, const UnknownLayout& layout) {
   const bool photo = problem.model == CameraModel::kPhoto;
-  return PatternOf(layout.num_rows(), problem.num_points(),
+  return PatternOf(layout.num_block_rows(), problem.num_points(),
                    [&](int64_t k, std::vector<int32_t>& rows) {
                      for (int64_t a = problem.point_offsets[k]; a < problem.point_offsets[k + 1];
                           ++a) {

@@ -10,7 +10,7 @@
 #include <span>
 #include <vector>
 
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 #include "dba/rcs/unknown_layout.h"
 
 namespace dba {
@@ -24,6 +24,6 @@ std::vector<uint64_t> RcsBlockPattern(int64_t num_cameras,
 
 // The RCS pattern over the unknowns of `layout` (rows of fixed cameras and
 // groups absent).
-std::vector<uint64_t> RcsBlockPattern(const BalProblem& problem, const UnknownLayout& layout);
+std::vector<uint64_t> RcsBlockPattern(const Problem& problem, const UnknownLayout& layout);
 
 }  // namespace dba

@@ -2,7 +2,9 @@
 // rigid_motion_basis.h.
 #include "dba/rcs/rigid_motion_basis.h"
 
-#include "dba/camera/bal_camera.h"
+#include <Eigen/LU>
+
+#include "dba/camera/rotation.h"
 
 namespace dba {
 
@@ -12,7 +14,7 @@ std::vector<CoarseRowBasis> RigidMotionBases(const UnknownLayout& layout, const 
   };
   Vec3 centroid = Vec3::Zero();
   int64_t poses = 0;
-  for (int32_t r = 0; r < layout.num_rows(); ++r) {
+  for (int32_t r = 0; r < layout.num_block_rows(); ++r) {
     if (!is_pose_row(r)) continue;
     const double* p = x + layout.param_offset(r);
     centroid -= AngleAxisToRotation(Vec3(p[0], p[1], p[2])).transpose() * Vec3(p[3], p[4], p[5]);
@@ -20,8 +22,8 @@ std::vector<CoarseRowBasis> RigidMotionBases(const UnknownLayout& layout, const 
   }
   if (poses > 0) centroid /= static_cast<double>(poses);
 
-  std::vector<CoarseRowBasis> bases(layout.num_rows());
-  for (int32_t r = 0; r < layout.num_rows(); ++r) {
+  std::vector<CoarseRowBasis> bases(layout.num_block_rows());
+  for (int32_t r = 0; r < layout.num_block_rows(); ++r) {
     if (!is_pose_row(r)) continue;
     const Vec3 omega = Eigen::Map<const Vec3>(x + layout.param_offset(r));
     const Mat3 R = AngleAxisToRotation(omega);

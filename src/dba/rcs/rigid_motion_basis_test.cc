@@ -28,7 +28,7 @@ testing::SyntheticBalOptions Geometry(uint32_t seed) {
   return o;
 }
 
-BalProblem PhotoProblem(uint32_t seed) {
+Problem PhotoProblem(uint32_t seed) {
   testing::SyntheticPhotoOptions o;
   o.geometry = Geometry(seed);
   o.num_groups = 2;
@@ -39,7 +39,7 @@ BalProblem PhotoProblem(uint32_t seed) {
 // ‖S v‖ / (‖S‖_F ‖v‖) for v: the unit motion `k` (0-2 translation, 3-5
 // rotation) in the rigid bases (`rigid`) or the same unit step of unknown k
 // in every camera row; intrinsic rows 0.
-double RelativeResidual(const BalProblem& problem, int k, bool rigid) {
+double RelativeResidual(const Problem& problem, int k, bool rigid) {
   RcsSystem sys = RcsSystem::ForProblem(problem);
   FormRcs(problem, 0.0, DampingBounds{}, 1, &sys);
   const std::vector<CoarseRowBasis> bases = RigidMotionBases(sys.layout, problem.cameras.data());
@@ -57,7 +57,7 @@ double RelativeResidual(const BalProblem& problem, int k, bool rigid) {
       vr.tail<3>() = bases[r].C.col(k - 3);
     }
   }
-  for (int32_t r = sys.layout.num_camera_rows(); r < sys.layout.num_rows(); ++r) {
+  for (int32_t r = sys.layout.num_camera_rows(); r < sys.layout.num_block_rows(); ++r) {
     EXPECT_FALSE(bases[r].rigid) << "intrinsic row " << r;
   }
   Eigen::VectorXd Sv(S.num_rows());
@@ -73,7 +73,7 @@ double RelativeResidual(const BalProblem& problem, int k, bool rigid) {
 
 TEST(RigidMotionBases, RigidMotionsAreNullVectorsOfTheBalRcs) {
   for (uint32_t seed = 1; seed <= 2; ++seed) {
-    const BalProblem problem = testing::MakeSyntheticBal(Geometry(seed)).problem;
+    const Problem problem = testing::MakeSyntheticBal(Geometry(seed)).problem;
     for (int k = 0; k < 6; ++k) {
       EXPECT_LT(RelativeResidual(problem, k, true), 1e-10) << "seed " << seed << " motion " << k;
       EXPECT_GT(RelativeResidual(problem, k, false), 1e-4) << "seed " << seed << " unknown " << k;
@@ -83,7 +83,7 @@ TEST(RigidMotionBases, RigidMotionsAreNullVectorsOfTheBalRcs) {
 
 TEST(RigidMotionBases, RigidMotionsAreNullVectorsOfThePhotoRcs) {
   for (uint32_t seed = 1; seed <= 2; ++seed) {
-    const BalProblem problem = PhotoProblem(seed);
+    const Problem problem = PhotoProblem(seed);
     for (int k = 0; k < 6; ++k) {
       EXPECT_LT(RelativeResidual(problem, k, true), 1e-10) << "seed " << seed << " motion " << k;
       EXPECT_GT(RelativeResidual(problem, k, false), 1e-4) << "seed " << seed << " unknown " << k;

@@ -68,14 +68,14 @@ TEST_P(RobustLossTest, CorrectedPairGivesTheRobustGradientAndGaussNewtonMatrix) 
   // Residual norms from well inside to far outside the scale.
   for (double offset : {0.3, 1.2, 2.5, 9.0}) {
     const double observed[2] = {projected.x() - 0.6 * offset, projected.y() - 0.8 * offset};
-    CameraJacobian J;
+    BalCameraJacobian J;
     PointJacobian J_p;
     const Vec2 r = BalResidualAndJacobians(camera, point, observed, &J, &J_p);
     const double s = r.squaredNorm();
     double rho[3];
     loss.Evaluate(s, rho);
     const LossCorrection correction(s, rho);
-    CameraJacobian J_corrected = J;
+    BalCameraJacobian J_corrected = J;
     correction.CorrectJacobian(r, &J_corrected);
     const Vec2 r_corrected = correction.Residual(r);
     // Gradient of the robust cost against central differences.

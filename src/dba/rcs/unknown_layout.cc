@@ -7,9 +7,9 @@
 
 namespace dba {
 
-UnknownLayout::UnknownLayout(const BalProblem& problem) {
-  const int64_t num_cameras = problem.num_cameras();
-  if (num_cameras + problem.num_intrinsics() > std::numeric_limits<int32_t>::max()) {
+UnknownLayout::UnknownLayout(const Problem& problem) {
+  const int64_t num_cameras = problem.num_images();
+  if (num_cameras + problem.num_groups() > std::numeric_limits<int32_t>::max()) {
     // Block rows are 32-bit ids (docs/design.md §2).
     throw std::invalid_argument("more than 2^31 - 1 cameras and intrinsic groups");
   }
@@ -24,8 +24,8 @@ UnknownLayout::UnknownLayout(const BalProblem& problem) {
     row_entity_.push_back(static_cast<int32_t>(i));
     row_offset_.push_back(row_offset_.back() + cs);
   }
-  num_camera_rows_ = num_rows();
-  const int64_t num_groups = problem.num_intrinsics();
+  num_camera_rows_ = num_block_rows();
+  const int64_t num_groups = problem.num_groups();
   intrinsics_row_.assign(num_groups, -1);
   free_index_.resize(num_groups);
   for (int64_t g = 0; g < num_groups; ++g) {
@@ -47,7 +47,7 @@ UnknownLayout::UnknownLayout(const BalProblem& problem) {
 
 void UnknownLayout::Plus(const double* x, const double* delta, double* out) const {
   if (out != x) std::copy(x, x + num_parameters_, out);
-  for (int32_t r = 0; r < num_rows(); ++r) {
+  for (int32_t r = 0; r < num_block_rows(); ++r) {
     const double* d = delta + row_offset_[r];
     double* p = out + param_offset_[r];
     if (r < num_camera_rows_) {
@@ -62,8 +62,8 @@ void UnknownLayout::Plus(const double* x, const double* delta, double* out) cons
 std::vector<int64_t> UnknownLayout::RowEntities(
     const std::vector<int32_t>& global_camera,
     const std::vector<int32_t>& global_intrinsics) const {
-  std::vector<int64_t> entities(num_rows());
-  for (int32_t r = 0; r < num_rows(); ++r) {
+  std::vector<int64_t> entities(num_block_rows());
+  for (int32_t r = 0; r < num_block_rows(); ++r) {
     const int32_t id = row_entity_[r];
     entities[r] = r < num_camera_rows_ ? int64_t{global_camera[id]}
                                        : -1 - int64_t{global_intrinsics[id]};

@@ -20,16 +20,16 @@
 #include <cstdint>
 #include <vector>
 
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba {
 
 class UnknownLayout {
  public:
   UnknownLayout() = default;
-  explicit UnknownLayout(const BalProblem& problem);
+  explicit UnknownLayout(const Problem& problem);
 
-  int32_t num_rows() const { return static_cast<int32_t>(block_sizes_.size()); }
+  int32_t num_block_rows() const { return static_cast<int32_t>(block_sizes_.size()); }
   int64_t num_unknowns() const { return row_offset_.back(); }
   int64_t num_parameters() const { return num_parameters_; }
   const std::vector<int32_t>& block_sizes() const { return block_sizes_; }

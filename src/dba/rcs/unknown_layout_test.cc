@@ -8,8 +8,8 @@
 namespace dba {
 namespace {
 
-BalProblem PhotoCameras(int images, int groups) {
-  BalProblem p;
+Problem PhotoCameras(int images, int groups) {
+  Problem p;
   p.model = CameraModel::kPhoto;
   for (int i = 0; i < images; ++i) p.camera_intrinsics.push_back(i % groups);
   p.cameras.resize(kPhotoPoseSize * images + kPhotoIntrinsicsSize * groups);
@@ -18,11 +18,11 @@ BalProblem PhotoCameras(int images, int groups) {
 }
 
 TEST(UnknownLayout, BalCamerasAreNineWideRows) {
-  BalProblem p;
+  Problem p;
   p.cameras.assign(9 * 4, 1.0);
   p.fixed_cameras = {0, 1, 0, 0};
   const UnknownLayout l(p);
-  EXPECT_EQ(l.num_rows(), 3);
+  EXPECT_EQ(l.num_block_rows(), 3);
   EXPECT_EQ(l.num_unknowns(), 27);
   EXPECT_EQ(l.camera_row(0), 0);
   EXPECT_EQ(l.camera_row(1), -1);
@@ -32,11 +32,11 @@ TEST(UnknownLayout, BalCamerasAreNineWideRows) {
 }
 
 TEST(UnknownLayout, PhotoRowsPosesThenFreeIntrinsics) {
-  BalProblem p = PhotoCameras(5, 3);
+  Problem p = PhotoCameras(5, 3);
   p.fixed_cameras = {1, 0, 0, 0, 0};
   p.intrinsics_free = {kAllIntrinsics, 0, kIntrinsicF | kIntrinsicK2};
   const UnknownLayout l(p);
-  ASSERT_EQ(l.num_rows(), 4 + 2);
+  ASSERT_EQ(l.num_block_rows(), 4 + 2);
   EXPECT_EQ(l.num_camera_rows(), 4);
   EXPECT_EQ(l.camera_row(0), -1);
   EXPECT_EQ(l.camera_row(1), 0);
@@ -53,7 +53,7 @@ TEST(UnknownLayout, PhotoRowsPosesThenFreeIntrinsics) {
 }
 
 TEST(UnknownLayout, PlusMovesOnlyFreeParameters) {
-  BalProblem p = PhotoCameras(2, 2);
+  Problem p = PhotoCameras(2, 2);
   p.fixed_cameras = {0, 1};
   p.intrinsics_free = {kIntrinsicCx | kIntrinsicCy, kIntrinsicK1};
   const UnknownLayout l(p);
@@ -73,12 +73,12 @@ TEST(UnknownLayout, PlusMovesOnlyFreeParameters) {
 }
 
 TEST(UnknownLayout, ShareRowsMapToTheProblemRows) {
-  BalProblem whole = PhotoCameras(6, 3);
+  Problem whole = PhotoCameras(6, 3);
   whole.fixed_cameras = {0, 0, 1, 0, 0, 0};
   const UnknownLayout global(whole);
   // A share holding images 2, 3, 5 (groups 2, 0, 2) renumbered 0, 1, 2 and
   // groups 0, 2 renumbered 0, 1.
-  BalProblem share = PhotoCameras(3, 2);
+  Problem share = PhotoCameras(3, 2);
   share.camera_intrinsics = {1, 0, 1};
   share.fixed_cameras = {1, 0, 0};
   const UnknownLayout local(share);

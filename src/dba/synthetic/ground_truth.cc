@@ -15,8 +15,8 @@ namespace {
 
 // Camera centres C = -Rᵀ t of the cameras (poses) in `cameras`, laid out
 // like side.cameras.
-Eigen::Matrix3Xd Centres(const BalProblem& side, const std::vector<double>& cameras) {
-  const int64_t n = side.num_cameras();
+Eigen::Matrix3Xd Centres(const Problem& side, const std::vector<double>& cameras) {
+  const int64_t n = side.num_images();
   Eigen::Matrix3Xd c(3, n);
   for (int64_t i = 0; i < n; ++i) {
     const double* p = cameras.data() + side.camera_size() * i;
@@ -33,7 +33,7 @@ struct SquaredSum {
   double sum = 0.0;
   int64_t count = 0;
 };
-SquaredSum SquaredResiduals(const BalProblem& side, int64_t first, std::span<const int64_t> offsets,
+SquaredSum SquaredResiduals(const Problem& side, int64_t first, std::span<const int64_t> offsets,
                             std::span<const int32_t> obs_camera, std::span<const double> pixels,
                             const std::vector<double>& cameras, const std::vector<double>& points,
                             std::span<const uint8_t> point_kept) {
@@ -51,7 +51,7 @@ SquaredSum SquaredResiduals(const BalProblem& side, int64_t first, std::span<con
   return s;
 }
 
-void CheckSizes(const BalProblem& truth, const std::vector<double>& cameras,
+void CheckSizes(const Problem& truth, const std::vector<double>& cameras,
                 const std::vector<double>& points, CameraModel model) {
   if (truth.model != model) {
     throw std::invalid_argument(
@@ -68,7 +68,7 @@ void CheckSizes(const BalProblem& truth, const std::vector<double>& cameras,
 
 // Alignment and intrinsics errors; `truth` needs its camera side and points
 // only.
-GroundTruthErrors GeometryErrors(const BalProblem& truth, const std::vector<double>& cameras,
+GroundTruthErrors GeometryErrors(const Problem& truth, const std::vector<double>& cameras,
                                  const std::vector<double>& points,
                                  std::span<const uint8_t> point_kept) {
   GroundTruthErrors e;
@@ -97,8 +97,8 @@ GroundTruthErrors GeometryErrors(const BalProblem& truth, const std::vector<doub
     point_sum += (X - Eigen::Map<const Vec3>(truth.point(k))).squaredNorm();
   }
   e.point_rms = std::sqrt(point_sum / std::max<int64_t>(point_count, 1));
-  const int64_t first = kPhotoPoseSize * truth.num_cameras();
-  for (int64_t g = 0; g < truth.num_intrinsics(); ++g) {
+  const int64_t first = kPhotoPoseSize * truth.num_images();
+  for (int64_t g = 0; g < truth.num_groups(); ++g) {
     std::array<double, kPhotoIntrinsicsSize> err;
     for (int j = 0; j < kPhotoIntrinsicsSize; ++j) {
       const int64_t at = first + kPhotoIntrinsicsSize * g + j;
@@ -112,7 +112,7 @@ GroundTruthErrors GeometryErrors(const BalProblem& truth, const std::vector<doub
 
 }  // namespace
 
-GroundTruthErrors CompareWithGroundTruth(const BalProblem& truth,
+GroundTruthErrors CompareWithGroundTruth(const Problem& truth,
                                          const std::vector<double>& cameras,
                                          const std::vector<double>& points, CameraModel model,
                                          std::span<const uint8_t> point_kept) {
@@ -134,7 +134,7 @@ GroundTruthErrors CompareWithGroundTruthFile(const std::string& path,
     return CompareWithGroundTruth(ReadProblem(path), cameras, points, model, point_kept);
   }
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
-  BalProblem truth = ReadBinaryCameraSide(path);  // camera side and points only
+  Problem truth = ReadBinaryCameraSide(path);  // camera side and points only
   // Point coordinates of the truth, read in one go (3 doubles per point).
   truth.points = ReadBinaryPointCoordinates(path);
   CheckSizes(truth, cameras, points, model);

@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba {
 
@@ -50,7 +50,7 @@ struct GroundTruthErrors {
 // truth's. `point_kept` (optional, one flag per point): only these points
 // and their observations count (points dropped by outlier rejection are no
 // longer part of the solution).
-GroundTruthErrors CompareWithGroundTruth(const BalProblem& truth,
+GroundTruthErrors CompareWithGroundTruth(const Problem& truth,
                                          const std::vector<double>& cameras,
                                          const std::vector<double>& points,
                                          CameraModel model = CameraModel::kBal,

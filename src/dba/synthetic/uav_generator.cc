@@ -1,6 +1,7 @@
 // Synthetic UAV surveys; see uav_generator.h.
 #include "dba/synthetic/uav_generator.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -102,9 +103,9 @@ int PhysicalCamera(const UavSurveyOptions& o, const Layout& l, int64_t i) {
 // intrinsic group per physical camera used, with f from the group's first
 // image (the same for all its images) and a principal point a few pixels off
 // the centre.
-BalProblem PhotoCameraSide(const UavSurveyOptions& o, const Layout& l,
+Problem PhotoCameraSide(const UavSurveyOptions& o, const Layout& l,
                            const std::vector<double>& bal) {
-  BalProblem p;
+  Problem p;
   p.model = CameraModel::kPhoto;
   const int64_t groups = std::min<int64_t>(o.physical_cameras, l.strips);
   p.camera_intrinsics.resize(l.images);
@@ -226,13 +227,13 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& o, const std::string&
   summary.images_per_strip = l.per_strip;
 
   // The written camera sides and the true projection.
-  BalProblem true_side, initial_side;
+  Problem true_side, initial_side;
   if (photo) {
     true_side = PhotoCameraSide(o, l, true_cameras);
     initial_side = PhotoCameraSide(o, l, initial_cameras);
     std::vector<double>().swap(true_cameras);
     std::vector<double>().swap(initial_cameras);
-    summary.intrinsic_groups = true_side.num_intrinsics();
+    summary.intrinsic_groups = true_side.num_groups();
   } else {
     true_side.cameras.swap(true_cameras);
     initial_side.cameras.swap(initial_cameras);
@@ -274,7 +275,7 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& o, const std::string&
     if (truth) truth->Commit();
   } else {
     // BAL text: in memory (small problems, for other tools).
-    BalProblem problem = initial_side, truth = true_side;  // (project reads true_side)
+    Problem problem = initial_side, truth = true_side;  // (project reads true_side)
     problem.point_offsets.push_back(0);
     truth.point_offsets.push_back(0);
     ForEachPoint(o, l, project, progress,

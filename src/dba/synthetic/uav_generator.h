@@ -38,7 +38,7 @@
 #include <functional>
 #include <string>
 
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba {
 

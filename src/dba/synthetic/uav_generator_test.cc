@@ -46,10 +46,10 @@ TEST(UavGenerator, BinaryAndBalTextHoldTheSameProblem) {
   const UavSurveyOptions o = Small();
   const UavSurveySummary s = GenerateUavSurvey(o, Tmp("p.dba"), Tmp("p.truth.dba"));
   GenerateUavSurvey(o, Tmp("p.txt"), Tmp("p.truth.txt"));
-  const BalProblem bin = ReadProblem(Tmp("p.dba")), txt = ReadProblem(Tmp("p.txt"));
+  const Problem bin = ReadProblem(Tmp("p.dba")), txt = ReadProblem(Tmp("p.txt"));
   EXPECT_EQ(bin.num_observations(), s.observations);
   EXPECT_EQ(bin.num_points(), s.points);
-  EXPECT_EQ(bin.num_cameras(), o.images);
+  EXPECT_EQ(bin.num_images(), o.images);
   EXPECT_EQ(bin.obs_camera, txt.obs_camera);
   EXPECT_EQ(bin.point_offsets, txt.point_offsets);
   EXPECT_EQ(bin.obs_pixel, txt.obs_pixel);  // shortest round-trip text is exact
@@ -77,8 +77,8 @@ TEST(UavGenerator, SolvedToTheInjectedNoiseAndTheTruth) {
   UavSurveyOptions o = Small();
   o.pixel_noise = 1.0;
   GenerateUavSurvey(o, Tmp("s.dba"), Tmp("s.truth.dba"));
-  BalProblem p = ReadProblem(Tmp("s.dba"));
-  const BalProblem truth = ReadProblem(Tmp("s.truth.dba"));
+  Problem p = ReadProblem(Tmp("s.dba"));
+  const Problem truth = ReadProblem(Tmp("s.truth.dba"));
   const GroundTruthErrors before = CompareWithGroundTruth(truth, p.cameras, p.points);
   LmOptions options;
   options.num_threads = 2;
@@ -91,11 +91,11 @@ TEST(UavGenerator, SolvedToTheInjectedNoiseAndTheTruth) {
               1e-12 * after.rms_to_noise_free_px);
   EXPECT_DOUBLE_EQ(streamed.camera_centre_rms, after.camera_centre_rms);
   // Per camera: the true centre and the error, whose RMS is the figure above.
-  ASSERT_EQ(static_cast<int64_t>(after.centre_error.size()), p.num_cameras());
+  ASSERT_EQ(static_cast<int64_t>(after.centre_error.size()), p.num_images());
   ASSERT_EQ(after.centre_x.size(), after.centre_error.size());
   double squared = 0.0;
   for (double err : after.centre_error) squared += err * err;
-  EXPECT_NEAR(std::sqrt(squared / p.num_cameras()), after.camera_centre_rms,
+  EXPECT_NEAR(std::sqrt(squared / p.num_images()), after.camera_centre_rms,
               1e-12 * after.camera_centre_rms);
   const Vec3 c0 = -AngleAxisToRotation(Vec3(truth.camera(0)[0], truth.camera(0)[1],
                                             truth.camera(0)[2])).transpose() *
@@ -105,7 +105,7 @@ TEST(UavGenerator, SolvedToTheInjectedNoiseAndTheTruth) {
   // At the optimum the RMS (per observation, sqrt(2F/n)) is the noise's,
   // σ√2, less what the p parameters absorb: σ√2 · sqrt(1 - p / 2n).
   const double n = static_cast<double>(p.num_observations());
-  const double params = 9.0 * p.num_cameras() + 3.0 * p.num_points();
+  const double params = 9.0 * p.num_images() + 3.0 * p.num_points();
   const double expected = std::sqrt(2.0) * o.pixel_noise * std::sqrt(1.0 - params / (2 * n));
   EXPECT_NEAR(s.Rms(s.final_cost), expected, 0.03 * expected);
   EXPECT_GT(s.Rms(s.initial_cost), 5.0);
@@ -148,18 +148,18 @@ TEST(UavGeneratorPhoto, SameSeedSameBytesOtherSeedOtherBytes) {
 TEST(UavGeneratorPhoto, OneSharedIntrinsicGroupPerPhysicalCamera) {
   const UavSurveyOptions o = SmallPhoto();
   const UavSurveySummary s = GenerateUavSurvey(o, Tmp("pg.dba"), Tmp("pg.truth.dba"));
-  const BalProblem p = ReadProblem(Tmp("pg.dba")), truth = ReadProblem(Tmp("pg.truth.dba"));
+  const Problem p = ReadProblem(Tmp("pg.dba")), truth = ReadProblem(Tmp("pg.truth.dba"));
   ASSERT_EQ(p.model, CameraModel::kPhoto);
   ASSERT_EQ(truth.model, CameraModel::kPhoto);
-  EXPECT_EQ(p.num_cameras(), o.images);
-  EXPECT_EQ(p.num_intrinsics(), 2);
+  EXPECT_EQ(p.num_images(), o.images);
+  EXPECT_EQ(p.num_groups(), 2);
   EXPECT_EQ(s.intrinsic_groups, 2);
   EXPECT_EQ(p.num_observations(), s.observations);
   EXPECT_TRUE(p.fixed_cameras.empty());
   EXPECT_TRUE(p.intrinsics_free.empty());
   EXPECT_EQ(p.camera_intrinsics, truth.camera_intrinsics);
   EXPECT_EQ(p.obs_camera, truth.obs_camera);
-  for (int64_t i = 0; i < p.num_cameras(); ++i) {
+  for (int64_t i = 0; i < p.num_images(); ++i) {
     EXPECT_EQ(p.camera_intrinsics[i], (i / s.images_per_strip) % 2) << i;
   }
   for (int g = 0; g < 2; ++g) {
@@ -189,7 +189,7 @@ TEST(UavGeneratorPhoto, OneSharedIntrinsicGroupPerPhysicalCamera) {
   many.physical_cameras = 50;
   const UavSurveySummary m = GenerateUavSurvey(many, Tmp("pm.dba"), "");
   EXPECT_EQ(m.intrinsic_groups, m.strips);
-  EXPECT_EQ(ReadProblem(Tmp("pm.dba")).num_intrinsics(), m.strips);
+  EXPECT_EQ(ReadProblem(Tmp("pm.dba")).num_groups(), m.strips);
 }
 
 TEST(UavGeneratorPhoto, SolvedRecoversTheIntrinsicsAndTheNoise) {
@@ -199,8 +199,8 @@ TEST(UavGeneratorPhoto, SolvedRecoversTheIntrinsicsAndTheNoise) {
   o.features_per_image = 200;
   o.pixel_noise = 1.0;
   GenerateUavSurvey(o, Tmp("ps.dba"), Tmp("ps.truth.dba"));
-  BalProblem p = ReadProblem(Tmp("ps.dba"));
-  const BalProblem truth = ReadProblem(Tmp("ps.truth.dba"));
+  Problem p = ReadProblem(Tmp("ps.dba"));
+  const Problem truth = ReadProblem(Tmp("ps.truth.dba"));
   const GroundTruthErrors before =
       CompareWithGroundTruth(truth, p.cameras, p.points, CameraModel::kPhoto);
   ASSERT_EQ(before.intrinsics_error.size(), 2u);
@@ -219,7 +219,7 @@ TEST(UavGeneratorPhoto, SolvedRecoversTheIntrinsicsAndTheNoise) {
   // RMS at the optimum: σ√2 · sqrt(1 - p / 2n) with p = 6 per image, 5 per
   // group, 3 per point.
   const double n = static_cast<double>(p.num_observations());
-  const double params = 6.0 * p.num_cameras() + 5.0 * p.num_intrinsics() + 3.0 * p.num_points();
+  const double params = 6.0 * p.num_images() + 5.0 * p.num_groups() + 3.0 * p.num_points();
   const double expected = std::sqrt(2.0) * o.pixel_noise * std::sqrt(1.0 - params / (2 * n));
   EXPECT_NEAR(s.Rms(s.final_cost), expected, 0.03 * expected);
   EXPECT_GT(s.Rms(s.initial_cost), 5.0);

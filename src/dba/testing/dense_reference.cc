@@ -10,7 +10,7 @@
 
 namespace dba::testing {
 
-DenseNormalEquations BuildDenseNormalEquations(const BalProblem& problem,
+DenseNormalEquations BuildDenseNormalEquations(const Problem& problem,
                                                double lambda,
                                                const DampingBounds& bounds,
                                                const RobustLoss& loss) {
@@ -30,7 +30,7 @@ DenseNormalEquations BuildDenseNormalEquations(const BalProblem& problem,
       PointJacobian J_p;
       Vec2 r;
       if (problem.model == CameraModel::kBal) {
-        CameraJacobian J_c;
+        BalCameraJacobian J_c;
         r = BalResidualAndJacobians(problem.camera(i), problem.point(k), problem.pixel(obs),
                                     &J_c, &J_p);
         if (row >= 0) d.J.block(2 * obs, layout.row_offset(row), 2, 9) = J_c;

@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 
 #include "dba/bsmc/bsmc_matrix.h"
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 #include "dba/rcs/eliminate_point.h"
 
 namespace dba::testing {
@@ -32,7 +32,7 @@ struct DenseNormalEquations {
   Eigen::VectorXd SolveStep() const;
 };
 
-DenseNormalEquations BuildDenseNormalEquations(const BalProblem& problem,
+DenseNormalEquations BuildDenseNormalEquations(const Problem& problem,
                                                double lambda,
                                                const DampingBounds& bounds,
                                                const RobustLoss& loss = RobustLoss());

@@ -1,6 +1,7 @@
 // Synthetic BAL problems for tests; see synthetic_bal.h.
 #include "dba/testing/synthetic_bal.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -10,12 +11,12 @@
 
 namespace dba::testing {
 
-SyntheticBal MakeSyntheticBal(const SyntheticBalOptions& o) {
+SyntheticProblem MakeSyntheticBal(const SyntheticBalOptions& o) {
   std::mt19937 rng(o.seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  SyntheticBal s;
-  BalProblem& t = s.truth;
+  SyntheticProblem s;
+  Problem& t = s.truth;
   t.cameras.resize(kBalCameraSize * o.num_cameras);
   for (int i = 0; i < o.num_cameras; ++i) {
     // Camera centre on a circle of radius 10 at angle a, looking at the
@@ -55,7 +56,7 @@ SyntheticBal MakeSyntheticBal(const SyntheticBalOptions& o) {
     }
     t.point_offsets.push_back(static_cast<int64_t>(t.obs_camera.size()));
   }
-  BalProblem& p = s.problem;
+  Problem& p = s.problem;
   p = t;
   for (double& v : p.obs_pixel) v += o.pixel_noise * normal(rng);
   for (int i = 0; i < o.num_cameras; ++i) {

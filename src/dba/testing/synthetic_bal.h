@@ -11,7 +11,7 @@
 
 #include <cstdint>
 
-#include "dba/problem/bal_problem.h"
+#include "dba/problem/problem.h"
 
 namespace dba::testing {
 
@@ -27,11 +27,11 @@ struct SyntheticBalOptions {
   uint32_t seed = 1;
 };
 
-struct SyntheticBal {
-  BalProblem truth;    // true parameters, noise-free observations
-  BalProblem problem;  // perturbed parameters, noisy observations
+struct SyntheticProblem {
+  Problem truth;    // true parameters, noise-free observations
+  Problem problem;  // perturbed parameters, noisy observations
 };
 
-SyntheticBal MakeSyntheticBal(const SyntheticBalOptions& options);
+SyntheticProblem MakeSyntheticBal(const SyntheticBalOptions& options);
 
 }  // namespace dba::testing

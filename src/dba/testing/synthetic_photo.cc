@@ -1,6 +1,7 @@
 // Synthetic photogrammetric problems for tests; see synthetic_photo.h.
 #include "dba/testing/synthetic_photo.h"
 
+#include <Eigen/Geometry>
 #include <random>
 
 #include "dba/camera/photo_camera.h"
@@ -20,19 +21,19 @@ void PoseFromBal(const double* bal, double* pose) {
 
 }  // namespace
 
-SyntheticBal MakeSyntheticPhoto(const SyntheticPhotoOptions& o) {
+SyntheticProblem MakeSyntheticPhoto(const SyntheticPhotoOptions& o) {
   SyntheticBalOptions g = o.geometry;
   g.pixel_noise = 0.0;
   g.intrinsics_perturbation = 0.0;
-  const SyntheticBal bal = MakeSyntheticBal(g);
+  const SyntheticProblem bal = MakeSyntheticBal(g);
   std::mt19937 rng(o.geometry.seed + 7919);
   std::normal_distribution<double> normal(0.0, 1.0);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
 
-  SyntheticBal s;
-  BalProblem& t = s.truth;
+  SyntheticProblem s;
+  Problem& t = s.truth;
   t.model = CameraModel::kPhoto;
-  const int n = static_cast<int>(bal.truth.num_cameras());
+  const int n = static_cast<int>(bal.truth.num_images());
   t.camera_intrinsics.resize(n);
   t.cameras.resize(kPhotoPoseSize * n + kPhotoIntrinsicsSize * o.num_groups);
   for (int i = 0; i < n; ++i) {
@@ -65,7 +66,7 @@ SyntheticBal MakeSyntheticPhoto(const SyntheticPhotoOptions& o) {
     }
   }
 
-  BalProblem& p = s.problem;
+  Problem& p = s.problem;
   p = t;
   for (double& v : p.obs_pixel) v += o.geometry.pixel_noise * normal(rng);
   for (int i = 0; i < n; ++i) {

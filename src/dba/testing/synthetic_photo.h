@@ -22,6 +22,6 @@ struct SyntheticPhotoOptions {
   double distortion_perturbation = 0.0; // σ on k1 (k2: a tenth)
 };
 
-SyntheticBal MakeSyntheticPhoto(const SyntheticPhotoOptions& options);
+SyntheticProblem MakeSyntheticPhoto(const SyntheticPhotoOptions& options);
 
 }  // namespace dba::testing

@@ -1,6 +1,6 @@
-// Tests of Bz2LineReader: plain and bzip2 text, detection by content,
+// Tests of TextLineReader: plain and bzip2 text, detection by content,
 // concatenated streams, long lines, and errors for corrupt/unreadable files.
-#include "dba/io/bz2_line_reader.h"
+#include "dba/io/text_line_reader.h"
 
 #include <bzlib.h>
 #include <gtest/gtest.h>
@@ -17,7 +17,7 @@ namespace dba {
 namespace {
 
 std::string TempPath(const std::string& name) {
-  return dba::testing::TempPath("bz2_line_reader_test_" + name);
+  return dba::testing::TempPath("text_line_reader_test_" + name);
 }
 
 void WriteFile(const std::string& path, const std::string& bytes) {
@@ -37,7 +37,7 @@ std::string Compress(const std::string& text) {
 }
 
 std::vector<std::string> ReadAll(const std::string& path) {
-  Bz2LineReader reader(path);
+  TextLineReader reader(path);
   std::vector<std::string> lines;
   std::string_view line;
   while (reader.ReadLine(&line)) {
@@ -67,37 +67,37 @@ std::vector<std::string> SplitLines(const std::string& s) {
   return lines;
 }
 
-TEST(Bz2LineReaderTest, PlainTextLinesAndTerminators) {
+TEST(TextLineReaderTest, PlainTextLinesAndTerminators) {
   std::string path = TempPath("plain.txt");
   WriteFile(path, "a\nbb\r\n\nccc");
   std::vector<std::string> expected = {"a", "bb", "", "ccc"};
   EXPECT_EQ(ReadAll(path), expected);
-  EXPECT_FALSE(Bz2LineReader(path).is_bz2());
+  EXPECT_FALSE(TextLineReader(path).is_bz2());
 }
 
-TEST(Bz2LineReaderTest, EmptyFileHasNoLines) {
+TEST(TextLineReaderTest, EmptyFileHasNoLines) {
   std::string path = TempPath("empty.txt");
   WriteFile(path, "");
-  Bz2LineReader reader(path);
+  TextLineReader reader(path);
   std::string_view line;
   EXPECT_FALSE(reader.ReadLine(&line));
   EXPECT_EQ(reader.line_number(), 0);
 }
 
-TEST(Bz2LineReaderTest, DetectsBzip2ByContentNotName) {
+TEST(TextLineReaderTest, DetectsBzip2ByContentNotName) {
   std::string text = "1 2 3\n4 5 6\n";
   std::string compressed_txt = TempPath("really_bz2.txt");
   std::string plain_bz2 = TempPath("really_plain.bz2");
   WriteFile(compressed_txt, Compress(text));
   WriteFile(plain_bz2, text);
-  EXPECT_TRUE(Bz2LineReader(compressed_txt).is_bz2());
-  EXPECT_FALSE(Bz2LineReader(plain_bz2).is_bz2());
+  EXPECT_TRUE(TextLineReader(compressed_txt).is_bz2());
+  EXPECT_FALSE(TextLineReader(plain_bz2).is_bz2());
   std::vector<std::string> expected = {"1 2 3", "4 5 6"};
   EXPECT_EQ(ReadAll(compressed_txt), expected);
   EXPECT_EQ(ReadAll(plain_bz2), expected);
 }
 
-TEST(Bz2LineReaderTest, ManyChunksPlainAndCompressed) {
+TEST(TextLineReaderTest, ManyChunksPlainAndCompressed) {
   std::string text = ManyLines(300000);  // about 3.6 MB: many buffers
   std::string plain = TempPath("many.txt");
   std::string packed = TempPath("many.txt.bz2");
@@ -108,7 +108,7 @@ TEST(Bz2LineReaderTest, ManyChunksPlainAndCompressed) {
   EXPECT_EQ(ReadAll(packed), expected);
 }
 
-TEST(Bz2LineReaderTest, LineLongerThanTheBuffer) {
+TEST(TextLineReaderTest, LineLongerThanTheBuffer) {
   std::string text = "head\n" + std::string(3'000'000, 'x') + "\ntail";
   std::string packed = TempPath("long.bz2");
   WriteFile(packed, Compress(text));
@@ -119,7 +119,7 @@ TEST(Bz2LineReaderTest, LineLongerThanTheBuffer) {
   EXPECT_EQ(lines[2], "tail");
 }
 
-TEST(Bz2LineReaderTest, ConcatenatedStreamsReadAsOneText) {
+TEST(TextLineReaderTest, ConcatenatedStreamsReadAsOneText) {
   // The first part ends mid-line: the line continues in the second stream.
   std::string a = ManyLines(1000) + "split ";
   std::string b = "line\n" + ManyLines(500);
@@ -128,7 +128,7 @@ TEST(Bz2LineReaderTest, ConcatenatedStreamsReadAsOneText) {
   EXPECT_EQ(ReadAll(path), SplitLines(a + b));
 }
 
-TEST(Bz2LineReaderTest, CorruptStreamIsAnInputError) {
+TEST(TextLineReaderTest, CorruptStreamIsAnInputError) {
   std::string packed = Compress(ManyLines(50000));
   for (size_t i = packed.size() / 2; i < packed.size() / 2 + 16; ++i) packed[i] ^= 0x5a;
   std::string path = TempPath("corrupt.bz2");
@@ -143,7 +143,7 @@ TEST(Bz2LineReaderTest, CorruptStreamIsAnInputError) {
   }
 }
 
-TEST(Bz2LineReaderTest, TruncatedStreamIsAnInputError) {
+TEST(TextLineReaderTest, TruncatedStreamIsAnInputError) {
   // Several 900 kB bzip2 blocks: the complete ones decode before the cut.
   std::string packed = Compress(ManyLines(300000));
   std::string path = TempPath("truncated.bz2");
@@ -157,7 +157,7 @@ TEST(Bz2LineReaderTest, TruncatedStreamIsAnInputError) {
   }
 }
 
-TEST(Bz2LineReaderTest, TrailingGarbageAfterStreamIsAnInputError) {
+TEST(TextLineReaderTest, TrailingGarbageAfterStreamIsAnInputError) {
   std::string path = TempPath("trailing.bz2");
   WriteFile(path, Compress("1 2\n3 4\n") + "garbage");
   try {
@@ -169,10 +169,10 @@ TEST(Bz2LineReaderTest, TrailingGarbageAfterStreamIsAnInputError) {
   }
 }
 
-TEST(Bz2LineReaderTest, MissingFileNamesPathAndSystemError) {
+TEST(TextLineReaderTest, MissingFileNamesPathAndSystemError) {
   std::string path = TempPath("does_not_exist.txt");
   try {
-    Bz2LineReader reader(path);
+    TextLineReader reader(path);
     FAIL() << "no error for a missing file";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
@@ -181,11 +181,11 @@ TEST(Bz2LineReaderTest, MissingFileNamesPathAndSystemError) {
   }
 }
 
-TEST(Bz2LineReaderTest, DirectoryIsUnreadable) {
+TEST(TextLineReaderTest, DirectoryIsUnreadable) {
   std::string path = TempPath("a_directory");
   std::filesystem::create_directories(path);
   try {
-    Bz2LineReader reader(path);
+    TextLineReader reader(path);
     std::string_view line;
     reader.ReadLine(&line);
     FAIL() << "no error for a directory";
@@ -194,9 +194,9 @@ TEST(Bz2LineReaderTest, DirectoryIsUnreadable) {
   }
 }
 
-TEST(Bz2LineReaderTest, ReadsSharedBalFile) {
+TEST(TextLineReaderTest, ReadsSharedBalFile) {
   std::string path = DBA_SHARED_DATA_DIR "/bal/problem-49-7776-pre.txt.bz2";
-  Bz2LineReader reader(path);
+  TextLineReader reader(path);
   EXPECT_TRUE(reader.is_bz2());
   std::string_view line;
   ASSERT_TRUE(reader.ReadLine(&line));

@@ -38,12 +38,12 @@ enum IntrinsicBit : uint8_t {
   kAllIntrinsics = 31,
 };
 
-struct BalProblem {
+struct Problem {
   CameraModel model = CameraModel::kBal;
   // Camera-side parameters: camera_size() per camera (image), then, for
   // kPhoto, kPhotoIntrinsicsSize per intrinsic group.
   std::vector<double> cameras;
-  // kPhoto: the intrinsic group of each camera (size num_cameras()).
+  // kPhoto: the intrinsic group of each camera (size num_images()).
   std::vector<int32_t> camera_intrinsics;
   // What is held fixed (fixed parameters are not unknowns of the solve).
   // fixed_cameras: empty, or one flag per camera (the whole pose/camera).
@@ -64,16 +64,16 @@ struct BalProblem {
     return model == CameraModel::kBal ? kBalCameraSize : kPhotoPoseSize;
   }
   // Cameras (images); for kPhoto the poses, not the intrinsic groups.
-  int64_t num_cameras() const {
+  int64_t num_images() const {
     return model == CameraModel::kBal
                ? static_cast<int64_t>(cameras.size()) / kBalCameraSize
                : static_cast<int64_t>(camera_intrinsics.size());
   }
   // Intrinsic groups (kPhoto; 0 for kBal).
-  int64_t num_intrinsics() const {
+  int64_t num_groups() const {
     return model == CameraModel::kBal
                ? 0
-               : (static_cast<int64_t>(cameras.size()) - kPhotoPoseSize * num_cameras()) /
+               : (static_cast<int64_t>(cameras.size()) - kPhotoPoseSize * num_images()) /
                      kPhotoIntrinsicsSize;
   }
   int64_t num_points() const {
@@ -87,10 +87,10 @@ struct BalProblem {
   const double* camera(int64_t i) const { return cameras.data() + camera_size() * i; }
   // Intrinsic group g (kPhoto).
   double* intrinsics(int64_t g) {
-    return cameras.data() + kPhotoPoseSize * num_cameras() + kPhotoIntrinsicsSize * g;
+    return cameras.data() + kPhotoPoseSize * num_images() + kPhotoIntrinsicsSize * g;
   }
   const double* intrinsics(int64_t g) const {
-    return cameras.data() + kPhotoPoseSize * num_cameras() + kPhotoIntrinsicsSize * g;
+    return cameras.data() + kPhotoPoseSize * num_images() + kPhotoIntrinsicsSize * g;
   }
   bool camera_fixed(int64_t i) const { return !fixed_cameras.empty() && fixed_cameras[i]; }
   uint8_t intrinsics_free_mask(int64_t g) const {

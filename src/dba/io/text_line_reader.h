@@ -10,23 +10,22 @@
 // Not thread-safe: one reader per thread.
 #pragma once
 
-#include <bzlib.h>
-
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace dba {
 
-class Bz2LineReader {
+class TextLineReader {
  public:
   // Opens `path`; throws InputError when it cannot be opened or read.
-  explicit Bz2LineReader(const std::string& path);
-  ~Bz2LineReader();
-  Bz2LineReader(const Bz2LineReader&) = delete;
-  Bz2LineReader& operator=(const Bz2LineReader&) = delete;
+  explicit TextLineReader(const std::string& path);
+  ~TextLineReader();
+  TextLineReader(const TextLineReader&) = delete;
+  TextLineReader& operator=(const TextLineReader&) = delete;
 
   // Lines longer than this are refused (a file with no line ends, or not
   // text): memory stays bounded and the error comes in well under a second.
@@ -58,11 +57,13 @@ class Bz2LineReader {
   bool unterminated_ = false;
   bool bz2_ = false;
 
-  // Raw bytes from the file; strm_.next_in / avail_in mark the unread part
+  // Raw bytes from the file; the stream's next_in / avail_in mark the unread part
   // (also in plain mode, for the bytes read while sniffing the magic).
   std::vector<char> in_;
   bool in_eof_ = false;
-  bz_stream strm_{};
+  struct Stream;                  // libbz2's bz_stream, kept out of this header
+  std::unique_ptr<Stream> stream_;
+  Stream& strm();
   bool in_stream_ = false;      // strm_ is initialised for decompression
   bool stream_ended_ = false;   // at least one bzip2 stream was completed
 

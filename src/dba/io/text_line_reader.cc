@@ -1,5 +1,7 @@
-// Streaming line reader over plain or bzip2 text; see bz2_line_reader.h.
-#include "dba/io/bz2_line_reader.h"
+// Streaming line reader over plain or bzip2 text; see text_line_reader.h.
+#include "dba/io/text_line_reader.h"
+
+#include <bzlib.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -9,6 +11,13 @@
 #include "dba/common/error.h"
 
 namespace dba {
+
+struct TextLineReader::Stream {
+  bz_stream s{};
+};
+
+TextLineReader::Stream& TextLineReader::strm() { return *stream_; }
+
 namespace {
 
 constexpr size_t kInputChunk = size_t{1} << 18;  // raw bytes per fread
@@ -26,8 +35,8 @@ std::string Bz2ErrorText(int code) {
 
 }  // namespace
 
-Bz2LineReader::Bz2LineReader(const std::string& path)
-    : path_(path), in_(kInputChunk), buf_(kInitialBuffer) {
+TextLineReader::TextLineReader(const std::string& path)
+    : path_(path), in_(kInputChunk), stream_(std::make_unique<Stream>()), buf_(kInitialBuffer) {
   file_ = std::fopen(path.c_str(), "rb");
   if (file_ == nullptr) {
     throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
@@ -38,69 +47,69 @@ Bz2LineReader::Bz2LineReader(const std::string& path)
     std::fclose(file_);
     throw;
   }
-  bz2_ = strm_.avail_in >= 3 && std::memcmp(strm_.next_in, "BZh", 3) == 0;
+  bz2_ = strm().s.avail_in >= 3 && std::memcmp(strm().s.next_in, "BZh", 3) == 0;
 }
 
-Bz2LineReader::~Bz2LineReader() {
-  if (in_stream_) BZ2_bzDecompressEnd(&strm_);
+TextLineReader::~TextLineReader() {
+  if (in_stream_) BZ2_bzDecompressEnd(&strm().s);
   if (file_ != nullptr) std::fclose(file_);
 }
 
-void Bz2LineReader::Fail(const std::string& what) const {
+void TextLineReader::Fail(const std::string& what) const {
   throw InputError(path_, line_ + 1, what);
 }
 
-void Bz2LineReader::RefillInput() {
+void TextLineReader::RefillInput() {
   size_t n = std::fread(in_.data(), 1, in_.size(), file_);
   if (n < in_.size()) {
     if (std::ferror(file_)) Fail(std::string("read error: ") + std::strerror(errno));
     in_eof_ = true;
   }
-  strm_.next_in = in_.data();
-  strm_.avail_in = static_cast<unsigned>(n);
+  strm().s.next_in = in_.data();
+  strm().s.avail_in = static_cast<unsigned>(n);
 }
 
-size_t Bz2LineReader::Fill(char* dst, size_t cap) {
+size_t TextLineReader::Fill(char* dst, size_t cap) {
   cap = std::min<size_t>(cap, UINT_MAX);
   if (!bz2_) {
-    if (strm_.avail_in == 0 && !in_eof_) RefillInput();
-    size_t n = std::min<size_t>(cap, strm_.avail_in);
-    std::memcpy(dst, strm_.next_in, n);
-    strm_.next_in += n;
-    strm_.avail_in -= static_cast<unsigned>(n);
+    if (strm().s.avail_in == 0 && !in_eof_) RefillInput();
+    size_t n = std::min<size_t>(cap, strm().s.avail_in);
+    std::memcpy(dst, strm().s.next_in, n);
+    strm().s.next_in += n;
+    strm().s.avail_in -= static_cast<unsigned>(n);
     return n;
   }
   for (;;) {
-    if (strm_.avail_in == 0 && !in_eof_) RefillInput();
+    if (strm().s.avail_in == 0 && !in_eof_) RefillInput();
     if (!in_stream_) {
-      if (strm_.avail_in == 0) return 0;  // every stream complete, end of file
-      strm_.bzalloc = nullptr;
-      strm_.bzfree = nullptr;
-      strm_.opaque = nullptr;
-      int rc = BZ2_bzDecompressInit(&strm_, 0, 0);
+      if (strm().s.avail_in == 0) return 0;  // every stream complete, end of file
+      strm().s.bzalloc = nullptr;
+      strm().s.bzfree = nullptr;
+      strm().s.opaque = nullptr;
+      int rc = BZ2_bzDecompressInit(&strm().s, 0, 0);
       if (rc != BZ_OK) Fail(Bz2ErrorText(rc));
       in_stream_ = true;
     }
-    strm_.next_out = dst;
-    strm_.avail_out = static_cast<unsigned>(cap);
-    int rc = BZ2_bzDecompress(&strm_);
-    size_t produced = cap - strm_.avail_out;
+    strm().s.next_out = dst;
+    strm().s.avail_out = static_cast<unsigned>(cap);
+    int rc = BZ2_bzDecompress(&strm().s);
+    size_t produced = cap - strm().s.avail_out;
     if (rc == BZ_STREAM_END) {
-      BZ2_bzDecompressEnd(&strm_);
+      BZ2_bzDecompressEnd(&strm().s);
       in_stream_ = false;
       stream_ended_ = true;
     } else if (rc == BZ_DATA_ERROR_MAGIC && stream_ended_) {
       Fail("trailing data after the bzip2 stream is not bzip2");
     } else if (rc != BZ_OK) {
       Fail(Bz2ErrorText(rc));
-    } else if (produced == 0 && strm_.avail_in == 0 && in_eof_) {
+    } else if (produced == 0 && strm().s.avail_in == 0 && in_eof_) {
       Fail("truncated bzip2 data: unexpected end of file inside a stream");
     }
     if (produced > 0) return produced;
   }
 }
 
-bool Bz2LineReader::ReadLine(std::string_view* line) {
+bool TextLineReader::ReadLine(std::string_view* line) {
   size_t scan = begin_;  // bytes before `scan` are known to hold no '\n'
   for (;;) {
     const char* base = buf_.data();
