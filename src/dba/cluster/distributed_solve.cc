@@ -14,14 +14,7 @@ void SendShare(Communicator* comm, int rank, const RankShare& s) {
   comm->SendVector(rank, t, s.global_camera);
   comm->SendVector(rank, t, s.global_intrinsics);
   comm->SendVector(rank, t, s.global_point);
-  comm->SendVector(rank, t, s.problem.cameras);
-  comm->SendVector(rank, t, s.problem.camera_intrinsics);
-  comm->SendVector(rank, t, s.problem.fixed_cameras);
-  comm->SendVector(rank, t, s.problem.intrinsics_free);
-  comm->SendVector(rank, t, s.problem.points);
-  comm->SendVector(rank, t, s.problem.point_offsets);
-  comm->SendVector(rank, t, s.problem.obs_camera);
-  comm->SendVector(rank, t, s.problem.obs_pixel);
+  s.problem.ForEachArray([&](const auto& v) { comm->SendVector(rank, t, v); });
 }
 
 RankShare RecvShare(Communicator* comm) {
@@ -33,14 +26,9 @@ RankShare RecvShare(Communicator* comm) {
   s.global_camera = comm->RecvVector<int32_t>(0, t);
   s.global_intrinsics = comm->RecvVector<int32_t>(0, t);
   s.global_point = comm->RecvVector<int64_t>(0, t);
-  s.problem.cameras = comm->RecvVector<double>(0, t);
-  s.problem.camera_intrinsics = comm->RecvVector<int32_t>(0, t);
-  s.problem.fixed_cameras = comm->RecvVector<uint8_t>(0, t);
-  s.problem.intrinsics_free = comm->RecvVector<uint8_t>(0, t);
-  s.problem.points = comm->RecvVector<double>(0, t);
-  s.problem.point_offsets = comm->RecvVector<int64_t>(0, t);
-  s.problem.obs_camera = comm->RecvVector<int32_t>(0, t);
-  s.problem.obs_pixel = comm->RecvVector<double>(0, t);
+  s.problem.ForEachArray([&](auto& v) {
+    v = comm->RecvVector<typename std::decay_t<decltype(v)>::value_type>(0, t);
+  });
   return s;
 }
 

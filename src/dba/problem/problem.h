@@ -21,6 +21,7 @@
 
 #include <cstdint>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 namespace dba {
@@ -100,15 +101,29 @@ struct Problem {
   const double* point(int64_t k) const { return points.data() + kPointSize * k; }
   const double* pixel(int64_t obs) const { return obs_pixel.data() + 2 * obs; }
 
+  // Every array above, in one fixed order: the camera side's (cameras,
+  // camera_intrinsics, fixed_cameras, intrinsics_free), then the points' and
+  // observations' (points, point_offsets, obs_camera, obs_pixel). The one
+  // list of the fields for code that treats them alike: sending a share
+  // (cluster/distributed_solve), sizing. `f` is called with each vector.
+  template <class F>
+  void ForEachArray(F&& f) {
+    f(cameras), f(camera_intrinsics), f(fixed_cameras), f(intrinsics_free);
+    f(points), f(point_offsets), f(obs_camera), f(obs_pixel);
+  }
+  template <class F>
+  void ForEachArray(F&& f) const {
+    f(cameras), f(camera_intrinsics), f(fixed_cameras), f(intrinsics_free);
+    f(points), f(point_offsets), f(obs_camera), f(obs_pixel);
+  }
+
   // Bytes held by the arrays above (capacity, not size).
   int64_t MemoryBytes() const {
-    return static_cast<int64_t>(cameras.capacity() * sizeof(double) +
-                                points.capacity() * sizeof(double) +
-                                camera_intrinsics.capacity() * sizeof(int32_t) +
-                                fixed_cameras.capacity() + intrinsics_free.capacity() +
-                                point_offsets.capacity() * sizeof(int64_t) +
-                                obs_camera.capacity() * sizeof(int32_t) +
-                                obs_pixel.capacity() * sizeof(double));
+    int64_t bytes = 0;
+    ForEachArray([&](const auto& v) {
+      bytes += static_cast<int64_t>(v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type));
+    });
+    return bytes;
   }
 };
 

@@ -1,0 +1,35 @@
+// Problem: ForEachArray lists every array (a field added without it would
+// be missing from shares sent to ranks and from the memory figures).
+#include "dba/problem/problem.h"
+
+#include <gtest/gtest.h>
+
+namespace dba {
+namespace {
+
+// Eight vectors and the model: a new field fails here first.
+static_assert(sizeof(Problem) == sizeof(std::vector<double>) * 8 + alignof(std::vector<double>),
+              "a new field of Problem must be added to ForEachArray");
+
+TEST(Problem, ForEachArrayVisitsEveryArrayOnceInOrder) {
+  Problem p;
+  p.cameras.resize(1);
+  p.camera_intrinsics.resize(2);
+  p.fixed_cameras.resize(3);
+  p.intrinsics_free.resize(4);
+  p.points.resize(5);
+  p.point_offsets.resize(6);
+  p.obs_camera.resize(7);
+  p.obs_pixel.resize(8);
+  std::vector<size_t> sizes;
+  p.ForEachArray([&](const auto& v) { sizes.push_back(v.size()); });
+  EXPECT_EQ(sizes, (std::vector<size_t>{1, 2, 3, 4, 5, 6, 7, 8}));
+  const int64_t expected = 1 * 8 + 2 * 4 + 3 + 4 + 5 * 8 + 6 * 8 + 7 * 4 + 8 * 8;
+  int64_t capacities = 0;
+  p.ForEachArray([&](const auto& v) { capacities += static_cast<int64_t>(v.capacity()); });
+  ASSERT_EQ(capacities, 36);  // resize of an empty vector: capacity == size
+  EXPECT_EQ(p.MemoryBytes(), expected);
+}
+
+}  // namespace
+}  // namespace dba
