@@ -451,6 +451,9 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       report.num_cameras = h.num_cameras;
       report.num_points = h.num_points;
       report.num_observations = h.num_observations;
+      // Checked here, before the solve; every rank holds them fixed in the
+      // camera side it reads (the same command line on every rank).
+      CheckedFixings(options.unknowns, h.num_cameras, h.model);
     } else {
       problem = LoadSolveInput(options.input, options.unknowns);
       model = problem.model;
@@ -510,9 +513,9 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     }
   } else {
     DistributedOptions distributed = options.distributed;
-    distributed.prepare_camera_side = [&options](Problem* p) {
-      ApplyFixings(options.unknowns, p);
-    };
+    if (ranks_read_file) {
+      distributed.fixings = {options.unknowns.fixed_images, options.unknowns.fixed_intrinsics};
+    }
     report.solve = DistributedBundleAdjust(comm, lm, distributed,
                                            ranks_read_file ? options.input : std::string(),
                                            !options.output.empty() || !options.truth_path.empty() ||

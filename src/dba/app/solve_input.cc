@@ -97,26 +97,23 @@ void ApplyFixings(const UnknownsOptions& u, Problem* p) {
         "--intrinsics per-image applies to COLMAP models only (a .dba problem holds its "
         "own intrinsic groups)");
   }
-  if (!u.fixed_images.empty()) {
-    p->fixed_cameras.resize(p->num_images(), 0);  // added to those the file holds
-    for (int64_t i : u.fixed_images) {
-      if (i >= p->num_images()) {
-        throw UsageError("--fix-images: camera " + std::to_string(i) +
-                                    " does not exist (the problem has " +
-                                    std::to_string(p->num_images()) + " cameras, 0-based)");
-      }
-      p->fixed_cameras[i] = 1;
+  ApplyFixings(CheckedFixings(u, p->num_images(), p->model), p);
+}
+
+Fixings CheckedFixings(const UnknownsOptions& u, int64_t num_images, CameraModel model) {
+  for (int64_t i : u.fixed_images) {
+    if (i >= num_images) {
+      throw UsageError("--fix-images: camera " + std::to_string(i) +
+                       " does not exist (the problem has " + std::to_string(num_images) +
+                       " cameras, 0-based)");
     }
   }
-  if (u.fixed_intrinsics != 0) {
-    if (p->model != CameraModel::kPhoto) {
-      throw UsageError(
-          "--fix-intrinsics needs the photogrammetric model (a COLMAP model, or a .dba "
-          "problem with shared intrinsics); a BAL camera's 9 parameters are one block");
-    }
-    p->intrinsics_free.resize(p->num_groups(), kAllIntrinsics);
-    for (uint8_t& m : p->intrinsics_free) m &= static_cast<uint8_t>(~u.fixed_intrinsics);
+  if (u.fixed_intrinsics != 0 && model != CameraModel::kPhoto) {
+    throw UsageError(
+        "--fix-intrinsics needs the photogrammetric model (a COLMAP model, or a .dba "
+        "problem with shared intrinsics); a BAL camera's 9 parameters are one block");
   }
+  return Fixings{u.fixed_images, u.fixed_intrinsics};
 }
 
 Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns) {

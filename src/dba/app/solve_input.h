@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "dba/problem/fixings.h"
 #include "dba/io/colmap_model.h"
 #include "dba/io/colmap_problem.h"
 #include "dba/problem/problem.h"
@@ -45,7 +46,11 @@ bool IsColmapInput(const std::string& path);
 // a BAL problem).
 Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns);
 
-// Marks the fixed parameters of a problem read from a file (not COLMAP).
+// The command line's fixings of a problem read from a file (not COLMAP) as
+// data (problem/fixings.h), checked against it: UsageError for an image
+// that does not exist or intrinsics of a BAL problem.
+Fixings CheckedFixings(const UnknownsOptions& unknowns, int64_t num_images, CameraModel model);
+// CheckedFixings, then marks them in `problem`.
 void ApplyFixings(const UnknownsOptions& unknowns, Problem* problem);
 
 // Output kinds, by the output path: .dba binary, .txt/.bz2 BAL text,

@@ -43,7 +43,7 @@ RankShare ReadShare(int rank, const std::string& path, const std::vector<int32_t
   RankShare share;
   MaybeInjectFault(rank, "read", 1);
   share.problem = ReadBinaryPoints(path, group, g, &share.global_point);
-  if (options.prepare_camera_side) options.prepare_camera_side(&share.problem);
+  ApplyFixings(options.fixings, &share.problem);
   KeepTouchedCameras(&share);
   return share;
 }
@@ -119,7 +119,7 @@ DistributedSummary DistributedBundleAdjust(
     // its unknowns must be the ranks') and point coordinates, not
     // observations.
     *problem = ReadBinaryCameraSide(binary_input);
-    if (distributed.prepare_camera_side) distributed.prepare_camera_side(problem);
+    ApplyFixings(distributed.fixings, problem);
     if (collect_points) problem->points.resize(kPointSize * header.num_points);
     num_observations = header.num_observations;
   } else {

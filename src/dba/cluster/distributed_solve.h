@@ -13,6 +13,7 @@
 #include "dba/cluster/mpi_point_workers.h"
 #include "dba/cluster/partition.h"
 #include "dba/lm/bundle_adjust.h"
+#include "dba/problem/fixings.h"
 
 namespace dba {
 
@@ -23,10 +24,9 @@ struct DistributedOptions {
   // waste a large fraction of the machine.
   enum class MainRole { kAuto, kForms, kCoordinates } main_role = MainRole::kAuto;
   static constexpr int kMainFormsUpTo = 4;
-  // With a binary input read by every rank: applied by every rank to the
-  // camera side it reads (global numbering), before its share is cut out,
-  // e.g. to mark fixed parameters. Must do the same on every rank.
-  std::function<void(Problem*)> prepare_camera_side;
+  // With a binary input read by every rank: held fixed by every rank in the
+  // camera side it reads (global numbering), before its share is cut out.
+  Fixings fixings;
 };
 
 struct DistributedSummary {
