@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "dba/io/path_kind.h"
 #include "dba/bsmc/bsmc_matrix.h"
 #include "dba/common/timer.h"
 #include "dba/io/read_problem.h"
@@ -60,7 +61,7 @@ int ConvertMain(const std::vector<std::string>& args) {
     const Problem problem = ReadProblem(args[0]);
     const std::string& out = args[1];
     if (problem.model == CameraModel::kPhoto &&
-        !(out.size() >= 4 && out.compare(out.size() - 4, 4, ".dba") == 0)) {
+        KindOfPath(out) != PathKind::kBinary) {
       throw std::invalid_argument(
           args[0] + " is a photogrammetric problem (" + std::to_string(problem.num_images()) +
           " images sharing " + std::to_string(problem.num_groups()) +

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "dba/io/path_kind.h"
 #include "dba/app/arguments.h"
 #include "dba/common/memory.h"
 #include "dba/synthetic/uav_generator.h"
@@ -100,7 +101,7 @@ int GenerateMain(const std::vector<std::string>& args) {
     }
     if (output.empty()) throw std::invalid_argument("missing OUTPUT (see dba generate --help)");
     auto binary = [](const std::string& p) {
-      return p.size() >= 4 && p.compare(p.size() - 4, 4, ".dba") == 0;
+      return KindOfPath(p) == PathKind::kBinary;
     };
     if (o.model == CameraModel::kPhoto && (!binary(output) || (!truth.empty() && !binary(truth)))) {
       throw std::invalid_argument(

@@ -1,6 +1,7 @@
 // dba solve's inputs and outputs; see solve_input.h.
 #include "dba/app/solve_input.h"
 
+#include "dba/io/path_kind.h"
 #include "dba/app/arguments.h"
 
 #include <filesystem>
@@ -14,11 +15,6 @@
 
 namespace dba {
 namespace {
-
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 std::vector<std::string> SplitCommas(const std::string& value) {
   std::vector<std::string> items;
@@ -125,12 +121,13 @@ Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns)
 
 OutputKind CheckOutput(const std::string& input, const std::string& output, CameraModel model,
                        std::optional<ColmapFormat> colmap_format) {
-  const bool file = EndsWith(output, ".dba") || EndsWith(output, ".txt") || EndsWith(output, ".bz2");
+  const PathKind path_kind = KindOfPath(output);
+  const bool file = path_kind != PathKind::kOther;
   if (file && colmap_format.has_value()) {
     throw UsageError("--colmap-format: -o " + output + " is not a COLMAP model directory");
   }
-  if (EndsWith(output, ".dba")) return OutputKind::kBinary;
-  if (EndsWith(output, ".txt") || EndsWith(output, ".bz2")) {
+  if (path_kind == PathKind::kBinary) return OutputKind::kBinary;
+  if (path_kind != PathKind::kOther) {
     if (model == CameraModel::kPhoto) {
       throw UsageError(
           "-o " + output +

@@ -11,16 +11,13 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "dba/io/path_kind.h"
 #include "dba/io/atomic_output_file.h"
 
 namespace dba {
 namespace {
 
 constexpr size_t kFlushBytes = size_t{1} << 20;
-
-bool EndsWith(std::string_view s, std::string_view suffix) {
-  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
-}
 
 void CheckConsistent(const Problem& p) {
   const int64_t n = p.num_observations();
@@ -127,7 +124,7 @@ void WriteBal(const Problem& problem, const std::string& path) {
         "write the dba binary format (.dba) instead");
   }
   CheckConsistent(problem);
-  Output out(path, EndsWith(path, ".bz2"));
+  Output out(path, KindOfPath(path) == PathKind::kBalBz2);
   out.Int(problem.num_images(), ' ');
   out.Int(problem.num_points(), ' ');
   out.Int(problem.num_observations(), '\n');

@@ -5,6 +5,7 @@
 #include <new>
 #include <stdexcept>
 
+#include "dba/io/path_kind.h"
 #include "dba/common/error.h"
 #include "dba/io/bal_writer.h"
 #include "dba/io/colmap_model.h"
@@ -21,8 +22,7 @@ Problem ReadProblem(const std::string& path) {
     }
     throw InputError(path, 0, "is a directory; expected a BAL (.txt, .bz2) or .dba problem file");
   }
-  if (!IsBinaryProblem(path) && path.size() >= 4 &&
-      path.compare(path.size() - 4, 4, ".dba") == 0) {
+  if (!IsBinaryProblem(path) && KindOfPath(path) == PathKind::kBinary) {
     // Not read as BAL text: a .dba whose magic is damaged would fail there
     // with a misleading message.
     throw InputError(path, 0, "does not start with the dba binary magic (corrupt or not a .dba "
@@ -39,7 +39,7 @@ Problem ReadProblem(const std::string& path) {
 }
 
 void WriteProblem(const Problem& problem, const std::string& path) {
-  if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".dba") == 0) {
+  if (KindOfPath(path) == PathKind::kBinary) {
     WriteBinaryProblem(problem, path);
   } else {
     WriteBal(problem, path);

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "dba/io/path_kind.h"
 #include "dba/camera/bal_camera.h"
 #include "dba/camera/photo_camera.h"
 #include "dba/common/timer.h"
@@ -193,10 +194,6 @@ void ForEachPoint(const UavSurveyOptions& o, const Layout& l, Project project,
   if (progress) progress(1.0);
 }
 
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 }  // namespace
 
 UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& o, const std::string& path,
@@ -211,8 +208,8 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& o, const std::string&
         "outliers in [0, 1)");
   }
   const bool photo = o.model == CameraModel::kPhoto;
-  const bool binary = EndsWith(path, ".dba");
-  if (photo && (!binary || (!truth_path.empty() && !EndsWith(truth_path, ".dba")))) {
+  const bool binary = KindOfPath(path) == PathKind::kBinary;
+  if (photo && (!binary || (!truth_path.empty() && KindOfPath(truth_path) != PathKind::kBinary))) {
     throw std::invalid_argument(
         "generate: the photogrammetric model needs .dba outputs (the BAL text format cannot "
         "hold intrinsics shared by several images)");
