@@ -7,7 +7,7 @@
 
 namespace dba {
 
-Vec2 ObservationResidual(const Problem& side, const double* cameras, int32_t i,
+Vec2 ObservationResidual(const CameraSide& side, const double* cameras, int32_t i,
                          const double* X, const double* pixel) {
   if (side.model == CameraModel::kBal) {
     return BalResidual(cameras + kBalCameraSize * int64_t{i}, X, pixel);
@@ -18,7 +18,7 @@ Vec2 ObservationResidual(const Problem& side, const double* cameras, int32_t i,
                        X, pixel);
 }
 
-Vec2 ObservationResidual(const Problem& side, const double* cameras, RotationFrameCache* frames,
+Vec2 ObservationResidual(const CameraSide& side, const double* cameras, RotationFrameCache* frames,
                          int32_t i, const double* X, const double* pixel) {
   if (side.model == CameraModel::kBal) {
     const double* camera = cameras + kBalCameraSize * int64_t{i};

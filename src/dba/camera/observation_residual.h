@@ -17,12 +17,12 @@ namespace dba {
 // r = project(camera i, X) - pixel, with the camera-side parameters taken
 // from `cameras` (laid out as side.cameras; e.g. a candidate step) and the
 // model and image groups from `side`.
-Vec2 ObservationResidual(const Problem& side, const double* cameras, int32_t i,
+Vec2 ObservationResidual(const CameraSide& side, const double* cameras, int32_t i,
                          const double* X, const double* pixel);
 // The same with image i's rotation taken from `frames`, which must hold
 // frames of `cameras` only (the trigonometry once per image, not per
 // observation).
-Vec2 ObservationResidual(const Problem& side, const double* cameras, RotationFrameCache* frames,
+Vec2 ObservationResidual(const CameraSide& side, const double* cameras, RotationFrameCache* frames,
                          int32_t i, const double* X, const double* pixel);
 
 // Observations whose squared residual at the problem's current parameters is

@@ -118,7 +118,7 @@ DistributedSummary DistributedBundleAdjust(
     // The main rank keeps the camera side (model, image groups, fixed flags:
     // its unknowns must be the ranks') and point coordinates, not
     // observations.
-    *problem = ReadBinaryCameraSide(binary_input);
+    *problem = Problem(ReadBinaryCameraSide(binary_input));
     ApplyFixings(distributed.fixings, problem);
     if (collect_points) problem->points.resize(kPointSize * header.num_points);
     num_observations = header.num_observations;

@@ -122,8 +122,8 @@ void CheckCameras(const BinaryFile& f, std::span<const int32_t> cameras, int64_t
 
 // The camera side of a file whose header `h` was checked: model, cameras
 // (poses, then intrinsics), image groups and fixed flags, each checked.
-Problem ReadCameraSide(const BinaryFile& f, const BinaryProblemHeader& h) {
-  Problem p;
+CameraSide ReadCameraSide(const BinaryFile& f, const BinaryProblemHeader& h) {
+  CameraSide p;
   p.model = h.model;
   p.cameras = f.ReadArrayAt<double>(h.cameras_offset, h.camera_side_size(), "cameras");
   const int64_t poses = int64_t{h.camera_size} * h.num_cameras;
@@ -306,7 +306,7 @@ BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
 Problem ReadBinaryProblem(const std::string& path) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
   const BinaryFile f(path);
-  Problem p = ReadCameraSide(f, h);
+  Problem p(ReadCameraSide(f, h));
   p.points = f.ReadArrayAt<double>(h.points_offset, kPointSize * h.num_points, "points");
   CheckFinite(f, p.points, "points");
   p.point_offsets = f.ReadArrayAt<int64_t>(h.point_offsets_offset, h.num_points + 1, "point offsets");
@@ -321,7 +321,7 @@ Problem ReadBinaryProblem(const std::string& path) {
   return p;
 }
 
-Problem ReadBinaryCameraSide(const std::string& path) {
+CameraSide ReadBinaryCameraSide(const std::string& path) {
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
   const BinaryFile f(path);
   return ReadCameraSide(f, h);
@@ -390,7 +390,7 @@ Problem ReadBinaryPoints(const std::string& path, std::span<const int32_t> point
     throw std::invalid_argument("ReadBinaryPoints: point_group has the wrong size");
   }
   const BinaryFile f(path);
-  Problem p = ReadCameraSide(f, h);
+  Problem p(ReadCameraSide(f, h));
   // Count first (offsets only), so the arrays are allocated once, exactly.
   int64_t my_points = 0, my_observations = 0;
   for (int64_t k0 = 0; k0 < h.num_points; k0 += 1 << 18) {

@@ -133,10 +133,9 @@ void ForEachObservationChunk(
 Problem ReadBinaryPoints(const std::string& path, std::span<const int32_t> point_group,
                             int32_t group, std::vector<int64_t>* global_point);
 
-// The camera side only: model, cameras (Problem::cameras: cameras or
-// poses, then intrinsics), camera_intrinsics and the fixed flags; no points
-// or observations (point_offsets empty).
-Problem ReadBinaryCameraSide(const std::string& path);
+// The camera side only: model, cameras (cameras or poses, then
+// intrinsics), camera_intrinsics and the fixed flags.
+CameraSide ReadBinaryCameraSide(const std::string& path);
 
 // Only the point coordinates (3 per point).
 std::vector<double> ReadBinaryPointCoordinates(const std::string& path);

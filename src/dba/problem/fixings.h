@@ -24,9 +24,9 @@ struct Fixings {
   bool empty() const { return images.empty() && intrinsics == 0; }
 };
 
-// Adds `f` to what `problem` already holds fixed. std::invalid_argument for
+// Adds `f` to what the camera side already holds fixed. std::invalid_argument for
 // an image index out of range or fixed intrinsics of a BAL problem.
-inline void ApplyFixings(const Fixings& f, Problem* problem) {
+inline void ApplyFixings(const Fixings& f, CameraSide* problem) {
   if (!f.images.empty()) {
     problem->fixed_cameras.resize(problem->num_images(), 0);
     for (int64_t i : f.images) {

@@ -11,9 +11,13 @@
 // parameters each, then (kPhoto) the intrinsic groups' 5 each. The LM loop
 // steps that vector as a whole.
 //
-// This is also the share of one rank in the distributed design (docs/design.md §4):
-// a rank holds its points, their observations and the cameras they touch, with
-// cameras renumbered locally. A single process is one rank holding everything.
+// Two types: a CameraSide (the model, the camera-side parameters, the images'
+// groups, what is held fixed), which is what the main rank of a distributed
+// solve holds and what the unknowns are laid out from; and a Problem, a
+// camera side plus points and their observations. A Problem is also the
+// share of one rank (docs/design.md §4): its points, their observations and
+// the cameras they touch, renumbered locally. A single process is one rank
+// holding everything.
 //
 // Memory per observation: one 32-bit camera id and two doubles (20 bytes),
 // plus the 64-bit point offsets (8 bytes per point).
@@ -22,6 +26,7 @@
 #include <cstdint>
 #include <span>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace dba {
@@ -39,32 +44,24 @@ enum IntrinsicBit : uint8_t {
   kAllIntrinsics = 31,
 };
 
-struct Problem {
+struct CameraSide {
   CameraModel model = CameraModel::kBal;
-  // Camera-side parameters: camera_size() per camera (image), then, for
-  // kPhoto, kPhotoIntrinsicsSize per intrinsic group.
+  // Camera-side parameters: camera_size() per image (a BAL camera, or a
+  // pose), then, for kPhoto, kPhotoIntrinsicsSize per intrinsic group.
   std::vector<double> cameras;
-  // kPhoto: the intrinsic group of each camera (size num_images()).
+  // kPhoto: the intrinsic group of each image (size num_images()).
   std::vector<int32_t> camera_intrinsics;
   // What is held fixed (fixed parameters are not unknowns of the solve).
-  // fixed_cameras: empty, or one flag per camera (the whole pose/camera).
+  // fixed_cameras: empty, or one flag per image (the whole pose/camera).
   // intrinsics_free: kPhoto, empty (all free) or per group a mask of
   // IntrinsicBit: the parameters that are unknowns.
   std::vector<uint8_t> fixed_cameras;
   std::vector<uint8_t> intrinsics_free;
-  // Point coordinates, kPointSize per point.
-  std::vector<double> points;
-  // Observations of point k are [point_offsets[k], point_offsets[k+1]).
-  // Size num_points() + 1, point_offsets[0] == 0.
-  std::vector<int64_t> point_offsets;
-  // Camera seeing each observation, and the observed pixel (x, y).
-  std::vector<int32_t> obs_camera;
-  std::vector<double> obs_pixel;
 
   int camera_size() const {
     return model == CameraModel::kBal ? kBalCameraSize : kPhotoPoseSize;
   }
-  // Cameras (images); for kPhoto the poses, not the intrinsic groups.
+  // Images; for kPhoto the poses, not the intrinsic groups.
   int64_t num_images() const {
     return model == CameraModel::kBal
                ? static_cast<int64_t>(cameras.size()) / kBalCameraSize
@@ -77,13 +74,6 @@ struct Problem {
                : (static_cast<int64_t>(cameras.size()) - kPhotoPoseSize * num_images()) /
                      kPhotoIntrinsicsSize;
   }
-  int64_t num_points() const {
-    return static_cast<int64_t>(points.size()) / kPointSize;
-  }
-  int64_t num_observations() const {
-    return static_cast<int64_t>(obs_camera.size());
-  }
-
   double* camera(int64_t i) { return cameras.data() + camera_size() * i; }
   const double* camera(int64_t i) const { return cameras.data() + camera_size() * i; }
   // Intrinsic group g (kPhoto).
@@ -97,34 +87,72 @@ struct Problem {
   uint8_t intrinsics_free_mask(int64_t g) const {
     return intrinsics_free.empty() ? uint8_t{kAllIntrinsics} : intrinsics_free[g];
   }
-  double* point(int64_t k) { return points.data() + kPointSize * k; }
-  const double* point(int64_t k) const { return points.data() + kPointSize * k; }
-  const double* pixel(int64_t obs) const { return obs_pixel.data() + 2 * obs; }
 
-  // Every array above, in one fixed order: the camera side's (cameras,
-  // camera_intrinsics, fixed_cameras, intrinsics_free), then the points' and
-  // observations' (points, point_offsets, obs_camera, obs_pixel). The one
-  // list of the fields for code that treats them alike: sending a share
-  // (cluster/distributed_solve), sizing. `f` is called with each vector.
+  // Every array, in one fixed order (cameras, camera_intrinsics,
+  // fixed_cameras, intrinsics_free): the one list of the fields for code that
+  // treats them alike (sending a share, sizing). `f` gets each vector.
   template <class F>
   void ForEachArray(F&& f) {
     f(cameras), f(camera_intrinsics), f(fixed_cameras), f(intrinsics_free);
-    f(points), f(point_offsets), f(obs_camera), f(obs_pixel);
   }
   template <class F>
   void ForEachArray(F&& f) const {
     f(cameras), f(camera_intrinsics), f(fixed_cameras), f(intrinsics_free);
-    f(points), f(point_offsets), f(obs_camera), f(obs_pixel);
   }
+  // Bytes held by the arrays (capacity, not size).
+  int64_t MemoryBytes() const { return ArrayBytes(*this); }
 
-  // Bytes held by the arrays above (capacity, not size).
-  int64_t MemoryBytes() const {
+ protected:
+  template <class T>
+  static int64_t ArrayBytes(const T& t) {
     int64_t bytes = 0;
-    ForEachArray([&](const auto& v) {
-      bytes += static_cast<int64_t>(v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type));
+    t.ForEachArray([&](const auto& v) {
+      bytes += static_cast<int64_t>(v.capacity() *
+                                    sizeof(typename std::decay_t<decltype(v)>::value_type));
     });
     return bytes;
   }
+};
+
+struct Problem : CameraSide {
+  Problem() = default;
+  // A problem with `side`'s cameras and no points yet.
+  explicit Problem(CameraSide side) : CameraSide(std::move(side)) {}
+
+  // Point coordinates, kPointSize per point.
+  std::vector<double> points;
+  // Observations of point k are [point_offsets[k], point_offsets[k+1]).
+  // Size num_points() + 1, point_offsets[0] == 0.
+  std::vector<int64_t> point_offsets;
+  // Image seeing each observation, and the observed pixel (x, y).
+  std::vector<int32_t> obs_camera;
+  std::vector<double> obs_pixel;
+
+  CameraSide& camera_side() { return *this; }
+  const CameraSide& camera_side() const { return *this; }
+  int64_t num_points() const {
+    return static_cast<int64_t>(points.size()) / kPointSize;
+  }
+  int64_t num_observations() const {
+    return static_cast<int64_t>(obs_camera.size());
+  }
+  double* point(int64_t k) { return points.data() + kPointSize * k; }
+  const double* point(int64_t k) const { return points.data() + kPointSize * k; }
+  const double* pixel(int64_t obs) const { return obs_pixel.data() + 2 * obs; }
+
+  // The camera side's arrays, then the points' and observations' (points,
+  // point_offsets, obs_camera, obs_pixel).
+  template <class F>
+  void ForEachArray(F&& f) {
+    CameraSide::ForEachArray(f);
+    f(points), f(point_offsets), f(obs_camera), f(obs_pixel);
+  }
+  template <class F>
+  void ForEachArray(F&& f) const {
+    CameraSide::ForEachArray(f);
+    f(points), f(point_offsets), f(obs_camera), f(obs_pixel);
+  }
+  int64_t MemoryBytes() const { return ArrayBytes(*this); }
 };
 
 }  // namespace dba

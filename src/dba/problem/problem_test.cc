@@ -7,9 +7,11 @@
 namespace dba {
 namespace {
 
-// Eight vectors and the model: a new field fails here first.
-static_assert(sizeof(Problem) == sizeof(std::vector<double>) * 8 + alignof(std::vector<double>),
-              "a new field of Problem must be added to ForEachArray");
+// Four vectors and the model, then four more: a new field fails here first.
+static_assert(sizeof(CameraSide) == sizeof(std::vector<double>) * 4 + alignof(std::vector<double>),
+              "a new field of CameraSide must be added to its ForEachArray");
+static_assert(sizeof(Problem) == sizeof(CameraSide) + sizeof(std::vector<double>) * 4,
+              "a new field of Problem must be added to its ForEachArray");
 
 TEST(Problem, ForEachArrayVisitsEveryArrayOnceInOrder) {
   Problem p;
@@ -29,6 +31,7 @@ TEST(Problem, ForEachArrayVisitsEveryArrayOnceInOrder) {
   p.ForEachArray([&](const auto& v) { capacities += static_cast<int64_t>(v.capacity()); });
   ASSERT_EQ(capacities, 36);  // resize of an empty vector: capacity == size
   EXPECT_EQ(p.MemoryBytes(), expected);
+  EXPECT_EQ(p.camera_side().MemoryBytes(), 1 * 8 + 2 * 4 + 3 + 4);
 }
 
 }  // namespace

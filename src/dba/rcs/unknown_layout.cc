@@ -7,7 +7,7 @@
 
 namespace dba {
 
-UnknownLayout::UnknownLayout(const Problem& problem) {
+UnknownLayout::UnknownLayout(const CameraSide& problem) {
   const int64_t num_cameras = problem.num_images();
   if (num_cameras + problem.num_groups() > std::numeric_limits<int32_t>::max()) {
     // Block rows are 32-bit ids (docs/design.md §2).

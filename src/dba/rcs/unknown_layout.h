@@ -27,7 +27,7 @@ namespace dba {
 class UnknownLayout {
  public:
   UnknownLayout() = default;
-  explicit UnknownLayout(const Problem& problem);
+  explicit UnknownLayout(const CameraSide& side);
 
   int32_t num_block_rows() const { return static_cast<int32_t>(block_sizes_.size()); }
   int64_t num_unknowns() const { return row_offset_.back(); }

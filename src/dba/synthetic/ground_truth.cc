@@ -134,7 +134,7 @@ GroundTruthErrors CompareWithGroundTruthFile(const std::string& path,
     return CompareWithGroundTruth(ReadProblem(path), cameras, points, model, point_kept);
   }
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
-  Problem truth = ReadBinaryCameraSide(path);  // camera side and points only
+  Problem truth(ReadBinaryCameraSide(path));  // camera side and points only
   // Point coordinates of the truth, read in one go (3 doubles per point).
   truth.points = ReadBinaryPointCoordinates(path);
   CheckSizes(truth, cameras, points, model);
