@@ -1,10 +1,9 @@
-// BAL text parser: tokens via std::from_chars over the line buffer;
+// BAL text parser: tokens and numbers by io/text_tokens over the lines;
 // observations go straight to their point-major place when the file groups
 // them by point, else a stable counting sort follows; see bal_reader.h.
 #include "dba/io/bal_reader.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <new>
@@ -13,6 +12,7 @@
 
 #include "dba/common/error.h"
 #include "dba/io/text_line_reader.h"
+#include "dba/io/text_tokens.h"
 
 namespace dba {
 namespace {
@@ -21,10 +21,6 @@ namespace {
 // seen, so a lying header fails with "end of file", not with bad_alloc.
 constexpr int64_t kMaxReserve = int64_t{1} << 22;
 constexpr int64_t kMaxCameras = int64_t{1} << 31;  // camera ids are int32
-
-bool IsSpace(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
-}
 
 // Whitespace-separated tokens over the lines of a TextLineReader. Every
 // message built through `what` reads "expected <what>, found ...".
@@ -39,29 +35,16 @@ class Parser {
 
   // Next token, or false at end of file.
   bool Next(std::string_view* token) {
-    for (;;) {
-      while (pos_ < line_.size() && IsSpace(line_[pos_])) ++pos_;
-      if (pos_ < line_.size()) break;
-      if (!reader_.ReadLine(&line_)) return false;
-      pos_ = 0;
+    while (!tokens_.Next(token)) {
+      std::string_view line;
+      if (!reader_.ReadLine(&line)) return false;
+      tokens_ = LineTokens(line);
     }
-    size_t start = pos_;
-    while (pos_ < line_.size() && !IsSpace(line_[pos_])) ++pos_;
-    *token = line_.substr(start, pos_ - start);
     return true;
   }
 
   // Tokens left on the current line (not consumed).
-  int TokensLeftOnLine() const {
-    int n = 0;
-    for (size_t p = pos_; p < line_.size();) {
-      while (p < line_.size() && IsSpace(line_[p])) ++p;
-      if (p == line_.size()) break;
-      ++n;
-      while (p < line_.size() && !IsSpace(line_[p])) ++p;
-    }
-    return n;
-  }
+  int TokensLeftOnLine() const { return tokens_.Remaining(); }
 
   template <class What>
   std::string_view Token(const What& what) {
@@ -77,45 +60,34 @@ class Parser {
   int64_t Int(const What& what) {
     std::string_view t = Token(what);
     int64_t v = 0;
-    auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-    if (ec == std::errc::result_out_of_range) {
-      Fail("expected " + what() + ", found '" + std::string(t) +
-           "' (out of the 64-bit integer range)");
+    switch (ParseInteger(t, &v)) {
+      case NumberStatus::kOk: return v;
+      case NumberStatus::kOutOfRange:
+        Fail("expected " + what() + ", found '" + std::string(t) +
+             "' (out of the 64-bit integer range)");
+      default:
+        Fail("expected " + what() + ", found '" + std::string(t) + "' (not an integer)");
     }
-    if (ec != std::errc() || end != t.data() + t.size()) {
-      Fail("expected " + what() + ", found '" + std::string(t) +
-           "' (not an integer)");
-    }
-    return v;
   }
 
   template <class What>
   double Double(const What& what) {
     std::string_view t = Token(what);
-    const char* first = t.data();
-    const char* last = t.data() + t.size();
-    if (t.size() > 1 && *first == '+' && first[1] != '-') ++first;
     double v = 0;
-    auto [end, ec] = std::from_chars(first, last, v);
-    if (ec == std::errc::result_out_of_range) {
-      Fail("expected " + what() + ", found '" + std::string(t) +
-           "' (out of the double range)");
+    switch (ParseDouble(t, &v)) {
+      case NumberStatus::kOk: return v;
+      case NumberStatus::kOutOfRange:
+        Fail("expected " + what() + ", found '" + std::string(t) + "' (out of the double range)");
+      case NumberStatus::kNotFinite:
+        Fail("expected " + what() + ", found non-finite value '" + std::string(t) + "'");
+      default:
+        Fail("expected " + what() + ", found '" + std::string(t) + "' (not a number)");
     }
-    if (ec != std::errc() || end != last) {
-      Fail("expected " + what() + ", found '" + std::string(t) +
-           "' (not a number)");
-    }
-    if (!std::isfinite(v)) {
-      Fail("expected " + what() + ", found non-finite value '" + std::string(t) +
-           "'");
-    }
-    return v;
   }
 
  private:
   TextLineReader reader_;
-  std::string_view line_;
-  size_t pos_ = 0;
+  LineTokens tokens_;  // of the current line
 };
 
 std::string Str(int64_t v) { return std::to_string(v); }

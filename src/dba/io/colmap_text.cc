@@ -1,8 +1,9 @@
 // COLMAP text models: reading and writing; see colmap_text.h.
-#include "dba/io/atomic_output_file.h"
 #include "dba/io/colmap_text.h"
 
+#include "dba/io/atomic_output_file.h"
 #include "dba/io/text_line_reader.h"
+#include "dba/io/text_tokens.h"
 
 #include <charconv>
 #include <cmath>
@@ -16,14 +17,6 @@ namespace dba {
 namespace {
 
 using colmap_internal::JoinPath;
-
-bool IsBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
-
-std::string_view Trim(std::string_view s) {
-  while (!s.empty() && IsBlank(s.front())) s.remove_prefix(1);
-  while (!s.empty() && IsBlank(s.back())) s.remove_suffix(1);
-  return s;
-}
 
 std::string Quote(std::string_view tok) {
   std::string q(1, '\'');
@@ -44,7 +37,7 @@ class LineFile {
   // The next line without its line end; false at the end of the file.
   bool Next(std::string_view* line) {
     if (!reader_.ReadLine(line)) return false;
-    if (reader_.last_line_unterminated() && !Trim(*line).empty()) {
+    if (reader_.last_line_unterminated() && !TrimBlanks(*line).empty()) {
       Fail("the file ends inside this line (no line end after the last record): cut short?");
     }
     return true;
@@ -52,7 +45,7 @@ class LineFile {
   // The next line that is neither empty nor a comment.
   bool NextData(std::string_view* line) {
     while (Next(line)) {
-      std::string_view t = Trim(*line);
+      std::string_view t = TrimBlanks(*line);
       if (!t.empty() && t.front() != '#') {
         *line = t;
         return true;
@@ -71,39 +64,33 @@ class LineFile {
 // Blank-separated tokens of one line; errors name the file and line.
 class Tokens {
  public:
-  Tokens(const LineFile& file, std::string_view line) : file_(file), rest_(line) {}
+  Tokens(const LineFile& file, std::string_view line) : file_(file), tokens_(line) {}
 
-  bool Done() {
-    SkipBlanks();
-    return rest_.empty();
-  }
+  bool Done() const { return tokens_.Done(); }
   std::string_view Next(const char* what) {
-    SkipBlanks();
-    if (rest_.empty()) file_.Fail(std::string("expected ") + what + ", found the end of the line");
-    size_t n = 0;
-    while (n < rest_.size() && !IsBlank(rest_[n])) ++n;
-    std::string_view tok = rest_.substr(0, n);
-    rest_.remove_prefix(n);
+    std::string_view tok;
+    if (!tokens_.Next(&tok)) file_.Fail(std::string("expected ") + what + ", found the end of the line");
     return tok;
   }
   // Everything left on the line, trimmed.
-  std::string_view Rest() const { return Trim(rest_); }
+  std::string_view Rest() const { return tokens_.Rest(); }
 
   double Double(const char* what) {
     const std::string_view tok = Next(what);
     double v = 0;
-    const auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-    if (ec != std::errc() || end != tok.data() + tok.size()) {
+    const NumberStatus status = ParseDouble(tok, &v);
+    if (status == NumberStatus::kNotFinite) {
+      file_.Fail(std::string(what) + " is not finite: " + Quote(tok));
+    }
+    if (status != NumberStatus::kOk) {
       file_.Fail(std::string("expected ") + what + " (a number), found " + Quote(tok));
     }
-    if (!std::isfinite(v)) file_.Fail(std::string(what) + " is not finite: " + Quote(tok));
     return v;
   }
   uint64_t Unsigned(const char* what, uint64_t max) {
     const std::string_view tok = Next(what);
     uint64_t v = 0;
-    const auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-    if (ec != std::errc() || end != tok.data() + tok.size() || v > max) {
+    if (ParseInteger(tok, &v) != NumberStatus::kOk || v > max) {
       file_.Fail(std::string("expected ") + what + " (an integer from 0 to " +
                  std::to_string(max) + "), found " + Quote(tok));
     }
@@ -113,23 +100,17 @@ class Tokens {
   int64_t Point3DRef(const char* what) {
     const std::string_view tok = Next(what);
     int64_t v = 0;
-    const auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-    if (ec == std::errc() && end == tok.data() + tok.size() && v >= -1) return v;
+    if (ParseInteger(tok, &v) == NumberStatus::kOk && v >= -1) return v;
     uint64_t u = 0;
-    const auto [end2, ec2] = std::from_chars(tok.data(), tok.data() + tok.size(), u);
-    if (ec2 == std::errc() && end2 == tok.data() + tok.size() &&
-        u == std::numeric_limits<uint64_t>::max()) {
+    if (ParseInteger(tok, &u) == NumberStatus::kOk && u == std::numeric_limits<uint64_t>::max()) {
       return kColmapNoPoint3D;
     }
     file_.Fail(std::string("expected ") + what + " (-1 or a point3D_id), found " + Quote(tok));
   }
 
  private:
-  void SkipBlanks() {
-    while (!rest_.empty() && IsBlank(rest_.front())) rest_.remove_prefix(1);
-  }
   const LineFile& file_;
-  std::string_view rest_;
+  LineTokens tokens_;
 };
 
 constexpr uint64_t kMaxU32 = std::numeric_limits<uint32_t>::max();

@@ -1,0 +1,37 @@
+// Tokens and numbers of text formats; see text_tokens.h.
+#include "dba/io/text_tokens.h"
+
+#include <charconv>
+#include <cmath>
+#include <system_error>
+
+namespace dba {
+namespace {
+
+// A leading '+' (not "+-") is skipped: from_chars refuses it.
+std::string_view WithoutPlus(std::string_view t) {
+  if (t.size() > 1 && t[0] == '+' && t[1] != '-') t.remove_prefix(1);
+  return t;
+}
+
+template <typename T>
+NumberStatus Parse(std::string_view token, T* value) {
+  const std::string_view t = WithoutPlus(token);
+  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), *value);
+  if (ec == std::errc::result_out_of_range) return NumberStatus::kOutOfRange;
+  if (ec != std::errc() || end != t.data() + t.size() || t.empty()) return NumberStatus::kNotANumber;
+  return NumberStatus::kOk;
+}
+
+}  // namespace
+
+NumberStatus ParseDouble(std::string_view token, double* value) {
+  const NumberStatus s = Parse(token, value);
+  if (s == NumberStatus::kOk && !std::isfinite(*value)) return NumberStatus::kNotFinite;
+  return s;
+}
+
+NumberStatus ParseInteger(std::string_view token, int64_t* value) { return Parse(token, value); }
+NumberStatus ParseInteger(std::string_view token, uint64_t* value) { return Parse(token, value); }
+
+}  // namespace dba
