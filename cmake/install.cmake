@@ -17,10 +17,11 @@ endforeach()
 install(TARGETS dba_core dba_headers ${DBA_MODULE_TARGETS} EXPORT dbaTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
-# Every header of the library but the test helpers, in their directories
-# (include/dba/lm/bundle_adjust.h, ...).
+# Every header of the library but the test helpers and a module's internal
+# ones (*_internal.h), in their directories (include/dba/lm/bundle_adjust.h, ...).
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/dba DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
   FILES_MATCHING PATTERN "*.h"
+  PATTERN "*_internal.h" EXCLUDE
   PATTERN "testing" EXCLUDE)
 install(EXPORT dbaTargets NAMESPACE dba:: DESTINATION ${DBA_INSTALL_CMAKEDIR})
 

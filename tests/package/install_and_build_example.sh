@@ -24,6 +24,8 @@ for m in common bsmc camera io solver rcs lm cluster synthetic app; do
 done
 check "test helpers are not installed" test ! -e "$prefix/include/dba/testing"
 check "the test library is not installed" test ! -e "$prefix/lib/libdba_testing.a"
+check "internal headers are not installed" test ! -e "$prefix/include/dba/io/colmap_model_internal.h"
+check "a public header is installed beside it" test -f "$prefix/include/dba/io/colmap_model.h"
 
 # Only the prefix: the example must not see the source or build trees.
 cmake -S "$root/examples" -B "$tmp/example-build" -DCMAKE_PREFIX_PATH="$prefix" \

@@ -10,6 +10,7 @@
 
 #include "dba/common/error.h"
 #include "dba/io/atomic_output_file.h"
+#include "dba/io/colmap_model_internal.h"
 #include "dba/io/binary_file.h"
 
 namespace dba {

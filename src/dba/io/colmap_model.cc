@@ -2,6 +2,8 @@
 // the intrinsics mapping; see colmap_model.h.
 #include "dba/io/colmap_model.h"
 
+#include "dba/io/colmap_model_internal.h"
+
 #include "dba/io/temporary_registry.h"
 
 #include <unistd.h>

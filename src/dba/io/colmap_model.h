@@ -178,35 +178,4 @@ ColmapIntrinsics IntrinsicsFromColmapCamera(const ColmapCamera& camera,
 // unsupported model or a non-zero k1/k2 the model cannot hold.
 void SetColmapCameraIntrinsics(const ColmapIntrinsics& intrinsics, ColmapCamera* camera);
 
-// ---------------------------------------------------------------------------
-// Shared by the text and binary readers/writers; not for general use.
-namespace colmap_internal {
-
-// "<dir>/<name>" (no separator doubled).
-std::string JoinPath(const std::string& dir, const std::string& name);
-
-// The line of each entry in its text file (cameras, images: the image's first
-// line, points3D), so that validation errors can name it; empty vectors for
-// binary files.
-struct ColmapSourceLines {
-  std::vector<int64_t> cameras;
-  std::vector<int64_t> images;
-  std::vector<int64_t> points3D;
-};
-
-// ValidateColmapModel with line numbers (`lines` may be null).
-void ValidateColmapModel(const ColmapModel& model, const std::string& dir,
-                         const std::string& extension, const ColmapSourceLines* lines);
-
-// Creates `dir` (and parents) if missing; std::runtime_error on failure.
-void EnsureDirectory(const std::string& dir);
-
-// Checks what a writer needs before it writes anything: known camera models
-// with the right parameter count, image names free of NUL bytes and, for
-// text, non-empty and free of CR, LF and leading/trailing blanks (they would
-// not read back). std::invalid_argument otherwise.
-void CheckWritable(const ColmapModel& model, bool text);
-
-
-}  // namespace colmap_internal
 }  // namespace dba

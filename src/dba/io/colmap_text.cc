@@ -2,6 +2,7 @@
 #include "dba/io/colmap_text.h"
 
 #include "dba/io/atomic_output_file.h"
+#include "dba/io/colmap_model_internal.h"
 #include "dba/io/text_line_reader.h"
 #include "dba/io/text_tokens.h"
 
