@@ -27,15 +27,19 @@ std::vector<std::string> SplitCommas(const std::string& value) {
 ColmapProblemOptions ColmapOptions(const UnknownsOptions& u) {
   ColmapProblemOptions o;
   o.shared_intrinsics = u.shared_intrinsics;
-  o.fixed_intrinsics = u.fixed_intrinsics;
+  return o;
+}
+
+// --fix-images of a COLMAP input: COLMAP image ids.
+std::vector<uint32_t> ColmapImageIds(const UnknownsOptions& u) {
+  std::vector<uint32_t> ids;
   for (int64_t id : u.fixed_images) {
     if (id < 0 || id > 0xffffffffLL) {
-      throw UsageError("--fix-images: " + std::to_string(id) +
-                                  " is not a COLMAP image id");
+      throw UsageError("--fix-images: " + std::to_string(id) + " is not a COLMAP image id");
     }
-    o.fixed_image_ids.push_back(static_cast<uint32_t>(id));
+    ids.push_back(static_cast<uint32_t>(id));
   }
-  return o;
+  return ids;
 }
 
 }  // namespace
@@ -154,10 +158,13 @@ OutputKind CheckOutput(const std::string& input, const std::string& output, Came
 }
 
 ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unknowns) {
+  const std::vector<uint32_t> fixed_ids = ColmapImageIds(unknowns);  // refused before reading
   ColmapInput in;
   in.format = *DetectColmapFormat(path);
   in.model = ReadColmapModel(path);
   in.source = ProblemFromColmap(in.model, ColmapOptions(unknowns), path);
+  ApplyFixings(ColmapFixings(in.model, in.source, fixed_ids, unknowns.fixed_intrinsics, path),
+               &in.source.problem);
   return in;
 }
 

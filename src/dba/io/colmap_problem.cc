@@ -33,16 +33,38 @@ std::array<double, 4> AngleAxisToQuaternion(const Vec3& omega) {
 
 }  // namespace
 
+Fixings ColmapFixings(const ColmapModel& model, const ColmapProblem& problem,
+                      const std::vector<uint32_t>& fixed_image_ids, uint8_t fixed_intrinsics,
+                      const std::string& source) {
+  if ((fixed_intrinsics & ~kAllIntrinsics) != 0) {
+    throw std::invalid_argument("ColmapFixings: fixed_intrinsics " +
+                                std::to_string(fixed_intrinsics) +
+                                " has bits beyond kAllIntrinsics (31)");
+  }
+  std::unordered_map<uint32_t, int64_t> problem_image_of_id;  // -1: not in the problem
+  for (const ColmapImage& im : model.images) problem_image_of_id.emplace(im.image_id, -1);
+  for (size_t i = 0; i < problem.image_index.size(); ++i) {
+    problem_image_of_id[model.images[problem.image_index[i]].image_id] = static_cast<int64_t>(i);
+  }
+  Fixings f;
+  f.intrinsics = fixed_intrinsics;
+  for (uint32_t id : fixed_image_ids) {
+    auto it = problem_image_of_id.find(id);
+    if (it == problem_image_of_id.end()) {
+      throw InputError(source, 0,
+                       "fixed image id " + std::to_string(id) +
+                           ": the COLMAP model has no image with that id");
+    }
+    if (it->second >= 0) f.images.push_back(it->second);
+  }
+  return f;
+}
+
 ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOptions& options,
                                 const std::string& source) {
   if (options.min_track_length < 1) {
     throw std::invalid_argument("ProblemFromColmap: min_track_length must be at least 1, not " +
                                 std::to_string(options.min_track_length));
-  }
-  if ((options.fixed_intrinsics & ~kAllIntrinsics) != 0) {
-    throw std::invalid_argument("ProblemFromColmap: fixed_intrinsics " +
-                                std::to_string(options.fixed_intrinsics) +
-                                " has bits beyond kAllIntrinsics (31)");
   }
   const int64_t num_images = static_cast<int64_t>(model.images.size());
   std::unordered_map<uint32_t, int64_t> image_of_id;
@@ -50,17 +72,6 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
   std::unordered_map<uint32_t, int64_t> camera_of_id;
   for (size_t c = 0; c < model.cameras.size(); ++c) {
     camera_of_id.emplace(model.cameras[c].camera_id, static_cast<int64_t>(c));
-  }
-
-  std::vector<uint8_t> image_fixed(num_images, 0);
-  for (uint32_t id : options.fixed_image_ids) {
-    auto it = image_of_id.find(id);
-    if (it == image_of_id.end()) {
-      throw InputError(source, 0,
-                       "fixed image id " + std::to_string(id) +
-                           ": the COLMAP model has no image with that id");
-    }
-    image_fixed[it->second] = 1;
   }
 
   // The adjusted points, and the images observing them.
@@ -151,14 +162,10 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
         IntrinsicsFromColmapCamera(model.cameras[out.group_camera[g]], source);
     double* x = bp.intrinsics(g);
     x[0] = in.f, x[1] = in.cx, x[2] = in.cy, x[3] = in.k1, x[4] = in.k2;
-    uint8_t free = kAllIntrinsics & ~options.fixed_intrinsics;
+    uint8_t free = kAllIntrinsics;
     if (!in.has_k1) free &= ~kIntrinsicK1;
     if (!in.has_k2) free &= ~kIntrinsicK2;
     bp.intrinsics_free[g] = free;
-  }
-  if (!options.fixed_image_ids.empty()) {
-    bp.fixed_cameras.resize(n);
-    for (int64_t i = 0; i < n; ++i) bp.fixed_cameras[i] = image_fixed[out.image_index[i]];
   }
 
   // Points and their observations, point-major.

@@ -15,7 +15,8 @@
 //                      order), or one group per problem image (group i =
 //                      camera i). Parameters the camera model lacks (k1 for
 //                      SIMPLE_PINHOLE and PINHOLE, k2 unless RADIAL) are 0 and
-//                      not free, and neither are options.fixed_intrinsics.
+//                      not free. What the user holds fixed is applied
+//                      afterwards, as Fixings (ColmapFixings).
 //   problem point k    a 3D point whose track has at least min_track_length
 //                      elements, in model order; its observations are its
 //                      track elements in track order, each observing the 2D
@@ -46,6 +47,7 @@
 #include <string>
 #include <vector>
 
+#include "dba/problem/fixings.h"
 #include "dba/io/colmap_model.h"
 #include "dba/problem/problem.h"
 
@@ -54,13 +56,6 @@ namespace dba {
 struct ColmapProblemOptions {
   // One intrinsic group per COLMAP camera used; false: one group per image.
   bool shared_intrinsics = true;
-  // IntrinsicBit mask held fixed in every group (on top of what the camera
-  // model lacks).
-  uint8_t fixed_intrinsics = 0;
-  // COLMAP image ids whose pose is held fixed. An id the model does not have
-  // is refused (dba::InputError naming it); an image that is not in the
-  // problem (no observation of an adjusted point) is simply not adjusted.
-  std::vector<uint32_t> fixed_image_ids;
   // Points with shorter tracks are not adjusted (kept unchanged on
   // write-back). At least 1.
   int min_track_length = 2;
@@ -73,17 +68,25 @@ struct ColmapProblem {
   std::vector<int64_t> group_camera;  // intrinsic group g -> index into model.cameras
 };
 
-// Builds the problem (see above). fixed_cameras is empty unless
-// fixed_image_ids is not; intrinsics_free always has one mask per group.
+// Builds the problem (see above). fixed_cameras is empty; intrinsics_free
+// always has one mask per group.
 // Throws dba::InputError naming `source` (e.g. the model's directory) for a
 // camera model other than SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL and RADIAL
 // used by a problem image (the message names the model and lists the
-// supported ones), PINHOLE with fx != fy, an unknown fixed image id, or an
-// image / 2D point reference the model does not hold;
-// std::invalid_argument for options out of range (min_track_length < 1,
-// fixed_intrinsics beyond kAllIntrinsics).
+// supported ones), PINHOLE with fx != fy, or an image / 2D point reference
+// the model does not hold; std::invalid_argument for min_track_length < 1.
 ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOptions& options,
                                 const std::string& source);
+
+// What is held fixed, in the problem's numbering (problem/fixings.h): the
+// images with these COLMAP ids, and `fixed_intrinsics` in every group. An id
+// the model does not have is refused (dba::InputError naming `source` and
+// the id); an image of the model that is not in the problem (no observation
+// of an adjusted point) is simply not adjusted. std::invalid_argument for
+// fixed_intrinsics beyond kAllIntrinsics.
+Fixings ColmapFixings(const ColmapModel& model, const ColmapProblem& problem,
+                      const std::vector<uint32_t>& fixed_image_ids, uint8_t fixed_intrinsics,
+                      const std::string& source);
 
 // Writes `adjusted` (the source problem after adjustment: same structure,
 // new parameter values) back into `model`, which must be the model `source`

@@ -266,8 +266,9 @@ TEST(ColmapProblemTest, SharedAndPerImageGroups) {
     ColmapProblemOptions options;
     const ColmapProblem shared = ProblemFromColmap(model, options, "m");
     options.shared_intrinsics = false;
-    options.fixed_intrinsics = kIntrinsicCx | kIntrinsicCy;
-    const ColmapProblem per_image = ProblemFromColmap(model, options, "m");
+    ColmapProblem per_image = ProblemFromColmap(model, options, "m");
+    ApplyFixings(ColmapFixings(model, per_image, {}, kIntrinsicCx | kIntrinsicCy, "m"),
+                 &per_image.problem);
     EXPECT_EQ(shared.problem.num_images(), c.images);
     EXPECT_EQ(shared.problem.num_groups(), c.shared_groups);
     EXPECT_EQ(per_image.problem.num_images(), c.images);
@@ -336,8 +337,10 @@ TEST(ColmapProblemTest, FixedImagesAndBadOptions) {
   const ColmapModel model = ReadColmapModel(SharedDir("statue_of_liberty"));
   ColmapProblemOptions options;
   const std::set<uint32_t> fixed = {model.images[0].image_id, model.images[17].image_id};
-  options.fixed_image_ids.assign(fixed.begin(), fixed.end());
-  const ColmapProblem cp = ProblemFromColmap(model, options, "m");
+  std::vector<uint32_t> fixed_ids(fixed.begin(), fixed.end());
+  ColmapProblem cp = ProblemFromColmap(model, options, "m");
+  EXPECT_TRUE(cp.problem.fixed_cameras.empty());
+  ApplyFixings(ColmapFixings(model, cp, fixed_ids, 0, "m"), &cp.problem);
   ASSERT_EQ(cp.problem.fixed_cameras.size(), 40u);
   int count = 0;
   for (int64_t i = 0; i < 40; ++i) {
@@ -350,16 +353,14 @@ TEST(ColmapProblemTest, FixedImagesAndBadOptions) {
   uint32_t unknown = 0;
   for (const ColmapImage& im : model.images) unknown = std::max(unknown, im.image_id);
   unknown += 1000;
-  options.fixed_image_ids.push_back(unknown);
-  ExpectInputError([&] { ProblemFromColmap(model, options, "/the/model"); },
+  fixed_ids.push_back(unknown);
+  ExpectInputError([&] { ColmapFixings(model, cp, fixed_ids, 0, "/the/model"); },
                    {"/the/model", "fixed image id " + std::to_string(unknown)});
 
   ColmapProblemOptions bad;
   bad.min_track_length = 0;
   EXPECT_THROW(ProblemFromColmap(model, bad, "m"), std::invalid_argument);
-  bad = {};
-  bad.fixed_intrinsics = 32;
-  EXPECT_THROW(ProblemFromColmap(model, bad, "m"), std::invalid_argument);
+  EXPECT_THROW(ColmapFixings(model, cp, {}, 32, "m"), std::invalid_argument);
 }
 
 TEST(ColmapProblemTest, PerImageWriteBackCreatesNewCameras) {
