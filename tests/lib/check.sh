@@ -21,3 +21,4 @@ finish() {
   test "$failures" -eq 0
 }
 source "$(dirname "${BASH_SOURCE[0]}")/need_shared.sh"
+source "$(dirname "${BASH_SOURCE[0]}")/json.sh"

@@ -3,8 +3,8 @@
 // a traffic category, so the communication cost of a solve is measured (paper
 // Table 5).
 //
-// Messages longer than 2^30 elements are split, so 64-bit sizes are safe with
-// MPI's int counts.
+// Messages longer than 2^30 bytes are split into chunks of at most 2^30, so
+// 64-bit sizes are safe with MPI's int counts (tests/mpi/large_message_check).
 //
 // Thread safety: call from one thread per rank (MPI_THREAD_FUNNELED).
 #pragma once
