@@ -135,6 +135,8 @@ void PrintSolveHelp(std::ostream& out) {
          "                             " << (d.linear_solver.rigid_coarse_basis ? "rigid" : "parameters") << ")\n"
          "  --pcg-tolerance X          PCG also stops at this relative residual (default\n"
          "                             " << d.linear_solver.pcg.relative_tolerance << ")\n"
+         "  --pcg-min-iterations N     PCG iterations before the --eta test is taken\n"
+         "                             (default " << d.linear_solver.pcg.min_iterations << ")\n"
          "  --pcg-max-iterations N     PCG iteration limit, a safety net (default " << d.linear_solver.pcg.max_iterations << ")\n"
          "  --partition equal|cameras  how points are split over MPI ranks: 'equal' (the\n"
          "                             paper's equal counts) or 'cameras' (grouped by the\n"
@@ -235,6 +237,9 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       if (o.lm.linear_solver.pcg.eta < 0) throw std::invalid_argument(a + ": must be >= 0");
     } else if (a == "--pcg-tolerance") {
       o.lm.linear_solver.pcg.relative_tolerance = ParseNumberArgument(a, value());
+    } else if (a == "--pcg-min-iterations") {
+      o.lm.linear_solver.pcg.min_iterations =
+          static_cast<int>(ParseIntegerArgument(a, value(), 0, 1000000000));
     } else if (a == "--pcg-max-iterations") {
       o.lm.linear_solver.pcg.max_iterations =
           static_cast<int>(ParseIntegerArgument(a, value(), 1, 1000000000));

@@ -166,7 +166,11 @@ DistributedSummary DistributedBundleAdjust(
     summary.per_iteration.push_back(delta);
     if (on_iteration) on_iteration(it);
   };
-  summary.ba.lm = SolveLevenbergMarquardt(options, num_observations, &problem->cameras,
+  // The other ranks on this node busy-wait in MPI while the main rank
+  // factorizes: BLAS threads would compete with them (sparse_cholesky.h).
+  LmOptions main_options = options;
+  if (comm->ranks_on_node() > 1) main_options.linear_solver.threaded_blas = false;
+  summary.ba.lm = SolveLevenbergMarquardt(main_options, num_observations, &problem->cameras,
                                           &workers, log);
   summary.rank_reports = workers.Finish(collect_points ? &problem->points : nullptr);
   summary.traffic = comm->stats();

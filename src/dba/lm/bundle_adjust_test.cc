@@ -68,7 +68,9 @@ TEST(BundleAdjust, SharedIntrinsicsAreRecoveredWithinTheNoise) {
           << "group " << g << " parameter " << d << ": " << got[d] << " vs " << truth[d];
       // The focal length started far outside that (the principal point is
       // weakly determined in this narrow-field geometry: σ of several px).
-      if (d == 0) EXPECT_GT(std::abs(start.problem.intrinsics(g)[d] - truth[d]), 4.0 * sd) << d;
+      if (d == 0) {
+        EXPECT_GT(std::abs(start.problem.intrinsics(g)[d] - truth[d]), 4.0 * sd) << d;
+      }
     }
     EXPECT_NEAR(got[0], truth[0], 0.005 * truth[0]) << "f, group " << g;
   }

@@ -99,7 +99,7 @@ PcgSummary SolvePcg(const SymmetricMultiplier& S, const Preconditioner& M,
         yr += y[i] * r[i];
       }
       const double q = -0.5 * (yb + yr);
-      if (q < 0.0 && k * (q - q_previous) / q < options.eta) {
+      if (q < 0.0 && k >= options.min_iterations && k * (q - q_previous) / q < options.eta) {
         summary.stop = PcgStop::kQuadraticModel;
         break;
       }

@@ -35,6 +35,11 @@ struct PcgOptions {
   double eta = 0.1;
   // Stop when ‖b - S y‖ ≤ relative_tolerance · ‖b‖.
   double relative_tolerance = 1e-10;
+  // The Nash-Sofer test is not taken before this many iterations: with a
+  // strong preconditioner the first few can lower Q by most of what the
+  // solve will and then stall briefly, and a step cut there is little better
+  // than a preconditioned gradient step (see SolvePcg).
+  int min_iterations = 0;
   // Safety net: a solve that reaches it is reported as such.
   int max_iterations = 500;
   // r = b - S y recomputed every this many iterations (one extra product).

@@ -126,6 +126,27 @@ TEST(Pcg, NashSoferStopsWhenTheModelStopsImproving) {
   }
 }
 
+TEST(Pcg, NashSoferWaitsForTheMinimumIterations) {
+  const BsmcMatrix S = SpdMatrix(5);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(S.num_rows(), -1.0, 2.0);
+  const SymmetricMultiplier multiplier(S, 1);
+  const BlockJacobiPreconditioner M = Jacobi(S, 1);
+  PcgScratch scratch;
+  PcgOptions options;
+  options.eta = 1e9;  // the test passes at the first iteration that lowers Q
+  options.relative_tolerance = 0.0;
+  Eigen::VectorXd y(S.num_rows());
+  const PcgSummary first = SolvePcg(multiplier, M, b.data(), y.data(), options, &scratch);
+  ASSERT_EQ(first.stop, PcgStop::kQuadraticModel);
+  ASSERT_EQ(first.iterations, 1);
+  for (int min : {2, 7}) {
+    options.min_iterations = min;
+    const PcgSummary s = SolvePcg(multiplier, M, b.data(), y.data(), options, &scratch);
+    EXPECT_EQ(s.stop, PcgStop::kQuadraticModel) << "min " << min;
+    EXPECT_EQ(s.iterations, min) << "min " << min;
+  }
+}
+
 TEST(BlockJacobi, AppliesTheInverseOfEachDiagonalBlock) {
   const BsmcMatrix S = SpdMatrix(6);
   const Eigen::MatrixXd dense = testing::DenseFromBsmc(S);

@@ -138,7 +138,7 @@ std::unique_ptr<RcsSolver> MakeRcsSolver(const BsmcMatrix& S, const LinearSolver
         if (choice.sparse_bytes <= budget && choice.estimated_sparse_seconds < best) {
           // The estimate picked it: the scalar analysis gives the exact
           // factor size, checked against the budget again.
-          auto sparse = std::make_unique<SparseCholeskySolver>(S, options.num_threads);
+          auto sparse = std::make_unique<SparseCholeskySolver>(S, options.threaded_blas ? options.num_threads : 1);
           choice.sparse_bytes = static_cast<int64_t>(sparse->factor_values() * 8);
           if (choice.sparse_bytes <= budget) {
             choice.type = LinearSolverType::kSparse;
@@ -158,7 +158,7 @@ std::unique_ptr<RcsSolver> MakeRcsSolver(const BsmcMatrix& S, const LinearSolver
   switch (choice.type) {
     case LinearSolverType::kDense: return std::make_unique<DenseCholeskySolver>(S);
     case LinearSolverType::kSparse:
-      return std::make_unique<SparseCholeskySolver>(S, options.num_threads);
+      return std::make_unique<SparseCholeskySolver>(S, options.threaded_blas ? options.num_threads : 1);
     case LinearSolverType::kPcg:
     case LinearSolverType::kAuto: {
       LinearSolverOptions pcg = options;

@@ -69,6 +69,10 @@ struct LinearSolverOptions {
   // against the rest of an LM iteration); 0: unknown.
   int64_t num_observations = 0;
   int num_threads = 1;
+  // false: CHOLMOD on one BLAS thread whatever the factor's size, for a
+  // process that shares its node with others that busy-wait (MPI ranks);
+  // see sparse_cholesky.h.
+  bool threaded_blas = true;
 };
 
 struct LinearSolveSummary {

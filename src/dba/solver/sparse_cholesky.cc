@@ -90,6 +90,10 @@ void FillUpperValues(const BsmcMatrix& S, const UpperPattern& p, double* values)
 
 namespace {
 
+// Below this many flops per factorization CHOLMOD runs on one BLAS thread
+// (bench/README.md, "Linear solvers": BLAS threads).
+constexpr double kThreadedBlasMinFlops = 1e10;
+
 struct Cholmod {
   cholmod_common c;
   Cholmod() {
@@ -210,6 +214,9 @@ SparseCholeskySolver::SparseCholeskySolver(const BsmcMatrix& S, int blas_threads
   }
   m.B = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &m.cm.c);
   if (m.B == nullptr) throw std::runtime_error("sparse Cholesky: out of memory");
+  // A small factor is many short BLAS calls, each a barrier for BLAS's
+  // threads: one thread is as fast there, and on a loaded machine far faster.
+  if (m.cm.c.fl < kThreadedBlasMinFlops) blas_threads_ = 1;
 }
 
 SparseCholeskySolver::~SparseCholeskySolver() = default;

@@ -32,7 +32,13 @@ SparseFactorEstimate EstimateSparseFactor(const BsmcMatrix& S);
 class SparseCholeskySolver : public CholeskySolver {
  public:
   // `blas_threads`: the BLAS threads of CHOLMOD's factorization and solves
-  // (common/blas_threads.h); 1 for a small system factorized often.
+  // (common/blas_threads.h), used only for a factor of at least 1e10 flops.
+  // OpenBLAS's threads meet at a spinning barrier after every call, so a
+  // loaded core stalls them all: with two busy processes beside it, 2 BLAS
+  // threads took 13.3 s instead of 0.9 s for 8 factorizations of 6.4e8
+  // flops, and 43.7 s instead of 5.0 s for 2 of 4.1e10. On a quiet machine
+  // they gain 8% at 6.4e8 flops, 25% at 6.8e9 and 35% at 4.1e10
+  // (bench/README.md, "BLAS threads").
   explicit SparseCholeskySolver(const BsmcMatrix& S, int blas_threads = 1);
   ~SparseCholeskySolver() override;
   bool Factorize(const BsmcMatrix& S) override;
