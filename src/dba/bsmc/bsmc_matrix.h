@@ -18,6 +18,7 @@
 // blocks from different threads is safe, writing the same block is not.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -65,6 +66,27 @@ class BsmcMatrix {
   // Paper's second operation: position (row, col) -> stored block id, or -1
   // if the block is not stored. Requires row <= col.
   int64_t FindBlock(int32_t row, int32_t col) const;
+  // FindBlock searching forward from `from`, a stored block of `row` whose
+  // column is at most `col`: a galloping search (1, 2, 4, ... blocks ahead,
+  // then a binary search inside the last step), log2 of the distance instead
+  // of the row's length. For the columns of one row visited in increasing
+  // order (a point's cameras sorted), each search starting at the last.
+  int64_t SeekBlock(int64_t from, int32_t row, int32_t col) const {
+    const int32_t* c = block_col_.data();
+    const int64_t end = row_begin_[row + 1];
+    if (c[from] >= col) return c[from] == col ? from : -1;
+    int64_t low = from, step = 1;  // c[low] < col
+    while (low + step < end && c[low + step] < col) {
+      low += step;
+      step *= 2;
+    }
+    int64_t high = std::min(low + step, end);  // c[high] >= col, or the end
+    while (high - low > 1) {
+      const int64_t mid = low + (high - low) / 2;
+      (c[mid] < col ? low : high) = mid;
+    }
+    return high < end && c[high] == col ? high : -1;
+  }
   // Paper's first operation: stored block id -> block row (binary search over
   // row_begin); the block column is block_col(b).
   int32_t BlockRow(int64_t b) const;

@@ -35,6 +35,24 @@ TEST(BsmcMatrix, FindBlockFindsEveryStoredBlockAndNoOther) {
   }
 }
 
+TEST(BsmcMatrix, SeekBlockFromAnyEarlierBlockAgreesWithFindBlock) {
+  for (uint32_t seed = 1; seed <= 5; ++seed) {
+    testing::RandomBsmcOptions o;
+    o.block_rows = 40;
+    o.fill = seed * 0.2;  // sparse rows to full ones
+    o.seed = seed;
+    const BsmcMatrix m = testing::MakeRandomBsmc(o);
+    for (int32_t i = 0; i < m.num_block_rows(); ++i) {
+      for (int64_t from = m.row_begin(i); from < m.row_end(i); ++from) {
+        for (int32_t j = m.block_col(from); j < m.num_block_rows(); ++j) {
+          ASSERT_EQ(m.SeekBlock(from, i, j), m.FindBlock(i, j))
+              << "seed " << seed << ", row " << i << ", from block " << from << ", column " << j;
+        }
+      }
+    }
+  }
+}
+
 TEST(BsmcMatrix, ValuesAreContiguousBlocksOfTheRightSize) {
   testing::RandomBsmcOptions o;
   o.seed = 7;

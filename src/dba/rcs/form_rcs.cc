@@ -120,27 +120,60 @@ struct RcsTarget {
 // both -T_a W_bᵀ and -T_b W_aᵀ on its diagonal block, as the dense product
 // does. Intrinsic rows come after camera rows, so every block written is in
 // the upper triangle.
+// Per-thread scratch of AddPointToRcs.
 template <class Model>
-void AddPointToRcs(const PointSystem<Model>& p,
-                   std::vector<GroupSums<PointSystem<Model>::kI>>& groups, const BsmcMatrix& S,
+struct AddScratch {
+  std::vector<GroupSums<PointSystem<Model>::kI>> groups;
+  std::vector<int> order;  // the point's observations by camera row
+};
+
+// The observations of p in increasing camera row (fixed cameras, row -1,
+// first): an insertion sort, linear when the input lists a point's
+// observations by camera already (BAL files do).
+template <class Model>
+void SortByCameraRow(const PointSystem<Model>& p, std::vector<int>* order) {
+  order->resize(p.num_obs);
+  int* o = order->data();
+  for (int a = 0; a < p.num_obs; ++a) {
+    const int32_t row = p.camera_row[a];
+    int x = a;
+    for (; x > 0 && p.camera_row[o[x - 1]] > row; --x) o[x] = o[x - 1];
+    o[x] = a;
+  }
+}
+
+template <class Model>
+void AddPointToRcs(const PointSystem<Model>& p, AddScratch<Model>& scratch, const BsmcMatrix& S,
                    const RcsTarget& t) {
   constexpr int kC = Model::kCamera;
   constexpr int kI = PointSystem<Model>::kI;
-  auto block_values = [&](int32_t row, int32_t col) {
-    const int64_t block = S.FindBlock(row, col);
+  auto& groups = scratch.groups;
+  // The blocks of one row are visited in increasing column (cameras sorted,
+  // then the intrinsic rows, which come after every camera row, sorted):
+  // each is sought forward from the last instead of searched for anew.
+  auto seek = [&](int64_t* position, int32_t row, int32_t col) {
+    const int64_t block = S.SeekBlock(*position, row, col);
     DBA_DCHECK(block >= 0);  // the pattern (rcs_pattern) holds every pair of a point's rows
+    *position = block;
     return t.values + S.value_offset(block);
   };
   if constexpr (Model::kIntrinsics > 0) SumByGroup(p, &groups);
-  for (int a = 0; a < p.num_obs; ++a) {
+  SortByCameraRow(p, &scratch.order);
+  const int* order = scratch.order.data();
+  int same_row_begin = 0;  // first of the sorted observations with this row
+  for (int x = 0; x < p.num_obs; ++x) {
+    const int a = order[x];
     const int32_t ca = p.camera_row[a];
     if (ca < 0) continue;
+    if (p.camera_row[order[same_row_begin]] != ca) same_row_begin = x;
     const Eigen::Matrix<double, kC, 1> g_c = p.J_c[a].transpose() * p.r[a];
     t.Lock(ca);
-    for (int b = 0; b < p.num_obs; ++b) {
-      const int32_t cb = p.camera_row[b];
-      if (cb < ca) continue;  // also skips -1
-      double* block = block_values(ca, cb);
+    int64_t position = S.diagonal_block(ca);
+    // Every b with cb >= ca; a camera seeing the point twice gets both
+    // -T_a W_bᵀ and -T_b W_aᵀ on its diagonal block.
+    for (int y = same_row_begin; y < p.num_obs; ++y) {
+      const int b = order[y];
+      double* block = seek(&position, ca, p.camera_row[b]);
       SubtractRank3<kC>(block, p.T_c[a].data(), p.W_c[b].data());
       if (b == a) AddGram2<kC>(block, p.J_c[a].data());
     }
@@ -148,7 +181,7 @@ void AddPointToRcs(const PointSystem<Model>& p,
       for (const auto& gs : groups) {
         Eigen::Matrix<double, kC, kI> m = -p.T_c[a].lazyProduct(gs.W.transpose());
         if (gs.row == p.intrinsics_row[a]) m.noalias() += p.J_c[a].transpose() * p.J_i[a];
-        AddLeftCols<kC>(block_values(ca, gs.row), S.block_size(gs.row), m);
+        AddLeftCols<kC>(seek(&position, ca, gs.row), S.block_size(gs.row), m);
       }
     }
     const int64_t o = S.scalar_offset(ca);
@@ -165,12 +198,13 @@ void AddPointToRcs(const PointSystem<Model>& p,
       const Eigen::Matrix<double, kI, 3> T = groups[x].W * p.V_inv;
       const Eigen::Matrix<double, kI, 1> rhs = -groups[x].g + T * p.g_p;
       t.Lock(gx);
+      int64_t position = S.diagonal_block(gx);
       for (size_t y = x; y < groups.size(); ++y) {
         const int32_t gy = groups[y].row;
         Eigen::Matrix<double, kI, kI> m = -T.lazyProduct(groups[y].W.transpose());
         if (y == x) m += groups[x].JtJ;
         Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-            block_values(gx, gy), nx, S.block_size(gy)) +=
+            seek(&position, gx, gy), nx, S.block_size(gy)) +=
             m.topLeftCorner(nx, S.block_size(gy));
       }
       const int64_t o = S.scalar_offset(gx);
@@ -212,7 +246,7 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
     reduction(max : max_g_p)
   {
     PointSystem<Model> p;
-    std::vector<GroupSums<PointSystem<Model>::kI>> groups;
+    AddScratch<Model> scratch;
     const int thread = omp_get_thread_num();
     RcsTarget target{sys->S.values().data(), sys->b.data(), sys->camera_side_gradient.data(),
                      sys->camera_side_jtj_diagonal.data(), private_copies ? nullptr : &locks};
@@ -233,7 +267,7 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
       if (thread == 0 && (k & 4095) == 0) progress.Report(static_cast<double>(k) / first_share);
       LinearizePoint(problem, sys->layout, loss, k, &p);
       EliminatePoint(lambda, bounds, &p);
-      AddPointToRcs(p, groups, sys->S, target);
+      AddPointToRcs(p, scratch, sys->S, target);
       cost += p.cost;
       squared += p.residuals.squared;
       inlier_squared += p.residuals.inlier_squared;
