@@ -55,7 +55,6 @@ refuse 2 "--fix-intrinsics" "$bal" --fix-intrinsics f
 refuse 2 "expected a .txt, .bz2 or .dba file" "$bal" -o "$tmp/out.xyz"
 refuse 2 "BAL text cannot hold shared intrinsics" "$tmp/photo.dba" -o "$tmp/photo_out.txt"
 refuse 2 "--truth" "$bal" --truth "$root/../shared/data/bal/problem-21-11315-pre.txt.bz2"
-refuse 2 "--reject-outliers: COLMAP output" "$colmap" -o "$tmp/colmap_out" --reject-outliers 4
 refuse 2 "not a COLMAP model directory" "$colmap" -o "$tmp/x.dba" --colmap-format text
 # Input and environment (exit 1).
 refuse 1 "$tmp/none.txt" "$tmp/none.txt"

@@ -65,6 +65,34 @@ check "PLY holds the adjusted points and their colours" \
 "$dba" solve "$tmp/colmap_out" -q --max-iterations 0 --report "$tmp/colmap_reread.json" >/dev/null 2>&1
 check "COLMAP output re-reads at the final cost" json "$tmp/colmap_reread.json" \
   "near(d['initial_cost'], $(json_value "$tmp/colmap.json" final_cost), 1e-12)"
+# Outlier rejection with COLMAP output: what was dropped leaves the model
+# (track elements, 2D-3D links, points), so the written model re-reads with
+# exactly the observations left and at the final cost; the PLY holds the
+# points left.
+"$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q --reject-outliers 0.5 -o "$tmp/rejected" \
+  --colmap-format text --ply "$tmp/rejected.ply" --report "$tmp/rejected.json" >"$tmp/out" 2>&1
+check "COLMAP output after outlier rejection exits 0" test $? -eq 0
+"$dba" solve "$tmp/rejected" -q --max-iterations 0 --report "$tmp/rejected_reread.json" >/dev/null 2>&1
+check "rejection dropped observations and points" json "$tmp/rejected.json" \
+  'd["outlier_rejection"]["rounds"][-1]["observations_left"] < d["num_observations"]
+   and d["outlier_rejection"]["rounds"][-1]["points_left"] < d["num_points"]'
+left=$(python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))["outlier_rejection"]["rounds"][-1]
+print(r["observations_left"], r["points_left"])' "$tmp/rejected.json")
+check "the written model holds exactly the observations and points left" \
+  json "$tmp/rejected_reread.json" "[d['num_observations'], d['num_points']] == [${left// /, }]"
+check "the written model re-reads at the final cost" json "$tmp/rejected_reread.json" \
+  "near(d['initial_cost'], $(json_value "$tmp/rejected.json" final_cost), 1e-9)"
+check "no 2D point links a removed 3D point" python3 - "$tmp/rejected" <<'PY'
+import sys
+d = sys.argv[1]
+ids = {int(l.split()[0]) for l in open(f"{d}/points3D.txt") if l.strip() and not l.startswith("#")}
+lines = [l for l in open(f"{d}/images.txt") if not l.startswith("#")]
+linked = [int(v) for l in lines[1::2] for v in l.split()[2::3]]
+sys.exit(0 if all(i == -1 or i in ids for i in linked) and sum(i != -1 for i in linked) > 0 else 1)
+PY
+check "PLY after rejection holds the points left" \
+  ply_matches_points3d "$tmp/rejected.ply" "$tmp/rejected/points3D.txt"
+
 # Fixed intrinsics and images are not unknowns.
 "$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q --fix-intrinsics all --fix-images 1 \
   >"$tmp/out" 2>&1

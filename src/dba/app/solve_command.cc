@@ -105,8 +105,8 @@ void PrintSolveHelp(std::ostream& out) {
          "  --reject-outliers PX       after the solve, drop observations whose reprojection\n"
          "                             error exceeds PX pixels and points left with fewer than\n"
          "                             2, then solve again; until a round drops under 0.05%\n"
-         "                             of the observations, at most 5 rounds (default: off;\n"
-         "                             one process, BAL or .dba output)\n"
+         "                             of the observations, at most 5 rounds; the outputs\n"
+         "                             leave what was dropped out (default: off; one process)\n"
          "  --max-iterations N         LM iteration limit (default " << d.max_iterations << ")\n"
          "  --function-tolerance X     stop when a step lowers the cost by less than\n"
          "                             this fraction (default " << d.function_tolerance << ")\n"
@@ -268,11 +268,6 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
     }
   }
   if (o.input.empty()) throw std::invalid_argument("missing INPUT (see dba solve --help)");
-  if (o.reject_outliers_px > 0 && !o.output.empty() && IsColmapInput(o.input)) {
-    throw std::invalid_argument(
-        "--reject-outliers: COLMAP output is not supported yet (the 2D-3D links of the dropped "
-        "observations would have to be removed); write BAL or .dba output instead");
-  }
   if (o.colmap_format.has_value() && o.output.empty()) {
     throw std::invalid_argument("--colmap-format: no -o output to write");
   }
@@ -558,16 +553,34 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   if (colmap_in && (!options.output.empty() || !options.ply_path.empty())) {
     colmap = ReadColmapInput(options.input, options.unknowns);
   }
+  // After outlier rejection: what is left, in the loaded numbering.
+  std::optional<KeptObservations> kept;
+  if (options.reject_outliers_px > 0) {
+    kept.emplace();
+    kept->observation.assign(report.num_observations, 0);
+    for (int64_t o : original.observation) kept->observation[o] = 1;
+    kept->point.assign(report.num_points, 0);
+    for (int64_t k : original.point) kept->point[k] = 1;
+  }
   if (!options.ply_path.empty()) {
-    WritePointCloudPly(options.ply_path, problem.points,
-                       colmap ? PointColours(*colmap) : std::vector<uint8_t>{});
+    std::vector<uint8_t> rgb;
+    if (colmap) {
+      rgb = PointColours(*colmap);
+      if (kept) {  // the colours of the points left
+        std::vector<uint8_t> left;
+        left.reserve(3 * original.point.size());
+        for (int64_t k : original.point) left.insert(left.end(), &rgb[3 * k], &rgb[3 * k + 3]);
+        rgb.swap(left);
+      }
+    }
+    WritePointCloudPly(options.ply_path, problem.points, rgb);
   }
   if (!options.output.empty()) {
     const OutputKind kind =
         CheckOutput(options.input, options.output, problem.model, options.colmap_format);
     if (kind == OutputKind::kColmap) {
-      WriteColmapOutput(problem.cameras, problem.points, options.output, options.colmap_format,
-                        &*colmap);
+      WriteColmapOutput(problem.cameras, kept ? all_points : problem.points, options.output,
+                        options.colmap_format, &*colmap, kept ? &*kept : nullptr);
     } else if (comm->size() > 1 && ranks_read_file && kind == OutputKind::kBinary) {
       // Binary to binary: stream the observations from the input; the camera
       // side (values and what was held fixed) is the solve's.

@@ -170,7 +170,7 @@ ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unkn
 
 void WriteColmapOutput(const std::vector<double>& cameras, const std::vector<double>& points,
                        const std::string& output, std::optional<ColmapFormat> format,
-                       ColmapInput* input) {
+                       ColmapInput* input, const KeptObservations* kept) {
   Problem& adjusted = input->source.problem;
   if (adjusted.cameras.size() != cameras.size() || adjusted.points.size() != points.size()) {
     throw std::runtime_error("the COLMAP model changed during the solve");
@@ -178,6 +178,10 @@ void WriteColmapOutput(const std::vector<double>& cameras, const std::vector<dou
   adjusted.cameras = cameras;
   adjusted.points = points;
   UpdateColmapModel(input->source, adjusted, &input->model);
+  if (kept != nullptr) {
+    RemoveDroppedObservations(input->source, adjusted, kept->observation, kept->point,
+                              &input->model);
+  }
   if (format.value_or(input->format) == ColmapFormat::kText) {
     WriteColmapText(input->model, output);
   } else {

@@ -77,9 +77,16 @@ ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unkn
 // the directory `output`, as text or binary (default: the input's). Every
 // image's camera, intrinsics and points are updated as UpdateColmapModel
 // says.
+// With `kept` (after outlier rejection: a flag per observation and per point
+// of the problem as loaded), what was dropped leaves the model too
+// (RemoveDroppedObservations); `points` are then in the loaded numbering.
+struct KeptObservations {
+  std::vector<uint8_t> observation;
+  std::vector<uint8_t> point;
+};
 void WriteColmapOutput(const std::vector<double>& cameras, const std::vector<double>& points,
                        const std::string& output, std::optional<ColmapFormat> format,
-                       ColmapInput* input);
+                       ColmapInput* input, const KeptObservations* kept = nullptr);
 
 // The colours of the problem's points (3 per point).
 std::vector<uint8_t> PointColours(const ColmapInput& input);

@@ -295,4 +295,65 @@ void UpdateColmapModel(const ColmapProblem& source, const Problem& adjusted,
   }
 }
 
+void RemoveDroppedObservations(const ColmapProblem& source, const Problem& adjusted,
+                               const std::vector<uint8_t>& observation_kept,
+                               const std::vector<uint8_t>& point_kept, ColmapModel* model) {
+  const Problem& sp = source.problem;
+  auto fail = [](const std::string& what) {
+    throw std::invalid_argument("RemoveDroppedObservations: " + what);
+  };
+  if (static_cast<int64_t>(observation_kept.size()) != sp.num_observations() ||
+      static_cast<int64_t>(point_kept.size()) != sp.num_points()) {
+    fail("the kept flags do not match the problem's observations and points");
+  }
+  std::unordered_map<uint32_t, size_t> image_of_id;
+  for (size_t j = 0; j < model->images.size(); ++j) image_of_id[model->images[j].image_id] = j;
+  auto unlink = [&](const ColmapTrackElement& e) {
+    auto it = image_of_id.find(e.image_id);
+    if (it == image_of_id.end() || e.point2D_idx >= model->images[it->second].points2D.size()) {
+      fail("a track element is not in the model");
+    }
+    model->images[it->second].points2D[e.point2D_idx].point3D_id = kColmapNoPoint3D;
+  };
+  std::vector<uint8_t> remove(model->points3D.size(), 0);
+  for (int64_t k = 0; k < sp.num_points(); ++k) {
+    const int64_t m = source.point_index[k];
+    if (m < 0 || m >= static_cast<int64_t>(model->points3D.size())) fail("point index out of range");
+    ColmapPoint3D& p = model->points3D[m];
+    const int64_t first = sp.point_offsets[k];
+    if (static_cast<int64_t>(p.track.size()) != sp.point_offsets[k + 1] - first) {
+      fail("a track's length differs from its point's observations");
+    }
+    if (adjusted.num_observations() != sp.num_observations()) fail("adjusted is not source's problem");
+    if (!point_kept[k]) {
+      for (const ColmapTrackElement& e : p.track) unlink(e);
+      remove[m] = 1;
+      continue;
+    }
+    size_t kept = 0;
+    double sum = 0;
+    for (size_t j = 0; j < p.track.size(); ++j) {
+      const int64_t o = first + static_cast<int64_t>(j);
+      if (observation_kept[o]) {
+        p.track[kept++] = p.track[j];
+        sum += ObservationResidual(adjusted, adjusted.cameras.data(), adjusted.obs_camera[o],
+                                   adjusted.point(k), adjusted.pixel(o))
+                   .norm();
+      } else {
+        unlink(p.track[j]);
+      }
+    }
+    p.track.resize(kept);
+    if (kept > 0) p.error = sum / static_cast<double>(kept);
+  }
+  size_t kept_points = 0;
+  for (size_t m = 0; m < model->points3D.size(); ++m) {
+    if (remove[m]) continue;
+    // Not onto itself: a vector moved onto itself is left empty.
+    if (kept_points != m) model->points3D[kept_points] = std::move(model->points3D[m]);
+    ++kept_points;
+  }
+  model->points3D.resize(kept_points);
+}
+
 }  // namespace dba

@@ -99,4 +99,21 @@ Fixings ColmapFixings(const ColmapModel& model, const ColmapProblem& problem,
 void UpdateColmapModel(const ColmapProblem& source, const Problem& adjusted,
                        ColmapModel* model);
 
+// Removes from `model` what outlier rejection dropped from `source`'s
+// problem: `observation_kept` has a flag per observation of source.problem
+// (in its order, which is the order of each point's track) and
+// `point_kept` one per problem point. A dropped observation loses its track
+// element and its 2D point's link to the 3D point; a dropped point is
+// removed from points3D with every link to it; a kept point's mean
+// reprojection error is taken again over its kept observations (`adjusted`:
+// the problem as passed to UpdateColmapModel). Points outside the problem
+// (shorter tracks than min_track_length) are untouched. Call after
+// UpdateColmapModel: the removal shifts points3D, so source.point_index no
+// longer applies to `model` afterwards. std::invalid_argument when the
+// flags do not match source.problem's counts or `model` does not match the
+// indices.
+void RemoveDroppedObservations(const ColmapProblem& source, const Problem& adjusted,
+                               const std::vector<uint8_t>& observation_kept,
+                               const std::vector<uint8_t>& point_kept, ColmapModel* model);
+
 }  // namespace dba

@@ -205,6 +205,38 @@ TEST(ColmapProblemTest, ReprojectionErrorAtColmapsSolutionIsSmall) {
   }
 }
 
+TEST(ColmapProblemTest, DroppedObservationsAndPointsLeaveTheModel) {
+  ColmapModel model = SmallModel();
+  const ColmapProblem cp = ProblemFromColmap(model, {}, "small");
+  // Problem points: 100 (track (3,0) (5,1) (9,0)), 101 ((3,2) (5,0)); 102
+  // has a track of 1 and is not in the problem.
+  ASSERT_EQ(cp.problem.num_points(), 2);
+  ASSERT_EQ(cp.problem.num_observations(), 5);
+  UpdateColmapModel(cp, cp.problem, &model);
+  // Drop 100's second observation and point 101 with both of its.
+  RemoveDroppedObservations(cp, cp.problem, {1, 0, 1, 0, 0}, {1, 0}, &model);
+  ASSERT_EQ(model.points3D.size(), 2u);
+  EXPECT_EQ(model.points3D[0].point3D_id, 100);
+  EXPECT_EQ(model.points3D[0].track,
+            (std::vector<ColmapTrackElement>{{3, 0}, {9, 0}}));
+  EXPECT_EQ(model.points3D[1].point3D_id, 102);  // untouched
+  EXPECT_EQ(model.points3D[1].track, (std::vector<ColmapTrackElement>{{11, 0}}));
+  auto image = [&](uint32_t id) -> const ColmapImage& {
+    for (const ColmapImage& im : model.images) {
+      if (im.image_id == id) return im;
+    }
+    throw std::logic_error("no image");
+  };
+  EXPECT_EQ(image(3).points2D[0].point3D_id, 100);
+  EXPECT_EQ(image(3).points2D[2].point3D_id, kColmapNoPoint3D);  // was 101
+  EXPECT_EQ(image(5).points2D[0].point3D_id, kColmapNoPoint3D);  // was 101
+  EXPECT_EQ(image(5).points2D[1].point3D_id, kColmapNoPoint3D);  // the dropped observation
+  EXPECT_EQ(image(9).points2D[0].point3D_id, 100);
+  EXPECT_NO_THROW(ValidateColmapModel(model, "after", ".txt"));
+  EXPECT_THROW(RemoveDroppedObservations(cp, cp.problem, {1, 1}, {1, 1}, &model),
+               std::invalid_argument);
+}
+
 TEST(ColmapProblemTest, ObservationsAreTheTracksOfKeptPoints) {
   for (const char* folder : kModels) {
     SCOPED_TRACE(folder);
