@@ -12,7 +12,8 @@ threads, max_iterations, function_tolerance, gradient_tolerance,
 parameter_tolerance, initial_lambda, linear_solver, eta, preconditioner,
 coarse_size, coarse_basis, pcg_tolerance, pcg_max_iterations, loss,
 loss_scale, fix_images, fix_intrinsics, quiet; for solve on a file also
-output, report, ply, truth, intrinsics, colmap_format, reject_outliers.
+output, report, ply, truth, intrinsics, colmap_format, reject_outliers,
+reject_keep_loss.
 verbose=True prints the per-iteration log and summary to the process's
 stdout while solving; otherwise they are returned in Result.log.
 
@@ -133,7 +134,7 @@ def _arguments(options):
     for name, value in options.items():
         flag = "--" + name.replace("_", "-")
         if isinstance(value, bool):
-            if name != "quiet":
+            if name not in ("quiet", "reject_keep_loss"):
                 raise ValueError(f"{name}: expected a value, not {value!r}")
             if value:
                 args.append(flag)

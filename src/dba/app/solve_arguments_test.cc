@@ -61,7 +61,7 @@ TEST(SolveArguments, AcceptedOptionsLandInTheOptions) {
   bool help = false;
   const SolveCommandOptions o = ParseSolveArguments(
       {"in.dba", "-o", "out.dba", "--report", "r.json", "-t", "3", "--linear-solver", "sparse",
-       "--loss", "huber", "--loss-scale", "2.5", "--reject-outliers", "4", "--eta", "0.2",
+       "--loss", "huber", "--loss-scale", "2.5", "--reject-outliers", "4", "--reject-keep-loss", "--eta", "0.2",
        "--coarse-basis", "parameters", "-q"},
       &help);
   EXPECT_FALSE(help);
@@ -73,6 +73,7 @@ TEST(SolveArguments, AcceptedOptionsLandInTheOptions) {
   EXPECT_EQ(o.lm.loss.type, LossType::kHuber);
   EXPECT_EQ(o.lm.loss.scale, 2.5);
   EXPECT_EQ(o.reject_outliers_px, 4.0);
+  EXPECT_TRUE(o.reject_keep_loss);
   EXPECT_EQ(o.lm.linear_solver.pcg.eta, 0.2);
   EXPECT_FALSE(o.lm.linear_solver.rigid_coarse_basis);
   EXPECT_TRUE(o.quiet);

@@ -106,7 +106,10 @@ void PrintSolveHelp(std::ostream& out) {
          "                             error exceeds PX pixels and points left with fewer than\n"
          "                             2, then solve again; until a round drops under 0.05%\n"
          "                             of the observations, at most 5 rounds; the outputs\n"
-         "                             leave what was dropped out (default: off; one process)\n"
+         "                             leave what was dropped out (default: off; one process).\n"
+         "                             The solves after a round use the squared loss, the\n"
+         "                             efficient estimator once the outliers are gone\n"
+         "  --reject-keep-loss         keep --loss in the solves after a rejection round\n"
          "  --max-iterations N         LM iteration limit (default " << d.max_iterations << ")\n"
          "  --function-tolerance X     stop when a step lowers the cost by less than\n"
          "                             this fraction (default " << d.function_tolerance << ")\n"
@@ -223,6 +226,8 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
     } else if (a == "--loss-scale") {
       o.lm.loss.scale = ParseNumberArgument(a, value());
       if (!(o.lm.loss.scale > 0.0)) throw std::invalid_argument(a + ": must be > 0 (pixels)");
+    } else if (a == "--reject-keep-loss") {
+      o.reject_keep_loss = true;
     } else if (a == "--reject-outliers") {
       o.reject_outliers_px = ParseNumberArgument(a, value());
       if (!(o.reject_outliers_px > 0.0)) throw std::invalid_argument(a + ": must be > 0 (pixels)");
@@ -358,7 +363,7 @@ void ScatterPoints(const Problem& problem, const OriginalIndices& original,
 
 // Rounds of --reject-outliers after the first solve: drop, solve again, until
 // a round changes fewer than 0.05% of the observations or after 5 rounds.
-void RejectOutlierRounds(double max_error_px, const LmOptions& lm,
+void RejectOutlierRounds(double max_error_px, const LmOptions& resolve,
                          const std::function<void(const IterationSummary&)>& log,
                          Problem* problem, OriginalIndices* original,
                          std::vector<double>* all_points, SolveReport* report, std::ostream& out) {
@@ -368,7 +373,7 @@ void RejectOutlierRounds(double max_error_px, const LmOptions& lm,
   for (int r = 1; r <= kMaxRounds; ++r) {
     ScatterPoints(*problem, *original, all_points);
     const int64_t before = problem->num_observations();
-    const RejectionRound round = DropOutliers(max_error_px, lm.num_threads, problem, original);
+    const RejectionRound round = DropOutliers(max_error_px, resolve.num_threads, problem, original);
     report->rejection.push_back(round);
     char line[256];
     std::snprintf(line, sizeof line,
@@ -380,7 +385,8 @@ void RejectOutlierRounds(double max_error_px, const LmOptions& lm,
                   static_cast<long long>(round.points_left));
     out << line << std::flush;
     if (round.observations_dropped == 0) break;
-    AppendSolve(BundleAdjust(lm, problem, log), &report->solve.ba);
+    AppendSolve(BundleAdjust(resolve, problem, log), &report->solve.ba);
+    report->final_loss = resolve.loss;
     if (round.observations_dropped < kSettled * static_cast<double>(before)) break;
   }
   ScatterPoints(*problem, *original, all_points);
@@ -438,6 +444,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   report.input = options.input;
   report.threads = lm.num_threads;
   report.loss = lm.loss;
+  report.final_loss = lm.loss;
   Problem problem;
   // Distributed runs on a binary file: every rank reads its own points.
   const bool ranks_read_file = comm->size() > 1 && IsBinaryProblem(options.input);
@@ -508,7 +515,9 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   if (comm->size() == 1) {
     report.solve.ba = BundleAdjust(lm, &problem, log);
     if (options.reject_outliers_px > 0) {
-      RejectOutlierRounds(options.reject_outliers_px, lm, log, &problem, &original, &all_points,
+      LmOptions resolve = lm;
+      if (!options.reject_keep_loss) resolve.loss = RobustLoss();
+      RejectOutlierRounds(options.reject_outliers_px, resolve, log, &problem, &original, &all_points,
                           &report, out);
     }
   } else {

@@ -25,6 +25,9 @@ struct SolveCommandOptions {
   bool quiet = false;       // no per-iteration log
   bool progress = true;     // progress of long phases on a terminal (not with quiet)
   double reject_outliers_px = 0.0;  // > 0: rounds of outlier rejection (lm/outlier_rejection.h)
+  // The solves after a rejection round keep the robust loss (false: the
+  // squared loss, the efficient estimator once the outliers are gone).
+  bool reject_keep_loss = false;
   LmOptions lm;             // num_threads 0: the node's cores / its ranks
   DistributedOptions distributed;
 };

@@ -75,12 +75,21 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
     const ResidualSums &a = lm.initial_residuals, &b = lm.final_residuals;
     std::snprintf(buf, sizeof buf,
                   "  loss                %s, scale %g px (inliers: residual within the scale)\n"
-                  "  initial cost        %.6e  (robust; RMS %.4f px, inliers %.4f px over %.2f%%)\n"
-                  "  final cost          %.6e  (robust; RMS %.4f px, inliers %.4f px over %.2f%%)\n",
+                  "  initial cost        %.6e  (robust; RMS %.4f px, inliers %.4f px over %.2f%%)\n",
                   LossName(r.loss.type), r.loss.scale, lm.initial_cost,
                   LmSummary::Rms(a.squared, n0), LmSummary::Rms(a.inlier_squared, a.inliers),
-                  n0 > 0 ? 100.0 * a.inliers / n0 : 0.0, lm.final_cost, LmSummary::Rms(b.squared, n),
-                  LmSummary::Rms(b.inlier_squared, b.inliers), n > 0 ? 100.0 * b.inliers / n : 0.0);
+                  n0 > 0 ? 100.0 * a.inliers / n0 : 0.0);
+    out << buf;
+    if (r.final_loss.trivial()) {
+      std::snprintf(buf, sizeof buf,
+                    "  final cost          %.6e  (squared loss after outlier rejection; RMS %.4f px)\n",
+                    lm.final_cost, LmSummary::Rms(b.squared, n));
+    } else {
+      std::snprintf(buf, sizeof buf,
+                    "  final cost          %.6e  (robust; RMS %.4f px, inliers %.4f px over %.2f%%)\n",
+                    lm.final_cost, LmSummary::Rms(b.squared, n),
+                    LmSummary::Rms(b.inlier_squared, b.inliers), n > 0 ? 100.0 * b.inliers / n : 0.0);
+    }
   }
   out << buf;
   out << "  iterations          " << lm.iterations << " (" << lm.accepted_iterations
@@ -218,6 +227,9 @@ std::string SolveReportJson(const SolveReport& r) {
   const double n0 = static_cast<double>(r.num_observations);
   const double n = static_cast<double>(lm.num_observations);
   j["loss"] = {{"type", LossName(r.loss.type)}, {"scale_px", r.loss.scale}};
+  // The loss of final_cost (the squared loss after outlier rejection unless
+  // --reject-keep-loss).
+  j["final_loss"] = {{"type", LossName(r.final_loss.type)}, {"scale_px", r.final_loss.scale}};
   // Costs are the robust ½ Σ ρ(|r|²); RMS figures are of the plain residuals,
   // over all observations and over the inliers (|r| within the loss scale;
   // all, for the trivial loss).

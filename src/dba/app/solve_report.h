@@ -20,6 +20,9 @@ struct SolveReport {
   int64_t num_observations = 0;
   int threads = 1;
   RobustLoss loss;
+  // The loss of the final cost: `loss`, or the squared loss when outlier
+  // rejection solved again without it.
+  RobustLoss final_loss;
   double load_seconds = 0.0;
   double write_seconds = 0.0;
   int64_t peak_memory_bytes = 0;  // main rank
