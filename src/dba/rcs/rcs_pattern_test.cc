@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "dba/testing/synthetic_photo.h"
+
 #include <random>
 #include <set>
 
@@ -44,6 +46,44 @@ TEST(RcsPattern, RandomGraphMatchesSetReferenceThroughCompaction) {
   }
   const std::vector<uint64_t> got = RcsBlockPattern(cameras, offsets, obs);
   EXPECT_EQ(got, std::vector<uint64_t>(reference.begin(), reference.end()));
+}
+
+// The problem overload (built row by row) against a set of every pair of
+// rows a point touches, for the photogrammetric model (camera and group
+// rows) with fixed images and a fixed group.
+TEST(RcsPattern, ProblemPatternMatchesSetReferenceWithGroupsAndFixings) {
+  for (uint32_t seed = 1; seed <= 3; ++seed) {
+    testing::SyntheticPhotoOptions o;
+    o.geometry.num_cameras = 30;
+    o.geometry.num_points = 400;
+    o.geometry.max_track = 6;
+    o.geometry.seed = seed;
+    o.num_groups = 4;
+    Problem p = testing::MakeSyntheticPhoto(o).problem;
+    p.fixed_cameras.assign(p.num_images(), 0);
+    p.fixed_cameras[3] = p.fixed_cameras[17] = 1;
+    p.intrinsics_free.assign(p.num_groups(), kAllIntrinsics);
+    p.intrinsics_free[2] = 0;  // group 2 fixed: no row
+    const UnknownLayout layout(p);
+    std::set<uint64_t> reference;
+    for (int32_t i = 0; i < layout.num_block_rows(); ++i) reference.insert(PackBlock(i, i));
+    for (int64_t k = 0; k < p.num_points(); ++k) {
+      std::vector<int32_t> rows;
+      for (int64_t a = p.point_offsets[k]; a < p.point_offsets[k + 1]; ++a) {
+        const int32_t i = p.obs_camera[a];
+        if (layout.camera_row(i) >= 0) rows.push_back(layout.camera_row(i));
+        const int32_t g = layout.intrinsics_row(p.camera_intrinsics[i]);
+        if (g >= 0) rows.push_back(g);
+      }
+      for (int32_t x : rows) {
+        for (int32_t y : rows) {
+          if (x < y) reference.insert(PackBlock(x, y));
+        }
+      }
+    }
+    EXPECT_EQ(RcsBlockPattern(p, layout), std::vector<uint64_t>(reference.begin(), reference.end()))
+        << "seed " << seed;
+  }
 }
 
 }  // namespace
