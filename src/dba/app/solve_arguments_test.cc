@@ -46,7 +46,7 @@ INSTANTIATE_TEST_SUITE_P(
         Refusal{"colmap_format_without_output", {"a.txt", "--colmap-format", "text"}, "--colmap-format: no -o output"},
         Refusal{"bad_linear_solver", {"a.txt", "--linear-solver", "qr"}, "--linear-solver: expected auto, dense, sparse or pcg, got 'qr'"},
         Refusal{"bad_preconditioner", {"a.txt", "--preconditioner", "ilu"}, "--preconditioner: expected jacobi or two-level, got 'ilu'"},
-        Refusal{"bad_coarse_basis", {"a.txt", "--coarse-basis", "affine"}, "--coarse-basis: expected rigid or parameters, got 'affine'"},
+        Refusal{"bad_coarse_basis", {"a.txt", "--coarse-basis", "affine"}, "--coarse-basis: expected similarity, rigid or parameters, got 'affine'"},
         Refusal{"negative_eta", {"a.txt", "--eta", "-1"}, "--eta"},
         Refusal{"bad_loss", {"a.txt", "--loss", "l1"}, "--loss: expected trivial, huber, soft_l1, cauchy, arctan or tukey, got 'l1'"},
         Refusal{"zero_loss_scale", {"a.txt", "--loss-scale", "0"}, "--loss-scale: must be > 0"},
@@ -75,7 +75,7 @@ TEST(SolveArguments, AcceptedOptionsLandInTheOptions) {
   EXPECT_EQ(o.reject_outliers_px, 4.0);
   EXPECT_TRUE(o.reject_keep_loss);
   EXPECT_EQ(o.lm.linear_solver.pcg.eta, 0.2);
-  EXPECT_FALSE(o.lm.linear_solver.rigid_coarse_basis);
+  EXPECT_EQ(o.lm.linear_solver.coarse_basis, CoarseBasis::kParameters);
   EXPECT_TRUE(o.quiet);
   ParseSolveArguments({"--help"}, &help);
   EXPECT_TRUE(help);

@@ -132,10 +132,11 @@ void PrintSolveHelp(std::ostream& out) {
          "                             neighbouring cameras; for long strips) (default\n"
          "                             " << PreconditionerName(d.linear_solver.preconditioner) << ")\n"
          "  --coarse-size N            two-level: cameras per aggregate (default " << d.linear_solver.coarse_aggregate_size << ")\n"
-         "  --coarse-basis rigid|parameters\n"
-         "                             two-level: the cameras of an aggregate share a rigid\n"
-         "                             motion of the scene, or a parameter step (default\n"
-         "                             " << (d.linear_solver.rigid_coarse_basis ? "rigid" : "parameters") << ")\n"
+         "  --coarse-basis similarity|rigid|parameters\n"
+         "                             two-level: the cameras of an aggregate share a\n"
+         "                             similarity of the scene (rigid motion and scale), a\n"
+         "                             rigid motion, or a parameter step (default\n"
+         "                             " << CoarseBasisName(d.linear_solver.coarse_basis) << ")\n"
          "  --pcg-tolerance X          PCG also stops at this relative residual (default\n"
          "                             " << d.linear_solver.pcg.relative_tolerance << ")\n"
          "  --pcg-min-iterations N     PCG iterations before the --eta test is taken\n"
@@ -233,10 +234,9 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       if (!(o.reject_outliers_px > 0.0)) throw std::invalid_argument(a + ": must be > 0 (pixels)");
     } else if (a == "--coarse-basis") {
       const std::string& v = value();
-      if (v != "rigid" && v != "parameters") {
-        throw std::invalid_argument(a + ": expected rigid or parameters, got '" + v + "'");
+      if (!ParseCoarseBasis(v, &o.lm.linear_solver.coarse_basis)) {
+        throw std::invalid_argument(a + ": expected similarity, rigid or parameters, got '" + v + "'");
       }
-      o.lm.linear_solver.rigid_coarse_basis = v == "rigid";
     } else if (a == "--eta") {
       o.lm.linear_solver.pcg.eta = ParseNumberArgument(a, value());
       if (o.lm.linear_solver.pcg.eta < 0) throw std::invalid_argument(a + ": must be >= 0");

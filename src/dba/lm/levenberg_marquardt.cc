@@ -165,8 +165,10 @@ class Minimizer {
     // Observations (camera index, pixel), parameters, point offsets: about
     // 29 bytes per observation over the problems measured (bench/README.md).
     linear.problem_bytes = 29 * num_observations_;
-    if (linear.rigid_coarse_basis && linear.preconditioner == PreconditionerType::kTwoLevel) {
-      linear.coarse_row_bases = RigidMotionBases(sys_->layout, cameras_->data());
+    if (linear.coarse_basis != CoarseBasis::kParameters &&
+        linear.preconditioner == PreconditionerType::kTwoLevel) {
+      linear.coarse_row_bases = RigidMotionBases(sys_->layout, cameras_->data(),
+                                                 linear.coarse_basis == CoarseBasis::kSimilarity);
     }
     std::unique_ptr<RcsSolver> solver = MakeRcsSolver(sys_->S, linear, &summary_.linear_solver);
     summary_.linear_solver_bytes = solver->MemoryBytes();

@@ -8,7 +8,8 @@
 
 namespace dba {
 
-std::vector<CoarseRowBasis> RigidMotionBases(const UnknownLayout& layout, const double* x) {
+std::vector<CoarseRowBasis> RigidMotionBases(const UnknownLayout& layout, const double* x,
+                                             bool with_scale) {
   auto is_pose_row = [&](int32_t r) {
     return r < layout.num_camera_rows() && (layout.block_size(r) == 9 || layout.block_size(r) == 6);
   };
@@ -26,12 +27,15 @@ std::vector<CoarseRowBasis> RigidMotionBases(const UnknownLayout& layout, const 
   for (int32_t r = 0; r < layout.num_block_rows(); ++r) {
     if (!is_pose_row(r)) continue;
     const Vec3 omega = Eigen::Map<const Vec3>(x + layout.param_offset(r));
+    const Vec3 t = Eigen::Map<const Vec3>(x + layout.param_offset(r) + 3);
     const Mat3 R = AngleAxisToRotation(omega);
     CoarseRowBasis& N = bases[r];
     N.rigid = true;
     N.A = -SO3LeftJacobian(omega).inverse() * R;
     N.B = -R;
     N.C = -R * SkewSymmetric(centroid);
+    N.scale = with_scale;
+    N.D = t + R * centroid;  // -R (C - c̄)
   }
   return bases;
 }

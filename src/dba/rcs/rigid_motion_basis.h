@@ -10,12 +10,16 @@
 //   δω = -J_l(ω)⁻¹ R δΩ,   δt = -R δT + R (δΩ × c̄)
 //
 // (R(ω + δω) ≈ exp([J_l(ω) δω]ₓ) R(ω), so the camera frame turns by -R δΩ).
-// In CoarseRowBasis terms: A = -J_l⁻¹ R, B = -R, C = -R [c̄]ₓ. Such motions
-// are S's null space (the gauge freedom, up to scale); the slow modes of PCG
-// on long strips are such motions varying slowly along the strip (Konolige
+// In CoarseRowBasis terms: A = -J_l⁻¹ R, B = -R, C = -R [c̄]ₓ. Scaling the
+// scene about c̄, X' = c̄ + (1 + δs)(X - c̄), moves each camera centre the
+// same way and leaves its rotation and intrinsics: δt = -R (C - c̄) δs, so
+// D = -R (C - c̄) = t + R c̄. These 7 similarity motions are S's null space
+// (the gauge freedom); the slow modes of PCG on long strips are such
+// motions varying slowly along the strip, scale drift among them (Konolige
 // & Brown, arXiv 2007.01941), which an aggregate of cameras of different
-// headings only represents in these coordinates. c̄ keeps the rotation
-// columns of the size of the scene, not of its distance from the origin.
+// headings only represents in these coordinates. c̄ keeps the rotation and
+// scale columns of the size of the scene, not of its distance from the
+// origin.
 //
 // Camera rows of 9 (BAL: ω, t, f, k1, k2) or 6 unknowns (pose: ω, t) get the
 // rigid basis; intrinsic rows the identity.
@@ -29,6 +33,8 @@
 namespace dba {
 
 // One basis per block row of `layout`; x: the camera-side parameters.
-std::vector<CoarseRowBasis> RigidMotionBases(const UnknownLayout& layout, const double* x);
+// `with_scale`: the pose rows also get the scale column D.
+std::vector<CoarseRowBasis> RigidMotionBases(const UnknownLayout& layout, const double* x,
+                                             bool with_scale);
 
 }  // namespace dba

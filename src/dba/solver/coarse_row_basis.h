@@ -10,12 +10,16 @@ namespace dba {
 // or (`rigid`, a row of at least 6 unknowns whose first six are a pose
 // (ω, t))
 //
-//   N = [ 0  A  0 ]   columns: scene translation (3), scene rotation (3),
-//       [ B  C  0 ]   the row's other unknowns as they are.
-//       [ 0  0  I ]
+//   N = [ 0  A  0  0 ]   columns: scene translation (3), scene rotation (3),
+//       [ B  C  0  D ]   the row's other unknowns as they are, and (`scale`)
+//       [ 0  0  I  0 ]   the scene's scale (1, last).
+//
+// A row with `scale` has one coarse coordinate more than unknowns.
 struct CoarseRowBasis {
   bool rigid = false;
+  bool scale = false;  // only with rigid
   Eigen::Matrix3d A, B, C;
+  Eigen::Vector3d D = Eigen::Vector3d::Zero();
 };
 
 }  // namespace dba

@@ -71,6 +71,25 @@ bool ParsePreconditioner(const std::string& name, PreconditionerType* type) {
   return false;
 }
 
+const char* CoarseBasisName(CoarseBasis basis) {
+  switch (basis) {
+    case CoarseBasis::kParameters: return "parameters";
+    case CoarseBasis::kRigid: return "rigid";
+    case CoarseBasis::kSimilarity: return "similarity";
+  }
+  return "unknown";
+}
+
+bool ParseCoarseBasis(const std::string& name, CoarseBasis* basis) {
+  for (CoarseBasis b : {CoarseBasis::kParameters, CoarseBasis::kRigid, CoarseBasis::kSimilarity}) {
+    if (name == CoarseBasisName(b)) {
+      *basis = b;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool ParseLinearSolver(const std::string& name, LinearSolverType* type) {
   for (LinearSolverType t : {LinearSolverType::kAuto, LinearSolverType::kDense,
                              LinearSolverType::kSparse, LinearSolverType::kPcg}) {

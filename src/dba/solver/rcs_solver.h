@@ -47,16 +47,24 @@ const char* PreconditionerName(PreconditionerType type);
 // "jacobi", "two-level"; false if `name` is neither.
 bool ParsePreconditioner(const std::string& name, PreconditionerType* type);
 
+// The two-level preconditioner's coarse coordinates per camera: the same
+// parameter step for the cameras of an aggregate, the same rigid motion of
+// the scene, or the same similarity (rigid motion and scale); see
+// rcs/rigid_motion_basis.h.
+enum class CoarseBasis { kParameters, kRigid, kSimilarity };
+const char* CoarseBasisName(CoarseBasis basis);
+// "parameters", "rigid", "similarity"; false if `name` is none of them.
+bool ParseCoarseBasis(const std::string& name, CoarseBasis* basis);
+
 struct LinearSolverOptions {
   LinearSolverType type = LinearSolverType::kAuto;
   PcgOptions pcg;
   PreconditionerType preconditioner = PreconditionerType::kTwoLevel;
   int coarse_aggregate_size = 64;  // two-level: cameras per aggregate
-  // two-level: aggregated cameras share a rigid motion of the scene (true)
-  // or a parameter step (false); see rcs/rigid_motion_basis.h.
-  bool rigid_coarse_basis = true;
+  // two-level: what the cameras of an aggregate share.
+  CoarseBasis coarse_basis = CoarseBasis::kSimilarity;
   // two-level: per block row of S, the coordinates its aggregate shares
-  // (filled by the caller, who knows the cameras, when rigid_coarse_basis);
+  // (filled by the caller, who knows the cameras, unless kParameters);
   // empty: the identity for all.
   std::vector<CoarseRowBasis> coarse_row_bases;
   // auto: a factorization is chosen only while its factor stays within this

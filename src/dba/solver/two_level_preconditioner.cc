@@ -22,36 +22,46 @@ using Slab = Eigen::Map<Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor
 using ConstSlab = Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>, 0,
                              Eigen::OuterStride<>>;
 
-// out = N_iᵀ S_ij N_j for an r x c block (row-major), by 3x3 panels: S N
-// replaces columns (ω, t) by (S_t B, S_ω A + S_t C), then Nᵀ (S N) rows
-// (ω, t) by (Bᵀ T_t, Aᵀ T_ω + Cᵀ T_t). `out` may not alias `s`.
+// out = N_iᵀ S_ij N_j for an r x c block (row-major; out is r' x c', one
+// row and column more for a basis with a scale column), by 3x3 panels: S N
+// replaces columns (ω, t) by (S_t B, S_ω A + S_t C) and appends S_t D, then
+// Nᵀ (S N) rows (ω, t) by (Bᵀ T_t, Aᵀ T_ω + Cᵀ T_t) and appends Dᵀ T_t.
+// `out` may not alias `s`.
 void TransformBlock(const CoarseRowBasis& Ni, const double* s, const CoarseRowBasis& Nj, int r,
                     int c, double* out) {
-  std::copy(s, s + r * c, out);
+  const int cc = c + (Nj.scale ? 1 : 0);
+  double sn[9 * 10];  // S N_j, r x cc
+  for (int x = 0; x < r; ++x) std::copy(s + x * c, s + x * c + c, sn + x * cc);
   if (Nj.rigid) {
     ConstPanel s_w(s, r, 3, Eigen::OuterStride<>(c)), s_t(s + 3, r, 3, Eigen::OuterStride<>(c));
-    Panel(out, r, 3, Eigen::OuterStride<>(c)).noalias() = s_t * Nj.B;
-    Panel o_t(out + 3, r, 3, Eigen::OuterStride<>(c));
+    Panel(sn, r, 3, Eigen::OuterStride<>(cc)).noalias() = s_t * Nj.B;
+    Panel o_t(sn + 3, r, 3, Eigen::OuterStride<>(cc));
     o_t.noalias() = s_w * Nj.A;
     o_t.noalias() += s_t * Nj.C;
+    if (Nj.scale) {
+      for (int x = 0; x < r; ++x) sn[x * cc + c] = s_t.row(x).dot(Nj.D.transpose());
+    }
   }
+  std::copy(sn, sn + r * cc, out);
   if (Ni.rigid) {
-    double top[2 * 3 * 9];  // rows ω, t of S N (c ≤ 9)
-    std::copy(out, out + 6 * c, top);
-    ConstSlab t_w(top, 3, c, Eigen::OuterStride<>(c)), t_t(top + 3 * c, 3, c, Eigen::OuterStride<>(c));
-    Slab(out, 3, c, Eigen::OuterStride<>(c)).noalias() = Ni.B.transpose() * t_t;
-    Slab o_t(out + 3 * c, 3, c, Eigen::OuterStride<>(c));
+    ConstSlab t_w(sn, 3, cc, Eigen::OuterStride<>(cc)), t_t(sn + 3 * cc, 3, cc, Eigen::OuterStride<>(cc));
+    Slab(out, 3, cc, Eigen::OuterStride<>(cc)).noalias() = Ni.B.transpose() * t_t;
+    Slab o_t(out + 3 * cc, 3, cc, Eigen::OuterStride<>(cc));
     o_t.noalias() = Ni.A.transpose() * t_w;
     o_t.noalias() += Ni.C.transpose() * t_t;
+    if (Ni.scale) {
+      Eigen::Map<Eigen::Matrix<double, 1, Eigen::Dynamic>>(out + r * cc, cc).noalias() =
+          Ni.D.transpose() * t_t;
+    }
   }
 }
 
 }  // namespace
 
 std::vector<int32_t> AggregateBlockRows(const BsmcMatrix& S, int target,
-                                        const std::vector<uint8_t>& rigid) {
+                                        const std::vector<uint8_t>& kind) {
   auto same_kind = [&](int32_t i, int32_t j) {
-    return S.block_size(i) == S.block_size(j) && (rigid.empty() || rigid[i] == rigid[j]);
+    return S.block_size(i) == S.block_size(j) && (kind.empty() || kind[i] == kind[j]);
   };
   const int32_t n = S.num_block_rows();
   // Both directions of the block graph (S stores the upper triangle).
@@ -97,32 +107,64 @@ std::vector<int32_t> AggregateBlockRows(const BsmcMatrix& S, int target,
   return aggregate;
 }
 
-std::vector<uint8_t> RigidRows(const BsmcMatrix& S, const std::vector<CoarseRowBasis>& bases) {
+// Each row's kind of basis (identity 0, rigid 1, rigid with scale 3): rows
+// of one aggregate share it.
+std::vector<uint8_t> BasisKinds(const BsmcMatrix& S, const std::vector<CoarseRowBasis>& bases) {
   if (bases.empty()) return {};
   if (static_cast<int32_t>(bases.size()) != S.num_block_rows()) {
     throw std::invalid_argument("TwoLevelPreconditioner: one basis per block row expected");
   }
-  std::vector<uint8_t> rigid(bases.size());
+  std::vector<uint8_t> kind(bases.size());
   for (size_t i = 0; i < bases.size(); ++i) {
-    rigid[i] = bases[i].rigid;
-    if (rigid[i] && (S.block_size(i) < 6 || S.block_size(i) > 9)) {
+    if (bases[i].scale && !bases[i].rigid) {
+      throw std::invalid_argument("TwoLevelPreconditioner: a scale column without a rigid basis");
+    }
+    kind[i] = (bases[i].rigid ? 1 : 0) | (bases[i].scale ? 2 : 0);
+    if (bases[i].rigid && (S.block_size(i) < 6 || S.block_size(i) > 9)) {
       throw std::invalid_argument("TwoLevelPreconditioner: a rigid basis on a row of " +
                                   std::to_string(S.block_size(i)) + " unknowns");
     }
   }
-  return rigid;
+  return kind;
 }
 
 TwoLevelPreconditioner::TwoLevelPreconditioner(const BsmcMatrix& S, int aggregate_size,
                                                int num_threads, std::vector<CoarseRowBasis> bases)
     : S_(S),
       jacobi_(S, num_threads),
-      aggregate_(AggregateBlockRows(S, aggregate_size, RigidRows(S, bases))),
+      aggregate_(AggregateBlockRows(S, aggregate_size, BasisKinds(S, bases))),
       bases_(std::move(bases)) {
   const int32_t num_aggregates =
       aggregate_.empty() ? 0 : *std::max_element(aggregate_.begin(), aggregate_.end()) + 1;
+  // A lone camera's scale is one of its translations (D = B (C - c̄)): an
+  // aggregate of one row keeps no scale coordinate, or R S Rᵀ is singular.
   std::vector<int32_t> sizes(num_aggregates, 0);
-  for (int32_t i = 0; i < S.num_block_rows(); ++i) sizes[aggregate_[i]] = S.block_size(i);
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) ++sizes[aggregate_[i]];
+  // Scale is relative between aggregates: one aggregate's scale would be the
+  // global gauge alone (a null direction of S that only λ damps).
+  std::vector<uint8_t> scaled(num_aggregates, 0);
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) {
+    if (!bases_.empty() && sizes[aggregate_[i]] == 1) bases_[i].scale = false;
+    if (!bases_.empty() && bases_[i].scale) scaled[aggregate_[i]] = 1;
+  }
+  if (std::count(scaled.begin(), scaled.end(), 1) < 2) {
+    for (CoarseRowBasis& N : bases_) N.scale = false;
+  }
+  // Scale about each aggregate's own centre: D_i - B_i o_a with o_a the mean
+  // of B_jᵀ D_j over the aggregate (for the rigid-motion basis, B = -R and
+  // Bᵀ D = C - c̄, so o_a is the aggregate's centre). The span is the same
+  // (a common translation is added), but D no longer carries the distance to
+  // the scene's centre, which the coarse Cholesky would have to cancel.
+  if (!bases_.empty()) {
+    std::vector<Eigen::Vector3d> centre(num_aggregates, Eigen::Vector3d::Zero());
+    for (int32_t i = 0; i < S.num_block_rows(); ++i) {
+      if (bases_[i].scale) centre[aggregate_[i]] += bases_[i].B.transpose() * bases_[i].D / sizes[aggregate_[i]];
+    }
+    for (int32_t i = 0; i < S.num_block_rows(); ++i) {
+      if (bases_[i].scale) bases_[i].D -= bases_[i].B * centre[aggregate_[i]];
+    }
+  }
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) sizes[aggregate_[i]] = CoarseSize(i);
   // Coarse pattern: every S block (i, j) lands in (A_i, A_j), upper.
   std::vector<uint64_t> pattern;
   pattern.reserve(S.num_blocks() + num_aggregates);
@@ -172,15 +214,15 @@ void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
     const int t = omp_get_thread_num();
     double* sum = t == 0 ? coarse_.values().data() : partial_[t - 1].data();
     std::fill(sum, sum + coarse_.num_values(), 0.0);
-    double transformed[9 * 9];
+    double transformed[10 * 10];
     for (int32_t i = thread_rows_[t]; i < thread_rows_[t + 1]; ++i) {
-      const int ci = S.block_size(i);
+      const int ci = CoarseSize(i);
       for (int64_t b = S.row_begin(i); b < S.row_end(i); ++b) {
         const int32_t j = S.block_col(b);
-        const int cj = S.block_size(j);
+        const int cj = CoarseSize(j);
         const double* v = S.block_values(b);
         if (!bases_.empty() && (bases_[i].rigid || bases_[j].rigid)) {
-          TransformBlock(bases_[i], v, bases_[j], ci, cj, transformed);
+          TransformBlock(bases_[i], v, bases_[j], S.block_size(i), S.block_size(j), transformed);
           v = transformed;
         }
         double* c = sum + coarse_.value_offset(coarse_block_[b]);
@@ -222,6 +264,7 @@ void TwoLevelPreconditioner::Apply(const double* r, double* z) const {
       const Eigen::Map<const Eigen::Vector3d> r_w(ri), r_t(ri + 3);
       Eigen::Map<Eigen::Vector3d>(ra).noalias() += N.B.transpose() * r_t;
       Eigen::Map<Eigen::Vector3d>(ra + 3).noalias() += N.A.transpose() * r_w + N.C.transpose() * r_t;
+      if (N.scale) ra[S_.block_size(i)] += N.D.dot(r_t);
       d = 6;
     }
     for (; d < S_.block_size(i); ++d) ra[d] += ri[d];
@@ -237,6 +280,7 @@ void TwoLevelPreconditioner::Apply(const double* r, double* z) const {
       const Eigen::Map<const Eigen::Vector3d> c_translation(ca), c_rotation(ca + 3);
       Eigen::Map<Eigen::Vector3d>(zi).noalias() += N.A * c_rotation;
       Eigen::Map<Eigen::Vector3d>(zi + 3).noalias() += N.B * c_translation + N.C * c_rotation;
+      if (N.scale) Eigen::Map<Eigen::Vector3d>(zi + 3) += N.D * ca[S_.block_size(i)];
       d = 6;
     }
     for (; d < S_.block_size(i); ++d) zi[d] += ca[d];

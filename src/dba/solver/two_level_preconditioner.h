@@ -39,10 +39,10 @@
 namespace dba {
 
 // Aggregates of S's block rows: aggregate[i] for each block row, grouping
-// rows of equal size (and equal `rigid[i]`, when given) connected in S's
+// rows of equal size (and equal `kind[i]`, when given) connected in S's
 // block graph, about `target` rows each.
 std::vector<int32_t> AggregateBlockRows(const BsmcMatrix& S, int target,
-                                        const std::vector<uint8_t>& rigid = {});
+                                        const std::vector<uint8_t>& kind = {});
 
 class TwoLevelPreconditioner : public Preconditioner {
  public:
@@ -59,8 +59,17 @@ class TwoLevelPreconditioner : public Preconditioner {
   // The coarse matrix R S Rᵀ as last updated (for tests).
   const BsmcMatrix& coarse() const { return coarse_; }
   const std::vector<int32_t>& aggregate() const { return aggregate_; }
+  // The bases in use: those given, less the scale of rows alone in their
+  // aggregate (for tests).
+  const std::vector<CoarseRowBasis>& bases() const { return bases_; }
 
  private:
+  // Coarse coordinates of block row i: its unknowns, one more with a scale
+  // column.
+  int CoarseSize(int32_t i) const {
+    return S_.block_size(i) + (!bases_.empty() && bases_[i].scale ? 1 : 0);
+  }
+
   const BsmcMatrix& S_;
   BlockJacobiPreconditioner jacobi_;
   std::vector<int32_t> aggregate_;      // block row -> aggregate

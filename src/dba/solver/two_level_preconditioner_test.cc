@@ -26,11 +26,14 @@ BsmcMatrix Spd(int rows, int band, uint32_t seed) {
   return testing::MakeRandomBsmc(o);
 }
 
-// N_i as a dense matrix (identity when `bases` is empty or not rigid).
+// N_i as a dense matrix, size x (size + 1 with a scale column) (identity
+// when `bases` is empty or not rigid).
 Eigen::MatrixXd DenseBasis(const std::vector<CoarseRowBasis>& bases, int32_t i, int size) {
-  Eigen::MatrixXd N = Eigen::MatrixXd::Identity(size, size);
+  const bool scale = !bases.empty() && bases[i].scale;
+  Eigen::MatrixXd N = Eigen::MatrixXd::Identity(size, size + (scale ? 1 : 0));
   if (bases.empty() || !bases[i].rigid) return N;
   N.topLeftCorner(6, 6) << Eigen::Matrix3d::Zero(), bases[i].A, bases[i].B, bases[i].C;
+  if (scale) N.block(3, size, 3, 1) = bases[i].D;
   return N;
 }
 
@@ -40,14 +43,14 @@ Eigen::MatrixXd Restriction(const BsmcMatrix& S, const TwoLevelPreconditioner& M
   const BsmcMatrix& C = M.coarse();
   Eigen::MatrixXd R = Eigen::MatrixXd::Zero(C.num_rows(), S.num_rows());
   for (int32_t i = 0; i < S.num_block_rows(); ++i) {
-    const int c = S.block_size(i);
-    R.block(C.scalar_offset(M.aggregate()[i]), S.scalar_offset(i), c, c) =
-        DenseBasis(bases, i, c).transpose();
+    const Eigen::MatrixXd N = DenseBasis(bases, i, S.block_size(i));
+    R.block(C.scalar_offset(M.aggregate()[i]), S.scalar_offset(i), N.cols(), N.rows()) = N.transpose();
   }
   return R;
 }
 
-// Random rigid bases on the rows of 6 to 9 unknowns, identity elsewhere.
+// Random rigid bases on the rows of 6 to 9 unknowns, every other one with a
+// scale column; identity elsewhere.
 std::vector<CoarseRowBasis> RandomRigidBases(const BsmcMatrix& S, uint32_t seed) {
   std::srand(seed);
   std::vector<CoarseRowBasis> bases(S.num_block_rows());
@@ -57,6 +60,8 @@ std::vector<CoarseRowBasis> RandomRigidBases(const BsmcMatrix& S, uint32_t seed)
     bases[i].A = Eigen::Matrix3d::Random() + 2 * Eigen::Matrix3d::Identity();
     bases[i].B = Eigen::Matrix3d::Random() - 2 * Eigen::Matrix3d::Identity();
     bases[i].C = Eigen::Matrix3d::Random();
+    bases[i].scale = i % 2 == 0;
+    bases[i].D = Eigen::Vector3d::Random();
   }
   return bases;
 }
@@ -79,7 +84,8 @@ TEST(AggregateBlockRows, GroupsConnectedRowsOfOneSize) {
 class TwoLevelDefinition : public ::testing::TestWithParam<bool> {};
 
 // With the identity bases (R sums each aggregate's rows) and with random
-// rigid ones (R's blocks N_iᵀ), on 1 and 2 threads.
+// rigid ones, with and without a scale column (R's blocks N_iᵀ), on 1 and 2
+// threads.
 TEST_P(TwoLevelDefinition, MatchesItsDenseDefinition) {
   const bool rigid = GetParam();
   for (uint32_t seed = 1; seed <= 3; ++seed) {
@@ -88,7 +94,17 @@ TEST_P(TwoLevelDefinition, MatchesItsDenseDefinition) {
     TwoLevelPreconditioner M(S, 5, seed == 3 ? 1 : 2, bases);
     M.Update(S);
     const Eigen::MatrixXd dense = testing::DenseFromBsmc(S);
-    const Eigen::MatrixXd R = Restriction(S, M, bases);
+    std::map<int32_t, int> members;
+    for (int32_t a : M.aggregate()) ++members[a];
+    for (int32_t i = 0; rigid && i < S.num_block_rows(); ++i) {
+      // A lone row's scale would be one of its translations.
+      EXPECT_EQ(M.bases()[i].scale, bases[i].scale && members[M.aggregate()[i]] > 1) << "row " << i;
+    }
+    if (rigid) {
+      EXPECT_GT(std::count_if(M.bases().begin(), M.bases().end(),
+                              [](const CoarseRowBasis& N) { return N.scale; }), 0) << "seed " << seed;
+    }
+    const Eigen::MatrixXd R = Restriction(S, M, M.bases());
     const Eigen::MatrixXd coarse = R * dense * R.transpose();
     EXPECT_LT((testing::DenseFromBsmc(M.coarse()) - coarse).norm(), 1e-12 * coarse.norm())
         << "seed " << seed;
@@ -130,6 +146,30 @@ TEST(TwoLevelPreconditioner, RefusesARigidBasisOnASmallRow) {
   bases[small].rigid = true;
   EXPECT_THROW(TwoLevelPreconditioner(S, 5, 1, bases), std::invalid_argument);
   EXPECT_THROW(TwoLevelPreconditioner(S, 5, 1, std::vector<CoarseRowBasis>(3)), std::invalid_argument);
+  bases[small].rigid = false;
+  int32_t large = 0;
+  while (S.block_size(large) < 6) ++large;
+  bases[large].scale = true;  // a scale column needs the rigid basis
+  EXPECT_THROW(TwoLevelPreconditioner(S, 5, 1, bases), std::invalid_argument);
+}
+
+// One aggregate's scale is the global gauge: no scale coordinate then.
+TEST(TwoLevelPreconditioner, ScaleNeedsTwoAggregates) {
+  testing::RandomBsmcOptions o;
+  o.block_rows = 24;
+  o.sizes = {9};
+  o.fill = 1.0;
+  o.band = 3;
+  o.positive_definite = true;
+  o.seed = 4;
+  const BsmcMatrix S = testing::MakeRandomBsmc(o);
+  std::vector<CoarseRowBasis> bases = RandomRigidBases(S, 4);
+  for (CoarseRowBasis& N : bases) N.scale = N.rigid;
+  const TwoLevelPreconditioner one(S, 1000, 1, bases);
+  for (const CoarseRowBasis& N : one.bases()) EXPECT_FALSE(N.scale);
+  const TwoLevelPreconditioner several(S, 4, 1, bases);
+  EXPECT_TRUE(std::any_of(several.bases().begin(), several.bases().end(),
+                          [](const CoarseRowBasis& N) { return N.scale; }));
 }
 
 TEST(TwoLevelPreconditioner, PcgConvergesWithIt) {
