@@ -16,10 +16,12 @@
 namespace dba {
 namespace {
 
-BsmcMatrix Spd(int rows, int band, uint32_t seed) {
+// `sizes`: the block sizes drawn from (empty: the default mix).
+BsmcMatrix Spd(int rows, int band, uint32_t seed, std::vector<int32_t> sizes = {}, double fill = 0.6) {
   testing::RandomBsmcOptions o;
   o.block_rows = rows;
-  o.fill = 0.6;
+  if (!sizes.empty()) o.sizes = std::move(sizes);
+  o.fill = fill;
   o.band = band;
   o.positive_definite = true;
   o.seed = seed;
@@ -155,14 +157,7 @@ TEST(TwoLevelPreconditioner, RefusesARigidBasisOnASmallRow) {
 
 // One aggregate's scale is the global gauge: no scale coordinate then.
 TEST(TwoLevelPreconditioner, ScaleNeedsTwoAggregates) {
-  testing::RandomBsmcOptions o;
-  o.block_rows = 24;
-  o.sizes = {9};
-  o.fill = 1.0;
-  o.band = 3;
-  o.positive_definite = true;
-  o.seed = 4;
-  const BsmcMatrix S = testing::MakeRandomBsmc(o);
+  const BsmcMatrix S = Spd(24, 3, 4, {9}, 1.0);  // connected rows of 9
   std::vector<CoarseRowBasis> bases = RandomRigidBases(S, 4);
   for (CoarseRowBasis& N : bases) N.scale = N.rigid;
   const TwoLevelPreconditioner one(S, 1000, 1, bases);
