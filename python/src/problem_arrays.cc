@@ -108,11 +108,11 @@ Problem ProblemFromArrays(const ProblemArrays& in) {
         throw Bad("fixed_intrinsics: expected shape (" + std::to_string(groups) + ", 5), got " +
                   Shape(*in.fixed_intrinsics));
       }
-      p.intrinsics_free.assign(groups, 0);
+      p.fixed_intrinsics.assign(groups, 0);
       for (int64_t g = 0; g < groups; ++g) {
         for (int d = 0; d < kPhotoIntrinsicsSize; ++d) {
-          if (!in.fixed_intrinsics->data()[kPhotoIntrinsicsSize * g + d]) {
-            p.intrinsics_free[g] |= static_cast<uint8_t>(1u << d);
+          if (in.fixed_intrinsics->data()[kPhotoIntrinsicsSize * g + d]) {
+            p.fixed_intrinsics[g] |= static_cast<uint8_t>(1u << d);
           }
         }
       }

@@ -133,8 +133,8 @@ int InfoMain(const std::vector<std::string>& args) {
                 static_cast<long>(p.num_points()), static_cast<long>(p.num_observations()));
     const int64_t fixed = std::count_if(p.fixed_cameras.begin(), p.fixed_cameras.end(),
                                         [](uint8_t f) { return f != 0; });
-    const int64_t partly = std::count_if(p.intrinsics_free.begin(), p.intrinsics_free.end(),
-                                         [](uint8_t m) { return m != kAllIntrinsics; });
+    const int64_t partly = std::count_if(p.fixed_intrinsics.begin(), p.fixed_intrinsics.end(),
+                                         [](uint8_t m) { return m != 0; });
     if (fixed > 0 || partly > 0) {
       std::printf("  held fixed    %ld %s; %ld intrinsic groups with fixed parameters\n",
                   static_cast<long>(fixed), photo ? "image poses" : "cameras",

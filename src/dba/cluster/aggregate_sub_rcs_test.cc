@@ -46,8 +46,8 @@ Problem MakeProblem(bool photo) {
   // group 2's intrinsics.
   problem.fixed_cameras.assign(problem.num_images(), 0);
   problem.fixed_cameras[0] = problem.fixed_cameras[5] = 1;
-  problem.intrinsics_free.assign(problem.num_groups(), kIntrinsicF | kIntrinsicK1 | kIntrinsicK2);
-  problem.intrinsics_free[2] = 0;
+  problem.fixed_intrinsics.assign(problem.num_groups(), kIntrinsicCx | kIntrinsicCy);
+  problem.fixed_intrinsics[2] = kAllIntrinsics;
   return problem;
 }
 

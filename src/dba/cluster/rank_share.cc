@@ -11,7 +11,7 @@ RankShare ExtractShare(const Problem& full, std::span<const int32_t> point_group
   p.cameras = full.cameras;
   p.camera_intrinsics = full.camera_intrinsics;
   p.fixed_cameras = full.fixed_cameras;
-  p.intrinsics_free = full.intrinsics_free;
+  p.fixed_intrinsics = full.fixed_intrinsics;
   p.point_offsets.push_back(0);
   for (int64_t k = 0; k < full.num_points(); ++k) {
     if (point_group[k] != group) continue;
@@ -35,7 +35,7 @@ void KeepTouchedCameras(RankShare* share) {
   old.cameras.swap(p.cameras);
   old.camera_intrinsics.swap(p.camera_intrinsics);
   old.fixed_cameras.swap(p.fixed_cameras);
-  old.intrinsics_free.swap(p.intrinsics_free);
+  old.fixed_intrinsics.swap(p.fixed_intrinsics);
   const bool photo = old.model == CameraModel::kPhoto;
   std::vector<int32_t> local_camera(old.num_images(), -1);
   std::vector<int32_t> local_group(old.num_groups(), -1);
@@ -58,7 +58,7 @@ void KeepTouchedCameras(RankShare* share) {
     share->global_intrinsics.push_back(static_cast<int32_t>(g));
     p.cameras.insert(p.cameras.end(), old.intrinsics(g),
                      old.intrinsics(g) + kPhotoIntrinsicsSize);
-    if (!old.intrinsics_free.empty()) p.intrinsics_free.push_back(old.intrinsics_free[g]);
+    if (!old.fixed_intrinsics.empty()) p.fixed_intrinsics.push_back(old.fixed_intrinsics[g]);
   }
   for (int32_t c : share->global_camera) {
     p.camera_intrinsics.push_back(local_group[old.camera_intrinsics[c]]);

@@ -161,13 +161,15 @@ CameraSide ReadCameraSide(const BinaryFile& f, const BinaryProblemHeader& h) {
     }
   }
   if (h.has_intrinsics_free) {
-    p.intrinsics_free = f.ReadArrayAt<uint8_t>(flags, h.num_intrinsics, "free intrinsics");
+    // The file stores the free parameters; the problem the fixed ones.
+    p.fixed_intrinsics = f.ReadArrayAt<uint8_t>(flags, h.num_intrinsics, "free intrinsics");
     for (int64_t g = 0; g < h.num_intrinsics; ++g) {
-      if (p.intrinsics_free[g] > kAllIntrinsics) {
-        throw InputError(f.path(), 0, "free-intrinsics mask " +
-                                          std::to_string(p.intrinsics_free[g]) + " of group " +
+      uint8_t& m = p.fixed_intrinsics[g];
+      if (m > kAllIntrinsics) {
+        throw InputError(f.path(), 0, "free-intrinsics mask " + std::to_string(m) + " of group " +
                                           std::to_string(g) + " has bits beyond f, cx, cy, k1, k2");
       }
+      m = static_cast<uint8_t>(kAllIntrinsics & ~m);
     }
   }
   return p;
@@ -183,11 +185,11 @@ BinaryProblemHeader CameraSideLayout(const Problem& c, int64_t points, int64_t o
       photo ? static_cast<int64_t>(c.cameras.size()) == kPhotoPoseSize * n + kPhotoIntrinsicsSize * g
             : c.cameras.size() % kBalCameraSize == 0 && c.camera_intrinsics.empty();
   if (!sizes_ok || (!c.fixed_cameras.empty() && static_cast<int64_t>(c.fixed_cameras.size()) != n) ||
-      (!c.intrinsics_free.empty() && static_cast<int64_t>(c.intrinsics_free.size()) != g)) {
+      (!c.fixed_intrinsics.empty() && static_cast<int64_t>(c.fixed_intrinsics.size()) != g)) {
     throw std::invalid_argument(
         "BinaryProblemWriter: camera parameters, image groups and fixed flags do not agree");
   }
-  return Layout(c.model, n, g, !c.fixed_cameras.empty(), !c.intrinsics_free.empty(), points,
+  return Layout(c.model, n, g, !c.fixed_cameras.empty(), !c.fixed_intrinsics.empty(), points,
                 observations);
 }
 
@@ -510,12 +512,12 @@ BinaryProblemWriter::BinaryProblemWriter(const std::string& path, const Problem&
   }
   std::vector<uint8_t> flags;
   for (uint8_t f : c.fixed_cameras) flags.push_back(f != 0 ? 1 : 0);
-  for (uint8_t m : c.intrinsics_free) {
+  for (uint8_t m : c.fixed_intrinsics) {
     if (m > kAllIntrinsics) {
-      throw std::invalid_argument("BinaryProblemWriter: free-intrinsics mask " +
+      throw std::invalid_argument("BinaryProblemWriter: fixed-intrinsics mask " +
                                   std::to_string(m) + " beyond kAllIntrinsics");
     }
-    flags.push_back(m);
+    flags.push_back(static_cast<uint8_t>(kAllIntrinsics & ~m));  // the file stores the free ones
   }
   flags.resize(h_.points_offset - h_.flags_offset, 0);  // zero padding
   Write(h_.flags_offset, flags.data(), static_cast<int64_t>(flags.size()));

@@ -33,8 +33,9 @@
 //                                          group of each image, in
 //                                          [0, groups); zero-padded to 8 bytes
 //     flags          (version 2) u8[cameras] fixed_cameras (0/1) if bit 0,
-//                                          then u8[groups] intrinsics_free
-//                                          (IntrinsicBit masks, <= 31) if
+//                                          then u8[groups] free intrinsics
+//                                          (IntrinsicBit masks, <= 31; the
+//                                          complement of fixed_intrinsics) if
 //                                          bit 1; zero-padded to 8 bytes
 //     points         f64[3 · points]
 //     point offsets  i64[points + 1]     observations of point k are
@@ -46,7 +47,7 @@
 // by the counts and optional bits, and a file whose table or size differs is
 // refused.
 //
-// The fixed flags are problem data, stored when non-empty: intrinsics_free
+// The fixed flags are problem data, stored when non-empty: fixed_intrinsics
 // says which intrinsics a camera model has at all (SIMPLE_PINHOLE has no k1;
 // colmap_problem.h), so dropping it would change the problem, and
 // fixed_cameras (e.g. a COLMAP model's fixed images) fixes the gauge the

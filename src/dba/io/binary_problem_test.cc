@@ -278,7 +278,7 @@ void ExpectIdentical(const Problem& a, const Problem& b) {
   EXPECT_EQ(a.model, b.model);
   EXPECT_EQ(a.camera_intrinsics, b.camera_intrinsics);
   EXPECT_EQ(a.fixed_cameras, b.fixed_cameras);
-  EXPECT_EQ(a.intrinsics_free, b.intrinsics_free);
+  EXPECT_EQ(a.fixed_intrinsics, b.fixed_intrinsics);
   ExpectSame(a, b);
 }
 
@@ -326,15 +326,15 @@ TEST(BinaryProblemPhoto, RoundTripIsIdentical) {
   for (int variant = 0; variant < 3; ++variant) {
     Problem q = p;
     if (variant != 1) q.fixed_cameras = {1, 0, 0, 1, 0, 0, 0};
-    if (variant != 0) q.intrinsics_free = {kAllIntrinsics, kIntrinsicF | kIntrinsicK1, 0};
+    if (variant != 0) q.fixed_intrinsics = {0, kIntrinsicCx | kIntrinsicCy | kIntrinsicK2, kAllIntrinsics};
     WriteBinaryProblem(q, path);
     const BinaryProblemHeader hq = ReadBinaryProblemHeader(path);
     EXPECT_EQ(hq.has_fixed_cameras, !q.fixed_cameras.empty());
-    EXPECT_EQ(hq.has_intrinsics_free, !q.intrinsics_free.empty());
+    EXPECT_EQ(hq.has_intrinsics_free, !q.fixed_intrinsics.empty());
     ExpectIdentical(q, ReadBinaryProblem(path));
     const CameraSide s = ReadBinaryCameraSide(path);
     EXPECT_EQ(s.fixed_cameras, q.fixed_cameras);
-    EXPECT_EQ(s.intrinsics_free, q.intrinsics_free);
+    EXPECT_EQ(s.fixed_intrinsics, q.fixed_intrinsics);
   }
 }
 
@@ -371,7 +371,7 @@ TEST(BinaryProblemPhoto, BalStaysVersion1AndFixedBalCamerasUseVersion2) {
 TEST(BinaryProblemPhoto, PointsOfAGroupCarryTheWholeCameraSide) {
   Problem p = PhotoProblem();
   p.fixed_cameras = {0, 1, 0, 0, 0, 0, 0};
-  p.intrinsics_free = {kAllIntrinsics, kAllIntrinsics & ~kIntrinsicK2, kIntrinsicF};
+  p.fixed_intrinsics = {0, kIntrinsicK2, kIntrinsicCx | kIntrinsicCy | kIntrinsicK1 | kIntrinsicK2};
   const std::string path = Tmp("photo_share.dba");
   WriteBinaryProblem(p, path);
   for (PartitionScheme scheme : {PartitionScheme::kEqual, PartitionScheme::kCameraLocality}) {
@@ -383,7 +383,7 @@ TEST(BinaryProblemPhoto, PointsOfAGroupCarryTheWholeCameraSide) {
       EXPECT_EQ(read.problem.cameras, p.cameras);
       EXPECT_EQ(read.problem.camera_intrinsics, p.camera_intrinsics);
       EXPECT_EQ(read.problem.fixed_cameras, p.fixed_cameras);
-      EXPECT_EQ(read.problem.intrinsics_free, p.intrinsics_free);
+      EXPECT_EQ(read.problem.fixed_intrinsics, p.fixed_intrinsics);
       KeepTouchedCameras(&read);
       const RankShare share = ExtractShare(p, group, g);
       EXPECT_EQ(read.global_point, share.global_point);
@@ -396,7 +396,7 @@ TEST(BinaryProblemPhoto, PointsOfAGroupCarryTheWholeCameraSide) {
 
 TEST(BinaryProblemPhoto, RewriteWithNewParametersKeepsGroupsAndFlags) {
   Problem p = PhotoProblem();
-  p.intrinsics_free = {kAllIntrinsics, kIntrinsicF, kIntrinsicF | kIntrinsicCx | kIntrinsicCy};
+  p.fixed_intrinsics = {0, kIntrinsicCx | kIntrinsicCy | kIntrinsicK1 | kIntrinsicK2, kIntrinsicK1 | kIntrinsicK2};
   const std::string in = Tmp("photo_params_in.dba"), out = Tmp("photo_params_out.dba");
   WriteBinaryProblem(p, in);
   std::vector<double> cameras = p.cameras, points = p.points;
@@ -431,7 +431,7 @@ TEST(BinaryProblemPhoto, WriterRefusesAnInconsistentCameraSideAndLeavesNothing) 
   p.fixed_cameras = {0, 1};
   expect_refused(p, "fixed flags of the wrong size");
   p = good;
-  p.intrinsics_free = {kAllIntrinsics, kAllIntrinsics, 32};
+  p.fixed_intrinsics = {0, 0, 32};
   expect_refused(p, "mask beyond kAllIntrinsics");
   p = good;
   p.cameras.resize(6 * 7);  // no intrinsic group at all
@@ -452,7 +452,7 @@ class CorruptPhotoBinaryTest : public CorruptBinaryTest {
     Problem p = PhotoProblem(2);
     p.fixed_cameras.assign(7, 0);
     p.fixed_cameras[0] = 1;
-    p.intrinsics_free = {kAllIntrinsics, kIntrinsicF};
+    p.fixed_intrinsics = {0, kIntrinsicCx | kIntrinsicCy | kIntrinsicK1 | kIntrinsicK2};
     WriteBinaryProblem(p, good_);
     bytes_ = ReadBytes(good_);
     h_ = ReadBinaryProblemHeader(good_);
@@ -570,8 +570,7 @@ TEST(CheckedInBinaryFiles, Version2PhotoWithFixingsDecodes) {
                                  0.002}));
   EXPECT_EQ(p.camera_intrinsics, (std::vector<int32_t>{0, 1, 0}));
   EXPECT_EQ(p.fixed_cameras, (std::vector<uint8_t>{0, 1, 0}));
-  EXPECT_EQ(p.intrinsics_free,
-            (std::vector<uint8_t>{kAllIntrinsics, kIntrinsicF | kIntrinsicK1 | kIntrinsicK2}));
+  EXPECT_EQ(p.fixed_intrinsics, (std::vector<uint8_t>{0, kIntrinsicCx | kIntrinsicCy}));
   EXPECT_EQ(p.points, (std::vector<double>{0.5, 0.25, 10, -0.5, 1.5, 12}));
   EXPECT_EQ(p.point_offsets, (std::vector<int64_t>{0, 2, 4}));
   EXPECT_EQ(p.obs_camera, (std::vector<int32_t>{0, 2, 1, 2}));

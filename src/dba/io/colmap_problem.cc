@@ -156,16 +156,14 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
       pose[3 + d] = im.tvec[d];
     }
   }
-  bp.intrinsics_free.resize(num_groups);
+  bp.fixed_intrinsics.resize(num_groups);
   for (int64_t g = 0; g < num_groups; ++g) {
     const ColmapIntrinsics in =
         IntrinsicsFromColmapCamera(model.cameras[out.group_camera[g]], source);
     double* x = bp.intrinsics(g);
     x[0] = in.f, x[1] = in.cx, x[2] = in.cy, x[3] = in.k1, x[4] = in.k2;
-    uint8_t free = kAllIntrinsics;
-    if (!in.has_k1) free &= ~kIntrinsicK1;
-    if (!in.has_k2) free &= ~kIntrinsicK2;
-    bp.intrinsics_free[g] = free;
+    // Parameters the COLMAP model lacks stay 0, fixed.
+    bp.fixed_intrinsics[g] = (in.has_k1 ? 0 : kIntrinsicK1) | (in.has_k2 ? 0 : kIntrinsicK2);
   }
 
   // Points and their observations, point-major.

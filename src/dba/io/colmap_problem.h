@@ -68,7 +68,7 @@ struct ColmapProblem {
   std::vector<int64_t> group_camera;  // intrinsic group g -> index into model.cameras
 };
 
-// Builds the problem (see above). fixed_cameras is empty; intrinsics_free
+// Builds the problem (see above). fixed_cameras is empty; fixed_intrinsics
 // always has one mask per group.
 // Throws dba::InputError naming `source` (e.g. the model's directory) for a
 // camera model other than SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL and RADIAL

@@ -307,12 +307,10 @@ TEST(ColmapProblemTest, SharedAndPerImageGroups) {
     EXPECT_EQ(per_image.problem.num_groups(), c.images);
     EXPECT_EQ(static_cast<int64_t>(shared.problem.cameras.size()),
               6 * c.images + 5 * c.shared_groups);
-    // SIMPLE_RADIAL has no k2: f, cx, cy, k1 free; then cx, cy fixed too.
-    for (uint8_t mask : shared.problem.intrinsics_free) {
-      EXPECT_EQ(mask, kIntrinsicF | kIntrinsicCx | kIntrinsicCy | kIntrinsicK1);
-    }
-    for (uint8_t mask : per_image.problem.intrinsics_free) {
-      EXPECT_EQ(mask, kIntrinsicF | kIntrinsicK1);
+    // SIMPLE_RADIAL has no k2: k2 fixed; then cx, cy fixed too.
+    for (uint8_t mask : shared.problem.fixed_intrinsics) EXPECT_EQ(mask, kIntrinsicK2);
+    for (uint8_t mask : per_image.problem.fixed_intrinsics) {
+      EXPECT_EQ(mask, kIntrinsicCx | kIntrinsicCy | kIntrinsicK2);
     }
     EXPECT_TRUE(shared.problem.fixed_cameras.empty());
     for (int64_t i = 0; i < c.images; ++i) {
@@ -357,8 +355,8 @@ TEST(ColmapProblemTest, PinholeLacksK1AndK2) {
   m.cameras[1].params = {600, 400, 300, 0.05, -0.01};
   const ColmapProblem cp = ProblemFromColmap(m, {}, "small");
   ASSERT_EQ(cp.group_camera, (std::vector<int64_t>{0, 1}));
-  EXPECT_EQ(cp.problem.intrinsics_free,
-            (std::vector<uint8_t>{kIntrinsicF | kIntrinsicCx | kIntrinsicCy, kAllIntrinsics}));
+  EXPECT_EQ(cp.problem.fixed_intrinsics,
+            (std::vector<uint8_t>{kIntrinsicK1 | kIntrinsicK2, 0}));
   EXPECT_EQ(std::vector<double>(cp.problem.intrinsics(0), cp.problem.intrinsics(0) + 5),
             (std::vector<double>{500, 320, 240, 0, 0}));
   EXPECT_EQ(std::vector<double>(cp.problem.intrinsics(1), cp.problem.intrinsics(1) + 5),

@@ -81,7 +81,7 @@ TEST(BundleAdjust, FixedParametersStayAtTheirValues) {
   Problem& p = s.problem;
   p.fixed_cameras.assign(p.num_images(), 0);
   p.fixed_cameras[0] = p.fixed_cameras[5] = 1;
-  p.intrinsics_free = {kIntrinsicF | kIntrinsicK1 | kIntrinsicK2, 0};
+  p.fixed_intrinsics = {kIntrinsicCx | kIntrinsicCy, kAllIntrinsics};
   const Problem start = p;
   LmOptions options;
   options.num_threads = 2;

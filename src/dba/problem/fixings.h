@@ -41,8 +41,8 @@ inline void ApplyFixings(const Fixings& f, CameraSide* problem) {
     if (problem->model != CameraModel::kPhoto) {
       throw std::invalid_argument("fixed intrinsics need the photogrammetric model");
     }
-    problem->intrinsics_free.resize(problem->num_groups(), kAllIntrinsics);
-    for (uint8_t& m : problem->intrinsics_free) m &= static_cast<uint8_t>(~f.intrinsics);
+    problem->fixed_intrinsics.resize(problem->num_groups(), 0);
+    for (uint8_t& m : problem->fixed_intrinsics) m |= f.intrinsics;
   }
 }
 

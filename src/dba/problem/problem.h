@@ -38,7 +38,7 @@ inline constexpr int kPhotoIntrinsicsSize = 5;  // f, cx, cy, k1, k2
 
 enum class CameraModel : int32_t { kBal = 0, kPhoto = 1 };
 
-// Bits of the intrinsic parameters (kPhoto), for intrinsics_free.
+// Bits of the intrinsic parameters (kPhoto), for fixed_intrinsics.
 enum IntrinsicBit : uint8_t {
   kIntrinsicF = 1, kIntrinsicCx = 2, kIntrinsicCy = 4, kIntrinsicK1 = 8, kIntrinsicK2 = 16,
   kAllIntrinsics = 31,
@@ -52,11 +52,11 @@ struct CameraSide {
   // kPhoto: the intrinsic group of each image (size num_images()).
   std::vector<int32_t> camera_intrinsics;
   // What is held fixed (fixed parameters are not unknowns of the solve).
-  // fixed_cameras: empty, or one flag per image (the whole pose/camera).
-  // intrinsics_free: kPhoto, empty (all free) or per group a mask of
-  // IntrinsicBit: the parameters that are unknowns.
+  // fixed_cameras: empty (none fixed), or one flag per image (the whole
+  // pose/camera). fixed_intrinsics: kPhoto, empty (none fixed) or per group
+  // a mask of IntrinsicBit: the parameters held fixed.
   std::vector<uint8_t> fixed_cameras;
-  std::vector<uint8_t> intrinsics_free;
+  std::vector<uint8_t> fixed_intrinsics;
 
   int camera_size() const {
     return model == CameraModel::kBal ? kBalCameraSize : kPhotoPoseSize;
@@ -84,20 +84,22 @@ struct CameraSide {
     return cameras.data() + kPhotoPoseSize * num_images() + kPhotoIntrinsicsSize * g;
   }
   bool camera_fixed(int64_t i) const { return !fixed_cameras.empty() && fixed_cameras[i]; }
+  // The intrinsic parameters of group g that are unknowns.
   uint8_t intrinsics_free_mask(int64_t g) const {
-    return intrinsics_free.empty() ? uint8_t{kAllIntrinsics} : intrinsics_free[g];
+    return fixed_intrinsics.empty() ? uint8_t{kAllIntrinsics}
+                                    : static_cast<uint8_t>(kAllIntrinsics & ~fixed_intrinsics[g]);
   }
 
   // Every array, in one fixed order (cameras, camera_intrinsics,
-  // fixed_cameras, intrinsics_free): the one list of the fields for code that
+  // fixed_cameras, fixed_intrinsics): the one list of the fields for code that
   // treats them alike (sending a share, sizing). `f` gets each vector.
   template <class F>
   void ForEachArray(F&& f) {
-    f(cameras), f(camera_intrinsics), f(fixed_cameras), f(intrinsics_free);
+    f(cameras), f(camera_intrinsics), f(fixed_cameras), f(fixed_intrinsics);
   }
   template <class F>
   void ForEachArray(F&& f) const {
-    f(cameras), f(camera_intrinsics), f(fixed_cameras), f(intrinsics_free);
+    f(cameras), f(camera_intrinsics), f(fixed_cameras), f(fixed_intrinsics);
   }
   // Bytes held by the arrays (capacity, not size).
   int64_t MemoryBytes() const { return ArrayBytes(*this); }

@@ -18,7 +18,7 @@ TEST(Problem, ForEachArrayVisitsEveryArrayOnceInOrder) {
   p.cameras.resize(1);
   p.camera_intrinsics.resize(2);
   p.fixed_cameras.resize(3);
-  p.intrinsics_free.resize(4);
+  p.fixed_intrinsics.resize(4);
   p.points.resize(5);
   p.point_offsets.resize(6);
   p.obs_camera.resize(7);

@@ -84,7 +84,7 @@ TEST(BackSubstitute, PhotoModelWithFixedParameters) {
   o.distortion_perturbation = 0.01;
   Problem problem = testing::MakeSyntheticPhoto(o).problem;
   problem.fixed_cameras = {0, 0, 1, 0, 0, 0};
-  problem.intrinsics_free = {kIntrinsicF | kIntrinsicK1 | kIntrinsicK2, kAllIntrinsics};
+  problem.fixed_intrinsics = {kIntrinsicCx | kIntrinsicCy, 0};
   const double lambda = 0.3;
   const DampingBounds bounds;
   const auto dense = testing::BuildDenseNormalEquations(problem, lambda, bounds);

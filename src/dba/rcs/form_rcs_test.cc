@@ -102,7 +102,7 @@ TEST(FormRcs, RefillingGivesTheSameValues) {
 // way of holding parameters fixed.
 struct PhotoCase {
   const char* name;
-  uint8_t intrinsics_free;       // mask for every group
+  uint8_t free_intrinsics;       // mask of unknowns for every group
   std::vector<int> fixed_images;
 };
 
@@ -123,7 +123,7 @@ Problem PhotoProblem(const PhotoCase& c, uint32_t seed) {
   o.principal_perturbation = 2.0;
   o.distortion_perturbation = 0.01;
   Problem p = testing::MakeSyntheticPhoto(o).problem;
-  p.intrinsics_free.assign(p.num_groups(), c.intrinsics_free);
+  p.fixed_intrinsics.assign(p.num_groups(), static_cast<uint8_t>(kAllIntrinsics & ~c.free_intrinsics));
   p.fixed_cameras.assign(p.num_images(), 0);
   for (int i : c.fixed_images) p.fixed_cameras[i] = 1;
   return p;

@@ -62,8 +62,8 @@ TEST(RcsPattern, ProblemPatternMatchesSetReferenceWithGroupsAndFixings) {
     Problem p = testing::MakeSyntheticPhoto(o).problem;
     p.fixed_cameras.assign(p.num_images(), 0);
     p.fixed_cameras[3] = p.fixed_cameras[17] = 1;
-    p.intrinsics_free.assign(p.num_groups(), kAllIntrinsics);
-    p.intrinsics_free[2] = 0;  // group 2 fixed: no row
+    p.fixed_intrinsics.assign(p.num_groups(), 0);
+    p.fixed_intrinsics[2] = kAllIntrinsics;  // group 2 fixed: no row
     const UnknownLayout layout(p);
     std::set<uint64_t> reference;
     for (int32_t i = 0; i < layout.num_block_rows(); ++i) reference.insert(PackBlock(i, i));

@@ -34,7 +34,7 @@ TEST(UnknownLayout, BalCamerasAreNineWideRows) {
 TEST(UnknownLayout, PhotoRowsPosesThenFreeIntrinsics) {
   Problem p = PhotoCameras(5, 3);
   p.fixed_cameras = {1, 0, 0, 0, 0};
-  p.intrinsics_free = {kAllIntrinsics, 0, kIntrinsicF | kIntrinsicK2};
+  p.fixed_intrinsics = {0, kAllIntrinsics, kIntrinsicCx | kIntrinsicCy | kIntrinsicK1};
   const UnknownLayout l(p);
   ASSERT_EQ(l.num_block_rows(), 4 + 2);
   EXPECT_EQ(l.num_camera_rows(), 4);
@@ -55,7 +55,8 @@ TEST(UnknownLayout, PhotoRowsPosesThenFreeIntrinsics) {
 TEST(UnknownLayout, PlusMovesOnlyFreeParameters) {
   Problem p = PhotoCameras(2, 2);
   p.fixed_cameras = {0, 1};
-  p.intrinsics_free = {kIntrinsicCx | kIntrinsicCy, kIntrinsicK1};
+  p.fixed_intrinsics = {kIntrinsicF | kIntrinsicK1 | kIntrinsicK2,
+                        kIntrinsicF | kIntrinsicCx | kIntrinsicCy | kIntrinsicK2};
   const UnknownLayout l(p);
   ASSERT_EQ(l.num_unknowns(), 6 + 2 + 1);
   std::vector<double> delta(l.num_unknowns());

@@ -156,7 +156,7 @@ TEST(UavGeneratorPhoto, OneSharedIntrinsicGroupPerPhysicalCamera) {
   EXPECT_EQ(s.intrinsic_groups, 2);
   EXPECT_EQ(p.num_observations(), s.observations);
   EXPECT_TRUE(p.fixed_cameras.empty());
-  EXPECT_TRUE(p.intrinsics_free.empty());
+  EXPECT_TRUE(p.fixed_intrinsics.empty());
   EXPECT_EQ(p.camera_intrinsics, truth.camera_intrinsics);
   EXPECT_EQ(p.obs_camera, truth.obs_camera);
   for (int64_t i = 0; i < p.num_images(); ++i) {
