@@ -76,7 +76,13 @@ for sig in TERM HUP; do  # (a background job ignores SIGINT)
   # generator writes slowly and this loop still sees the temporary.
   nice -n 19 "$dba" generate "$tmp/interrupted.dba" --images 60000 >/dev/null 2>&1 &
   pid=$!
-  for _ in $(seq 1200); do [ -e "$tmp/interrupted.dba.tmp.$pid" ] && break; sleep 0.05; done
+  # Waits while the generator lives (not a fixed time: starved at nice 19
+  # beside ctest -j8 it may take a minute to start writing), at most 10 min.
+  for _ in $(seq 12000); do
+    [ -e "$tmp/interrupted.dba.tmp.$pid" ] && break
+    kill -0 "$pid" 2>/dev/null || break
+    sleep 0.05
+  done
   check "a temporary exists while writing ($sig)" test -e "$tmp/interrupted.dba.tmp.$pid"
   kill -"$sig" "$pid"; wait "$pid" 2>/dev/null
   check "SIG$sig leaves no temporary" test -z "$(ls "$tmp" | grep interrupted)"
