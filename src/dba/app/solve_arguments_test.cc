@@ -48,6 +48,7 @@ INSTANTIATE_TEST_SUITE_P(
         Refusal{"bad_preconditioner", {"a.txt", "--preconditioner", "ilu"}, "--preconditioner: expected jacobi or two-level, got 'ilu'"},
         Refusal{"bad_coarse_basis", {"a.txt", "--coarse-basis", "affine"}, "--coarse-basis: expected similarity, rigid or parameters, got 'affine'"},
         Refusal{"negative_eta", {"a.txt", "--eta", "-1"}, "--eta"},
+        Refusal{"bad_pcg_precision", {"a.txt", "--pcg-precision", "half"}, "--pcg-precision: expected auto, mixed or double, got 'half'"},
         Refusal{"bad_loss", {"a.txt", "--loss", "l1"}, "--loss: expected trivial, huber, soft_l1, cauchy, arctan or tukey, got 'l1'"},
         Refusal{"zero_loss_scale", {"a.txt", "--loss-scale", "0"}, "--loss-scale: must be > 0"},
         Refusal{"zero_reject_outliers", {"a.txt", "--reject-outliers", "0"}, "--reject-outliers: must be > 0"},
@@ -62,7 +63,7 @@ TEST(SolveArguments, AcceptedOptionsLandInTheOptions) {
   const SolveCommandOptions o = ParseSolveArguments(
       {"in.dba", "-o", "out.dba", "--report", "r.json", "-t", "3", "--linear-solver", "sparse",
        "--loss", "huber", "--loss-scale", "2.5", "--reject-outliers", "4", "--reject-keep-loss", "--eta", "0.2",
-       "--coarse-basis", "parameters", "-q"},
+       "--coarse-basis", "parameters", "--pcg-precision", "double", "-q"},
       &help);
   EXPECT_FALSE(help);
   EXPECT_EQ(o.input, "in.dba");
@@ -76,6 +77,7 @@ TEST(SolveArguments, AcceptedOptionsLandInTheOptions) {
   EXPECT_TRUE(o.reject_keep_loss);
   EXPECT_EQ(o.lm.linear_solver.pcg.eta, 0.2);
   EXPECT_EQ(o.lm.linear_solver.coarse_basis, CoarseBasis::kParameters);
+  EXPECT_EQ(o.lm.linear_solver.pcg.precision, PcgPrecision::kDouble);
   EXPECT_TRUE(o.quiet);
   ParseSolveArguments({"--help"}, &help);
   EXPECT_TRUE(help);

@@ -61,7 +61,10 @@ int32_t BsmcMatrix::BlockRow(int64_t b) const {
   return static_cast<int32_t>(it - row_begin_.begin() - 1);
 }
 
-void BsmcMatrix::SetZero() { std::fill(values_.begin(), values_.end(), 0.0); }
+void BsmcMatrix::SetZero() {
+  std::fill(values_.begin(), values_.end(), 0.0);
+  values_narrowed_ = false;
+}
 
 int64_t BsmcMatrix::StructureBytes() const {
   return static_cast<int64_t>(block_size_.size() * sizeof(int32_t) +

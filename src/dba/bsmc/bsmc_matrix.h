@@ -101,6 +101,10 @@ class BsmcMatrix {
   std::vector<double>& values() { return values_; }
   const std::vector<double>& values() const { return values_; }
   void SetZero();
+  // A mixed-precision product (bsmc/symmetric_multiply.h) narrowed the
+  // values in place: they are not S's doubles until SetZero.
+  bool values_narrowed() const { return values_narrowed_; }
+  void MarkValuesNarrowed() { values_narrowed_ = true; }
 
   // Bytes of the structure (block sizes, offsets, column ids) and of the
   // values, as held (docs/design.md §2, paper eq. 9).
@@ -119,6 +123,7 @@ class BsmcMatrix {
   std::vector<int32_t> block_col_;
   std::vector<int64_t> value_offset_{0};
   std::vector<double> values_;
+  bool values_narrowed_ = false;
 };
 
 }  // namespace dba

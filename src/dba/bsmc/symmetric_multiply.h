@@ -11,8 +11,16 @@
 // atomics, no locks, no full-length scratch per call; the sum order is fixed,
 // so the result does not depend on scheduling.
 //
+// Mixed precision: the product streams S from memory (2 flops per 8 bytes),
+// so its time is S's size over the bandwidth. With ProductPrecision::kMixed,
+// Narrow(&S) rewrites S's off-diagonal blocks as float32, in place, over the
+// front of S's own value buffer, and keeps the diagonal blocks (which carry
+// the LM damping) in double beside it: the product reads about half the
+// bytes, accumulates in double, and is exact to float's 6e-8 per value.
+// S's double values are gone until S is re-formed (BsmcMatrix::SetZero).
+//
 // Thread safety: one Multiply at a time per SymmetricMultiplier (it owns the
-// spill buffers); the matrix is only read.
+// spill buffers); the matrix is only read, except by Narrow.
 #pragma once
 
 #include <cstdint>
@@ -22,12 +30,20 @@
 
 namespace dba {
 
+enum class ProductPrecision { kDouble, kMixed };
+
 class SymmetricMultiplier {
  public:
   // Splits the rows of `matrix`'s structure for `num_threads` threads. The
   // multiplier keeps a reference: the matrix must outlive it and its structure
   // must not change (values may).
-  SymmetricMultiplier(const BsmcMatrix& matrix, int num_threads);
+  SymmetricMultiplier(const BsmcMatrix& matrix, int num_threads,
+                      ProductPrecision precision = ProductPrecision::kDouble);
+
+  // kMixed: narrows S's current values (see above); S must be the matrix
+  // given at construction. Call after each change of S's values, before
+  // Multiply. S's values are not valid afterwards, until SetZero.
+  void Narrow(BsmcMatrix* S);
 
   // y = S x; x and y have matrix.num_rows() entries and must not alias.
   void Multiply(const double* x, double* y) const;
@@ -35,11 +51,24 @@ class SymmetricMultiplier {
   int num_threads() const { return static_cast<int>(row_split_.size()) - 1; }
   int64_t num_rows() const { return matrix_.num_rows(); }
   const BsmcMatrix& matrix() const { return matrix_; }
-  // Scalar entries of all spill buffers (for memory accounting).
-  int64_t spill_size() const;
+  ProductPrecision precision() const { return precision_; }
+  // Bytes the multiplier holds: spill buffers, and for kMixed the diagonal
+  // blocks in double.
+  int64_t MemoryBytes() const;
 
  private:
+  void PlanNarrowing();
+  template <class Values>
+  void MultiplyWith(const Values& values, const double* x, double* y) const;
+
   const BsmcMatrix& matrix_;
+  ProductPrecision precision_;
+  // kMixed: the diagonal blocks in double (row i's at diagonal_offset_[i]),
+  // and the rounds of the in-place narrowing (rows [round_[k], round_[k+1])).
+  std::vector<int64_t> diagonal_offset_;
+  std::vector<double> diagonal_;
+  std::vector<int32_t> round_;
+  bool narrowed_ = false;
   std::vector<int32_t> row_split_;          // thread t owns [row_split_[t], row_split_[t+1])
   std::vector<int64_t> spill_begin_;        // scalar row where thread t's spill starts
   mutable std::vector<std::vector<double>> spill_;

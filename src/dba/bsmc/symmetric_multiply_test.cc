@@ -67,5 +67,83 @@ TEST(SymmetricMultiply, ThreadedMixedSizesWithFarBlocks) {
   ExpectMatchesDense(m, 3, 3);
 }
 
+// The dense matrix a mixed-precision product stands for: the diagonal
+// blocks as they are, every off-diagonal value rounded to float.
+Eigen::MatrixXd DenseNarrowed(const BsmcMatrix& m) {
+  BsmcMatrix rounded = m;
+  for (int32_t i = 0; i < m.num_block_rows(); ++i) {
+    for (int64_t b = m.row_begin(i) + 1; b < m.row_end(i); ++b) {
+      const int n = m.block_size(i) * m.block_size(m.block_col(b));
+      double* v = rounded.block_values(b);
+      for (int k = 0; k < n; ++k) v[k] = static_cast<float>(v[k]);
+    }
+  }
+  return testing::DenseFromBsmc(rounded);
+}
+
+// Narrowed in place (in rounds, with threads), the product is S's with its
+// off-diagonal values rounded to float, summed in double: to 1e-12 of that
+// reference, and visibly not S's own product (the test would see a value
+// narrowed into the wrong place, or a diagonal block narrowed).
+void ExpectMixedMatchesNarrowedDense(BsmcMatrix m, int threads) {
+  const Eigen::MatrixXd exact = testing::DenseFromBsmc(m);
+  const Eigen::MatrixXd narrowed = DenseNarrowed(m);
+  const Eigen::VectorXd x = RandomVector(m.num_rows(), 5);
+  const Eigen::VectorXd expected = narrowed * x;
+  SymmetricMultiplier multiplier(m, threads, ProductPrecision::kMixed);
+  const std::vector<double> formed = m.values();
+  // Twice: the second time after S is re-formed (zeroed, filled again).
+  for (int round = 0; round < 2; ++round) {
+    if (round == 1) {
+      m.SetZero();
+      EXPECT_FALSE(m.values_narrowed());
+      m.values() = formed;
+    }
+    multiplier.Narrow(&m);
+    EXPECT_TRUE(m.values_narrowed());
+    Eigen::VectorXd y = Eigen::VectorXd::Constant(m.num_rows(), 1e300);
+    multiplier.Multiply(x.data(), y.data());
+    EXPECT_LT((y - expected).norm(), 1e-12 * expected.norm()) << threads << " threads, round " << round;
+    EXPECT_LT((y - exact * x).norm(), 1e-6 * expected.norm());
+    EXPECT_GT((y - exact * x).norm(), 1e-12 * expected.norm()) << "no value was rounded";
+  }
+  EXPECT_GT(multiplier.MemoryBytes(), 0);
+}
+
+TEST(SymmetricMultiply, MixedPrecisionMatchesTheNarrowedMatrix) {
+  testing::RandomBsmcOptions o;
+  o.block_rows = 40;
+  for (int threads = 1; threads <= 3; ++threads) ExpectMixedMatchesNarrowedDense(testing::MakeRandomBsmc(o), threads);
+  // The camera blocks of both models, with the spill path and many rounds.
+  o.block_rows = 400;
+  o.sizes = {9};
+  o.band = 30;
+  o.fill = 0.6;
+  ExpectMixedMatchesNarrowedDense(testing::MakeRandomBsmc(o), 2);
+  o.sizes = {6, 5};
+  o.fill = 0.3;
+  ExpectMixedMatchesNarrowedDense(testing::MakeRandomBsmc(o), 2);
+  // Rows with the diagonal block alone.
+  o.sizes = {7};
+  o.fill = 0.02;
+  ExpectMixedMatchesNarrowedDense(testing::MakeRandomBsmc(o), 2);
+}
+
+TEST(SymmetricMultiply, MixedProductRefusesValuesNotNarrowed) {
+  testing::RandomBsmcOptions o;
+  o.block_rows = 10;
+  BsmcMatrix m = testing::MakeRandomBsmc(o);
+  SymmetricMultiplier mixed(m, 1, ProductPrecision::kMixed);
+  std::vector<double> x(m.num_rows(), 1.0), y(m.num_rows());
+  EXPECT_THROW(mixed.Multiply(x.data(), y.data()), std::logic_error);
+  mixed.Narrow(&m);
+  const SymmetricMultiplier plain(m, 1);
+  EXPECT_THROW(plain.Multiply(x.data(), y.data()), std::logic_error);
+  m.SetZero();  // re-formed: the mixed product must narrow again
+  EXPECT_THROW(mixed.Multiply(x.data(), y.data()), std::logic_error);
+  BsmcMatrix other = m;
+  EXPECT_THROW(mixed.Narrow(&other), std::logic_error);
+}
+
 }  // namespace
 }  // namespace dba

@@ -23,8 +23,10 @@ namespace dba {
 // program's (numpy's) BLAS threads too.
 void StopBlasThreads();
 
-// `num_threads` BLAS threads for the scope; after it, the count it found and
-// the pool's threads joined (a later multithreaded call starts them again).
+// `num_threads` BLAS threads for the scope; after it, the count it found,
+// and where the scope raised the count, the pool's threads joined (a later
+// multithreaded call starts them again). A scope that asks for the count
+// already set changes nothing.
 class BlasThreads {
  public:
   explicit BlasThreads(int num_threads);
@@ -33,7 +35,8 @@ class BlasThreads {
   BlasThreads& operator=(const BlasThreads&) = delete;
 
  private:
-  int previous_ = 0;  // 0: no OpenBLAS
+  int previous_ = 0;  // 0: no OpenBLAS, or nothing changed
+  bool raised_ = false;  // more threads than before: shut the pool down after
 };
 
 }  // namespace dba

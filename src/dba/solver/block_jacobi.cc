@@ -1,5 +1,6 @@
 // Block-Jacobi preconditioner (paper eq. 7); see block_jacobi.h.
 #include "dba/bsmc/block_shape.h"
+#include "dba/common/check.h"
 #include "dba/solver/block_jacobi.h"
 
 #include <Eigen/Cholesky>
@@ -22,6 +23,7 @@ BlockJacobiPreconditioner::BlockJacobiPreconditioner(const BsmcMatrix& S,
 }
 
 void BlockJacobiPreconditioner::Update(const BsmcMatrix& S) {
+  DBA_DCHECK(!S.values_narrowed());
   const int32_t n = S.num_block_rows();
 #pragma omp parallel for num_threads(num_threads_) schedule(static) if (n > 256)
   for (int32_t i = 0; i < n; ++i) {

@@ -30,6 +30,25 @@ const char* PcgStopName(PcgStop stop) {
   return "unknown";
 }
 
+const char* PcgPrecisionName(PcgPrecision precision) {
+  switch (precision) {
+    case PcgPrecision::kAuto: return "auto";
+    case PcgPrecision::kMixed: return "mixed";
+    case PcgPrecision::kDouble: return "double";
+  }
+  return "unknown";
+}
+
+bool ParsePcgPrecision(const std::string& name, PcgPrecision* precision) {
+  for (PcgPrecision p : {PcgPrecision::kAuto, PcgPrecision::kMixed, PcgPrecision::kDouble}) {
+    if (name == PcgPrecisionName(p)) {
+      *precision = p;
+      return true;
+    }
+  }
+  return false;
+}
+
 void PcgScratch::Resize(int64_t n) {
   r.resize(n);
   z.resize(n);

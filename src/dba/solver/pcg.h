@@ -29,6 +29,15 @@
 
 namespace dba {
 
+// The precision of S in PCG's product (bsmc/symmetric_multiply.h): auto is
+// mixed (off-diagonal blocks in float, half the bytes of the product) while
+// the η stop is on, which never sees float's rounding of S (6e-8 relative
+// per value, far inside η), and double for a tight solve (η = 0).
+enum class PcgPrecision { kAuto, kMixed, kDouble };
+const char* PcgPrecisionName(PcgPrecision precision);
+// "auto", "mixed", "double"; false if `name` is none of them.
+bool ParsePcgPrecision(const std::string& name, PcgPrecision* precision);
+
 struct PcgOptions {
   // Nash-Sofer stop; 0 turns it off (the residual test alone decides).
   // 0.1 by measurement (bench/README.md, "Linear solvers"), as Ceres.
@@ -44,7 +53,16 @@ struct PcgOptions {
   int max_iterations = 500;
   // r = b - S y recomputed every this many iterations (one extra product).
   int residual_reset_period = 50;
+  PcgPrecision precision = PcgPrecision::kAuto;
   int num_threads = 1;
+
+  // The product's precision that `precision` stands for.
+  ProductPrecision product_precision() const {
+    if (precision == PcgPrecision::kAuto) {
+      return eta > 0.0 ? ProductPrecision::kMixed : ProductPrecision::kDouble;
+    }
+    return precision == PcgPrecision::kMixed ? ProductPrecision::kMixed : ProductPrecision::kDouble;
+  }
 };
 
 enum class PcgStop {

@@ -9,7 +9,8 @@
 namespace dba {
 
 PcgRcsSolver::PcgRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options)
-    : options_(options.pcg), multiplier_(S, options.pcg.num_threads) {
+    : options_(options.pcg),
+      multiplier_(S, options.pcg.num_threads, options.pcg.product_precision()) {
   if (options.preconditioner == PreconditionerType::kTwoLevel) {
     preconditioner_ = std::make_unique<TwoLevelPreconditioner>(S, options.coarse_aggregate_size,
                                                                options.pcg.num_threads,
@@ -22,22 +23,25 @@ PcgRcsSolver::PcgRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& optio
 
 int64_t PcgRcsSolver::MemoryBytes() const {
   return preconditioner_->MemoryBytes() +
-         (4 * static_cast<int64_t>(scratch_.r.size()) + multiplier_.spill_size()) * 8;
+         4 * static_cast<int64_t>(scratch_.r.size()) * 8 + multiplier_.MemoryBytes();
 }
 
-int64_t PcgPathBytes(const BsmcMatrix& S) {
-  int64_t preconditioner = 0;
+int64_t PcgPathBytes(const BsmcMatrix& S, ProductPrecision precision) {
+  int64_t diagonal = 0;  // values of the diagonal blocks
   for (int32_t i = 0; i < S.num_block_rows(); ++i) {
-    preconditioner += int64_t{S.block_size(i)} * S.block_size(i);
+    diagonal += int64_t{S.block_size(i)} * S.block_size(i);
   }
-  return S.ValueBytes() + S.StructureBytes() + (preconditioner + 5 * S.num_rows()) * 8;
+  // The block-Jacobi inverse, and for a mixed product the diagonal in double.
+  const int64_t copies = precision == ProductPrecision::kMixed ? 2 : 1;
+  return S.ValueBytes() + S.StructureBytes() + (copies * diagonal + 5 * S.num_rows()) * 8;
 }
 
-LinearSolveSummary PcgRcsSolver::Solve(const BsmcMatrix& S, const double* b, double* x) {
+LinearSolveSummary PcgRcsSolver::Solve(BsmcMatrix& S, const double* b, double* x) {
   if (&S != &multiplier_.matrix()) {
     throw std::logic_error("PcgRcsSolver: Solve on a matrix other than the one given at construction");
   }
   preconditioner_->Update(S);
+  if (multiplier_.precision() == ProductPrecision::kMixed) multiplier_.Narrow(&S);
   const PcgSummary pcg = SolvePcg(multiplier_, *preconditioner_, b, x, options_, &scratch_);
   LinearSolveSummary summary;
   summary.iterations = pcg.iterations;

@@ -1,7 +1,8 @@
 // The RCS solved by truncated-Newton PCG (solver/pcg.h) with a block-Jacobi
 // or two-level preconditioner. The multiplier's thread split, the preconditioner's storage
 // and the PCG vectors are set up once, at construction; each Solve refreshes
-// the preconditioner from S's values and runs PCG from zero.
+// the preconditioner from S's values, narrows S for a mixed-precision
+// product (PcgOptions::precision) and runs PCG from zero.
 //
 // Thread safety: one Solve at a time.
 #pragma once
@@ -18,7 +19,7 @@ class PcgRcsSolver : public RcsSolver {
  public:
   // S must outlive the solver and keep its structure.
   PcgRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options);
-  LinearSolveSummary Solve(const BsmcMatrix& S, const double* b, double* x) override;
+  LinearSolveSummary Solve(BsmcMatrix& S, const double* b, double* x) override;
   LinearSolverType type() const override { return LinearSolverType::kPcg; }
   int64_t MemoryBytes() const override;
 
@@ -29,7 +30,8 @@ class PcgRcsSolver : public RcsSolver {
   PcgScratch scratch_;
 };
 
-// Bytes of the PCG path for S: S itself, the preconditioner, the vectors.
-int64_t PcgPathBytes(const BsmcMatrix& S);
+// Bytes of the PCG path for S: S itself, the preconditioner, the vectors,
+// and for a mixed-precision product the diagonal blocks in double.
+int64_t PcgPathBytes(const BsmcMatrix& S, ProductPrecision precision);
 
 }  // namespace dba

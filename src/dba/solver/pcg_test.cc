@@ -54,6 +54,33 @@ TEST(Pcg, MatchesDenseCholesky) {
   }
 }
 
+// Mixed precision: PCG converges on the matrix with float off-diagonal
+// values, within float's rounding of S's own solution; auto picks it only
+// with the η stop.
+TEST(Pcg, MixedPrecisionSolvesToFloatAccuracy) {
+  BsmcMatrix S = SpdMatrix(5);
+  const Eigen::MatrixXd dense = testing::DenseFromBsmc(S);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(S.num_rows(), -1.0, 2.0);
+  const Eigen::VectorXd expected = dense.llt().solve(b);
+  const BlockJacobiPreconditioner M = Jacobi(S, 1);
+  PcgOptions options;
+  EXPECT_EQ(options.product_precision(), ProductPrecision::kMixed);  // the default: η = 0.1
+  options.eta = 0.0;
+  EXPECT_EQ(options.product_precision(), ProductPrecision::kDouble);
+  options.precision = PcgPrecision::kMixed;
+  EXPECT_EQ(options.product_precision(), ProductPrecision::kMixed);
+  options.relative_tolerance = 1e-12;
+  SymmetricMultiplier multiplier(S, 1, options.product_precision());
+  multiplier.Narrow(&S);
+  Eigen::VectorXd y(S.num_rows());
+  PcgScratch scratch;
+  const PcgSummary s = SolvePcg(multiplier, M, b.data(), y.data(), options, &scratch);
+  EXPECT_EQ(s.stop, PcgStop::kResidual) << PcgStopName(s.stop);
+  const double error = (y - expected).norm() / expected.norm();
+  EXPECT_LT(error, 1e-5);
+  EXPECT_GT(error, 1e-12);  // it solved the narrowed matrix, not S
+}
+
 TEST(Pcg, IterationCapIsReported) {
   const BsmcMatrix S = SpdMatrix(4);
   const SymmetricMultiplier multiplier(S, 1);

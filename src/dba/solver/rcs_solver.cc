@@ -101,7 +101,7 @@ bool ParseLinearSolver(const std::string& name, LinearSolverType* type) {
   return false;
 }
 
-LinearSolveSummary CholeskySolver::Solve(const BsmcMatrix& S, const double* b, double* x) {
+LinearSolveSummary CholeskySolver::Solve(BsmcMatrix& S, const double* b, double* x) {
   LinearSolveSummary summary;
   summary.stop = "factorized";
   if (!Factorize(S)) {
@@ -123,7 +123,7 @@ std::unique_ptr<RcsSolver> MakeRcsSolver(const BsmcMatrix& S, const LinearSolver
                                          RcsSolverChoice* choice_out) {
   RcsSolverChoice choice;
   const double n = static_cast<double>(S.num_rows());
-  choice.pcg_bytes = PcgPathBytes(S);
+  choice.pcg_bytes = PcgPathBytes(S, options.pcg.product_precision());
   choice.dense_bytes = static_cast<int64_t>(n * n * 8);
   choice.dense_flops = n * n * n / 3;
   const double rest = kSecondsPerObservation * static_cast<double>(options.num_observations);

@@ -94,8 +94,10 @@ class RcsSolver {
  public:
   virtual ~RcsSolver() = default;
   // x = S⁻¹ b (PCG: approximately). S: the matrix given at construction,
-  // damped, current values.
-  virtual LinearSolveSummary Solve(const BsmcMatrix& S, const double* b, double* x) = 0;
+  // damped, current values. A mixed-precision PCG narrows S's values in
+  // place (bsmc/symmetric_multiply.h): after Solve they are to be re-formed,
+  // not read.
+  virtual LinearSolveSummary Solve(BsmcMatrix& S, const double* b, double* x) = 0;
   virtual LinearSolverType type() const = 0;
   // Bytes held by the solver beyond S (factor, copies, vectors).
   virtual int64_t MemoryBytes() const = 0;
@@ -111,7 +113,7 @@ class CholeskySolver : public RcsSolver {
   // x = S⁻¹ b with the last successful factorization; x may alias b.
   virtual void SolveFactored(const double* b, double* x) = 0;
 
-  LinearSolveSummary Solve(const BsmcMatrix& S, const double* b, double* x) final;
+  LinearSolveSummary Solve(BsmcMatrix& S, const double* b, double* x) final;
 };
 
 // A direct solver for S: dense up to `max_dense_rows` unknowns, sparse above

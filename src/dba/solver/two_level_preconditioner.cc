@@ -22,37 +22,38 @@ using Slab = Eigen::Map<Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor
 using ConstSlab = Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>, 0,
                              Eigen::OuterStride<>>;
 
-// out = N_iᵀ S_ij N_j for an r x c block (row-major; out is r' x c', one
-// row and column more for a basis with a scale column), by 3x3 panels: S N
-// replaces columns (ω, t) by (S_t B, S_ω A + S_t C) and appends S_t D, then
-// Nᵀ (S N) rows (ω, t) by (Bᵀ T_t, Aᵀ T_ω + Cᵀ T_t) and appends Dᵀ T_t.
-// `out` may not alias `s`.
-void TransformBlock(const CoarseRowBasis& Ni, const double* s, const CoarseRowBasis& Nj, int r,
-                    int c, double* out) {
+// N_iᵀ S_ij N_j for an r x c block (row-major; r' x c', one row and column
+// more for a basis with a scale column), in two halves by 3x3 panels.
+//
+// Right: sn = S_ij N_j replaces columns (ω, t) by (S_t B, S_ω A + S_t C) and
+// appends S_t D (r x c'). `sn` may not alias `s`.
+void RightTransform(const double* s, const CoarseRowBasis& Nj, int r, int c, double* sn) {
   const int cc = c + (Nj.scale ? 1 : 0);
-  double sn[9 * 10];  // S N_j, r x cc
   for (int x = 0; x < r; ++x) std::copy(s + x * c, s + x * c + c, sn + x * cc);
-  if (Nj.rigid) {
-    ConstPanel s_w(s, r, 3, Eigen::OuterStride<>(c)), s_t(s + 3, r, 3, Eigen::OuterStride<>(c));
-    Panel(sn, r, 3, Eigen::OuterStride<>(cc)).noalias() = s_t * Nj.B;
-    Panel o_t(sn + 3, r, 3, Eigen::OuterStride<>(cc));
-    o_t.noalias() = s_w * Nj.A;
-    o_t.noalias() += s_t * Nj.C;
-    if (Nj.scale) {
-      for (int x = 0; x < r; ++x) sn[x * cc + c] = s_t.row(x).dot(Nj.D.transpose());
-    }
+  if (!Nj.rigid) return;
+  ConstPanel s_w(s, r, 3, Eigen::OuterStride<>(c)), s_t(s + 3, r, 3, Eigen::OuterStride<>(c));
+  Panel(sn, r, 3, Eigen::OuterStride<>(cc)).noalias() = s_t * Nj.B;
+  Panel o_t(sn + 3, r, 3, Eigen::OuterStride<>(cc));
+  o_t.noalias() = s_w * Nj.A;
+  o_t.noalias() += s_t * Nj.C;
+  if (Nj.scale) {
+    for (int x = 0; x < r; ++x) sn[x * cc + c] = s_t.row(x).dot(Nj.D.transpose());
   }
+}
+
+// Left: out = N_iᵀ sn replaces rows (ω, t) of the r x cc `sn` by (Bᵀ T_t,
+// Aᵀ T_ω + Cᵀ T_t) and appends Dᵀ T_t. `out` may not alias `sn`.
+void LeftTransform(const CoarseRowBasis& Ni, const double* sn, int r, int cc, double* out) {
   std::copy(sn, sn + r * cc, out);
-  if (Ni.rigid) {
-    ConstSlab t_w(sn, 3, cc, Eigen::OuterStride<>(cc)), t_t(sn + 3 * cc, 3, cc, Eigen::OuterStride<>(cc));
-    Slab(out, 3, cc, Eigen::OuterStride<>(cc)).noalias() = Ni.B.transpose() * t_t;
-    Slab o_t(out + 3 * cc, 3, cc, Eigen::OuterStride<>(cc));
-    o_t.noalias() = Ni.A.transpose() * t_w;
-    o_t.noalias() += Ni.C.transpose() * t_t;
-    if (Ni.scale) {
-      Eigen::Map<Eigen::Matrix<double, 1, Eigen::Dynamic>>(out + r * cc, cc).noalias() =
-          Ni.D.transpose() * t_t;
-    }
+  if (!Ni.rigid) return;
+  ConstSlab t_w(sn, 3, cc, Eigen::OuterStride<>(cc)), t_t(sn + 3 * cc, 3, cc, Eigen::OuterStride<>(cc));
+  Slab(out, 3, cc, Eigen::OuterStride<>(cc)).noalias() = Ni.B.transpose() * t_t;
+  Slab o_t(out + 3 * cc, 3, cc, Eigen::OuterStride<>(cc));
+  o_t.noalias() = Ni.A.transpose() * t_w;
+  o_t.noalias() += Ni.C.transpose() * t_t;
+  if (Ni.scale) {
+    Eigen::Map<Eigen::Matrix<double, 1, Eigen::Dynamic>>(out + r * cc, cc).noalias() =
+        Ni.D.transpose() * t_t;
   }
 }
 
@@ -221,6 +222,7 @@ TwoLevelPreconditioner::TwoLevelPreconditioner(const BsmcMatrix& S, int aggregat
 }
 
 void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
+  DBA_DCHECK(!S.values_narrowed());
   jacobi_.Update(S);
   const int threads = static_cast<int>(thread_rows_.size()) - 1;
 #pragma omp parallel num_threads(threads) if (threads > 1)
@@ -228,29 +230,40 @@ void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
     const int t = omp_get_thread_num();
     double* sum = t == 0 ? coarse_.values().data() : partial_[t - 1].data();
     std::fill(sum, sum + coarse_.num_values(), 0.0);
-    double transformed[10 * 10];
+    // Row i's blocks that land in the same coarse block the same way (S's
+    // columns are sorted, and an aggregate's cameras mostly neighbours) are
+    // summed after the right half of the transform and take the left half
+    // once: Σ_j N_iᵀ S_ij N_j = N_iᵀ (Σ_j S_ij N_j).
+    double right[9 * 10], sum_right[10 * 10], transformed[10 * 10];
     for (int32_t i = thread_rows_[t]; i < thread_rows_[t + 1]; ++i) {
-      const int ci = CoarseSize(i);
-      for (int64_t b = S.row_begin(i); b < S.row_end(i); ++b) {
-        const int32_t j = S.block_col(b);
-        const int cj = CoarseSize(j);
-        const double* v = S.block_values(b);
-        if (!bases_.empty() && (bases_[i].rigid || bases_[j].rigid)) {
-          TransformBlock(bases_[i], v, bases_[j], S.block_size(i), S.block_size(j), transformed);
-          v = transformed;
+      const int r = S.block_size(i), ci = CoarseSize(i);
+      for (int64_t b = S.row_begin(i); b < S.row_end(i);) {
+        const int c = S.block_size(S.block_col(b)), cj = CoarseSize(S.block_col(b));
+        int64_t end = b + 1;  // of the group
+        while (end < S.row_end(i) && coarse_block_[end] == coarse_block_[b] &&
+               transposed_[end] == transposed_[b] && mirrored_[end] == mirrored_[b]) {
+          ++end;
         }
-        double* c = sum + coarse_.value_offset(coarse_block_[b]);
+        RightTransform(S.block_values(b), Basis(S.block_col(b)), r, c, sum_right);
+        for (int64_t g = b + 1; g < end; ++g) {
+          RightTransform(S.block_values(g), Basis(S.block_col(g)), r, c, right);
+          for (int k = 0; k < r * cj; ++k) sum_right[k] += right[k];
+        }
+        LeftTransform(Basis(i), sum_right, r, cj, transformed);
+        const double* v = transformed;
+        double* c_block = sum + coarse_.value_offset(coarse_block_[b]);
         // N_iᵀ S_ij N_j lands as is, or transposed where A_i > A_j; both
         // where i < j share an aggregate (S_ji = S_ijᵀ lands in the same
         // block).
         if (!transposed_[b]) {
-          for (int k = 0; k < ci * cj; ++k) c[k] += v[k];
+          for (int k = 0; k < ci * cj; ++k) c_block[k] += v[k];
         }
         if (transposed_[b] || mirrored_[b]) {
           for (int x = 0; x < ci; ++x) {
-            for (int y = 0; y < cj; ++y) c[y * ci + x] += v[x * cj + y];
+            for (int y = 0; y < cj; ++y) c_block[y * ci + x] += v[x * cj + y];
           }
         }
+        b = end;
       }
     }
   }

@@ -64,6 +64,11 @@ class TwoLevelPreconditioner : public Preconditioner {
   const std::vector<CoarseRowBasis>& bases() const { return bases_; }
 
  private:
+  // Row i's basis (the identity where none was given).
+  const CoarseRowBasis& Basis(int32_t i) const {
+    static const CoarseRowBasis identity;
+    return bases_.empty() ? identity : bases_[i];
+  }
   // Coarse coordinates of block row i: its unknowns, one more with a scale
   // column.
   int CoarseSize(int32_t i) const {
