@@ -18,6 +18,9 @@
 // the LM damping) in double beside it: the product reads about half the
 // bytes, accumulates in double, and is exact to float's 6e-8 per value.
 // S's double values are gone until S is re-formed (BsmcMatrix::SetZero).
+// (Packing each row's floats into the front of its own space instead, with
+// the diagonal left in place and no copy, leaves a gap per row: the product
+// measured 2.5x slower on s10k than with the floats packed contiguously.)
 //
 // Thread safety: one Multiply at a time per SymmetricMultiplier (it owns the
 // spill buffers); the matrix is only read, except by Narrow.
