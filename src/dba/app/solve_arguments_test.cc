@@ -52,6 +52,8 @@ INSTANTIATE_TEST_SUITE_P(
         Refusal{"bad_loss", {"a.txt", "--loss", "l1"}, "--loss: expected trivial, huber, soft_l1, cauchy, arctan or tukey, got 'l1'"},
         Refusal{"zero_loss_scale", {"a.txt", "--loss-scale", "0"}, "--loss-scale: must be > 0"},
         Refusal{"zero_reject_outliers", {"a.txt", "--reject-outliers", "0"}, "--reject-outliers: must be > 0"},
+        Refusal{"negative_triangulation_angle", {"a.txt", "--min-triangulation-angle", "-1"}, "--min-triangulation-angle: expected a number >= 0"},
+        Refusal{"straight_triangulation_angle", {"a.txt", "--min-triangulation-angle", "180"}, "--min-triangulation-angle: must be in [0, 180) (degrees)"},
         Refusal{"bad_partition", {"a.txt", "--partition", "random"}, "--partition: unknown partition scheme 'random'"},
         Refusal{"bad_fix_intrinsics", {"a.txt", "--fix-intrinsics", "q"}, "unknown intrinsic parameter 'q'"},
         Refusal{"bad_max_iterations", {"a.txt", "--max-iterations", "-3"}, "--max-iterations"},
@@ -63,7 +65,7 @@ TEST(SolveArguments, AcceptedOptionsLandInTheOptions) {
   const SolveCommandOptions o = ParseSolveArguments(
       {"in.dba", "-o", "out.dba", "--report", "r.json", "-t", "3", "--linear-solver", "sparse",
        "--loss", "huber", "--loss-scale", "2.5", "--reject-outliers", "4", "--reject-keep-loss", "--eta", "0.2",
-       "--coarse-basis", "parameters", "--pcg-precision", "double", "-q"},
+       "--coarse-basis", "parameters", "--pcg-precision", "double", "--min-triangulation-angle", "2", "-q"},
       &help);
   EXPECT_FALSE(help);
   EXPECT_EQ(o.input, "in.dba");
@@ -75,6 +77,7 @@ TEST(SolveArguments, AcceptedOptionsLandInTheOptions) {
   EXPECT_EQ(o.lm.loss.scale, 2.5);
   EXPECT_EQ(o.reject_outliers_px, 4.0);
   EXPECT_TRUE(o.reject_keep_loss);
+  EXPECT_EQ(o.min_triangulation_angle_deg, 2.0);
   EXPECT_EQ(o.lm.linear_solver.pcg.eta, 0.2);
   EXPECT_EQ(o.lm.linear_solver.coarse_basis, CoarseBasis::kParameters);
   EXPECT_EQ(o.lm.linear_solver.pcg.precision, PcgPrecision::kDouble);

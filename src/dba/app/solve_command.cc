@@ -104,12 +104,18 @@ void PrintSolveHelp(std::ostream& out) {
          "                             figures) (default " << d.loss.scale << ")\n"
          "  --reject-outliers PX       after the solve, drop observations whose reprojection\n"
          "                             error exceeds PX pixels and points left with fewer than\n"
-         "                             2, then solve again; until a round drops under 0.05%\n"
+         "                             2 or seen under --min-triangulation-angle, then solve\n"
+         "                             again; until a round drops under 0.05%\n"
          "                             of the observations, at most 5 rounds; the outputs\n"
          "                             leave what was dropped out (default: off; one process).\n"
          "                             The solves after a round use the squared loss, the\n"
          "                             efficient estimator once the outliers are gone\n"
          "  --reject-keep-loss         keep --loss in the solves after a rejection round\n"
+         "  --min-triangulation-angle DEG\n"
+         "                             with --reject-outliers: a point whose rays meet at\n"
+         "                             less than DEG degrees (the largest angle between two of\n"
+         "                             its observations' rays) goes too: its depth is not\n"
+         "                             determined (default " << RejectionCriteria().min_triangulation_angle_deg << ", COLMAP's; 0: off)\n"
          "  --max-iterations N         LM iteration limit (default " << d.max_iterations << ")\n"
          "  --function-tolerance X     stop when a step lowers the cost by less than\n"
          "                             this fraction (default " << d.function_tolerance << ")\n"
@@ -233,6 +239,11 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
     } else if (a == "--loss-scale") {
       o.lm.loss.scale = ParseNumberArgument(a, value());
       if (!(o.lm.loss.scale > 0.0)) throw std::invalid_argument(a + ": must be > 0 (pixels)");
+    } else if (a == "--min-triangulation-angle") {
+      o.min_triangulation_angle_deg = ParseNumberArgument(a, value());
+      if (!(o.min_triangulation_angle_deg >= 0.0 && o.min_triangulation_angle_deg < 180.0)) {
+        throw std::invalid_argument(a + ": must be in [0, 180) (degrees)");
+      }
     } else if (a == "--reject-keep-loss") {
       o.reject_keep_loss = true;
     } else if (a == "--reject-outliers") {
@@ -374,7 +385,7 @@ void ScatterPoints(const Problem& problem, const OriginalIndices& original,
 
 // Rounds of --reject-outliers after the first solve: drop, solve again, until
 // a round changes fewer than 0.05% of the observations or after 5 rounds.
-void RejectOutlierRounds(double max_error_px, const LmOptions& resolve,
+void RejectOutlierRounds(const RejectionCriteria& criteria, const LmOptions& resolve,
                          const std::function<void(const IterationSummary&)>& log,
                          Problem* problem, OriginalIndices* original,
                          std::vector<double>* all_points, SolveReport* report, std::ostream& out) {
@@ -384,14 +395,17 @@ void RejectOutlierRounds(double max_error_px, const LmOptions& resolve,
   for (int r = 1; r <= kMaxRounds; ++r) {
     ScatterPoints(*problem, *original, all_points);
     const int64_t before = problem->num_observations();
-    const RejectionRound round = DropOutliers(max_error_px, resolve.num_threads, problem, original);
+    const RejectionRound round = DropOutliers(criteria, resolve.num_threads, problem, original);
     report->rejection.push_back(round);
     char line[256];
     std::snprintf(line, sizeof line,
-                  "outlier rejection round %d (|r| > %g px): dropped %lld observations and %lld "
-                  "points; %lld observations, %lld points left\n",
-                  r, max_error_px, static_cast<long long>(round.observations_dropped),
+                  "outlier rejection round %d (|r| > %g px, angle < %g deg): dropped %lld "
+                  "observations and %lld points (%lld for their angle); %lld observations, %lld "
+                  "points left\n",
+                  r, criteria.max_error_px, criteria.min_triangulation_angle_deg,
+                  static_cast<long long>(round.observations_dropped),
                   static_cast<long long>(round.points_dropped),
+                  static_cast<long long>(round.points_small_angle),
                   static_cast<long long>(round.observations_left),
                   static_cast<long long>(round.points_left));
     out << line << std::flush;
@@ -528,7 +542,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     if (options.reject_outliers_px > 0) {
       LmOptions resolve = lm;
       if (!options.reject_keep_loss) resolve.loss = RobustLoss();
-      RejectOutlierRounds(options.reject_outliers_px, resolve, log, &problem, &original, &all_points,
+      RejectOutlierRounds({options.reject_outliers_px, options.min_triangulation_angle_deg}, resolve, log, &problem, &original, &all_points,
                           &report, out);
     }
   } else {

@@ -25,6 +25,8 @@ struct SolveCommandOptions {
   bool quiet = false;       // no per-iteration log
   bool progress = true;     // progress of long phases on a terminal (not with quiet)
   double reject_outliers_px = 0.0;  // > 0: rounds of outlier rejection (lm/outlier_rejection.h)
+  // With rejection: points whose rays meet at less than this also go (0: off).
+  double min_triangulation_angle_deg = RejectionCriteria().min_triangulation_angle_deg;
   // The solves after a rejection round keep the robust loss (false: the
   // squared loss, the efficient estimator once the outliers are gone).
   bool reject_keep_loss = false;

@@ -277,6 +277,7 @@ std::string SolveReportJson(const SolveReport& r) {
     for (const RejectionRound& round : r.rejection) {
       rounds.push_back({{"observations_dropped", round.observations_dropped},
                         {"points_dropped", round.points_dropped},
+                        {"points_dropped_for_angle", round.points_small_angle},
                         {"observations_left", round.observations_left},
                         {"points_left", round.points_left}});
     }

@@ -1,9 +1,12 @@
 // Outlier rejection between solves; see outlier_rejection.h.
 #include "dba/lm/outlier_rejection.h"
 
+#include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include "dba/camera/observation_residual.h"
+#include "dba/camera/rotation.h"
 
 namespace dba {
 
@@ -16,17 +19,53 @@ OriginalIndices OriginalIndices::Identity(const Problem& problem) {
   return o;
 }
 
-RejectionRound DropOutliers(double max_error_px, int num_threads, Problem* problem,
+std::vector<double> CameraCentres(const Problem& problem) {
+  std::vector<double> centres(3 * problem.num_images());
+  for (int64_t i = 0; i < problem.num_images(); ++i) {
+    const double* c = problem.camera(i);  // both models start with ω, t
+    Eigen::Map<Vec3>(centres.data() + 3 * i) =
+        -AngleAxisToRotation(Vec3(c[0], c[1], c[2])).transpose() * Vec3(c[3], c[4], c[5]);
+  }
+  return centres;
+}
+
+double MaxTriangulationAngle(const Problem& problem, const std::vector<double>& centres, int64_t k,
+                             const uint8_t* keep) {
+  const Vec3 X(problem.point(k));
+  auto ray = [&](int64_t o) {
+    return (X - Eigen::Map<const Vec3>(centres.data() + 3 * problem.obs_camera[o])).normalized();
+  };
+  // The smallest cosine between two unit rays is the largest angle.
+  double min_cos = 1.0;
+  for (int64_t a = problem.point_offsets[k]; a < problem.point_offsets[k + 1]; ++a) {
+    if (!keep[a]) continue;
+    const Vec3 ray_a = ray(a);
+    for (int64_t b = a + 1; b < problem.point_offsets[k + 1]; ++b) {
+      if (keep[b]) min_cos = std::min(min_cos, ray_a.dot(ray(b)));
+    }
+  }
+  return std::acos(std::clamp(min_cos, -1.0, 1.0));
+}
+
+RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads, Problem* problem,
                             OriginalIndices* original) {
   const int64_t num_points = problem->num_points();
-  const double bound = max_error_px * max_error_px;
+  const double bound = criteria.max_error_px * criteria.max_error_px;
+  const double min_angle = criteria.min_triangulation_angle_deg * M_PI / 180.0;
   std::vector<uint8_t> keep(problem->num_observations());
+  std::vector<uint8_t> small_angle(num_points, 0);
+  const std::vector<double> centres = min_angle > 0.0 ? CameraCentres(*problem) : std::vector<double>();
 #pragma omp parallel for num_threads(num_threads) schedule(dynamic, 1024)
   for (int64_t k = 0; k < num_points; ++k) {
+    int64_t kept = 0;
     for (int64_t o = problem->point_offsets[k]; o < problem->point_offsets[k + 1]; ++o) {
       keep[o] = ObservationResidual(*problem, problem->cameras.data(), problem->obs_camera[o],
                                     problem->point(k), problem->pixel(o))
                     .squaredNorm() <= bound;
+      kept += keep[o];
+    }
+    if (min_angle > 0.0 && kept >= 2 && MaxTriangulationAngle(*problem, centres, k, keep.data()) < min_angle) {
+      small_angle[k] = 1;
     }
   }
   // Compact in place: points with at least 2 kept observations, in order.
@@ -40,8 +79,9 @@ RejectionRound DropOutliers(double max_error_px, int num_threads, Problem* probl
     int64_t kept = 0;
     for (int64_t o = begin; o < end; ++o) kept += keep[o];
     round.observations_dropped += (end - begin) - kept;
-    if (kept < 2) {
+    if (kept < 2 || small_angle[k]) {
       ++round.points_dropped;
+      if (kept >= 2) ++round.points_small_angle;
       round.observations_dropped += kept;  // a point's last observation goes with it
       continue;
     }

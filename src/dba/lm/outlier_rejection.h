@@ -1,7 +1,10 @@
 // Outlier rejection between solves (COLMAP's global BA filter): drop every
 // observation whose reprojection error |r| exceeds a threshold, then every
-// point left with fewer than two observations, and keep track of where the
-// remaining observations and points came from.
+// point left with fewer than two observations or whose rays meet at too
+// small an angle (COLMAP's FilterPoints3DWithSmallTriangulationAngle: such a
+// point's depth is not determined, and a mismatch along its epipolar line
+// can put it anywhere on the rays), and keep track of where the remaining
+// observations and points came from.
 //
 // Thread safety: one caller per problem.
 #pragma once
@@ -13,9 +16,18 @@
 
 namespace dba {
 
+struct RejectionCriteria {
+  double max_error_px = 4.0;
+  // A point is dropped when the largest angle between the rays of two of its
+  // kept observations (camera centre to point) is below this; 0: off.
+  // COLMAP's default, 1.5 degrees.
+  double min_triangulation_angle_deg = 1.5;
+};
+
 struct RejectionRound {
   int64_t observations_dropped = 0;
   int64_t points_dropped = 0;
+  int64_t points_small_angle = 0;  // of points_dropped: for the angle alone
   int64_t observations_left = 0;
   int64_t points_left = 0;
 };
@@ -30,9 +42,18 @@ struct OriginalIndices {
 };
 
 // Drops from `problem` the observations with |r| > max_error_px at its
-// current parameters, then the points with fewer than 2 observations left,
-// and updates `original` to match. The camera side is unchanged.
-RejectionRound DropOutliers(double max_error_px, int num_threads, Problem* problem,
+// current parameters, then the points with fewer than 2 observations left or
+// a triangulation angle below the minimum, and updates `original` to match.
+// The camera side is unchanged.
+RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads, Problem* problem,
                             OriginalIndices* original);
+
+// The camera centres -Rᵀ t of `problem`'s images, 3 per image.
+std::vector<double> CameraCentres(const Problem& problem);
+
+// The largest angle (radians) between two rays from camera centres to point
+// k, over the point's observations o with keep[o] set.
+double MaxTriangulationAngle(const Problem& problem, const std::vector<double>& centres, int64_t k,
+                             const uint8_t* keep);
 
 }  // namespace dba
