@@ -160,6 +160,9 @@ void PrintSolveHelp(std::ostream& out) {
          "  --main-rank auto|forms|coordinates\n"
          "                             whether rank 0 also forms a sub-RCS (auto: yes for\n"
          "                             up to 4 ranks)\n"
+         "  --no-memory-check          start even when the memory estimate (printed before\n"
+         "                             the first iteration: one process) exceeds the memory\n"
+         "                             available (MemAvailable, or a cgroup's limit)\n"
          "  -q, --quiet                no per-iteration log, and no progress of long phases\n"
          "                             (shown on a terminal only: RCS formation, PCG,\n"
          "                             back-substitution, with the time left)\n"
@@ -239,6 +242,8 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
     } else if (a == "--loss-scale") {
       o.lm.loss.scale = ParseNumberArgument(a, value());
       if (!(o.lm.loss.scale > 0.0)) throw std::invalid_argument(a + ": must be > 0 (pixels)");
+    } else if (a == "--no-memory-check") {
+      o.memory_check = false;
     } else if (a == "--min-triangulation-angle") {
       o.min_triangulation_angle_deg = ParseNumberArgument(a, value());
       if (!(o.min_triangulation_angle_deg >= 0.0 && o.min_triangulation_angle_deg < 180.0)) {
@@ -538,7 +543,22 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     if (!options.truth_path.empty()) loaded_pixels = problem.obs_pixel;
   }
   if (comm->size() == 1) {
-    report.solve.ba = BundleAdjust(lm, &problem, log);
+    // After the symbolic phase, before S's values: the peak estimated, and
+    // the solve refused where it would not fit.
+    auto check_memory = [&](const RcsSystem& structure) {
+      report.memory_estimate =
+          EstimateSolveMemory(problem, structure, lm, CurrentResidentBytes(), PeakResidentBytes());
+      report.available_memory_bytes = AvailableMemoryBytes();
+      if (!options.quiet) {
+        const int64_t have = report.available_memory_bytes;
+        out << "memory estimate " << report.memory_estimate.Describe()
+            << (have > 0 ? "; available " + FormatBytes(have + report.memory_estimate.resident)
+                         : std::string())
+            << "\n" << std::flush;
+      }
+      if (options.memory_check) CheckMemoryFits(report.memory_estimate, report.available_memory_bytes);
+    };
+    report.solve.ba = BundleAdjust(lm, &problem, log, check_memory);
     if (options.reject_outliers_px > 0) {
       LmOptions resolve = lm;
       if (!options.reject_keep_loss) resolve.loss = RobustLoss();

@@ -30,6 +30,9 @@ struct SolveCommandOptions {
   // The solves after a rejection round keep the robust loss (false: the
   // squared loss, the efficient estimator once the outliers are gone).
   bool reject_keep_loss = false;
+  // One process: refuse to start when the memory estimate exceeds what the
+  // machine (or the cgroup) has available; false: --no-memory-check.
+  bool memory_check = true;
   LmOptions lm;             // num_threads 0: the node's cores / its ranks
   DistributedOptions distributed;
 };

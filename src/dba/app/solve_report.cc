@@ -117,6 +117,9 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
                 Bytes(r.peak_memory_bytes).c_str(), r.peak_memory_bytes * per_obs,
                 r.problem_bytes * per_obs);
   out << buf;
+  if (r.memory_estimate.total() > 0) {
+    out << "  memory estimate     " << r.memory_estimate.Describe() << "\n";
+  }
   if (!r.rejection.empty()) {
     int64_t obs = 0, points = 0;
     for (const RejectionRound& round : r.rejection) {
@@ -272,6 +275,18 @@ std::string SolveReportJson(const SolveReport& r) {
                  {"rcs_bsmc_value_bytes", rcs.bsmc_value_bytes},
                  {"rcs_csr_bytes", rcs.csr_bytes},
                  {"rcs_blocks", rcs.blocks}};
+  if (r.memory_estimate.total() > 0) {
+    const MemoryEstimate& e = r.memory_estimate;
+    j["memory"]["estimate"] = {{"total_bytes", e.total()},
+                               {"process_bytes", e.resident},
+                               {"peak_so_far_bytes", e.peak_so_far},
+                               {"rcs_bytes", e.rcs},
+                               {"formation_bytes", e.formation},
+                               {"lm_bytes", e.lm},
+                               {"linear_solver_bytes", e.linear_solver},
+                               {"linear_solver", LinearSolverName(e.solver)},
+                               {"available_bytes", r.available_memory_bytes}};
+  }
   if (r.reject_outliers_px > 0) {
     nlohmann::ordered_json rounds = nlohmann::ordered_json::array();
     for (const RejectionRound& round : r.rejection) {

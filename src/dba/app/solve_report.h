@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "dba/cluster/distributed_solve.h"
+#include "dba/lm/memory_estimate.h"
 #include "dba/lm/outlier_rejection.h"
 #include "dba/problem/problem.h"
 #include "dba/synthetic/ground_truth.h"
@@ -27,6 +28,10 @@ struct SolveReport {
   double write_seconds = 0.0;
   int64_t peak_memory_bytes = 0;  // main rank
   int64_t problem_bytes = 0;      // main rank's problem arrays before the solve
+  // One process: the peak estimated before S's values were allocated
+  // (lm/memory_estimate.h); total 0 when not estimated.
+  MemoryEstimate memory_estimate;
+  int64_t available_memory_bytes = 0;  // when estimated; 0 if unknown
   DistributedSummary solve;       // ranks == 1: a one-process solve
   // --reject-outliers: the rounds after the first solve (each followed by a
   // solve when it dropped anything).

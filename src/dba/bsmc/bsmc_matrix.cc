@@ -9,6 +9,15 @@ namespace dba {
 
 BsmcMatrix BsmcMatrix::BuildFromPattern(std::vector<int32_t> block_sizes,
                                         std::span<const uint64_t> sorted_blocks) {
+  BsmcMatrix m = BuildStructure(std::move(block_sizes), sorted_blocks);
+  m.AllocateValues();
+  return m;
+}
+
+void BsmcMatrix::AllocateValues() { values_.assign(value_offset_.back(), 0.0); }
+
+BsmcMatrix BsmcMatrix::BuildStructure(std::vector<int32_t> block_sizes,
+                                      std::span<const uint64_t> sorted_blocks) {
   BsmcMatrix m;
   const int64_t n = static_cast<int64_t>(block_sizes.size());
   m.block_size_ = std::move(block_sizes);
@@ -44,7 +53,6 @@ BsmcMatrix BsmcMatrix::BuildFromPattern(std::vector<int32_t> block_sizes,
                                   std::to_string(i) + " missing");
     }
   }
-  m.values_.assign(m.value_offset_[nnzb], 0.0);
   return m;
 }
 

@@ -46,6 +46,13 @@ class BsmcMatrix {
   // present. Values are zero.
   static BsmcMatrix BuildFromPattern(std::vector<int32_t> block_sizes,
                                      std::span<const uint64_t> sorted_blocks);
+  // The same structure without the values (none allocated: num_values()
+  // and ValueBytes() say what they will take), for sizing before the
+  // allocation; AllocateValues() then makes it BuildFromPattern's matrix.
+  static BsmcMatrix BuildStructure(std::vector<int32_t> block_sizes,
+                                   std::span<const uint64_t> sorted_blocks);
+  void AllocateValues();
+  bool has_values() const { return static_cast<int64_t>(values_.size()) == num_values(); }
 
   int32_t num_block_rows() const {
     return static_cast<int32_t>(block_size_.size());
@@ -53,7 +60,7 @@ class BsmcMatrix {
   int64_t num_blocks() const { return static_cast<int64_t>(block_col_.size()); }
   // Scalar size of the matrix (sum of block sizes).
   int64_t num_rows() const { return scalar_offset_.back(); }
-  int64_t num_values() const { return static_cast<int64_t>(values_.size()); }
+  int64_t num_values() const { return value_offset_.back(); }
 
   int32_t block_size(int32_t i) const { return block_size_[i]; }
   // Offset of block row i in a scalar vector.

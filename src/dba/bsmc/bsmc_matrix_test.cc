@@ -92,6 +92,24 @@ TEST(BsmcMatrix, ByteCountsAreExact) {
   EXPECT_LT(m.StructureBytes() + m.ValueBytes(), m.CsrBytes(false));
 }
 
+// The structure alone says what its values will take; allocated, it is the
+// matrix BuildFromPattern makes.
+TEST(BsmcMatrix, StructureAloneSizesItsValues) {
+  const std::vector<int32_t> sizes = {9, 6, 5};
+  const std::vector<uint64_t> pattern = {PackBlock(0, 0), PackBlock(0, 2), PackBlock(1, 1),
+                                         PackBlock(2, 2)};
+  BsmcMatrix m = BsmcMatrix::BuildStructure(sizes, pattern);
+  EXPECT_FALSE(m.has_values());
+  EXPECT_TRUE(m.values().empty());
+  EXPECT_EQ(m.num_values(), 81 + 45 + 36 + 25);
+  EXPECT_EQ(m.ValueBytes(), 8 * (81 + 45 + 36 + 25));
+  m.AllocateValues();
+  EXPECT_TRUE(m.has_values());
+  const BsmcMatrix full = BsmcMatrix::BuildFromPattern(sizes, pattern);
+  EXPECT_EQ(m.values(), full.values());
+  EXPECT_EQ(m.StructureBytes(), full.StructureBytes());
+}
+
 TEST(BsmcMatrix, RefusesBadPatterns) {
   const std::vector<int32_t> sizes = {2, 2, 2};
   auto build = [&](std::vector<uint64_t> p) { return BsmcMatrix::BuildFromPattern(sizes, p); };

@@ -3,12 +3,14 @@
 
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
+#include <string>
 
 namespace dba {
 namespace {
 
-int64_t ReadStatusKilobytes(const char* key) {
-  std::FILE* f = std::fopen("/proc/self/status", "r");
+int64_t ReadKilobytes(const char* path, const char* key) {
+  std::FILE* f = std::fopen(path, "r");
   if (f == nullptr) return 0;
   char line[256];
   int64_t kb = 0;
@@ -23,9 +25,52 @@ int64_t ReadStatusKilobytes(const char* key) {
   return kb;
 }
 
+int64_t ReadStatusKilobytes(const char* key) { return ReadKilobytes("/proc/self/status", key); }
+
+// A cgroup limit on this process's memory, 0 if none: v2's memory.max
+// ("max" when unlimited) under the group of the "0::" line of
+// /proc/self/cgroup, or v1's memory.limit_in_bytes under the "memory"
+// controller's group (about 2^63 when unlimited).
+int64_t CgroupLimitBytes() {
+  std::FILE* f = std::fopen("/proc/self/cgroup", "r");
+  if (f == nullptr) return 0;
+  char line[512];
+  std::string v2, v1;
+  while (std::fgets(line, sizeof line, f) != nullptr) {
+    std::string l = line;
+    while (!l.empty() && (l.back() == '\n' || l.back() == '\r')) l.pop_back();
+    if (l.rfind("0::", 0) == 0) v2 = l.substr(3);
+    const size_t at = l.find(":memory:");
+    if (at != std::string::npos) v1 = l.substr(at + 8);
+  }
+  std::fclose(f);
+  auto read_limit = [](const std::string& path) -> int64_t {
+    std::FILE* m = std::fopen(path.c_str(), "r");
+    if (m == nullptr) return 0;
+    long long limit = 0;
+    const int read = std::fscanf(m, "%lld", &limit);
+    std::fclose(m);
+    return read == 1 && limit > 0 && limit < (1LL << 60) ? limit : 0;
+  };
+  if (!v1.empty()) {
+    if (const int64_t limit = read_limit("/sys/fs/cgroup/memory" + v1 + "/memory.limit_in_bytes")) return limit;
+  }
+  return read_limit("/sys/fs/cgroup" + v2 + "/memory.max");
+}
+
 }  // namespace
 
 int64_t PeakResidentBytes() { return ReadStatusKilobytes("VmHWM:") * 1024; }
 int64_t CurrentResidentBytes() { return ReadStatusKilobytes("VmRSS:") * 1024; }
+
+int64_t AvailableMemoryBytes() {
+  const int64_t machine = ReadKilobytes("/proc/meminfo", "MemAvailable:") * 1024;
+  const int64_t limit = CgroupLimitBytes();
+  if (limit == 0) return machine;
+  // The cgroup's room: its limit less what this process holds already
+  // (other members of the group are not counted).
+  const int64_t room = limit - CurrentResidentBytes();
+  return machine == 0 ? room : std::min(machine, room);
+}
 
 }  // namespace dba

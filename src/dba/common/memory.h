@@ -10,5 +10,8 @@ namespace dba {
 int64_t PeakResidentBytes();
 // Current resident set size (VmRSS) in bytes, 0 if unknown.
 int64_t CurrentResidentBytes();
+// Memory this process may still take: the machine's MemAvailable, or less
+// where a cgroup (v2) limit leaves less room; 0 if unknown.
+int64_t AvailableMemoryBytes();
 
 }  // namespace dba

@@ -25,9 +25,12 @@ struct BundleAdjustSummary {
   RcsFootprint rcs;
 };
 
-// Adjusts `problem`'s cameras and points in place.
+// Adjusts `problem`'s cameras and points in place. `before_values`: called
+// with the RCS structure before its values are allocated (RcsSystem::
+// ForProblem): to estimate the solve's memory, or refuse it by throwing.
 BundleAdjustSummary BundleAdjust(
     const LmOptions& options, Problem* problem,
-    const std::function<void(const IterationSummary&)>& on_iteration = {});
+    const std::function<void(const IterationSummary&)>& on_iteration = {},
+    const std::function<void(const RcsSystem&)>& before_values = {});
 
 }  // namespace dba

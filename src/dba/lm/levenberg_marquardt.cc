@@ -159,12 +159,7 @@ class Minimizer {
 
   // The symbolic phase of the linear solve, once per solve.
   std::unique_ptr<RcsSolver> MakeLinearSolver() {
-    LinearSolverOptions linear = options_.linear_solver;
-    linear.num_threads = options_.num_threads;
-    linear.num_observations = num_observations_;
-    // Observations (camera index, pixel), parameters, point offsets: about
-    // 29 bytes per observation over the problems measured (bench/README.md).
-    linear.problem_bytes = 29 * num_observations_;
+    LinearSolverOptions linear = LinearSolverOptionsFor(options_, num_observations_);
     if (linear.coarse_basis != CoarseBasis::kParameters &&
         linear.preconditioner == PreconditionerType::kTwoLevel) {
       linear.coarse_row_bases = RigidMotionBases(sys_->layout, cameras_->data(),
@@ -249,6 +244,16 @@ class Minimizer {
 };
 
 }  // namespace
+
+LinearSolverOptions LinearSolverOptionsFor(const LmOptions& options, int64_t num_observations) {
+  LinearSolverOptions linear = options.linear_solver;
+  linear.num_threads = options.num_threads;
+  linear.num_observations = num_observations;
+  // Observations (camera index, pixel), parameters, point offsets: about
+  // 29 bytes per observation over the problems measured (bench/README.md).
+  linear.problem_bytes = 29 * num_observations;
+  return linear;
+}
 
 LmSummary SolveLevenbergMarquardt(
     const LmOptions& options, int64_t num_observations, std::vector<double>* cameras,

@@ -103,6 +103,10 @@ struct LmSummary {
   }
 };
 
+// The linear solver's options for a solve of `num_observations` with
+// `options` (threads, and the sizes auto's cost model and budget weigh).
+LinearSolverOptions LinearSolverOptionsFor(const LmOptions& options, int64_t num_observations);
+
 // Runs LM on the workers' points with `cameras` (global numbering, the
 // camera-side parameters) as the main node's copy of the cameras, updated in place.
 // `on_iteration` (optional) is called once per iteration, e.g. to log.

@@ -5,12 +5,13 @@ namespace dba {
 
 LocalPointWorkers::LocalPointWorkers(Problem* problem,
                                      const DampingBounds& bounds,
-                                     int num_threads, const RobustLoss& loss)
+                                     int num_threads, const RobustLoss& loss,
+                                     const std::function<void(const RcsSystem&)>& before_values)
     : problem_(problem),
       bounds_(bounds),
       num_threads_(num_threads),
       loss_(loss),
-      system_(RcsSystem::ForProblem(*problem)) {}
+      system_(RcsSystem::ForProblem(*problem, before_values)) {}
 
 RcsSystem& LocalPointWorkers::FormRcs(double lambda) {
   dba::FormRcs(*problem_, lambda, bounds_, num_threads_, &system_, loss_);

@@ -14,8 +14,10 @@ class LocalPointWorkers : public PointWorkers {
   // Builds the RCS structure (symbolic phase). `problem` must outlive this
   // object; its cameras and points are updated in place on accepted steps.
   // `loss`: the robust loss of every observation (rcs/robust_loss.h).
+  // `before_values`: see RcsSystem::ForProblem.
   LocalPointWorkers(Problem* problem, const DampingBounds& bounds,
-                    int num_threads, const RobustLoss& loss = RobustLoss());
+                    int num_threads, const RobustLoss& loss = RobustLoss(),
+                    const std::function<void(const RcsSystem&)>& before_values = {});
 
   RcsSystem& FormRcs(double lambda) override;
   StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,

@@ -225,6 +225,15 @@ void AddPointToRcs(const PointSystem<Model>& p, AddScratch<Model>& scratch, cons
 // touches the same few rows, so two threads under row locks mostly wait.
 constexpr int64_t kPrivateCopyBytes = 32 << 20;
 
+}  // namespace
+
+int64_t FormationCopyBytes(int64_t values, int64_t rows, int num_threads) {
+  const int64_t bytes = int64_t{num_threads - 1} * (values + 3 * rows) * 8;
+  return num_threads > 1 && bytes <= kPrivateCopyBytes ? bytes : 0;
+}
+
+namespace {
+
 template <class Model>
 void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bounds,
                  const RobustLoss& loss, int num_threads, RcsSystem* sys) {
@@ -233,8 +242,7 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
   const int64_t num_points = problem.num_points();
   const int64_t rows = sys->S.num_rows();
   const int64_t values = sys->S.num_values();
-  const bool private_copies =
-      num_threads > 1 && (num_threads - 1) * (values + 3 * rows) * 8 <= kPrivateCopyBytes;
+  const bool private_copies = FormationCopyBytes(values, rows, num_threads) > 0;
   // Thread t > 0 of the private scheme: values, then b, gradient, diagonal.
   std::vector<std::vector<double>> copies(private_copies ? num_threads - 1 : 0);
   // The first thread reports its share (a static schedule: the first
@@ -301,21 +309,34 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
 
 }  // namespace
 
-RcsSystem RcsSystem::ForProblem(const Problem& problem) {
-  UnknownLayout layout(problem);
-  const std::vector<uint64_t> pattern = RcsBlockPattern(problem, layout);
-  return ForPattern(std::move(layout), pattern);
+RcsSystem RcsSystem::ForProblem(const Problem& problem,
+                                const std::function<void(const RcsSystem&)>& before_values) {
+  RcsSystem sys;
+  {
+    UnknownLayout layout(problem);
+    const std::vector<uint64_t> pattern = RcsBlockPattern(problem, layout);
+    sys = ForPattern(std::move(layout), pattern, false);
+  }
+  if (before_values) before_values(sys);
+  sys.AllocateValues();
+  return sys;
 }
 
-RcsSystem RcsSystem::ForPattern(UnknownLayout layout, std::span<const uint64_t> pattern) {
+RcsSystem RcsSystem::ForPattern(UnknownLayout layout, std::span<const uint64_t> pattern,
+                                bool with_values) {
   RcsSystem sys;
-  sys.S = BsmcMatrix::BuildFromPattern(layout.block_sizes(), pattern);
+  sys.S = BsmcMatrix::BuildStructure(layout.block_sizes(), pattern);
   sys.layout = std::move(layout);
-  const int64_t rows = sys.S.num_rows();
-  sys.b.assign(rows, 0.0);
-  sys.camera_side_gradient.assign(rows, 0.0);
-  sys.camera_side_jtj_diagonal.assign(rows, 0.0);
+  if (with_values) sys.AllocateValues();
   return sys;
+}
+
+void RcsSystem::AllocateValues() {
+  S.AllocateValues();
+  const int64_t rows = S.num_rows();
+  b.assign(rows, 0.0);
+  camera_side_gradient.assign(rows, 0.0);
+  camera_side_jtj_diagonal.assign(rows, 0.0);
 }
 
 void FormRcs(const Problem& problem, double lambda,

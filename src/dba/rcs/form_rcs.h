@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -41,11 +42,18 @@ struct RcsSystem {
   double max_abs_point_gradient = 0.0;      // ‖g_p‖∞
 
   // Symbolic phase: unknowns and structure of S from the problem's
-  // visibility graph.
-  static RcsSystem ForProblem(const Problem& problem);
+  // visibility graph. `before_values`, if set, sees the system with S's
+  // structure but before any value is allocated (the pattern freed): to size
+  // the solve, or refuse it by throwing.
+  static RcsSystem ForProblem(const Problem& problem,
+                              const std::function<void(const RcsSystem&)>& before_values = {});
   // Symbolic phase from a block pattern over the layout's rows (sorted packed
-  // blocks, see PackBlock).
-  static RcsSystem ForPattern(UnknownLayout layout, std::span<const uint64_t> pattern);
+  // blocks, see PackBlock); `with_values` false: the structure alone
+  // (AllocateValues to finish).
+  static RcsSystem ForPattern(UnknownLayout layout, std::span<const uint64_t> pattern,
+                              bool with_values = true);
+  // S's values and the vectors b, gradient and diagonal, zeroed.
+  void AllocateValues();
 };
 
 // Numeric phase: refills `system` at the problem's current parameters, for
@@ -53,6 +61,11 @@ struct RcsSystem {
 void FormRcs(const Problem& problem, double lambda,
              const DampingBounds& bounds, int num_threads, RcsSystem* system,
              const RobustLoss& loss = RobustLoss());
+
+// Bytes of the threads' private copies of the RCS (S's `values`, and b,
+// gradient and diagonal over `rows`) that FormRcs allocates on each call
+// when they are small enough to beat row locks (32 MiB in all), else 0.
+int64_t FormationCopyBytes(int64_t values, int64_t rows, int num_threads);
 
 // S_ii += λ clamp(diag U_ii) on every diagonal block (the camera part of the
 // Marquardt damping λ D).

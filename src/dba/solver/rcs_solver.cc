@@ -119,8 +119,7 @@ std::unique_ptr<CholeskySolver> MakeCholeskySolver(const BsmcMatrix& S, int64_t 
   return std::make_unique<SparseCholeskySolver>(S);
 }
 
-std::unique_ptr<RcsSolver> MakeRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options,
-                                         RcsSolverChoice* choice_out) {
+RcsSolverChoice ChooseRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options) {
   RcsSolverChoice choice;
   const double n = static_cast<double>(S.num_rows());
   choice.pcg_bytes = PcgPathBytes(S, options.pcg.product_precision());
@@ -137,40 +136,61 @@ std::unique_ptr<RcsSolver> MakeRcsSolver(const BsmcMatrix& S, const LinearSolver
   choice.budget_bytes = static_cast<int64_t>(budget);
 
   choice.type = options.type;
-  if (options.type == LinearSolverType::kAuto) {
-    choice.type = LinearSolverType::kPcg;
-    double best = choice.estimated_pcg_seconds;
-    choice.reason = "the factorizations would be slower or exceed the memory budget";
-    if (choice.dense_bytes <= budget && choice.estimated_dense_seconds < best) {
-      choice.type = LinearSolverType::kDense;
-      best = choice.estimated_dense_seconds;
-      choice.reason = "dense factor " + Mib(choice.dense_bytes) + " within the budget " + Mib(budget);
-    }
-    // The block analysis costs an elimination tree over the camera blocks:
-    // skip it where dense is already cheaper than any sparse call could be.
-    if (best > kSparseCallSeconds + rest) {
+  if (options.type != LinearSolverType::kAuto) {
+    choice.reason = "chosen by option";
+    if (options.type == LinearSolverType::kSparse) {
       const SparseFactorEstimate e = EstimateSparseFactor(S);
       if (e.available) {
         choice.sparse_bytes = static_cast<int64_t>(e.factor_values * 8);
         choice.sparse_flops = e.flops;
-        choice.estimated_sparse_seconds = e.flops / kSparseFlopRate + kSparseCallSeconds + rest;
-        if (choice.sparse_bytes <= budget && choice.estimated_sparse_seconds < best) {
-          // The estimate picked it: the scalar analysis gives the exact
-          // factor size, checked against the budget again.
-          auto sparse = std::make_unique<SparseCholeskySolver>(S, options.threaded_blas ? options.num_threads : 1);
-          choice.sparse_bytes = static_cast<int64_t>(sparse->factor_values() * 8);
-          if (choice.sparse_bytes <= budget) {
-            choice.type = LinearSolverType::kSparse;
-            choice.reason = "sparse factor " + Mib(choice.sparse_bytes) + " within the budget " +
-                            Mib(budget);
-            if (choice_out != nullptr) *choice_out = choice;
-            return sparse;
-          }
-        }
       }
     }
-  } else {
-    choice.reason = "chosen by option";
+    return choice;
+  }
+  choice.type = LinearSolverType::kPcg;
+  double best = choice.estimated_pcg_seconds;
+  choice.reason = "the factorizations would be slower or exceed the memory budget";
+  if (choice.dense_bytes <= budget && choice.estimated_dense_seconds < best) {
+    choice.type = LinearSolverType::kDense;
+    best = choice.estimated_dense_seconds;
+    choice.reason = "dense factor " + Mib(choice.dense_bytes) + " within the budget " + Mib(budget);
+  }
+  // The block analysis costs an elimination tree over the camera blocks:
+  // skip it where dense is already cheaper than any sparse call could be.
+  if (best > kSparseCallSeconds + rest) {
+    const SparseFactorEstimate e = EstimateSparseFactor(S);
+    if (e.available) {
+      choice.sparse_bytes = static_cast<int64_t>(e.factor_values * 8);
+      choice.sparse_flops = e.flops;
+      choice.estimated_sparse_seconds = e.flops / kSparseFlopRate + kSparseCallSeconds + rest;
+      if (choice.sparse_bytes <= budget && choice.estimated_sparse_seconds < best) {
+        choice.fallback = choice.type;
+        choice.fallback_reason = choice.reason;
+        choice.type = LinearSolverType::kSparse;
+        choice.reason = "sparse factor " + Mib(choice.sparse_bytes) + " within the budget " +
+                        Mib(budget);
+      }
+    }
+  }
+  return choice;
+}
+
+std::unique_ptr<RcsSolver> MakeRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options,
+                                         RcsSolverChoice* choice_out) {
+  RcsSolverChoice choice = ChooseRcsSolver(S, options);
+  if (options.type == LinearSolverType::kAuto && choice.type == LinearSolverType::kSparse) {
+    // The estimate picked it: the scalar analysis gives the exact factor
+    // size, checked against the budget again.
+    auto sparse = std::make_unique<SparseCholeskySolver>(S, options.threaded_blas ? options.num_threads : 1);
+    choice.sparse_bytes = static_cast<int64_t>(sparse->factor_values() * 8);
+    if (choice.sparse_bytes <= choice.budget_bytes) {
+      choice.reason = "sparse factor " + Mib(choice.sparse_bytes) + " within the budget " +
+                      Mib(static_cast<double>(choice.budget_bytes));
+      if (choice_out != nullptr) *choice_out = choice;
+      return sparse;
+    }
+    choice.type = choice.fallback;
+    choice.reason = choice.fallback_reason;
   }
   if (choice_out != nullptr) *choice_out = choice;
 

@@ -134,7 +134,15 @@ struct RcsSolverChoice {
   // estimated).
   double estimated_pcg_seconds = 0.0, estimated_dense_seconds = 0.0,
          estimated_sparse_seconds = -1.0;
+  // auto's choice were sparse's exact factor over the budget.
+  LinearSolverType fallback = LinearSolverType::kPcg;
+  std::string fallback_reason;
 };
+
+// What MakeRcsSolver would build for S's structure (values not needed), by
+// the estimates alone: a sparse choice is confirmed (or not) by the exact
+// analysis only when the solver is built.
+RcsSolverChoice ChooseRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options);
 
 // Builds the solver for S's structure (options.type, or the choice of auto).
 std::unique_ptr<RcsSolver> MakeRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options,

@@ -1,0 +1,71 @@
+// The peak memory of a one-process solve; see memory_estimate.h.
+#include "dba/lm/memory_estimate.h"
+
+#include <cstdio>
+#include <stdexcept>
+
+#include "dba/solver/pcg_rcs_solver.h"
+#include "dba/solver/rcs_solver.h"
+
+namespace dba {
+
+std::string FormatBytes(int64_t bytes) {
+  char s[32];
+  const double b = static_cast<double>(bytes);
+  if (b >= double(int64_t{1} << 30)) {
+    std::snprintf(s, sizeof s, "%.2f GiB", b / double(int64_t{1} << 30));
+  } else {
+    std::snprintf(s, sizeof s, "%.1f MiB", b / double(1 << 20));
+  }
+  return s;
+}
+
+std::string MemoryEstimate::Describe() const {
+  return FormatBytes(total()) + " (process " + FormatBytes(resident) + ", RCS " + FormatBytes(rcs) +
+         ", formation copies " + FormatBytes(formation) + ", LM vectors " + FormatBytes(lm) + ", " +
+         LinearSolverName(solver) + " solver " + FormatBytes(linear_solver) + ")";
+}
+
+void CheckMemoryFits(const MemoryEstimate& estimate, int64_t available_bytes) {
+  // What the solve adds to the process (a higher peak so far is behind us).
+  const int64_t growth = estimate.rcs + estimate.formation + estimate.lm + estimate.linear_solver;
+  if (available_bytes <= 0 || growth <= available_bytes) return;
+  throw std::runtime_error("the solve needs about " + estimate.Describe() + " but " +
+                           FormatBytes(estimate.resident + available_bytes) +
+                           " is available; --no-memory-check starts it anyway");
+}
+
+MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& structure,
+                                   const LmOptions& options, int64_t resident_bytes,
+                                   int64_t peak_so_far) {
+  const BsmcMatrix& S = structure.S;
+  const int64_t rows = S.num_rows();
+  MemoryEstimate e;
+  e.resident = resident_bytes;
+  e.peak_so_far = peak_so_far;
+  e.rcs = S.ValueBytes() + 3 * rows * 8;
+  e.formation = FormationCopyBytes(S.num_values(), rows, options.num_threads);
+  // The LM's cameras and candidate, the workers' candidate; the candidate
+  // points; δc.
+  e.lm = (3 * static_cast<int64_t>(problem.cameras.size()) +
+          static_cast<int64_t>(problem.points.size()) + rows) * 8;
+  const LinearSolverOptions linear = LinearSolverOptionsFor(options, problem.num_observations());
+  const RcsSolverChoice choice = ChooseRcsSolver(S, linear);
+  e.solver = choice.type;
+  switch (choice.type) {
+    case LinearSolverType::kDense: e.linear_solver = choice.dense_bytes; break;
+    case LinearSolverType::kSparse:
+      // Twice the block estimate of the factor (see the header); without
+      // CHOLMOD (Eigen's simplicial factorization) not estimated.
+      e.linear_solver = choice.sparse_bytes >= 0 ? 2 * choice.sparse_bytes : 0;
+      break;
+    case LinearSolverType::kPcg:
+    case LinearSolverType::kAuto:
+      // Preconditioner, vectors, the diagonal copy: the PCG path less S.
+      e.linear_solver = choice.pcg_bytes - S.ValueBytes() - S.StructureBytes();
+      break;
+  }
+  return e;
+}
+
+}  // namespace dba

@@ -1,0 +1,65 @@
+// The peak memory of a one-process solve, estimated after the symbolic phase
+// and before S's values exist: what the process holds (code, the loaded
+// problem, S's structure) plus what the solve will allocate, each part from
+// the problem's counts and S's structure:
+//
+//   rcs            S's values (Σ over stored blocks of c_i c_j doubles) and
+//                  b, gradient, diagonal (3 doubles per camera-side unknown)
+//   formation      the threads' private copies of the RCS, where the RCS is
+//                  small enough for them (rcs/form_rcs.cc)
+//   lm             the candidate cameras (three copies) and points, δc
+//   linear_solver  beyond S: what auto (or the chosen solver) holds: PCG's
+//                  preconditioner, vectors and diagonal copy; a dense
+//                  factor n² doubles; a sparse factor: 2x the block estimate
+//                  of its values (supernodes padded, CHOLMOD's workspace, the
+//                  CSC copy of S: 1.8x and 2.25x measured, bench/README.md;
+//                  0 without CHOLMOD: not estimated)
+//
+// The peak is the larger of that sum and the peak so far (loading, e.g.
+// decompressing a BAL file, can pass what the solve holds).
+//
+// Thread safety: pure.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "dba/lm/levenberg_marquardt.h"
+#include "dba/problem/problem.h"
+#include "dba/rcs/form_rcs.h"
+
+namespace dba {
+
+struct MemoryEstimate {
+  int64_t resident = 0;  // the process when estimated
+  int64_t peak_so_far = 0;
+  int64_t rcs = 0;
+  int64_t formation = 0;
+  int64_t lm = 0;
+  int64_t linear_solver = 0;
+  LinearSolverType solver = LinearSolverType::kPcg;
+
+  int64_t total() const {
+    const int64_t solve = resident + rcs + formation + lm + linear_solver;
+    return solve > peak_so_far ? solve : peak_so_far;
+  }
+  // "1.23 GiB (process 0.80 GiB, RCS ..., ...)".
+  std::string Describe() const;
+};
+
+// `structure`: the problem's RCS after the symbolic phase, values not yet
+// allocated (RcsSystem::ForProblem's before_values); `resident_bytes`: the
+// process's resident memory then, and its peak so far.
+MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& structure,
+                                   const LmOptions& options, int64_t resident_bytes,
+                                   int64_t peak_so_far = 0);
+
+// Throws std::runtime_error (saying both figures and the override) when the
+// estimate's growth beyond `estimate.resident` exceeds `available_bytes`
+// (what the machine or the cgroup has left; 0: unknown, no check).
+void CheckMemoryFits(const MemoryEstimate& estimate, int64_t available_bytes);
+
+// "1.5 GiB", "320.4 MiB".
+std::string FormatBytes(int64_t bytes);
+
+}  // namespace dba

@@ -1,0 +1,79 @@
+// The memory estimate against the objects the solve then allocates, and the
+// check that refuses a solve that would not fit.
+#include "dba/lm/memory_estimate.h"
+
+#include <gtest/gtest.h>
+
+#include "dba/lm/bundle_adjust.h"
+#include "dba/testing/synthetic_bal.h"
+
+namespace dba {
+namespace {
+
+Problem SmallProblem() {
+  testing::SyntheticBalOptions o;
+  o.num_cameras = 12;
+  o.num_points = 300;
+  o.max_track = 5;
+  o.pixel_noise = 0.5;
+  o.point_perturbation = 0.05;
+  return testing::MakeSyntheticBal(o).problem;
+}
+
+// Each part from the structure equals what the solve allocates: S's values
+// and vectors, the solver auto picks (its dense factor: n² doubles).
+TEST(MemoryEstimate, PartsMatchWhatTheSolveAllocates) {
+  Problem problem = SmallProblem();
+  LmOptions options;
+  options.num_threads = 2;
+  options.max_iterations = 2;
+  MemoryEstimate e;
+  bool seen = false;
+  const BundleAdjustSummary s = BundleAdjust(options, &problem, {}, [&](const RcsSystem& structure) {
+    EXPECT_FALSE(structure.S.has_values());
+    e = EstimateSolveMemory(problem, structure, options, 1000);
+    seen = true;
+  });
+  ASSERT_TRUE(seen);
+  const int64_t n = s.rcs.camera_unknowns;
+  EXPECT_EQ(e.resident, 1000);
+  EXPECT_EQ(e.rcs, s.rcs.bsmc_value_bytes + 3 * n * 8);
+  EXPECT_EQ(e.solver, s.lm.linear_solver.type);
+  ASSERT_EQ(e.solver, LinearSolverType::kDense);
+  EXPECT_EQ(e.linear_solver, n * n * 8);
+  // A small RCS: two threads form it in private copies.
+  EXPECT_EQ(e.formation, (s.rcs.bsmc_value_bytes + 3 * n * 8));
+  EXPECT_EQ(e.lm, (3 * static_cast<int64_t>(problem.cameras.size()) +
+                   static_cast<int64_t>(problem.points.size()) + n) * 8);
+  EXPECT_EQ(e.total(), e.resident + e.rcs + e.formation + e.lm + e.linear_solver);
+  // PCG by option: the PCG path less S, above the block-Jacobi inverse.
+  options.linear_solver.type = LinearSolverType::kPcg;
+  options.num_threads = 1;
+  Problem again = SmallProblem();
+  BundleAdjust(options, &again, {}, [&](const RcsSystem& structure) {
+    e = EstimateSolveMemory(again, structure, options, 0);
+  });
+  EXPECT_EQ(e.solver, LinearSolverType::kPcg);
+  EXPECT_EQ(e.formation, 0);
+  EXPECT_GE(e.linear_solver, 12 * 81 * 8);
+}
+
+TEST(MemoryEstimate, CheckRefusesWhatDoesNotFit) {
+  MemoryEstimate e;
+  e.resident = 100 << 20;
+  e.rcs = 300 << 20;
+  EXPECT_NO_THROW(CheckMemoryFits(e, 0));  // unknown: no check
+  EXPECT_NO_THROW(CheckMemoryFits(e, 300 << 20));
+  try {
+    CheckMemoryFits(e, 299 << 20);
+    FAIL() << "not refused";
+  } catch (const std::runtime_error& error) {
+    const std::string what = error.what();
+    EXPECT_NE(what.find("400.0 MiB"), std::string::npos) << what;
+    EXPECT_NE(what.find("399.0 MiB is available"), std::string::npos) << what;
+    EXPECT_NE(what.find("--no-memory-check"), std::string::npos) << what;
+  }
+}
+
+}  // namespace
+}  // namespace dba
