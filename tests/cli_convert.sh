@@ -19,7 +19,8 @@ check "text keeps the header" test "$(head -1 "$tmp/p.txt")" = "$(cat "$tmp/head
 check "solver reads binary at the same initial cost" grep -q "initial cost        8.509125e+05" "$tmp/s1"
 
 "$dba" info "$tmp/p.dba" >"$tmp/info"; check "info exits 0" test $? -eq 0
-for want in "cameras       49" "points        7776" "observations  31843" "track length" "RCS in BSMC"; do
+for want in "cameras       49" "points        7776" "observations  31843" "track length" "RCS in BSMC" \
+            "dba solve's peak memory" "dense solver"; do
   check "info shows '$want'" grep -qF "$want" "$tmp/info"
 done
 

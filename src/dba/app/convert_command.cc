@@ -5,9 +5,13 @@
 #include <cstdio>
 #include <iostream>
 
+#include <omp.h>
+
 #include "dba/io/path_kind.h"
 #include "dba/bsmc/bsmc_matrix.h"
+#include "dba/common/memory.h"
 #include "dba/common/timer.h"
+#include "dba/lm/memory_estimate.h"
 #include "dba/io/read_problem.h"
 #include "dba/rcs/rcs_pattern.h"
 #include "dba/rcs/unknown_layout.h"
@@ -94,7 +98,9 @@ int InfoMain(const std::vector<std::string>& args) {
            "for the photogrammetric model also its intrinsic groups and what is held\n"
            "fixed), the statistics of its track lengths (observations per point) and\n"
            "camera degrees (observations per camera, cameras sharing a point with\n"
-           "it), and the size of its reduced camera system in BSMC next to CSR.\n";
+           "it), the size of its reduced camera system in BSMC next to CSR, and the\n"
+           "peak memory dba solve would take with its defaults on this node's cores\n"
+           "(one process; the estimate dba solve prints before its first iteration).\n";
     return WantsHelp(args) ? 0 : 2;
   }
   try {
@@ -117,7 +123,9 @@ int InfoMain(const std::vector<std::string>& args) {
     // are not held fixed.
     const UnknownLayout layout(p);
     const std::vector<uint64_t> rcs = RcsBlockPattern(p, layout);
-    const BsmcMatrix S = BsmcMatrix::BuildFromPattern(layout.block_sizes(), rcs);
+    // The structure alone: the values are never needed here.
+    const RcsSystem structure = RcsSystem::ForPattern(layout, rcs, false);
+    const BsmcMatrix& S = structure.S;
     const double rows = layout.num_block_rows();
     const double sparsity = (2.0 * static_cast<double>(rcs.size()) - rows) / (rows * rows);
     std::printf("%s (%s)\n", args[0].c_str(), IsBinaryProblem(args[0]) ? "dba binary" : "BAL text");
@@ -154,6 +162,13 @@ int InfoMain(const std::vector<std::string>& args) {
                 (S.StructureBytes() + S.ValueBytes()) / 1048576.0, S.StructureBytes() / 1048576.0,
                 S.ValueBytes() / 1048576.0, S.CsrBytes() / 1048576.0,
                 static_cast<double>(S.CsrBytes()) / (S.StructureBytes() + S.ValueBytes()));
+    LmOptions defaults;
+    defaults.num_threads = omp_get_num_procs();
+    const MemoryEstimate e = EstimateSolveMemory(p, structure, defaults, CurrentResidentBytes(),
+                                                 PeakResidentBytes());
+    std::printf("  dba solve's peak memory (defaults, %d threads): about %s; available %s\n",
+                defaults.num_threads, e.Describe().c_str(),
+                FormatBytes(AvailableMemoryBytes() + CurrentResidentBytes()).c_str());
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "dba info: error: " << e.what() << "\n";
