@@ -75,6 +75,22 @@ else
   fail "binary output does not hold the adjusted parameters"
 fi
 
+# Each rank estimates its memory before its RCS's values exist: the reports
+# carry it, near the rank's measured peak (the figures: bench/README.md).
+if python3 - "$tmp/bin_out.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+ranks = d["distributed"]["ranks"]
+ok = len(ranks) == 2 and all(0.5 < r["memory_estimate_bytes"] / r["peak_memory_bytes"] < 2 for r in ranks)
+ok = ok and d["memory"]["estimate"]["total_bytes"] == ranks[0]["memory_estimate_bytes"]
+sys.exit(0 if ok else 1)
+PY
+then
+  passes=$((passes + 1))
+else
+  fail "the ranks' memory estimates are missing or far from their peaks"
+fi
+
 # The photogrammetric model (COLMAP input): poses and intrinsic groups spread
 # over the ranks, fixed parameters included.
 colmap=$root/../shared/data/colmap

@@ -161,8 +161,9 @@ void PrintSolveHelp(std::ostream& out) {
          "                             whether rank 0 also forms a sub-RCS (auto: yes for\n"
          "                             up to 4 ranks)\n"
          "  --no-memory-check          start even when the memory estimate (printed before\n"
-         "                             the first iteration: one process) exceeds the memory\n"
-         "                             available (MemAvailable, or a cgroup's limit)\n"
+         "                             the first iteration) exceeds the memory available\n"
+         "                             (MemAvailable, or a cgroup's limit; distributed: each\n"
+         "                             rank against its part of its node's)\n"
          "  -q, --quiet                no per-iteration log, and no progress of long phases\n"
          "                             (shown on a terminal only: RCS formation, PCG,\n"
          "                             back-substitution, with the time left)\n"
@@ -567,6 +568,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     }
   } else {
     DistributedOptions distributed = options.distributed;
+    distributed.memory_check = options.memory_check;
     if (ranks_read_file) {
       distributed.fixings = {options.unknowns.fixed_images, options.unknowns.fixed_intrinsics};
     }
@@ -575,6 +577,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
                                            !options.output.empty() || !options.truth_path.empty() ||
                                                !options.ply_path.empty(),
                                            &problem, log);
+    report.memory_estimate = report.solve.memory_estimate;
   }
   if (!main) return 0;
 

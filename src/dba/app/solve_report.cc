@@ -184,10 +184,11 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
     for (const RankReport& k : r.solve.rank_reports) {
       std::snprintf(buf, sizeof buf,
                     "    rank %-3d  %10ld points %11ld observations %7ld cameras  "
-                    "sub-RCS %8ld blocks %10s  peak %s\n",
+                    "sub-RCS %8ld blocks %10s  peak %s (estimated %s)\n",
                     k.rank, static_cast<long>(k.points), static_cast<long>(k.observations),
                     static_cast<long>(k.cameras), static_cast<long>(k.sub_rcs_blocks),
-                    Bytes(k.sub_rcs_bytes).c_str(), Bytes(k.peak_memory_bytes).c_str());
+                    Bytes(k.sub_rcs_bytes).c_str(), Bytes(k.peak_memory_bytes).c_str(),
+                    Bytes(k.memory_estimate_bytes).c_str());
       out << buf;
     }
     const double iters = std::max<size_t>(r.solve.per_iteration.size(), 1);
@@ -341,6 +342,7 @@ std::string SolveReportJson(const SolveReport& r) {
                        {"sub_rcs_blocks", k.sub_rcs_blocks},
                        {"sub_rcs_bytes", k.sub_rcs_bytes},
                        {"peak_memory_bytes", k.peak_memory_bytes},
+                       {"memory_estimate_bytes", k.memory_estimate_bytes},
                        {"traffic_bytes", k.traffic_bytes}});
     }
     d["ranks"] = ranks;

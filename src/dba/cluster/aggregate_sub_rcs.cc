@@ -29,7 +29,8 @@ SubRcsMap MapSubRcs(std::span<const uint64_t> local_blocks,
 
 GlobalRcs BuildGlobalRcs(UnknownLayout layout,
                          const std::vector<std::vector<uint64_t>>& local_patterns,
-                         std::vector<std::vector<int32_t>> rows) {
+                         std::vector<std::vector<int32_t>> rows,
+                         const std::function<void(const RcsSystem&)>& before_values) {
   std::vector<uint64_t> pattern;
   for (int32_t i = 0; i < layout.num_block_rows(); ++i) pattern.push_back(PackBlock(i, i));
   for (size_t r = 0; r < local_patterns.size(); ++r) {
@@ -40,7 +41,10 @@ GlobalRcs BuildGlobalRcs(UnknownLayout layout,
   std::sort(pattern.begin(), pattern.end());
   pattern.erase(std::unique(pattern.begin(), pattern.end()), pattern.end());
   GlobalRcs global;
-  global.system = RcsSystem::ForPattern(std::move(layout), pattern);
+  global.system = RcsSystem::ForPattern(std::move(layout), pattern, false);
+  std::vector<uint64_t>().swap(pattern);
+  if (before_values) before_values(global.system);
+  global.system.AllocateValues();
   global.maps.resize(local_patterns.size());
   for (size_t r = 0; r < local_patterns.size(); ++r) {
     if (local_patterns[r].empty()) continue;

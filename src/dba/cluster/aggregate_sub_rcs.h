@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <span>
+#include <functional>
 #include <vector>
 
 #include "dba/bsmc/bsmc_matrix.h"
@@ -44,9 +45,11 @@ struct GlobalRcs {
   RcsSystem system;
   std::vector<SubRcsMap> maps;
 };
+// `before_values`: see RcsSystem::ForProblem.
 GlobalRcs BuildGlobalRcs(UnknownLayout layout,
                          const std::vector<std::vector<uint64_t>>& local_patterns,
-                         std::vector<std::vector<int32_t>> rows);
+                         std::vector<std::vector<int32_t>> rows,
+                         const std::function<void(const RcsSystem&)>& before_values = {});
 
 // Packs a rank's system into one message: S values, b, g_c, diag(U), cost,
 // max |g_p|, residual sums.

@@ -1,6 +1,8 @@
 // Distributed bundle adjustment; see distributed_solve.h.
 #include "dba/cluster/distributed_solve.h"
 
+#include "dba/common/memory.h"
+
 #include "dba/common/timer.h"
 #include "dba/io/binary_problem.h"
 
@@ -15,6 +17,29 @@ void SendShare(Communicator* comm, int rank, const RankShare& s) {
   comm->SendVector(rank, t, s.global_intrinsics);
   comm->SendVector(rank, t, s.global_point);
   s.problem.ForEachArray([&](const auto& v) { comm->SendVector(rank, t, v); });
+}
+
+// The hook that estimates a rank's memory before its RCS's values exist
+// (`role`: its sub-RCS, or the main rank's global one) and refuses when the
+// growth exceeds the rank's part of what the node has available.
+std::function<void(const RcsSystem&)> EstimateAndCheck(const Communicator* comm,
+                                                      const LmOptions& options,
+                                                      const DistributedOptions& distributed,
+                                                      const Problem& problem, EstimateRole role,
+                                                      MemoryEstimate* estimate,
+                                                      int forming_ranks = 1) {
+  return [=, &options, &problem](const RcsSystem& structure) {
+    *estimate = EstimateSolveMemory(problem, structure, options, CurrentResidentBytes(),
+                                    PeakResidentBytes(), role);
+    // The main rank's one message buffer (its own packed sub-RCS, then each
+    // rank's in turn): about a forming rank's share of the global RCS.
+    if (role == EstimateRole::kSolves) {
+      estimate->messages = structure.S.ValueBytes() / std::max(1, forming_ranks);
+    }
+    if (!distributed.memory_check) return;
+    const int64_t available = AvailableMemoryBytes();
+    CheckMemoryFits(*estimate, available / std::max(1, comm->ranks_on_node()));
+  };
 }
 
 RankShare RecvShare(Communicator* comm) {
@@ -101,9 +126,11 @@ DistributedSummary DistributedBundleAdjust(
     } else {
       share = RecvShare(comm);
     }
-    LocalPointWorkers workers(&share.problem, options.damping, options.num_threads,
-                              options.loss);
-    RunPointRank(comm, &share, &workers);
+    MemoryEstimate estimate;
+    LocalPointWorkers workers(&share.problem, options.damping, options.num_threads, options.loss,
+                              EstimateAndCheck(comm, options, distributed, share.problem,
+                                               EstimateRole::kForms, &estimate));
+    RunPointRank(comm, &share, &workers, estimate.total());
     return summary;
   }
 
@@ -144,12 +171,18 @@ DistributedSummary DistributedBundleAdjust(
 
   Timer symbolic;
   std::unique_ptr<LocalPointWorkers> own_workers;
+  MemoryEstimate own_estimate;
   if (summary.main_forms) {
-    own_workers = std::make_unique<LocalPointWorkers>(&own.problem, options.damping,
-                                                      options.num_threads, options.loss);
+    own_workers = std::make_unique<LocalPointWorkers>(
+        &own.problem, options.damping, options.num_threads, options.loss,
+        EstimateAndCheck(comm, options, distributed, own.problem, EstimateRole::kForms,
+                         &own_estimate));
   }
   MpiPointWorkers workers(comm, UnknownLayout(*problem),
-                          summary.main_forms ? &own : nullptr, own_workers.get());
+                          summary.main_forms ? &own : nullptr, own_workers.get(),
+                          EstimateAndCheck(comm, options, distributed, *problem,
+                                           EstimateRole::kSolves, &summary.memory_estimate,
+                                           groups));
   summary.ba.symbolic_seconds = symbolic.Seconds();
   const BsmcMatrix& S = workers.global().S;
   summary.ba.rcs = {S.num_block_rows(), S.num_blocks(), S.num_rows(), S.StructureBytes(),
@@ -172,7 +205,8 @@ DistributedSummary DistributedBundleAdjust(
   if (comm->ranks_on_node() > 1) main_options.linear_solver.threaded_blas = false;
   summary.ba.lm = SolveLevenbergMarquardt(main_options, num_observations, &problem->cameras,
                                           &workers, log);
-  summary.rank_reports = workers.Finish(collect_points ? &problem->points : nullptr);
+  summary.rank_reports = workers.Finish(collect_points ? &problem->points : nullptr,
+                                       summary.memory_estimate.total());
   summary.traffic = comm->stats();
   return summary;
 }

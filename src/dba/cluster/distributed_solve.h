@@ -13,6 +13,7 @@
 #include "dba/cluster/mpi_point_workers.h"
 #include "dba/cluster/partition.h"
 #include "dba/lm/bundle_adjust.h"
+#include "dba/lm/memory_estimate.h"
 #include "dba/problem/fixings.h"
 
 namespace dba {
@@ -27,6 +28,9 @@ struct DistributedOptions {
   // With a binary input read by every rank: held fixed by every rank in the
   // camera side it reads (global numbering), before its share is cut out.
   Fixings fixings;
+  // Each rank refuses (the job stops) when its estimated growth exceeds its
+  // part of the node's available memory (available / ranks on the node).
+  bool memory_check = true;
 };
 
 struct DistributedSummary {
@@ -38,6 +42,9 @@ struct DistributedSummary {
   TrafficStats traffic;                     // main rank's, whole solve
   std::vector<TrafficStats> per_iteration;  // main rank's, per LM iteration
   double distribution_seconds = 0.0;        // partition + sending the shares
+  // The main rank's estimate before the global RCS's values (its own
+  // share's sub-RCS, if it forms, already held); total 0: not estimated.
+  MemoryEstimate memory_estimate;
 };
 
 // Collective. Two ways to get the points to the ranks:

@@ -69,8 +69,10 @@ void MaybeInjectFault(int rank, const char* step, int count) {
 }
 
 RankReport MakeRankReport(int rank, const RankShare& share,
-                          const LocalPointWorkers* workers, const Communicator& comm) {
+                          const LocalPointWorkers* workers, const Communicator& comm,
+                          int64_t memory_estimate_bytes) {
   RankReport r;
+  r.memory_estimate_bytes = memory_estimate_bytes;
   r.rank = rank;
   r.points = share.problem.num_points();
   r.observations = share.problem.num_observations();
@@ -86,7 +88,8 @@ RankReport MakeRankReport(int rank, const RankShare& share,
 }
 
 MpiPointWorkers::MpiPointWorkers(Communicator* comm, UnknownLayout layout,
-                                 RankShare* own_share, LocalPointWorkers* own)
+                                 RankShare* own_share, LocalPointWorkers* own,
+                                 const std::function<void(const RcsSystem&)>& before_values)
     : comm_(comm), own_share_(own_share), own_(own) {
   // Every rank's sub-RCS pattern in global numbering; the global pattern is
   // their union (plus every diagonal block).
@@ -101,7 +104,8 @@ MpiPointWorkers::MpiPointWorkers(Communicator* comm, UnknownLayout layout,
     local_patterns[r] = comm->RecvVector<uint64_t>(r, Traffic::kDistribution);
     rows[r] = layout.RowsOfEntities(comm->RecvVector<int64_t>(r, Traffic::kDistribution));
   }
-  GlobalRcs global = BuildGlobalRcs(std::move(layout), local_patterns, std::move(rows));
+  GlobalRcs global =
+      BuildGlobalRcs(std::move(layout), local_patterns, std::move(rows), before_values);
   global_ = std::move(global.system);
   maps_ = std::move(global.maps);
 }
@@ -157,7 +161,8 @@ void MpiPointWorkers::FinishStep(bool accept) {
   if (own_ != nullptr) own_->FinishStep(accept);
 }
 
-std::vector<RankReport> MpiPointWorkers::Finish(std::vector<double>* points) {
+std::vector<RankReport> MpiPointWorkers::Finish(std::vector<double>* points,
+                                                int64_t memory_estimate_bytes) {
   const bool collect = points != nullptr;
   BroadcastCommand(comm_, {Op::kEnd, collect ? 1 : 0, 0.0});
   MaybeInjectFault(0, "end", 1);
@@ -180,12 +185,14 @@ std::vector<RankReport> MpiPointWorkers::Finish(std::vector<double>* points) {
     }
     comm_->Recv(r, Traffic::kResult, std::span<RankReport>(&reports[r], 1));
   }
-  reports[0] = own_share_ != nullptr ? MakeRankReport(0, *own_share_, own_, *comm_)
-                                     : MakeRankReport(0, RankShare{}, nullptr, *comm_);
+  reports[0] = own_share_ != nullptr
+                   ? MakeRankReport(0, *own_share_, own_, *comm_, memory_estimate_bytes)
+                   : MakeRankReport(0, RankShare{}, nullptr, *comm_, memory_estimate_bytes);
   return reports;
 }
 
-void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* workers) {
+void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* workers,
+                  int64_t memory_estimate_bytes) {
   comm->SendVector(0, Traffic::kDistribution, BlockPattern(workers->system().S));
   comm->SendVector(0, Traffic::kDistribution,
                    workers->system().layout.RowEntities(share->global_camera,
@@ -221,7 +228,8 @@ void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* worke
           comm->SendVector(0, Traffic::kResult, share->global_point);
           comm->SendVector(0, Traffic::kResult, share->problem.points);
         }
-        const RankReport report = MakeRankReport(comm->rank(), *share, workers, *comm);
+        const RankReport report =
+            MakeRankReport(comm->rank(), *share, workers, *comm, memory_estimate_bytes);
         comm->Send(0, Traffic::kResult, std::span<const RankReport>(&report, 1));
         return;
       }

@@ -36,6 +36,7 @@ struct RankReport {
   int64_t sub_rcs_blocks = 0;
   int64_t sub_rcs_bytes = 0;  // BSMC structure + values
   int64_t peak_memory_bytes = 0;
+  int64_t memory_estimate_bytes = 0;  // before its RCS's values (lm/memory_estimate.h)
   int64_t traffic_bytes = 0;
 };
 
@@ -52,8 +53,11 @@ class MpiPointWorkers : public PointWorkers {
   // pattern and the global ids of its rows, builds the global RCS over the
   // unknowns of `layout` (the whole problem's) and the block maps. `own` (may
   // be null) is the main rank's own share.
+  // `before_values`: called with the global RCS's structure before its
+  // values are allocated (RcsSystem::ForProblem).
   MpiPointWorkers(Communicator* comm, UnknownLayout layout, RankShare* own_share,
-                  LocalPointWorkers* own);
+                  LocalPointWorkers* own,
+                  const std::function<void(const RcsSystem&)>& before_values = {});
 
   RcsSystem& FormRcs(double lambda) override;
   StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,
@@ -62,7 +66,8 @@ class MpiPointWorkers : public PointWorkers {
 
   // Ends the other ranks' loops and collects their reports; with `points`
   // non-null also their final points (global numbering; resized to hold all).
-  std::vector<RankReport> Finish(std::vector<double>* points);
+  // `memory_estimate_bytes`: the main rank's, for its report.
+  std::vector<RankReport> Finish(std::vector<double>* points, int64_t memory_estimate_bytes = 0);
 
   const RcsSystem& global() const { return global_; }
 
@@ -80,10 +85,13 @@ class MpiPointWorkers : public PointWorkers {
 // The loop of a rank other than the main one: serves FORM, STEP and FINISH
 // until the main rank ends the solve, then sends its points and report.
 // Throws on failure (the caller aborts the job).
-void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* workers);
+// `memory_estimate_bytes` goes into its report.
+void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* workers,
+                  int64_t memory_estimate_bytes = 0);
 
 // Report of this rank's share (peak memory read now).
 RankReport MakeRankReport(int rank, const RankShare& share,
-                          const LocalPointWorkers* workers, const Communicator& comm);
+                          const LocalPointWorkers* workers, const Communicator& comm,
+                          int64_t memory_estimate_bytes = 0);
 
 }  // namespace dba

@@ -22,13 +22,18 @@ std::string FormatBytes(int64_t bytes) {
 
 std::string MemoryEstimate::Describe() const {
   return FormatBytes(total()) + " (process " + FormatBytes(resident) + ", RCS " + FormatBytes(rcs) +
-         ", formation copies " + FormatBytes(formation) + ", LM vectors " + FormatBytes(lm) + ", " +
-         LinearSolverName(solver) + " solver " + FormatBytes(linear_solver) + ")";
+         ", formation copies " + FormatBytes(formation) + ", LM vectors " + FormatBytes(lm) +
+         (messages > 0 ? ", messages " + FormatBytes(messages) : std::string()) +
+         (linear_solver > 0 ? ", " + std::string(LinearSolverName(solver)) + " solver " +
+                                  FormatBytes(linear_solver)
+                            : std::string()) +
+         ")";
 }
 
 void CheckMemoryFits(const MemoryEstimate& estimate, int64_t available_bytes) {
   // What the solve adds to the process (a higher peak so far is behind us).
-  const int64_t growth = estimate.rcs + estimate.formation + estimate.lm + estimate.linear_solver;
+  const int64_t growth = estimate.rcs + estimate.formation + estimate.lm + estimate.linear_solver +
+                         estimate.messages;
   if (available_bytes <= 0 || growth <= available_bytes) return;
   throw std::runtime_error("the solve needs about " + estimate.Describe() + " but " +
                            FormatBytes(estimate.resident + available_bytes) +
@@ -37,18 +42,24 @@ void CheckMemoryFits(const MemoryEstimate& estimate, int64_t available_bytes) {
 
 MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& structure,
                                    const LmOptions& options, int64_t resident_bytes,
-                                   int64_t peak_so_far) {
+                                   int64_t peak_so_far, EstimateRole role) {
   const BsmcMatrix& S = structure.S;
   const int64_t rows = S.num_rows();
   MemoryEstimate e;
   e.resident = resident_bytes;
   e.peak_so_far = peak_so_far;
   e.rcs = S.ValueBytes() + 3 * rows * 8;
-  e.formation = FormationCopyBytes(S.num_values(), rows, options.num_threads);
+  if (role != EstimateRole::kSolves) {
+    e.formation = FormationCopyBytes(S.num_values(), rows, options.num_threads);
+  }
   // The LM's cameras and candidate, the workers' candidate; the candidate
-  // points; δc.
-  e.lm = (3 * static_cast<int64_t>(problem.cameras.size()) +
-          static_cast<int64_t>(problem.points.size()) + rows) * 8;
+  // points (where the points are); δc.
+  const int64_t points = role == EstimateRole::kSolves ? 0 : static_cast<int64_t>(problem.points.size());
+  e.lm = (3 * static_cast<int64_t>(problem.cameras.size()) + points + rows) * 8;
+  if (role == EstimateRole::kForms) {
+    e.messages = e.rcs + 5 * 8;  // values, b, gradient, diagonal, 5 scalars
+    return e;
+  }
   const LinearSolverOptions linear = LinearSolverOptionsFor(options, problem.num_observations());
   const RcsSolverChoice choice = ChooseRcsSolver(S, linear);
   e.solver = choice.type;

@@ -37,22 +37,33 @@ struct MemoryEstimate {
   int64_t formation = 0;
   int64_t lm = 0;
   int64_t linear_solver = 0;
+  // Distributed: the packed sub-RCS a rank sends each formation, or the
+  // main rank's send and receive buffers.
+  int64_t messages = 0;
   LinearSolverType solver = LinearSolverType::kPcg;
 
   int64_t total() const {
-    const int64_t solve = resident + rcs + formation + lm + linear_solver;
+    const int64_t solve = resident + rcs + formation + lm + linear_solver + messages;
     return solve > peak_so_far ? solve : peak_so_far;
   }
   // "1.23 GiB (process 0.80 GiB, RCS ..., ...)".
   std::string Describe() const;
 };
 
+// What a process does with the RCS it estimates: all of it (one process), or
+// in a distributed solve forms its share's sub-RCS (a point rank: no linear
+// solver; its packed sub-RCS as messages), or solves the global RCS (the
+// main rank: no formation copies, no candidate points, which the point ranks
+// hold; its messages are the caller's to add).
+enum class EstimateRole { kWhole, kForms, kSolves };
+
 // `structure`: the problem's RCS after the symbolic phase, values not yet
 // allocated (RcsSystem::ForProblem's before_values); `resident_bytes`: the
 // process's resident memory then, and its peak so far.
 MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& structure,
                                    const LmOptions& options, int64_t resident_bytes,
-                                   int64_t peak_so_far = 0);
+                                   int64_t peak_so_far = 0,
+                                   EstimateRole role = EstimateRole::kWhole);
 
 // Throws std::runtime_error (saying both figures and the override) when the
 // estimate's growth beyond `estimate.resident` exceeds `available_bytes`
