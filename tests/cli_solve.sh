@@ -48,6 +48,29 @@ check "the report's estimate is its parts and within 2x of the peak" json "$tmp/
    and 0.5 < d["memory"]["estimate"]["total_bytes"] / d["memory"]["peak_bytes"] < 2
    and d["memory"]["estimate"]["linear_solver"] == d["linear_solver"]["type"]'
 
+# Checkpoint and resume: a run killed (SIGKILL) right after its second
+# accepted iteration's checkpoint, resumed, ends at the uninterrupted run's
+# final cost (the dense solve: exact steps); a checkpoint of another input is
+# refused and nothing is written.
+p49=$data/problem-49-7776-pre.txt.bz2
+"$dba" solve "$p49" -q --report "$tmp/whole.json" >/dev/null 2>&1
+DBA_KILL_AFTER_CHECKPOINT=2 "$dba" solve "$p49" -q --checkpoint "$tmp/p49.ckpt" >/dev/null 2>&1
+check "the killed run died by SIGKILL" test $? -eq 137
+check "the checkpoint of iteration 2 is there" test -s "$tmp/p49.ckpt"
+check "no temporary checkpoint is left" test -z "$(ls "$tmp" | grep 'p49.ckpt.tmp')"
+"$dba" solve "$p49" --resume "$tmp/p49.ckpt" --report "$tmp/resumed.json" >"$tmp/resumed.out" 2>&1
+check "the resume exits 0" test $? -eq 0
+check "the resume says where it starts" contains "$tmp/resumed.out" "after LM iteration 2"
+check "the resumed run ends at the uninterrupted run's cost and iteration count" json "$tmp/resumed.json" \
+  "near(d['final_cost'], $(json_value "$tmp/whole.json" final_cost), 1e-9)
+   and d['iterations'] == $(json_value "$tmp/whole.json" iterations) and d['history'][0]['iteration'] == 3"
+"$dba" solve "$data/problem-73-11032-pre.txt.bz2" -q --resume "$tmp/p49.ckpt" -o "$tmp/wrong.txt" >"$tmp/out" 2>&1
+check "a checkpoint of another input exits 1" test $? -eq 1
+check "a checkpoint of another input says so" contains "$tmp/out" "written for another input"
+check "nothing is written after a refused resume" test ! -e "$tmp/wrong.txt"
+"$dba" solve "$p49" -q --checkpoint-every 5 >"$tmp/out" 2>&1
+check "--checkpoint-every without --checkpoint exits 2" test $? -eq 2
+
 # Bad input: exit 1, file and line in the message, no output written.
 "$dba" solve "$tmp/none.txt" -o "$tmp/o1.txt" >"$tmp/out" 2>&1
 check "missing file exits 1" test $? -eq 1

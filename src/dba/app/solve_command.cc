@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +18,7 @@
 
 #include "dba/camera/observation_residual.h"
 #include "dba/common/memory.h"
+#include "dba/io/checkpoint.h"
 #include "dba/common/error.h"
 #include "dba/common/progress.h"
 #include "dba/common/timer.h"
@@ -88,6 +91,15 @@ void PrintSolveHelp(std::ostream& out) {
          "                             ids for a COLMAP input, 0-based camera indices\n"
          "                             otherwise (a BAL camera is then fixed whole)\n"
          "  --report FILE.json         write the summary and per-iteration log as JSON\n"
+         "  --checkpoint FILE          after each accepted LM iteration, write the parameters\n"
+         "                             and the LM state to FILE (whole or not at all), to\n"
+         "                             --resume from (one process; not with\n"
+         "                             --reject-outliers)\n"
+         "  --checkpoint-every S       at most one checkpoint per S seconds (default 0: after\n"
+         "                             every accepted iteration)\n"
+         "  --resume FILE              continue the solve of INPUT (the same input and\n"
+         "                             fixings) from a --checkpoint FILE: it ends where the\n"
+         "                             uninterrupted solve would\n"
          "  --truth FILE               ground truth of a generated problem (dba generate\n"
          "                             --truth): report the RMS against the noise-free\n"
          "                             observations, the camera/point errors after a\n"
@@ -195,6 +207,12 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       o.truth_path = value();
     } else if (a == "--ply") {
       o.ply_path = value();
+    } else if (a == "--checkpoint") {
+      o.checkpoint_path = value();
+    } else if (a == "--checkpoint-every") {
+      o.checkpoint_every_s = ParseNumberArgument(a, value());
+    } else if (a == "--resume") {
+      o.resume_path = value();
     } else if (a == "--colmap-format") {
       const std::string& v = value();
       if (v == "text") o.colmap_format = ColmapFormat::kText;
@@ -303,6 +321,12 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
   if (o.input.empty()) throw std::invalid_argument("missing INPUT (see dba solve --help)");
   if (o.colmap_format.has_value() && o.output.empty()) {
     throw std::invalid_argument("--colmap-format: no -o output to write");
+  }
+  if ((!o.checkpoint_path.empty() || !o.resume_path.empty()) && o.reject_outliers_px > 0) {
+    throw std::invalid_argument("--checkpoint and --resume do not combine with --reject-outliers yet");
+  }
+  if (o.checkpoint_every_s > 0 && o.checkpoint_path.empty()) {
+    throw std::invalid_argument("--checkpoint-every: no --checkpoint to write");
   }
   return o;
 }
@@ -465,6 +489,9 @@ void RefuseNonFiniteResiduals(const std::string& input, const Problem& problem) 
 int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
                     std::ostream& out, SolveOutcome* outcome) {
   const bool main = comm->is_main();
+  if ((!options.checkpoint_path.empty() || !options.resume_path.empty()) && comm->size() > 1) {
+    throw UsageError("--checkpoint and --resume are not supported in distributed runs yet");
+  }
   LmOptions lm = options.lm;
   if (lm.num_threads == 0) {
     lm.num_threads = std::max(1, DefaultThreads() / comm->ranks_on_node());
@@ -500,6 +527,15 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       report.num_points = problem.num_points();
       report.num_observations = problem.num_observations();
       report.problem_bytes = problem.MemoryBytes();
+      if (!options.resume_path.empty()) {
+        const Checkpoint resumed = ReadCheckpoint(options.resume_path);
+        ApplyCheckpoint(resumed, options.resume_path, &problem);
+        lm.initial_lambda = resumed.lambda;
+        lm.iterations_done = static_cast<int>(resumed.iterations);
+        lm.accepted_done = static_cast<int>(resumed.accepted);
+        out << "resumed from " << options.resume_path << " after LM iteration "
+            << resumed.iterations << "\n";
+      }
       RefuseNonFiniteResiduals(options.input, problem);
     }
     // Refused before the solve, not after it: every output's kind and
@@ -510,6 +546,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     }
     if (!options.report_path.empty()) CheckWritable("--report", options.report_path, false);
     if (!options.ply_path.empty()) CheckWritable("--ply", options.ply_path, false);
+    if (!options.checkpoint_path.empty()) CheckWritable("--checkpoint", options.checkpoint_path, false);
     if (!options.truth_path.empty()) CheckTruthFile(options.truth_path, report);
     report.load_seconds = load_timer.Seconds();
     out << "dba solve " << options.input << ": " << report.num_cameras
@@ -526,11 +563,34 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
                     "loaded in %.1f s; building the RCS structure, then one line per "
                     "LM iteration\n",
                     report.load_seconds);
-      out << line << IterationLogHeader() << std::flush;
+      out << line;
+      // One process: the header follows the memory estimate (the symbolic
+      // phase's end, below).
+      if (comm->size() > 1) out << IterationLogHeader();
+      out << std::flush;
     }
   }
+  // Checkpoints after accepted iterations: the parameters the workers hold
+  // (problem, updated in place) and the LM state.
+  const bool checkpointing = main && !options.checkpoint_path.empty();
+  const uint64_t fingerprint = checkpointing ? ProblemFingerprint(problem) : 0;
+  int64_t accepted = lm.accepted_done;
+  Timer since_checkpoint;
+  bool checkpointed = false;
   auto log = [&](const IterationSummary& it) {
     if (!options.quiet) out << IterationLogLine(it) << std::flush;
+    if (!it.step_accepted) return;
+    ++accepted;
+    if (!checkpointing) return;
+    if (checkpointed && since_checkpoint.Seconds() < options.checkpoint_every_s) return;
+    WriteCheckpoint(options.checkpoint_path, {fingerprint, it.iteration, accepted, it.next_lambda,
+                                              it.candidate_cost, problem.cameras, problem.points});
+    checkpointed = true;
+    since_checkpoint.Reset();
+    // For tests: a hard kill right after checkpoint N (SIGKILL: no handler runs).
+    if (const char* k = std::getenv("DBA_KILL_AFTER_CHECKPOINT"); k != nullptr && std::atoi(k) == it.iteration) {
+      std::raise(SIGKILL);
+    }
   };
   if (options.reject_outliers_px > 0 && comm->size() > 1) {
     throw UsageError("--reject-outliers is not supported in distributed runs yet");
@@ -555,7 +615,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
         out << "memory estimate " << report.memory_estimate.Describe()
             << (have > 0 ? "; available " + FormatBytes(have + report.memory_estimate.resident)
                          : std::string())
-            << "\n" << std::flush;
+            << "\n" << IterationLogHeader() << std::flush;
       }
       if (options.memory_check) CheckMemoryFits(report.memory_estimate, report.available_memory_bytes);
     };

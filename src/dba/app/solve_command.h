@@ -20,6 +20,11 @@ struct SolveCommandOptions {
   std::string report_path;  // empty: no JSON report
   std::string truth_path;   // empty: no ground-truth comparison
   std::string ply_path;     // empty: no point cloud
+  // io/checkpoint.h: written after accepted iterations (at most every
+  // checkpoint_every_s seconds; 0: after each), and a solve resumed from one.
+  std::string checkpoint_path;
+  double checkpoint_every_s = 0.0;
+  std::string resume_path;
   std::optional<ColmapFormat> colmap_format;  // COLMAP output; default: the input's
   UnknownsOptions unknowns; // what is held fixed, shared intrinsics
   bool quiet = false;       // no per-iteration log

@@ -278,6 +278,7 @@ void SymmetricMultiplier::PlanNarrowing() {
 void SymmetricMultiplier::Narrow(BsmcMatrix* S) {
   if (S != &matrix_) throw std::logic_error("SymmetricMultiplier::Narrow: not the multiplier's matrix");
   if (precision_ != ProductPrecision::kMixed) throw std::logic_error("SymmetricMultiplier::Narrow: not a mixed-precision multiplier");
+  if (S->values_narrowed()) throw std::logic_error("SymmetricMultiplier::Narrow: S is narrowed already (re-form it first)");
   const int32_t n = S->num_block_rows();
   double* values = S->values().data();
   float* narrowed = reinterpret_cast<float*>(values);

@@ -143,6 +143,8 @@ TEST(SymmetricMultiply, MixedProductRefusesValuesNotNarrowed) {
   EXPECT_THROW(mixed.Multiply(x.data(), y.data()), std::logic_error);
   BsmcMatrix other = m;
   EXPECT_THROW(mixed.Narrow(&other), std::logic_error);
+  mixed.Narrow(&m);
+  EXPECT_THROW(mixed.Narrow(&m), std::logic_error);  // twice: the floats are not doubles
 }
 
 }  // namespace

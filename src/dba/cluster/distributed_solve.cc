@@ -27,10 +27,11 @@ std::function<void(const RcsSystem&)> EstimateAndCheck(const Communicator* comm,
                                                       const DistributedOptions& distributed,
                                                       const Problem& problem, EstimateRole role,
                                                       MemoryEstimate* estimate,
-                                                      int forming_ranks = 1) {
+                                                      int forming_ranks = 1,
+                                                      int64_t num_observations = -1) {
   return [=, &options, &problem](const RcsSystem& structure) {
     *estimate = EstimateSolveMemory(problem, structure, options, CurrentResidentBytes(),
-                                    PeakResidentBytes(), role);
+                                    PeakResidentBytes(), role, num_observations);
     // The main rank's one message buffer (its own packed sub-RCS, then each
     // rank's in turn): about a forming rank's share of the global RCS.
     if (role == EstimateRole::kSolves) {
@@ -182,7 +183,7 @@ DistributedSummary DistributedBundleAdjust(
                           summary.main_forms ? &own : nullptr, own_workers.get(),
                           EstimateAndCheck(comm, options, distributed, *problem,
                                            EstimateRole::kSolves, &summary.memory_estimate,
-                                           groups));
+                                           groups, num_observations));
   summary.ba.symbolic_seconds = symbolic.Seconds();
   const BsmcMatrix& S = workers.global().S;
   summary.ba.rcs = {S.num_block_rows(), S.num_blocks(), S.num_rows(), S.StructureBytes(),

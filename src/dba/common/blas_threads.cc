@@ -34,12 +34,15 @@ void StopBlasThreads() {
 BlasThreads::BlasThreads(int num_threads) {
   if (!Blas().loaded()) return;
   const int current = Blas().get_threads();
-  // Already so: nothing to change, nothing to restore. (A restore that shut
-  // the pool down took about a millisecond, which a coarse solve of the
-  // two-level preconditioner paid per PCG iteration: 5x its own time.)
-  if (current == num_threads) return;
+  // One thread where one is set: nothing to change, restore or shut down. (A
+  // restore that shut the pool down took about a millisecond, which a coarse
+  // solve of the two-level preconditioner paid per PCG iteration: 5x its own
+  // time.)
+  if (current == num_threads && num_threads <= 1) return;
   previous_ = current;
-  raised_ = num_threads > current;
+  // A multithreaded call leaves its pool spinning beside the caller's
+  // threads: shut it down after, unless the scope only lowered the count.
+  raised_ = num_threads > 1 && num_threads >= current;
   Blas().set_threads(num_threads);
 }
 

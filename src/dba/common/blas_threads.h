@@ -24,9 +24,9 @@ namespace dba {
 void StopBlasThreads();
 
 // `num_threads` BLAS threads for the scope; after it, the count it found,
-// and where the scope raised the count, the pool's threads joined (a later
-// multithreaded call starts them again). A scope that asks for the count
-// already set changes nothing.
+// and after a multithreaded scope (not one that only lowered the count) the
+// pool's threads joined (a later multithreaded call starts them again). A
+// one-thread scope where one thread is set changes nothing.
 class BlasThreads {
  public:
   explicit BlasThreads(int num_threads);
@@ -36,7 +36,7 @@ class BlasThreads {
 
  private:
   int previous_ = 0;  // 0: no OpenBLAS, or nothing changed
-  bool raised_ = false;  // more threads than before: shut the pool down after
+  bool raised_ = false;  // a multithreaded scope: shut the pool down after
 };
 
 }  // namespace dba

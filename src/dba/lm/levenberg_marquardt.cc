@@ -62,6 +62,8 @@ class Minimizer {
         on_iteration_(on_iteration),
         damping_(options.initial_lambda) {
     summary_.num_observations = num_observations;
+    summary_.iterations = options.iterations_done;
+    summary_.accepted_iterations = options.accepted_done;
   }
 
   LmSummary Run() {
@@ -87,6 +89,7 @@ class Minimizer {
       // Next linearization: at the new point after an accepted step, with
       // the new λ after a rejected one.
       if (!done) Linearize();
+      it.next_lambda = damping_.lambda();
       it.seconds = iteration_timer.Seconds();
       summary_.history.push_back(it);
       if (on_iteration_) on_iteration_(it);

@@ -47,6 +47,11 @@ struct LmOptions {
   RobustLoss loss;
   LinearSolverOptions linear_solver;
   int num_threads = 1;
+  // A resumed solve (io/checkpoint.h): the iterations an earlier run did,
+  // counted toward max_iterations and in the log's numbering. initial_lambda
+  // is then the checkpoint's.
+  int iterations_done = 0;
+  int accepted_done = 0;
 };
 
 enum class TerminationReason {
@@ -70,6 +75,7 @@ struct IterationSummary {
   double candidate_cost = 0.0;
   double gain_ratio = 0.0;
   bool step_accepted = false;
+  double next_lambda = 0.0;    // the damping after this step's outcome
   double seconds = 0.0;        // wall time of this iteration
 };
 

@@ -42,7 +42,8 @@ void CheckMemoryFits(const MemoryEstimate& estimate, int64_t available_bytes) {
 
 MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& structure,
                                    const LmOptions& options, int64_t resident_bytes,
-                                   int64_t peak_so_far, EstimateRole role) {
+                                   int64_t peak_so_far, EstimateRole role,
+                                   int64_t num_observations) {
   const BsmcMatrix& S = structure.S;
   const int64_t rows = S.num_rows();
   MemoryEstimate e;
@@ -60,7 +61,8 @@ MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& stru
     e.messages = e.rcs + 5 * 8;  // values, b, gradient, diagonal, 5 scalars
     return e;
   }
-  const LinearSolverOptions linear = LinearSolverOptionsFor(options, problem.num_observations());
+  const LinearSolverOptions linear = LinearSolverOptionsFor(
+      options, num_observations >= 0 ? num_observations : problem.num_observations());
   const RcsSolverChoice choice = ChooseRcsSolver(S, linear);
   e.solver = choice.type;
   switch (choice.type) {
@@ -73,7 +75,8 @@ MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& stru
     case LinearSolverType::kPcg:
     case LinearSolverType::kAuto:
       // Preconditioner, vectors, the diagonal copy: the PCG path less S.
-      e.linear_solver = choice.pcg_bytes - S.ValueBytes() - S.StructureBytes();
+      e.linear_solver = PcgPathBytes(S, linear.pcg.product_precision()) - S.ValueBytes() -
+                        S.StructureBytes();
       break;
   }
   return e;

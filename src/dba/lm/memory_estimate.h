@@ -59,11 +59,14 @@ enum class EstimateRole { kWhole, kForms, kSolves };
 
 // `structure`: the problem's RCS after the symbolic phase, values not yet
 // allocated (RcsSystem::ForProblem's before_values); `resident_bytes`: the
-// process's resident memory then, and its peak so far.
+// process's resident memory then, and its peak so far; `num_observations`:
+// the solve's (auto's cost model weighs them), -1 for the problem's own (the
+// main rank of a distributed solve holds none).
 MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& structure,
                                    const LmOptions& options, int64_t resident_bytes,
                                    int64_t peak_so_far = 0,
-                                   EstimateRole role = EstimateRole::kWhole);
+                                   EstimateRole role = EstimateRole::kWhole,
+                                   int64_t num_observations = -1);
 
 // Throws std::runtime_error (saying both figures and the override) when the
 // estimate's growth beyond `estimate.resident` exceeds `available_bytes`

@@ -40,6 +40,9 @@ LinearSolveSummary PcgRcsSolver::Solve(BsmcMatrix& S, const double* b, double* x
   if (&S != &multiplier_.matrix()) {
     throw std::logic_error("PcgRcsSolver: Solve on a matrix other than the one given at construction");
   }
+  if (S.values_narrowed()) {
+    throw std::logic_error("PcgRcsSolver: Solve on narrowed values (S must be re-formed first)");
+  }
   preconditioner_->Update(S);
   if (multiplier_.precision() == ProductPrecision::kMixed) multiplier_.Narrow(&S);
   const PcgSummary pcg = SolvePcg(multiplier_, *preconditioner_, b, x, options_, &scratch_);

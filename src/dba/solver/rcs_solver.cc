@@ -122,7 +122,9 @@ std::unique_ptr<CholeskySolver> MakeCholeskySolver(const BsmcMatrix& S, int64_t 
 RcsSolverChoice ChooseRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options) {
   RcsSolverChoice choice;
   const double n = static_cast<double>(S.num_rows());
-  choice.pcg_bytes = PcgPathBytes(S, options.pcg.product_precision());
+  // The budget as measured before the mixed product (its diagonal copy is
+  // the memory estimate's to add: lm/memory_estimate.cc).
+  choice.pcg_bytes = PcgPathBytes(S, ProductPrecision::kDouble);
   choice.dense_bytes = static_cast<int64_t>(n * n * 8);
   choice.dense_flops = n * n * n / 3;
   const double rest = kSecondsPerObservation * static_cast<double>(options.num_observations);
