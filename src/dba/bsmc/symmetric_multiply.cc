@@ -300,12 +300,11 @@ void SymmetricMultiplier::Narrow(BsmcMatrix* S) {
     }
   }
   S->MarkValuesNarrowed();
-  narrowed_ = true;
 }
 
 void SymmetricMultiplier::Multiply(const double* x, double* y) const {
   if (precision_ == ProductPrecision::kMixed) {
-    if (!narrowed_ || !matrix_.values_narrowed()) {
+    if (!matrix_.values_narrowed()) {
       throw std::logic_error("SymmetricMultiplier: mixed-precision product before Narrow");
     }
     MultiplyWith(NarrowedValues{matrix_, diagonal_.data(), diagonal_offset_.data(),

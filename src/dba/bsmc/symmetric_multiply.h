@@ -71,7 +71,6 @@ class SymmetricMultiplier {
   std::vector<int64_t> diagonal_offset_;
   std::vector<double> diagonal_;
   std::vector<int32_t> round_;
-  bool narrowed_ = false;
   std::vector<int32_t> row_split_;          // thread t owns [row_split_[t], row_split_[t+1])
   std::vector<int64_t> spill_begin_;        // scalar row where thread t's spill starts
   mutable std::vector<std::vector<double>> spill_;

@@ -31,10 +31,8 @@ std::string MemoryEstimate::Describe() const {
 }
 
 void CheckMemoryFits(const MemoryEstimate& estimate, int64_t available_bytes) {
-  // What the solve adds to the process (a higher peak so far is behind us).
-  const int64_t growth = estimate.rcs + estimate.formation + estimate.lm + estimate.linear_solver +
-                         estimate.messages;
-  if (available_bytes <= 0 || growth <= available_bytes) return;
+  // Only the growth counts: a higher peak so far is behind us.
+  if (available_bytes <= 0 || estimate.growth() <= available_bytes) return;
   throw std::runtime_error("the solve needs about " + estimate.Describe() + " but " +
                            FormatBytes(estimate.resident + available_bytes) +
                            " is available; --no-memory-check starts it anyway");

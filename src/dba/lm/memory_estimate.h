@@ -42,8 +42,10 @@ struct MemoryEstimate {
   int64_t messages = 0;
   LinearSolverType solver = LinearSolverType::kPcg;
 
+  // What the solve adds to the process.
+  int64_t growth() const { return rcs + formation + lm + linear_solver + messages; }
   int64_t total() const {
-    const int64_t solve = resident + rcs + formation + lm + linear_solver + messages;
+    const int64_t solve = resident + growth();
     return solve > peak_so_far ? solve : peak_so_far;
   }
   // "1.23 GiB (process 0.80 GiB, RCS ..., ...)".
