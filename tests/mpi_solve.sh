@@ -169,6 +169,45 @@ else
   fail "photo .dba with fixings: $(final_cost "$tmp/fix_mpi.json") vs $(final_cost "$tmp/fix_single.json")"
 fi
 
+# Checkpoint and resume, distributed: a 3-rank run killed (SIGKILL on rank 0)
+# right after its second accepted iteration's checkpoint, resumed on 2 ranks
+# and in one process, ends at the uninterrupted single-process cost (1e-9)
+# after as many iterations; for a BAL text input (the main rank holds the
+# problem) and a .dba the ranks read themselves (the fingerprint summed over
+# the ranks). A checkpoint of another input is refused, nothing written.
+for input in "$root/../shared/data/bal/problem-49-7776-pre.txt.bz2" "$tmp/photo.dba"; do
+  name=$(basename "$input")
+  "$dba" solve "$input" -q "${tight[@]}" --report "$tmp/ck_whole.json" >/dev/null 2>&1
+  rm -f "$tmp/run.ckpt"
+  DBA_KILL_AFTER_CHECKPOINT=2 mpirun_n 3 "$dba" solve "$input" -q "${tight[@]}" \
+    --checkpoint "$tmp/run.ckpt" >"$tmp/ck.out" 2>&1 && fail "$name: the killed run exited 0"
+  [ -s "$tmp/run.ckpt" ] || fail "$name: no checkpoint after the kill"
+  for run in "mpirun_n 2 $dba" "$dba"; do
+    $run solve "$input" -q "${tight[@]}" --resume "$tmp/run.ckpt" --report "$tmp/ck_resumed.json" \
+      >"$tmp/ck.out" 2>&1 || { fail "$name: resume ($run) exited non-zero"; cat "$tmp/ck.out" >&2; continue; }
+    if python3 - "$tmp/ck_whole.json" "$tmp/ck_resumed.json" <<'PY'
+import json, sys
+w, r = (json.load(open(f)) for f in sys.argv[1:])
+ok = abs(w["final_cost"] - r["final_cost"]) <= 1e-9 * w["final_cost"] and \
+     w["iterations"] == r["iterations"] and r["history"][0]["iteration"] == 3
+sys.exit(0 if ok else 1)
+PY
+    then
+      passes=$((passes + 1)); echo "ok   $name killed on 3 ranks, resumed ($run)"
+    else
+      fail "$name resumed ($run): $(final_cost "$tmp/ck_resumed.json") vs $(final_cost "$tmp/ck_whole.json")"
+    fi
+  done
+done
+"$dba" convert "$root/../shared/data/bal/problem-49-7776-pre.txt.bz2" "$tmp/p49ck.dba" >/dev/null
+mpirun_n 2 "$dba" solve "$tmp/p49ck.dba" -q "${tight[@]}" --resume "$tmp/run.ckpt" -o "$tmp/ck_wrong.dba" \
+  >"$tmp/ck.out" 2>&1 && fail "a checkpoint of another input was resumed (-np 2, .dba)"
+if grep -q "written for another input" "$tmp/ck.out" && [ ! -e "$tmp/ck_wrong.dba" ]; then
+  passes=$((passes + 1)); echo "ok   a checkpoint of another input is refused (-np 2, .dba)"
+else
+  fail "a checkpoint of another input (-np 2, .dba): $(cat "$tmp/ck.out")"
+fi
+
 # A robust loss: the distributed run reaches the single-process optimum of
 # the robust cost (1e-9), both camera models, and differs from the squared
 # loss's.

@@ -93,8 +93,8 @@ void PrintSolveHelp(std::ostream& out) {
          "  --report FILE.json         write the summary and per-iteration log as JSON\n"
          "  --checkpoint FILE          after each accepted LM iteration, write the parameters\n"
          "                             and the LM state to FILE (whole or not at all), to\n"
-         "                             --resume from (one process; not with\n"
-         "                             --reject-outliers)\n"
+         "                             --resume from (rank 0 writes it in a distributed\n"
+         "                             run; not with --reject-outliers)\n"
          "  --checkpoint-every S       at most one checkpoint per S seconds (default 0: after\n"
          "                             every accepted iteration)\n"
          "  --resume FILE              continue the solve of INPUT (the same input and\n"
@@ -489,9 +489,6 @@ void RefuseNonFiniteResiduals(const std::string& input, const Problem& problem) 
 int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
                     std::ostream& out, SolveOutcome* outcome) {
   const bool main = comm->is_main();
-  if ((!options.checkpoint_path.empty() || !options.resume_path.empty()) && comm->size() > 1) {
-    throw UsageError("--checkpoint and --resume are not supported in distributed runs yet");
-  }
   LmOptions lm = options.lm;
   if (lm.num_threads == 0) {
     lm.num_threads = std::max(1, DefaultThreads() / comm->ranks_on_node());
@@ -506,6 +503,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   Problem problem;
   // Distributed runs on a binary file: every rank reads its own points.
   const bool ranks_read_file = comm->size() > 1 && IsBinaryProblem(options.input);
+  std::optional<Checkpoint> resumed;  // main rank
   if (main) {
     Timer load_timer;
     CameraModel model = CameraModel::kBal;
@@ -527,17 +525,18 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       report.num_points = problem.num_points();
       report.num_observations = problem.num_observations();
       report.problem_bytes = problem.MemoryBytes();
-      if (!options.resume_path.empty()) {
-        const Checkpoint resumed = ReadCheckpoint(options.resume_path);
-        ApplyCheckpoint(resumed, options.resume_path, &problem);
-        lm.initial_lambda = resumed.lambda;
-        lm.iterations_done = static_cast<int>(resumed.iterations);
-        lm.accepted_done = static_cast<int>(resumed.accepted);
-        out << "resumed from " << options.resume_path << " after LM iteration "
-            << resumed.iterations << "\n";
-      }
-      RefuseNonFiniteResiduals(options.input, problem);
     }
+    if (!options.resume_path.empty()) {
+      resumed = ReadCheckpoint(options.resume_path);
+      // Spread over the ranks, the problem is checked against it there.
+      if (!ranks_read_file) ApplyCheckpoint(*resumed, options.resume_path, &problem);
+      lm.initial_lambda = resumed->lambda;
+      lm.iterations_done = static_cast<int>(resumed->iterations);
+      lm.accepted_done = static_cast<int>(resumed->accepted);
+      out << "resumed from " << options.resume_path << " after LM iteration "
+          << resumed->iterations << "\n";
+    }
+    if (!ranks_read_file) RefuseNonFiniteResiduals(options.input, problem);
     // Refused before the solve, not after it: every output's kind and
     // directory, and the truth's counts.
     if (!options.output.empty()) {
@@ -571,25 +570,19 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     }
   }
   // Checkpoints after accepted iterations: the parameters the workers hold
-  // (problem, updated in place) and the LM state.
-  const bool checkpointing = main && !options.checkpoint_path.empty();
-  const uint64_t fingerprint = checkpointing ? ProblemFingerprint(problem) : 0;
-  int64_t accepted = lm.accepted_done;
-  Timer since_checkpoint;
-  bool checkpointed = false;
+  // (problem, updated in place; a distributed solve gathers its points
+  // itself) and the LM state. A binary input spread over the ranks gets its
+  // fingerprint once the ranks hold it.
+  std::optional<CheckpointWriter> checkpoints;
+  if (main && !options.checkpoint_path.empty()) {
+    checkpoints.emplace(options.checkpoint_path, options.checkpoint_every_s,
+                        ranks_read_file ? 0 : ProblemFingerprint(problem), lm.accepted_done);
+  }
   auto log = [&](const IterationSummary& it) {
     if (!options.quiet) out << IterationLogLine(it) << std::flush;
-    if (!it.step_accepted) return;
-    ++accepted;
-    if (!checkpointing) return;
-    if (checkpointed && since_checkpoint.Seconds() < options.checkpoint_every_s) return;
-    WriteCheckpoint(options.checkpoint_path, {fingerprint, it.iteration, accepted, it.next_lambda,
-                                              it.candidate_cost, problem.cameras, problem.points});
-    checkpointed = true;
-    since_checkpoint.Reset();
-    // For tests: a hard kill right after checkpoint N (SIGKILL: no handler runs).
-    if (const char* k = std::getenv("DBA_KILL_AFTER_CHECKPOINT"); k != nullptr && std::atoi(k) == it.iteration) {
-      std::raise(SIGKILL);
+    if (comm->size() == 1 && checkpoints && checkpoints->Due(it.step_accepted)) {
+      checkpoints->Write(it.iteration, it.next_lambda, it.candidate_cost, problem.cameras,
+                         problem.points);
     }
   };
   if (options.reject_outliers_px > 0 && comm->size() > 1) {
@@ -636,7 +629,10 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
                                            ranks_read_file ? options.input : std::string(),
                                            !options.output.empty() || !options.truth_path.empty() ||
                                                !options.ply_path.empty(),
-                                           &problem, log);
+                                           &problem, log,
+                                           {checkpoints ? &*checkpoints : nullptr,
+                                            ranks_read_file && resumed ? &*resumed : nullptr,
+                                            options.resume_path});
     report.memory_estimate = report.solve.memory_estimate;
   }
   if (!main) return 0;

@@ -63,15 +63,76 @@ void Release(std::vector<T>& v) {
   std::vector<T>().swap(v);
 }
 
-// This rank's points read from the binary file, cameras renumbered locally.
+// This rank's points read from the binary file, with the whole camera side
+// (KeepTouchedCameras cuts it down).
 RankShare ReadShare(int rank, const std::string& path, const std::vector<int32_t>& group,
                     int32_t g, const DistributedOptions& options) {
   RankShare share;
   MaybeInjectFault(rank, "read", 1);
   share.problem = ReadBinaryPoints(path, group, g, &share.global_point);
   ApplyFixings(options.fixings, &share.problem);
-  KeepTouchedCameras(&share);
   return share;
+}
+
+// What the main rank tells the others before the shares are cut: whether
+// the problem's fingerprint is wanted (checkpoints) and whether the shares
+// start from a checkpoint.
+struct CheckpointFlags {
+  int32_t fingerprint = 0;
+  int32_t resume = 0;
+};
+
+// Collective, binary input: the sum of the forming ranks' observation
+// fingerprints, combined with the camera side's on the main rank.
+uint64_t SpreadFingerprint(Communicator* comm, const RankShare* own, int first_rank,
+                           const Problem& camera_side, int64_t num_points) {
+  auto part = [](const RankShare& s) {
+    return ObservationsFingerprint(s.problem, s.global_point, {});
+  };
+  if (!comm->is_main()) {
+    const uint64_t mine = part(*own);
+    comm->Send(0, Traffic::kControl, std::span<const uint64_t>(&mine, 1));
+    return 0;
+  }
+  uint64_t sum = own != nullptr ? part(*own) : 0;
+  for (int r = std::max(1, first_rank); r < comm->size(); ++r) {
+    uint64_t theirs = 0;
+    comm->Recv(r, Traffic::kControl, std::span<uint64_t>(&theirs, 1));
+    sum += theirs;
+  }
+  return CombineFingerprints(CameraSideFingerprint(camera_side, num_points), sum);
+}
+
+// Collective, binary input: every share's cameras and points from the main
+// rank's checkpoint (the whole camera side broadcast; each rank's points
+// sent to it by global id).
+void ResumeShares(Communicator* comm, const Checkpoint* checkpoint, RankShare* own,
+                  int first_rank) {
+  const Traffic t = Traffic::kDistribution;
+  auto take_points = [](const std::vector<double>& all, RankShare* s) {
+    for (size_t k = 0; k < s->global_point.size(); ++k) {
+      std::copy_n(all.data() + kPointSize * s->global_point[k], kPointSize, s->problem.point(k));
+    }
+  };
+  if (!comm->is_main()) {
+    comm->Broadcast(t, std::span<double>(own->problem.cameras));
+    comm->SendVector(0, t, own->global_point);
+    own->problem.points = comm->RecvVector<double>(0, t);
+    return;
+  }
+  std::vector<double> cameras = checkpoint->cameras;
+  comm->Broadcast(t, std::span<double>(cameras));
+  if (own != nullptr) {
+    own->problem.cameras = checkpoint->cameras;
+    take_points(checkpoint->points, own);
+  }
+  for (int r = std::max(1, first_rank); r < comm->size(); ++r) {
+    RankShare theirs;
+    theirs.global_point = comm->RecvVector<int64_t>(r, t);
+    theirs.problem.points.resize(kPointSize * theirs.global_point.size());
+    take_points(checkpoint->points, &theirs);
+    comm->SendVector(r, t, theirs.problem.points);
+  }
 }
 
 // Point groups of a binary input: computed by every rank for the equal
@@ -98,7 +159,8 @@ std::vector<int32_t> BinaryPointGroups(Communicator* comm, const std::string& pa
 DistributedSummary DistributedBundleAdjust(
     Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
     const std::string& binary_input, bool collect_points, Problem* problem,
-    const std::function<void(const IterationSummary&)>& on_iteration) {
+    const std::function<void(const IterationSummary&)>& on_iteration,
+    DistributedCheckpoints checkpoints) {
   DistributedSummary summary;
   summary.ranks = comm->size();
   summary.partition = distributed.partition;
@@ -111,6 +173,9 @@ DistributedSummary DistributedBundleAdjust(
   int32_t main_forms = summary.main_forms ? 1 : 0;
   comm->Broadcast(Traffic::kControl, &main_forms);
   summary.main_forms = main_forms != 0;
+  CheckpointFlags flags{checkpoints.writer != nullptr || checkpoints.resume != nullptr,
+                        checkpoints.resume != nullptr};
+  comm->Broadcast(Traffic::kControl, &flags);
 
   const bool from_file = !binary_input.empty();
   BinaryProblemHeader header;
@@ -124,6 +189,9 @@ DistributedSummary DistributedBundleAdjust(
       const std::vector<int32_t> group =
           BinaryPointGroups(comm, binary_input, header, groups, distributed.partition);
       share = ReadShare(comm->rank(), binary_input, group, comm->rank() - first_rank, distributed);
+      if (flags.fingerprint) SpreadFingerprint(comm, &share, first_rank, {}, 0);
+      if (flags.resume) ResumeShares(comm, nullptr, &share, first_rank);
+      KeepTouchedCameras(&share);
     } else {
       share = RecvShare(comm);
     }
@@ -138,7 +206,7 @@ DistributedSummary DistributedBundleAdjust(
   // Main rank: partition and hand out the shares.
   Timer distribution;
   RankShare own;
-  int64_t num_observations = 0;
+  int64_t num_observations = 0, num_points = 0;
   if (from_file) {
     const std::vector<int32_t> group =
         BinaryPointGroups(comm, binary_input, header, groups, distributed.partition);
@@ -148,8 +216,24 @@ DistributedSummary DistributedBundleAdjust(
     // observations.
     *problem = Problem(ReadBinaryCameraSide(binary_input));
     ApplyFixings(distributed.fixings, problem);
+    RankShare* mine = summary.main_forms ? &own : nullptr;
+    if (flags.fingerprint) {
+      const uint64_t fingerprint =
+          SpreadFingerprint(comm, mine, first_rank, *problem, header.num_points);
+      if (checkpoints.writer != nullptr) checkpoints.writer->set_fingerprint(fingerprint);
+      if (checkpoints.resume != nullptr) {
+        CheckCheckpointFits(*checkpoints.resume, checkpoints.resume_path, fingerprint,
+                            problem->cameras.size(), kPointSize * header.num_points);
+      }
+    }
+    if (flags.resume) {
+      ResumeShares(comm, checkpoints.resume, mine, first_rank);
+      problem->cameras = checkpoints.resume->cameras;
+    }
+    if (mine != nullptr) KeepTouchedCameras(mine);
     if (collect_points) problem->points.resize(kPointSize * header.num_points);
     num_observations = header.num_observations;
+    num_points = header.num_points;
   } else {
     const std::vector<int32_t> group =
         PartitionPoints(*problem, groups, distributed.partition);
@@ -163,6 +247,7 @@ DistributedSummary DistributedBundleAdjust(
     }
     // The observations now live on the ranks.
     num_observations = problem->num_observations();
+    num_points = problem->num_points();
     if (!collect_points) Release(problem->points);
     Release(problem->point_offsets);
     Release(problem->obs_camera);
@@ -199,6 +284,15 @@ DistributedSummary DistributedBundleAdjust(
     before = comm->stats();
     summary.per_iteration.push_back(delta);
     if (on_iteration) on_iteration(it);
+    if (checkpoints.writer != nullptr && checkpoints.writer->Due(it.step_accepted)) {
+      // The main rank's points, if it keeps them, are collected in place.
+      std::vector<double> scratch;
+      std::vector<double>& points = collect_points ? problem->points : scratch;
+      points.resize(kPointSize * num_points);
+      workers.CollectPoints(&points);
+      checkpoints.writer->Write(it.iteration, it.next_lambda, it.candidate_cost,
+                                problem->cameras, points);
+    }
   };
   // The other ranks on this node busy-wait in MPI while the main rank
   // factorizes: BLAS threads would compete with them (sparse_cholesky.h).

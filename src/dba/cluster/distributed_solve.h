@@ -12,6 +12,7 @@
 #include "dba/cluster/communicator.h"
 #include "dba/cluster/mpi_point_workers.h"
 #include "dba/cluster/partition.h"
+#include "dba/io/checkpoint.h"
 #include "dba/lm/bundle_adjust.h"
 #include "dba/lm/memory_estimate.h"
 #include "dba/problem/fixings.h"
@@ -47,6 +48,18 @@ struct DistributedSummary {
   MemoryEstimate memory_estimate;
 };
 
+// Checkpoints of a distributed solve (io/checkpoint.h); the main rank's.
+struct DistributedCheckpoints {
+  // Written after accepted iterations, with the points gathered from the
+  // ranks (24 bytes per point on the main rank while it is written).
+  CheckpointWriter* writer = nullptr;
+  // A binary input read by the ranks: the checkpoint to start from, checked
+  // against the problem the ranks read (fingerprint), then handed out. (With
+  // the whole problem on the main rank, the caller applies it before.)
+  const Checkpoint* resume = nullptr;
+  std::string resume_path;  // for the message when it does not fit
+};
+
 // Collective. Two ways to get the points to the ranks:
 //  - `binary_input` empty: on the main rank `problem` is the whole problem;
 //    the main rank partitions it and sends each rank its share, then
@@ -61,6 +74,7 @@ struct DistributedSummary {
 DistributedSummary DistributedBundleAdjust(
     Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
     const std::string& binary_input, bool collect_points, Problem* problem,
-    const std::function<void(const IterationSummary&)>& on_iteration = {});
+    const std::function<void(const IterationSummary&)>& on_iteration = {},
+    DistributedCheckpoints checkpoints = {});
 
 }  // namespace dba

@@ -13,7 +13,7 @@
 namespace dba {
 namespace {
 
-enum class Op : int32_t { kForm = 1, kStep = 2, kFinish = 3, kEnd = 4 };
+enum class Op : int32_t { kForm = 1, kStep = 2, kFinish = 3, kEnd = 4, kCollect = 5 };
 
 struct Command {
   Op op;
@@ -161,28 +161,36 @@ void MpiPointWorkers::FinishStep(bool accept) {
   if (own_ != nullptr) own_->FinishStep(accept);
 }
 
-std::vector<RankReport> MpiPointWorkers::Finish(std::vector<double>* points,
-                                                int64_t memory_estimate_bytes) {
-  const bool collect = points != nullptr;
-  BroadcastCommand(comm_, {Op::kEnd, collect ? 1 : 0, 0.0});
-  MaybeInjectFault(0, "end", 1);
-  std::vector<RankReport> reports(comm_->size());
+void MpiPointWorkers::CollectPoints(std::vector<double>* points) {
+  BroadcastCommand(comm_, {Op::kCollect, 0, 0.0});
+  ReceivePoints(points);
+}
+
+// Every rank's points into `points`, rank by rank (after a COLLECT or an END
+// that asks for them).
+void MpiPointWorkers::ReceivePoints(std::vector<double>* points) {
   auto place = [&](const std::vector<int64_t>& ids, const std::vector<double>& xyz) {
-    if (!collect) return;
     for (size_t k = 0; k < ids.size(); ++k) {
       std::copy_n(xyz.data() + kPointSize * k, kPointSize,
                   points->data() + kPointSize * ids[k]);
     }
   };
-  if (own_share_ != nullptr) {
-    place(own_share_->global_point, own_share_->problem.points);
-  }
+  if (own_share_ != nullptr) place(own_share_->global_point, own_share_->problem.points);
   for (int r = 1; r < comm_->size(); ++r) {
-    if (collect) {
-      const auto ids = comm_->RecvVector<int64_t>(r, Traffic::kResult);
-      const auto xyz = comm_->RecvVector<double>(r, Traffic::kResult);
-      place(ids, xyz);
-    }
+    const auto ids = comm_->RecvVector<int64_t>(r, Traffic::kResult);
+    const auto xyz = comm_->RecvVector<double>(r, Traffic::kResult);
+    place(ids, xyz);
+  }
+}
+
+std::vector<RankReport> MpiPointWorkers::Finish(std::vector<double>* points,
+                                                int64_t memory_estimate_bytes) {
+  const bool collect = points != nullptr;
+  BroadcastCommand(comm_, {Op::kEnd, collect ? 1 : 0, 0.0});
+  MaybeInjectFault(0, "end", 1);
+  if (collect) ReceivePoints(points);
+  std::vector<RankReport> reports(comm_->size());
+  for (int r = 1; r < comm_->size(); ++r) {
     comm_->Recv(r, Traffic::kResult, std::span<RankReport>(&reports[r], 1));
   }
   reports[0] = own_share_ != nullptr
@@ -200,6 +208,10 @@ void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* worke
   std::vector<double> message, delta(workers->system().layout.num_unknowns());
   int formations = 0, steps = 0, finishes = 0;
   double lambda = 0.0;
+  auto send_points = [&] {
+    comm->SendVector(0, Traffic::kResult, share->global_point);
+    comm->SendVector(0, Traffic::kResult, share->problem.points);
+  };
   for (;;) {
     Command c{};
     comm->Broadcast(Traffic::kControl, &c);
@@ -222,12 +234,12 @@ void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* worke
         MaybeInjectFault(comm->rank(), "finish", ++finishes);
         workers->FinishStep(c.accept != 0);
         break;
+      case Op::kCollect:
+        send_points();
+        break;
       case Op::kEnd: {
         MaybeInjectFault(comm->rank(), "end", 1);
-        if (c.accept != 0) {  // the main rank wants the points
-          comm->SendVector(0, Traffic::kResult, share->global_point);
-          comm->SendVector(0, Traffic::kResult, share->problem.points);
-        }
+        if (c.accept != 0) send_points();  // the main rank wants the points
         const RankReport report =
             MakeRankReport(comm->rank(), *share, workers, *comm, memory_estimate_bytes);
         comm->Send(0, Traffic::kResult, std::span<const RankReport>(&report, 1));

@@ -9,6 +9,8 @@
 //              send δc of its rows    ─►   back-substitute, costs at the step
 //              gather partial sums    ◄─   4 numbers
 //   FinishStep: broadcast FINISH(accept) ─► keep or drop the candidate
+//   CollectPoints: broadcast COLLECT  ─►   (between iterations, checkpoints)
+//              receive rank by rank   ◄─   global ids, points
 //
 // Sub-RCSs are summed in rank order, so a run is reproducible. The numerical
 // work is LocalPointWorkers on each rank's share; this file only moves data.
@@ -64,6 +66,10 @@ class MpiPointWorkers : public PointWorkers {
                               const std::vector<double>& candidate_cameras) override;
   void FinishStep(bool accept) override;
 
+  // Between iterations: every rank's current points into `points` (global
+  // numbering; sized to hold all), for a checkpoint.
+  void CollectPoints(std::vector<double>* points);
+
   // Ends the other ranks' loops and collects their reports; with `points`
   // non-null also their final points (global numbering; resized to hold all).
   // `memory_estimate_bytes`: the main rank's, for its report.
@@ -72,6 +78,8 @@ class MpiPointWorkers : public PointWorkers {
   const RcsSystem& global() const { return global_; }
 
  private:
+  void ReceivePoints(std::vector<double>* points);
+
   Communicator* comm_;
   RankShare* own_share_;
   LocalPointWorkers* own_;
@@ -82,7 +90,7 @@ class MpiPointWorkers : public PointWorkers {
   int formations_ = 0;
 };
 
-// The loop of a rank other than the main one: serves FORM, STEP and FINISH
+// The loop of a rank other than the main one: serves FORM, STEP, FINISH and COLLECT
 // until the main rank ends the solve, then sends its points and report.
 // Throws on failure (the caller aborts the job).
 // `memory_estimate_bytes` goes into its report.

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "dba/cluster/rank_share.h"
+#include "dba/io/checkpoint.h"
 #include "dba/testing/synthetic_bal.h"
 
 namespace dba {
@@ -99,6 +100,31 @@ TEST(RankShare, RenumbersCamerasInGlobalOrderAndKeepsObservations) {
       }
     }
   }
+}
+
+// A checkpoint's fingerprint of a problem spread over ranks (the sum of the
+// shares' observation hashes, io/checkpoint.h) is the whole problem's, for
+// any partition, and moves when one pixel does.
+TEST(Partition, SharesSumToTheWholeProblemsFingerprint) {
+  testing::SyntheticBalOptions options;
+  options.num_cameras = 8;
+  options.num_points = 200;
+  const Problem full = testing::MakeSyntheticBal(options).problem;
+  const uint64_t whole = ObservationsFingerprint(full, {}, {});
+  for (PartitionScheme scheme : {PartitionScheme::kEqual, PartitionScheme::kCameraLocality}) {
+    const auto group = PartitionPoints(full, 3, scheme);
+    uint64_t sum = 0;
+    for (int g = 0; g < 3; ++g) {
+      const RankShare s = ExtractShare(full, group, g);
+      sum += ObservationsFingerprint(s.problem, s.global_point, s.global_camera);
+    }
+    EXPECT_EQ(sum, whole);
+    EXPECT_EQ(CombineFingerprints(CameraSideFingerprint(full, full.num_points()), sum),
+              ProblemFingerprint(full));
+  }
+  Problem moved = full;
+  moved.obs_pixel[17] += 0.5;
+  EXPECT_NE(ObservationsFingerprint(moved, {}, {}), whole);
 }
 
 }  // namespace

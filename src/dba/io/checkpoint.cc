@@ -1,7 +1,11 @@
 // Solve checkpoints; see checkpoint.h.
 #include "dba/io/checkpoint.h"
 
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
 #include <cstring>
+#include <utility>
 
 #include "dba/common/error.h"
 #include "dba/io/atomic_output_file.h"
@@ -29,20 +33,45 @@ struct Fnv {
 
 }  // namespace
 
-uint64_t ProblemFingerprint(const Problem& problem) {
+uint64_t CameraSideFingerprint(const Problem& side, int64_t num_points) {
   Fnv f;
-  const int32_t model = static_cast<int32_t>(problem.model);
+  const int32_t model = static_cast<int32_t>(side.model);
   f.Add(&model, sizeof model);
-  const int64_t sizes[2] = {static_cast<int64_t>(problem.cameras.size()),
-                            static_cast<int64_t>(problem.points.size())};
+  const int64_t sizes[2] = {static_cast<int64_t>(side.cameras.size()), kPointSize * num_points};
   f.Add(sizes, sizeof sizes);
-  f.AddVector(problem.camera_intrinsics);
-  f.AddVector(problem.fixed_cameras);
-  f.AddVector(problem.fixed_intrinsics);
-  f.AddVector(problem.point_offsets);
-  f.AddVector(problem.obs_camera);
-  f.AddVector(problem.obs_pixel);
+  f.AddVector(side.camera_intrinsics);
+  f.AddVector(side.fixed_cameras);
+  f.AddVector(side.fixed_intrinsics);
   return f.h;
+}
+
+uint64_t ObservationsFingerprint(const Problem& problem, std::span<const int64_t> global_point,
+                                 std::span<const int32_t> global_camera) {
+  uint64_t sum = 0;
+  for (int64_t k = 0; k < problem.num_points(); ++k) {
+    Fnv f;
+    const int64_t id = global_point.empty() ? k : global_point[k];
+    f.Add(&id, sizeof id);
+    for (int64_t o = problem.point_offsets[k]; o < problem.point_offsets[k + 1]; ++o) {
+      const int32_t c = global_camera.empty() ? problem.obs_camera[o] : global_camera[problem.obs_camera[o]];
+      f.Add(&c, sizeof c);
+      f.Add(&problem.obs_pixel[2 * o], 2 * sizeof(double));
+    }
+    sum += f.h;  // mod 2^64: the same for any split of the points
+  }
+  return sum;
+}
+
+uint64_t CombineFingerprints(uint64_t camera_side, uint64_t observations) {
+  Fnv f;
+  f.h = camera_side;
+  f.Add(&observations, sizeof observations);
+  return f.h;
+}
+
+uint64_t ProblemFingerprint(const Problem& problem) {
+  return CombineFingerprints(CameraSideFingerprint(problem, problem.num_points()),
+                             ObservationsFingerprint(problem, {}, {}));
 }
 
 void WriteCheckpoint(const std::string& path, const Checkpoint& c) {
@@ -97,15 +126,48 @@ Checkpoint ReadCheckpoint(const std::string& path) {
   return c;
 }
 
-void ApplyCheckpoint(const Checkpoint& c, const std::string& path, Problem* problem) {
-  if (c.fingerprint != ProblemFingerprint(*problem) || c.cameras.size() != problem->cameras.size() ||
-      c.points.size() != problem->points.size()) {
+void CheckCheckpointFits(const Checkpoint& c, const std::string& path, uint64_t fingerprint,
+                         size_t camera_values, size_t point_values) {
+  if (c.fingerprint != fingerprint || c.cameras.size() != camera_values ||
+      c.points.size() != point_values) {
     throw InputError(path, 0,
                      "written for another input (or other --fix-images, --fix-intrinsics, "
                      "--intrinsics): its observations or fixings differ from this one's");
   }
+}
+
+void ApplyCheckpoint(const Checkpoint& c, const std::string& path, Problem* problem) {
+  CheckCheckpointFits(c, path, ProblemFingerprint(*problem), problem->cameras.size(),
+                      problem->points.size());
   problem->cameras = c.cameras;
   problem->points = c.points;
+}
+
+namespace {
+double SteadySeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+}  // namespace
+
+CheckpointWriter::CheckpointWriter(std::string path, double every_s, uint64_t fingerprint,
+                                   int64_t accepted_done)
+    : path_(std::move(path)), every_s_(every_s), fingerprint_(fingerprint), accepted_(accepted_done) {}
+
+bool CheckpointWriter::Due(bool step_accepted) {
+  if (!step_accepted) return false;
+  ++accepted_;
+  return !written_ || SteadySeconds() - last_write_ >= every_s_;
+}
+
+void CheckpointWriter::Write(int64_t iteration, double next_lambda, double cost,
+                             const std::vector<double>& cameras, const std::vector<double>& points) {
+  WriteCheckpoint(path_, {fingerprint_, iteration, accepted_, next_lambda, cost, cameras, points});
+  written_ = true;
+  last_write_ = SteadySeconds();
+  if (const char* k = std::getenv("DBA_KILL_AFTER_CHECKPOINT");
+      k != nullptr && std::atoll(k) == iteration) {
+    std::raise(SIGKILL);
+  }
 }
 
 }  // namespace dba

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -33,12 +34,51 @@ struct Checkpoint {
 // resume: model, counts, the observations (cameras, pixels, point offsets),
 // the image groups and what is held fixed; not the parameters.
 uint64_t ProblemFingerprint(const Problem& problem);
+// Its parts, for a problem spread over ranks: the camera side (model,
+// counts, image groups, fixings), and the observations as a sum over the
+// points of a hash of each point's (global id, its observations' global
+// cameras and pixels), so any split of the points sums to the same value.
+// Empty `global_point` / `global_camera`: the problem's own numbering.
+uint64_t CameraSideFingerprint(const Problem& side, int64_t num_points);
+uint64_t ObservationsFingerprint(const Problem& problem, std::span<const int64_t> global_point,
+                                 std::span<const int32_t> global_camera);
+uint64_t CombineFingerprints(uint64_t camera_side, uint64_t observations);
 
 void WriteCheckpoint(const std::string& path, const Checkpoint& checkpoint);
 // InputError naming the path for a file that is not a whole checkpoint.
 Checkpoint ReadCheckpoint(const std::string& path);
-// Puts the checkpoint's parameters into `problem`; InputError naming `path`
-// when it was written for another input (fingerprint or sizes).
+// InputError naming `path` when the checkpoint was written for another
+// input: another fingerprint, or other numbers of parameters.
+void CheckCheckpointFits(const Checkpoint& checkpoint, const std::string& path,
+                         uint64_t fingerprint, size_t camera_values, size_t point_values);
+// Puts the checkpoint's parameters into `problem` (after CheckCheckpointFits).
 void ApplyCheckpoint(const Checkpoint& checkpoint, const std::string& path, Problem* problem);
+
+// A solve's checkpoints: after accepted LM iterations, at most one per
+// `every_s` seconds (0: after each). The caller asks Due after every
+// iteration and, when it says yes, gathers the parameters and calls Write.
+class CheckpointWriter {
+ public:
+  // `accepted_done`: accepted iterations before this run (a resumed solve).
+  CheckpointWriter(std::string path, double every_s, uint64_t fingerprint, int64_t accepted_done);
+  // The fingerprint, when it is known only once the problem is spread.
+  void set_fingerprint(uint64_t fingerprint) { fingerprint_ = fingerprint; }
+  const std::string& path() const { return path_; }
+
+  // Counts accepted iterations; true when this one is to be written.
+  bool Due(bool step_accepted);
+  // For tests, DBA_KILL_AFTER_CHECKPOINT=N: SIGKILL right after writing the
+  // checkpoint of iteration N (no handler runs, as with a real kill).
+  void Write(int64_t iteration, double next_lambda, double cost,
+             const std::vector<double>& cameras, const std::vector<double>& points);
+
+ private:
+  std::string path_;
+  double every_s_;
+  uint64_t fingerprint_;
+  int64_t accepted_;
+  bool written_ = false;
+  double last_write_ = 0.0;  // steady-clock seconds
+};
 
 }  // namespace dba
