@@ -169,6 +169,63 @@ else
   fail "photo .dba with fixings: $(final_cost "$tmp/fix_mpi.json") vs $(final_cost "$tmp/fix_single.json")"
 fi
 
+# Outlier rejection, distributed: each rank drops from its own points what
+# one process drops, so with the same first optimum the rounds, the true
+# outliers caught, the final cost (1e-9) and what is written (the points and
+# observations left) are one process's. A photogrammetric .dba with 5%
+# mismatches read by the ranks themselves, a BAL text problem handed out by
+# the main rank, and a COLMAP model (its 2D-3D links and points left).
+"$dba" generate "$tmp/outl.dba" --model photo --images 80 --cameras 2 --seed 5 --outliers 0.05 \
+  --truth "$tmp/outl.truth.dba" >/dev/null
+"$dba" generate "$tmp/outl.txt" --images 40 --seed 7 --outliers 0.02 --truth "$tmp/outl.truth.txt" >/dev/null
+for input in "$tmp/outl.dba" "$tmp/outl.txt"; do
+  name=$(basename "$input")
+  ext=${name##*.}
+  truth=${input%.*}.truth.$ext
+  reject=(--loss cauchy --reject-outliers 4 --truth "$truth")
+  "$dba" solve "$input" -q "${tight[@]}" "${reject[@]}" -o "$tmp/rej1.$ext" --report "$tmp/rej1.json" \
+    >/dev/null 2>&1 || fail "$name --reject-outliers, one process, exited non-zero"
+  "$dba" solve "$tmp/rej1.$ext" -q --max-iterations 0 --report "$tmp/rej1_out.json" >/dev/null 2>&1
+  for n in 2 3; do
+    if ! mpirun_n "$n" "$dba" solve "$input" -q "${tight[@]}" "${reject[@]}" -o "$tmp/rejn.$ext" \
+         --report "$tmp/rejn.json" >"$tmp/rej.out" 2>&1; then
+      fail "$name --reject-outliers -np $n exited non-zero"; cat "$tmp/rej.out" >&2; continue
+    fi
+    "$dba" solve "$tmp/rejn.$ext" -q --max-iterations 0 --report "$tmp/rejn_out.json" >/dev/null 2>&1
+    if python3 - "$tmp/rej1.json" "$tmp/rejn.json" "$tmp/rej1_out.json" "$tmp/rejn_out.json" <<'PY'
+import json, sys
+a, b, ao, bo = (json.load(open(f)) for f in sys.argv[1:])
+near = lambda x, y: abs(x - y) <= 1e-9 * abs(x)
+ok = (near(a["final_cost"], b["final_cost"])
+      and a["outlier_rejection"]["rounds"] == b["outlier_rejection"]["rounds"]
+      and a["true_outliers"] == b["true_outliers"]
+      and a["outlier_rejection"]["rounds"][0]["observations_dropped"] > 0
+      and (ao["num_points"], ao["num_observations"]) == (bo["num_points"], bo["num_observations"])
+      and near(ao["initial_cost"], bo["initial_cost"]))
+sys.exit(0 if ok else 1)
+PY
+    then
+      passes=$((passes + 1)); echo "ok   $name --reject-outliers -np $n: one process's rounds, cost and output"
+    else
+      fail "$name --reject-outliers -np $n differs from one process: $(cat "$tmp/rej.out")"
+    fi
+  done
+done
+colmap_model=$colmap/mithunnallana_6img/sparse/0
+rm -rf "$tmp/rejc1" "$tmp/rejc3"
+"$dba" solve "$colmap_model" -q "${tight[@]}" --reject-outliers 1 -o "$tmp/rejc1" >/dev/null 2>&1
+mpirun_n 3 "$dba" solve "$colmap_model" -q "${tight[@]}" --reject-outliers 1 -o "$tmp/rejc3" >/dev/null 2>&1 \
+  || fail "COLMAP --reject-outliers -np 3 exited non-zero"
+links() { grep -v '^#' "$1/images.txt" | awk 'NR % 2 == 0' | tr ' ' '\n' | awk 'NR % 3 == 0'; }
+tracks() { grep -v '^#' "$1/points3D.txt" | awk '{ printf "%s %d\n", $1, (NF - 8) / 2 }'; }
+if [ -s "$tmp/rejc3/points3D.txt" ] && [ "$(links "$tmp/rejc1")" = "$(links "$tmp/rejc3")" ] \
+   && [ "$(tracks "$tmp/rejc1")" = "$(tracks "$tmp/rejc3")" ] \
+   && [ "$(tracks "$tmp/rejc1" | wc -l)" -lt "$(grep -vc '^#' "$colmap_model/points3D.txt" 2>/dev/null || echo 1000000)" ]; then
+  passes=$((passes + 1)); echo "ok   COLMAP --reject-outliers -np 3: the same links and tracks left"
+else
+  fail "COLMAP --reject-outliers -np 3: other links or tracks than one process"
+fi
+
 # Checkpoint and resume, distributed: a 3-rank run killed (SIGKILL on rank 0)
 # right after its second accepted iteration's checkpoint, resumed on 2 ranks
 # and in one process, ends at the uninterrupted single-process cost (1e-9)

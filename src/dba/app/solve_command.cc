@@ -119,7 +119,7 @@ void PrintSolveHelp(std::ostream& out) {
          "                             2 or seen under --min-triangulation-angle, then solve\n"
          "                             again; until a round drops under 0.05%\n"
          "                             of the observations, at most 5 rounds; the outputs\n"
-         "                             leave what was dropped out (default: off; one process).\n"
+         "                             leave what was dropped out (default: off).\n"
          "                             The solves after a round use the squared loss, the\n"
          "                             efficient estimator once the outliers are gone\n"
          "  --reject-keep-loss         keep --loss in the solves after a rejection round\n"
@@ -380,31 +380,6 @@ void CheckTruthFile(const std::string& path, const SolveReport& report) {
   }
 }
 
-// `total` followed by `next` (a solve after a rejection round): iterations,
-// times and the log add up; the final state is next's.
-void AppendSolve(const BundleAdjustSummary& next, BundleAdjustSummary* total) {
-  LmSummary& t = total->lm;
-  const LmSummary& n = next.lm;
-  for (IterationSummary it : n.history) {
-    it.iteration += t.iterations;
-    t.history.push_back(it);
-  }
-  t.iterations += n.iterations;
-  t.accepted_iterations += n.accepted_iterations;
-  t.total_linear_iterations += n.total_linear_iterations;
-  t.times.rcs_formation += n.times.rcs_formation;
-  t.times.linear_solve += n.times.linear_solve;
-  t.times.back_substitution += n.times.back_substitution;
-  t.times.total += n.times.total;
-  t.final_cost = n.final_cost;
-  t.final_residuals = n.final_residuals;
-  t.num_observations = n.num_observations;
-  t.termination = n.termination;
-  t.termination_message = n.termination_message;
-  total->symbolic_seconds += next.symbolic_seconds;
-  total->rcs = next.rcs;
-}
-
 // Writes the problem's points into `all` at their loaded positions.
 void ScatterPoints(const Problem& problem, const OriginalIndices& original,
                    std::vector<double>* all) {
@@ -413,37 +388,41 @@ void ScatterPoints(const Problem& problem, const OriginalIndices& original,
   }
 }
 
-// Rounds of --reject-outliers after the first solve: drop, solve again, until
-// a round changes fewer than 0.05% of the observations or after 5 rounds.
+// The log line of one round of --reject-outliers.
+std::string RejectionRoundLine(const RejectionCriteria& criteria, int r, const RejectionRound& round) {
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "outlier rejection round %d (|r| > %g px, angle < %g deg): dropped %lld "
+                "observations and %lld points (%lld for their angle); %lld observations, %lld "
+                "points left\n",
+                r, criteria.max_error_px, criteria.min_triangulation_angle_deg,
+                static_cast<long long>(round.observations_dropped),
+                static_cast<long long>(round.points_dropped),
+                static_cast<long long>(round.points_small_angle),
+                static_cast<long long>(round.observations_left),
+                static_cast<long long>(round.points_left));
+  return line;
+}
+
+// Rounds of --reject-outliers after the first solve, in one process; the
+// points in the loaded numbering kept in `all_points`.
 void RejectOutlierRounds(const RejectionCriteria& criteria, const LmOptions& resolve,
                          const std::function<void(const IterationSummary&)>& log,
                          Problem* problem, OriginalIndices* original,
                          std::vector<double>* all_points, SolveReport* report, std::ostream& out) {
-  constexpr int kMaxRounds = 5;
-  constexpr double kSettled = 5e-4;  // fraction of the observations
   *all_points = problem->points;
-  for (int r = 1; r <= kMaxRounds; ++r) {
-    ScatterPoints(*problem, *original, all_points);
-    const int64_t before = problem->num_observations();
-    const RejectionRound round = DropOutliers(criteria, resolve.num_threads, problem, original);
-    report->rejection.push_back(round);
-    char line[256];
-    std::snprintf(line, sizeof line,
-                  "outlier rejection round %d (|r| > %g px, angle < %g deg): dropped %lld "
-                  "observations and %lld points (%lld for their angle); %lld observations, %lld "
-                  "points left\n",
-                  r, criteria.max_error_px, criteria.min_triangulation_angle_deg,
-                  static_cast<long long>(round.observations_dropped),
-                  static_cast<long long>(round.points_dropped),
-                  static_cast<long long>(round.points_small_angle),
-                  static_cast<long long>(round.observations_left),
-                  static_cast<long long>(round.points_left));
-    out << line << std::flush;
-    if (round.observations_dropped == 0) break;
-    AppendSolve(BundleAdjust(resolve, problem, log), &report->solve.ba);
-    report->final_loss = resolve.loss;
-    if (round.observations_dropped < kSettled * static_cast<double>(before)) break;
-  }
+  report->rejection = RunRejectionRounds(
+      [&] {
+        ScatterPoints(*problem, *original, all_points);
+        return DropOutliers(criteria, resolve.num_threads, problem, original);
+      },
+      [&] {
+        AppendSolve(BundleAdjust(resolve, problem, log), &report->solve.ba);
+        report->final_loss = resolve.loss;
+      },
+      [&](int r, const RejectionRound& round) {
+        out << RejectionRoundLine(criteria, r, round) << std::flush;
+      });
   ScatterPoints(*problem, *original, all_points);
 }
 
@@ -585,9 +564,6 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
                          problem.points);
     }
   };
-  if (options.reject_outliers_px > 0 && comm->size() > 1) {
-    throw UsageError("--reject-outliers is not supported in distributed runs yet");
-  }
   // Outlier rejection keeps the loaded points' numbering for the truth.
   std::vector<double> loaded_pixels, all_points;
   OriginalIndices original;
@@ -625,15 +601,53 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     if (ranks_read_file) {
       distributed.fixings = {options.unknowns.fixed_images, options.unknowns.fixed_intrinsics};
     }
+    const RejectionCriteria criteria{options.reject_outliers_px, options.min_triangulation_angle_deg};
+    distributed.reject_outliers = options.reject_outliers_px > 0;
+    distributed.rejection = criteria;
+    distributed.reject_keep_loss = options.reject_keep_loss;
+    DistributedHooks hooks;
+    hooks.on_iteration = log;
+    hooks.on_rejection_round = [&](int r, const RejectionRound& round) {
+      out << RejectionRoundLine(criteria, r, round) << std::flush;
+    };
+    hooks.checkpoints = {checkpoints ? &*checkpoints : nullptr,
+                         ranks_read_file && resumed ? &*resumed : nullptr, options.resume_path};
     report.solve = DistributedBundleAdjust(comm, lm, distributed,
                                            ranks_read_file ? options.input : std::string(),
                                            !options.output.empty() || !options.truth_path.empty() ||
                                                !options.ply_path.empty(),
-                                           &problem, log,
-                                           {checkpoints ? &*checkpoints : nullptr,
-                                            ranks_read_file && resumed ? &*resumed : nullptr,
-                                            options.resume_path});
+                                           &problem, hooks);
     report.memory_estimate = report.solve.memory_estimate;
+    if (main && distributed.reject_outliers) {
+      // As one process leaves it: the points left in `problem`, all of them
+      // (loaded numbering) in all_points, where they came from in original.
+      report.rejection = report.solve.rejection;
+      if (report.rejection.front().observations_dropped > 0 && !options.reject_keep_loss) {
+        report.final_loss = RobustLoss();
+      }
+      const KeptObservations& left = report.solve.kept;
+      original.point.clear();
+      original.observation.clear();
+      for (size_t k = 0; k < left.point.size(); ++k) {
+        if (left.point[k]) original.point.push_back(static_cast<int64_t>(k));
+      }
+      for (size_t o = 0; o < left.observation.size(); ++o) {
+        if (left.observation[o]) original.observation.push_back(static_cast<int64_t>(o));
+      }
+      all_points.swap(problem.points);
+      if (!all_points.empty()) {
+        problem.points.resize(kPointSize * original.point.size());
+        for (size_t k = 0; k < original.point.size(); ++k) {
+          std::copy_n(&all_points[kPointSize * original.point[k]], kPointSize,
+                      &problem.points[kPointSize * k]);
+        }
+      }
+      // The loaded pixels, for the truth's outlier counts: read again when
+      // the main rank never held the observations.
+      if (!options.truth_path.empty() && ranks_read_file) {
+        loaded_pixels = ReadProblem(options.input).obs_pixel;
+      }
+    }
   }
   if (!main) return 0;
 
@@ -694,7 +708,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     if (kind == OutputKind::kColmap) {
       WriteColmapOutput(problem.cameras, kept ? all_points : problem.points, options.output,
                         options.colmap_format, &*colmap, kept ? &*kept : nullptr);
-    } else if (comm->size() > 1 && ranks_read_file && kind == OutputKind::kBinary) {
+    } else if (comm->size() > 1 && ranks_read_file && kind == OutputKind::kBinary && !kept) {
       // Binary to binary: stream the observations from the input; the camera
       // side (values and what was held fixed) is the solve's.
       WriteBinaryWithNewParameters(options.input, options.output, problem, problem.points);
@@ -706,7 +720,8 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
         Problem full = colmap ? std::move(colmap->source.problem)
                                  : LoadSolveInput(options.input, options.unknowns);
         full.cameras.swap(problem.cameras);
-        full.points.swap(problem.points);
+        full.points.swap(kept ? all_points : problem.points);
+        if (kept) KeepOnly(*kept, &full);
         problem = std::move(full);
       }
       WriteProblem(problem, options.output);

@@ -14,6 +14,7 @@
 #include "dba/problem/fixings.h"
 #include "dba/io/colmap_model.h"
 #include "dba/io/colmap_problem.h"
+#include "dba/lm/outlier_rejection.h"
 #include "dba/problem/problem.h"
 
 namespace dba {
@@ -80,10 +81,6 @@ ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unkn
 // With `kept` (after outlier rejection: a flag per observation and per point
 // of the problem as loaded), what was dropped leaves the model too
 // (RemoveDroppedObservations); `points` are then in the loaded numbering.
-struct KeptObservations {
-  std::vector<uint8_t> observation;
-  std::vector<uint8_t> point;
-};
 void WriteColmapOutput(const std::vector<double>& cameras, const std::vector<double>& points,
                        const std::string& output, std::optional<ColmapFormat> format,
                        ColmapInput* input, const KeptObservations* kept = nullptr);

@@ -159,8 +159,8 @@ std::vector<int32_t> BinaryPointGroups(Communicator* comm, const std::string& pa
 DistributedSummary DistributedBundleAdjust(
     Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
     const std::string& binary_input, bool collect_points, Problem* problem,
-    const std::function<void(const IterationSummary&)>& on_iteration,
-    DistributedCheckpoints checkpoints) {
+    const DistributedHooks& hooks) {
+  const DistributedCheckpoints& checkpoints = hooks.checkpoints;
   DistributedSummary summary;
   summary.ranks = comm->size();
   summary.partition = distributed.partition;
@@ -195,17 +195,25 @@ DistributedSummary DistributedBundleAdjust(
     } else {
       share = RecvShare(comm);
     }
-    MemoryEstimate estimate;
-    LocalPointWorkers workers(&share.problem, options.damping, options.num_threads, options.loss,
-                              EstimateAndCheck(comm, options, distributed, share.problem,
-                                               EstimateRole::kForms, &estimate));
-    RunPointRank(comm, &share, &workers, estimate.total());
-    return summary;
+    // Served until the end; again with new workers after each rejection
+    // round that asks for another solve.
+    ShareRejection rejection;
+    RobustLoss loss = options.loss;
+    for (;;) {
+      MemoryEstimate estimate;
+      LocalPointWorkers workers(&share.problem, options.damping, options.num_threads, loss,
+                                EstimateAndCheck(comm, options, distributed, share.problem,
+                                                 EstimateRole::kForms, &estimate));
+      const RankLoopEnd end = RunPointRank(comm, &share, &workers, estimate.total(), &rejection);
+      if (!end.rebuild) return summary;
+      if (!end.keep_loss) loss = RobustLoss();
+    }
   }
 
   // Main rank: partition and hand out the shares.
   Timer distribution;
   RankShare own;
+  RankShare* mine = summary.main_forms ? &own : nullptr;
   int64_t num_observations = 0, num_points = 0;
   if (from_file) {
     const std::vector<int32_t> group =
@@ -216,7 +224,6 @@ DistributedSummary DistributedBundleAdjust(
     // observations.
     *problem = Problem(ReadBinaryCameraSide(binary_input));
     ApplyFixings(distributed.fixings, problem);
-    RankShare* mine = summary.main_forms ? &own : nullptr;
     if (flags.fingerprint) {
       const uint64_t fingerprint =
           SpreadFingerprint(comm, mine, first_rank, *problem, header.num_points);
@@ -255,24 +262,29 @@ DistributedSummary DistributedBundleAdjust(
   }
   summary.distribution_seconds = distribution.Seconds();
 
+  // The workers: the main rank's own share's (if it forms) and the global
+  // RCS over every rank's; made again after each rejection round.
   Timer symbolic;
   std::unique_ptr<LocalPointWorkers> own_workers;
+  std::unique_ptr<MpiPointWorkers> workers;
   MemoryEstimate own_estimate;
-  if (summary.main_forms) {
-    own_workers = std::make_unique<LocalPointWorkers>(
-        &own.problem, options.damping, options.num_threads, options.loss,
-        EstimateAndCheck(comm, options, distributed, own.problem, EstimateRole::kForms,
-                         &own_estimate));
-  }
-  MpiPointWorkers workers(comm, UnknownLayout(*problem),
-                          summary.main_forms ? &own : nullptr, own_workers.get(),
-                          EstimateAndCheck(comm, options, distributed, *problem,
-                                           EstimateRole::kSolves, &summary.memory_estimate,
-                                           groups, num_observations));
+  auto make_workers = [&](const LmOptions& o) {
+    workers.reset();
+    own_workers.reset();
+    if (mine != nullptr) {
+      own_workers = std::make_unique<LocalPointWorkers>(
+          &own.problem, o.damping, o.num_threads, o.loss,
+          EstimateAndCheck(comm, o, distributed, own.problem, EstimateRole::kForms,
+                           &own_estimate));
+    }
+    workers = std::make_unique<MpiPointWorkers>(
+        comm, UnknownLayout(*problem), mine, own_workers.get(),
+        EstimateAndCheck(comm, o, distributed, *problem, EstimateRole::kSolves,
+                         &summary.memory_estimate, groups, num_observations));
+  };
+  make_workers(options);
   summary.ba.symbolic_seconds = symbolic.Seconds();
-  const BsmcMatrix& S = workers.global().S;
-  summary.ba.rcs = {S.num_block_rows(), S.num_blocks(), S.num_rows(), S.StructureBytes(),
-                    S.ValueBytes(), S.CsrBytes()};
+  summary.ba.rcs = RcsFootprint::Of(workers->global().S);
 
   TrafficStats before = comm->stats();
   auto log = [&](const IterationSummary& it) {
@@ -283,13 +295,13 @@ DistributedSummary DistributedBundleAdjust(
     }
     before = comm->stats();
     summary.per_iteration.push_back(delta);
-    if (on_iteration) on_iteration(it);
+    if (hooks.on_iteration) hooks.on_iteration(it);
     if (checkpoints.writer != nullptr && checkpoints.writer->Due(it.step_accepted)) {
       // The main rank's points, if it keeps them, are collected in place.
       std::vector<double> scratch;
       std::vector<double>& points = collect_points ? problem->points : scratch;
       points.resize(kPointSize * num_points);
-      workers.CollectPoints(&points);
+      workers->CollectPoints(&points);
       checkpoints.writer->Write(it.iteration, it.next_lambda, it.candidate_cost,
                                 problem->cameras, points);
     }
@@ -299,9 +311,36 @@ DistributedSummary DistributedBundleAdjust(
   LmOptions main_options = options;
   if (comm->ranks_on_node() > 1) main_options.linear_solver.threaded_blas = false;
   summary.ba.lm = SolveLevenbergMarquardt(main_options, num_observations, &problem->cameras,
-                                          &workers, log);
-  summary.rank_reports = workers.Finish(collect_points ? &problem->points : nullptr,
-                                       summary.memory_estimate.total());
+                                          workers.get(), log);
+  if (distributed.reject_outliers) {
+    ShareRejection own_rejection;
+    LmOptions resolve = main_options;
+    if (!distributed.reject_keep_loss) resolve.loss = RobustLoss();
+    summary.rejection = RunRejectionRounds(
+        [&] {
+          const RejectionRound round =
+              workers->DropOutliers(distributed.rejection, options.num_threads, &own_rejection);
+          num_observations = round.observations_left;
+          return round;
+        },
+        [&] {
+          Timer again;
+          workers->Rebuild(distributed.reject_keep_loss);
+          make_workers(resolve);
+          BundleAdjustSummary next;
+          next.symbolic_seconds = again.Seconds();
+          next.rcs = RcsFootprint::Of(workers->global().S);
+          next.lm = SolveLevenbergMarquardt(resolve, num_observations, &problem->cameras,
+                                            workers.get(), log);
+          AppendSolve(next, &summary.ba);
+        },
+        [&](int r, const RejectionRound& round) {
+          if (hooks.on_rejection_round) hooks.on_rejection_round(r, round);
+        });
+    summary.kept = MergeLeft(workers->CollectLeft(&own_rejection), num_points);
+  }
+  summary.rank_reports = workers->Finish(collect_points ? &problem->points : nullptr,
+                                        summary.memory_estimate.total());
   summary.traffic = comm->stats();
   return summary;
 }

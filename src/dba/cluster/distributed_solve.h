@@ -15,6 +15,7 @@
 #include "dba/io/checkpoint.h"
 #include "dba/lm/bundle_adjust.h"
 #include "dba/lm/memory_estimate.h"
+#include "dba/lm/outlier_rejection.h"
 #include "dba/problem/fixings.h"
 
 namespace dba {
@@ -32,6 +33,12 @@ struct DistributedOptions {
   // Each rank refuses (the job stops) when its estimated growth exceeds its
   // part of the node's available memory (available / ranks on the node).
   bool memory_check = true;
+  // --reject-outliers: rounds of rejection and solving again after the
+  // first solve (lm/outlier_rejection.h), each rank on its share; the solves
+  // after it with the loss (keep_loss) or the squared one.
+  bool reject_outliers = false;
+  RejectionCriteria rejection;
+  bool reject_keep_loss = false;
 };
 
 struct DistributedSummary {
@@ -46,6 +53,10 @@ struct DistributedSummary {
   // The main rank's estimate before the global RCS's values (its own
   // share's sub-RCS, if it forms, already held); total 0: not estimated.
   MemoryEstimate memory_estimate;
+  // With reject_outliers (main rank): the rounds, and what is left of the
+  // loaded problem; the solves after them are appended to `ba`.
+  std::vector<RejectionRound> rejection;
+  KeptObservations kept;
 };
 
 // Checkpoints of a distributed solve (io/checkpoint.h); the main rank's.
@@ -58,6 +69,13 @@ struct DistributedCheckpoints {
   // the whole problem on the main rank, the caller applies it before.)
   const Checkpoint* resume = nullptr;
   std::string resume_path;  // for the message when it does not fit
+};
+
+// What the main rank hears during the solve.
+struct DistributedHooks {
+  std::function<void(const IterationSummary&)> on_iteration;
+  std::function<void(int, const RejectionRound&)> on_rejection_round;
+  DistributedCheckpoints checkpoints;
 };
 
 // Collective. Two ways to get the points to the ranks:
@@ -74,7 +92,6 @@ struct DistributedCheckpoints {
 DistributedSummary DistributedBundleAdjust(
     Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
     const std::string& binary_input, bool collect_points, Problem* problem,
-    const std::function<void(const IterationSummary&)>& on_iteration = {},
-    DistributedCheckpoints checkpoints = {});
+    const DistributedHooks& hooks = {});
 
 }  // namespace dba

@@ -13,12 +13,15 @@
 namespace dba {
 namespace {
 
-enum class Op : int32_t { kForm = 1, kStep = 2, kFinish = 3, kEnd = 4, kCollect = 5 };
+enum class Op : int32_t {
+  kForm = 1, kStep = 2, kFinish = 3, kEnd = 4, kCollect = 5, kReject = 6, kRebuild = 7, kLeft = 8
+};
 
 struct Command {
   Op op;
-  int32_t accept;
-  double lambda;
+  int32_t accept;  // FINISH: accept; END: send points; REBUILD: keep the loss
+  double lambda;   // FORM, STEP: λ; REJECT: the largest error kept (px)
+  double value = 0.0;  // REJECT: the smallest triangulation angle kept (deg)
 };
 
 void BroadcastCommand(Communicator* comm, Command c) {
@@ -50,6 +53,30 @@ std::vector<double> Pack(const StepEvaluation& e) {
   return {e.model_cost, e.candidate_cost, e.point_step_squared_norm, e.point_squared_norm,
           e.candidate_residuals.squared, e.candidate_residuals.inlier_squared,
           e.candidate_residuals.inliers};
+}
+
+constexpr int kPackedRound = 5;  // values of Pack(RejectionRound)
+
+std::vector<double> Pack(const RejectionRound& r) {
+  return {static_cast<double>(r.observations_dropped), static_cast<double>(r.points_dropped),
+          static_cast<double>(r.points_small_angle), static_cast<double>(r.observations_left),
+          static_cast<double>(r.points_left)};
+}
+
+void SendLeft(Communicator* comm, const ShareLeft& left) {
+  comm->SendVector(0, Traffic::kResult, left.point);
+  comm->SendVector(0, Traffic::kResult, left.count);
+  comm->SendVector(0, Traffic::kResult, left.point_kept);
+  comm->SendVector(0, Traffic::kResult, left.observation_kept);
+}
+
+ShareLeft RecvLeft(Communicator* comm, int rank) {
+  ShareLeft left;
+  left.point = comm->RecvVector<int64_t>(rank, Traffic::kResult);
+  left.count = comm->RecvVector<int64_t>(rank, Traffic::kResult);
+  left.point_kept = comm->RecvVector<uint8_t>(rank, Traffic::kResult);
+  left.observation_kept = comm->RecvVector<uint8_t>(rank, Traffic::kResult);
+  return left;
 }
 
 }  // namespace
@@ -183,6 +210,39 @@ void MpiPointWorkers::ReceivePoints(std::vector<double>* points) {
   }
 }
 
+RejectionRound MpiPointWorkers::DropOutliers(const RejectionCriteria& criteria, int num_threads,
+                                             ShareRejection* own_state) {
+  BroadcastCommand(comm_, {Op::kReject, 0, criteria.max_error_px,
+                           criteria.min_triangulation_angle_deg});
+  std::vector<double> mine(kPackedRound, 0.0);
+  if (own_ != nullptr) {
+    mine = Pack(DropShareOutliers(criteria, num_threads, own_share_, own_state));
+  }
+  const std::vector<double> all = comm_->Gather(Traffic::kControl, mine);
+  RejectionRound sum;
+  for (int r = 0; r < comm_->size(); ++r) {
+    const double* v = all.data() + kPackedRound * r;
+    sum.observations_dropped += static_cast<int64_t>(v[0]);
+    sum.points_dropped += static_cast<int64_t>(v[1]);
+    sum.points_small_angle += static_cast<int64_t>(v[2]);
+    sum.observations_left += static_cast<int64_t>(v[3]);
+    sum.points_left += static_cast<int64_t>(v[4]);
+  }
+  return sum;
+}
+
+void MpiPointWorkers::Rebuild(bool keep_loss) {
+  BroadcastCommand(comm_, {Op::kRebuild, keep_loss ? 1 : 0, 0.0});
+}
+
+std::vector<ShareLeft> MpiPointWorkers::CollectLeft(const ShareRejection* own_state) {
+  BroadcastCommand(comm_, {Op::kLeft, 0, 0.0});
+  std::vector<ShareLeft> left;
+  if (own_ != nullptr) left.push_back(LeftOfShare(*own_share_, *own_state));
+  for (int r = 1; r < comm_->size(); ++r) left.push_back(RecvLeft(comm_, r));
+  return left;
+}
+
 std::vector<RankReport> MpiPointWorkers::Finish(std::vector<double>* points,
                                                 int64_t memory_estimate_bytes) {
   const bool collect = points != nullptr;
@@ -199,8 +259,8 @@ std::vector<RankReport> MpiPointWorkers::Finish(std::vector<double>* points,
   return reports;
 }
 
-void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* workers,
-                  int64_t memory_estimate_bytes) {
+RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* workers,
+                         int64_t memory_estimate_bytes, ShareRejection* rejection) {
   comm->SendVector(0, Traffic::kDistribution, BlockPattern(workers->system().S));
   comm->SendVector(0, Traffic::kDistribution,
                    workers->system().layout.RowEntities(share->global_camera,
@@ -237,13 +297,23 @@ void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* worke
       case Op::kCollect:
         send_points();
         break;
+      case Op::kReject:
+        comm->Gather(Traffic::kControl,
+                     Pack(DropShareOutliers({c.lambda, c.value}, workers->num_threads(), share,
+                                            rejection)));
+        break;
+      case Op::kRebuild:
+        return {true, c.accept != 0};
+      case Op::kLeft:
+        SendLeft(comm, LeftOfShare(*share, *rejection));
+        break;
       case Op::kEnd: {
         MaybeInjectFault(comm->rank(), "end", 1);
         if (c.accept != 0) send_points();  // the main rank wants the points
         const RankReport report =
             MakeRankReport(comm->rank(), *share, workers, *comm, memory_estimate_bytes);
         comm->Send(0, Traffic::kResult, std::span<const RankReport>(&report, 1));
-        return;
+        return {};
       }
       default:
         throw std::runtime_error("unknown command from the main rank");

@@ -11,6 +11,10 @@
 //   FinishStep: broadcast FINISH(accept) ─► keep or drop the candidate
 //   CollectPoints: broadcast COLLECT  ─►   (between iterations, checkpoints)
 //              receive rank by rank   ◄─   global ids, points
+//   DropOutliers: broadcast REJECT    ─►   drop from the share (between solves)
+//              gather the round       ◄─   5 counts
+//   Rebuild:   broadcast REBUILD      ─►   new workers, pattern sent again
+//   CollectLeft: broadcast LEFT       ─►   what is left of the loaded share
 //
 // Sub-RCSs are summed in rank order, so a run is reproducible. The numerical
 // work is LocalPointWorkers on each rank's share; this file only moves data.
@@ -25,6 +29,7 @@
 #include "dba/cluster/aggregate_sub_rcs.h"
 #include "dba/cluster/communicator.h"
 #include "dba/cluster/rank_share.h"
+#include "dba/cluster/share_outliers.h"
 #include "dba/lm/local_point_workers.h"
 
 namespace dba {
@@ -70,6 +75,18 @@ class MpiPointWorkers : public PointWorkers {
   // numbering; sized to hold all), for a checkpoint.
   void CollectPoints(std::vector<double>* points);
 
+  // --reject-outliers (cluster/share_outliers.h), between solves: every
+  // rank drops from its share (the main rank from its own, `own_state`);
+  // the round summed over the ranks. Then either Rebuild (every rank's
+  // workers are stale: the caller makes new ones, the ranks too, and the
+  // next solve runs with the loss or the squared one) or CollectLeft and
+  // Finish.
+  RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads,
+                              ShareRejection* own_state);
+  void Rebuild(bool keep_loss);
+  // What is left of every share (the main rank's first, if it forms).
+  std::vector<ShareLeft> CollectLeft(const ShareRejection* own_state);
+
   // Ends the other ranks' loops and collects their reports; with `points`
   // non-null also their final points (global numbering; resized to hold all).
   // `memory_estimate_bytes`: the main rank's, for its report.
@@ -90,12 +107,20 @@ class MpiPointWorkers : public PointWorkers {
   int formations_ = 0;
 };
 
-// The loop of a rank other than the main one: serves FORM, STEP, FINISH and COLLECT
-// until the main rank ends the solve, then sends its points and report.
-// Throws on failure (the caller aborts the job).
-// `memory_estimate_bytes` goes into its report.
-void RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* workers,
-                  int64_t memory_estimate_bytes = 0);
+// How a rank's loop ended: the solve is over, or (REBUILD) the share changed
+// and the caller builds new workers and serves again.
+struct RankLoopEnd {
+  bool rebuild = false;
+  bool keep_loss = false;  // the next solve's loss: the same, or squared
+};
+
+// The loop of a rank other than the main one: serves FORM, STEP, FINISH,
+// COLLECT, REJECT and LEFT until the main rank ends the solve (then sends
+// its points and report) or asks for a REBUILD. Throws on failure (the
+// caller aborts the job). `memory_estimate_bytes` goes into its report;
+// `rejection`: the share's state across rejection rounds.
+RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* workers,
+                         int64_t memory_estimate_bytes, ShareRejection* rejection);
 
 // Report of this rank's share (peak memory read now).
 RankReport MakeRankReport(int rank, const RankShare& share,

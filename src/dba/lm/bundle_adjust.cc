@@ -15,13 +15,41 @@ BundleAdjustSummary BundleAdjust(
   LocalPointWorkers workers(problem, options.damping, options.num_threads, options.loss,
                             before_values);
   summary.symbolic_seconds = symbolic.Seconds();
-  const BsmcMatrix& S = workers.system().S;
-  summary.rcs = {S.num_block_rows(), S.num_blocks(), S.num_rows(), S.StructureBytes(),
-                 S.ValueBytes(), S.CsrBytes()};
+  summary.rcs = RcsFootprint::Of(workers.system().S);
   std::vector<double> cameras = problem->cameras;
   summary.lm = SolveLevenbergMarquardt(options, problem->num_observations(),
                                        &cameras, &workers, on_iteration);
   return summary;
+}
+
+RcsFootprint RcsFootprint::Of(const BsmcMatrix& S) {
+  return {S.num_block_rows(), S.num_blocks(), S.num_rows(), S.StructureBytes(), S.ValueBytes(),
+          S.CsrBytes()};
+}
+
+// `total` followed by `next` (a solve after a rejection round): iterations,
+// times and the log add up; the final state is next's.
+void AppendSolve(const BundleAdjustSummary& next, BundleAdjustSummary* total) {
+  LmSummary& t = total->lm;
+  const LmSummary& n = next.lm;
+  for (IterationSummary it : n.history) {
+    it.iteration += t.iterations;
+    t.history.push_back(it);
+  }
+  t.iterations += n.iterations;
+  t.accepted_iterations += n.accepted_iterations;
+  t.total_linear_iterations += n.total_linear_iterations;
+  t.times.rcs_formation += n.times.rcs_formation;
+  t.times.linear_solve += n.times.linear_solve;
+  t.times.back_substitution += n.times.back_substitution;
+  t.times.total += n.times.total;
+  t.final_cost = n.final_cost;
+  t.final_residuals = n.final_residuals;
+  t.num_observations = n.num_observations;
+  t.termination = n.termination;
+  t.termination_message = n.termination_message;
+  total->symbolic_seconds += next.symbolic_seconds;
+  total->rcs = next.rcs;
 }
 
 }  // namespace dba

@@ -4,6 +4,7 @@
 
 #include <functional>
 
+#include "dba/bsmc/bsmc_matrix.h"
 #include "dba/lm/levenberg_marquardt.h"
 #include "dba/problem/problem.h"
 
@@ -17,6 +18,7 @@ struct RcsFootprint {
   int64_t bsmc_structure_bytes = 0;
   int64_t bsmc_value_bytes = 0;
   int64_t csr_bytes = 0;  // full symmetric CSR (paper eq. 8)
+  static RcsFootprint Of(const BsmcMatrix& S);
 };
 
 struct BundleAdjustSummary {
@@ -32,5 +34,9 @@ BundleAdjustSummary BundleAdjust(
     const LmOptions& options, Problem* problem,
     const std::function<void(const IterationSummary&)>& on_iteration = {},
     const std::function<void(const RcsSystem&)>& before_values = {});
+
+// `total` followed by `next` (a solve after a rejection round): iterations,
+// times and the log add up; the final state is next's.
+void AppendSolve(const BundleAdjustSummary& next, BundleAdjustSummary* total);
 
 }  // namespace dba

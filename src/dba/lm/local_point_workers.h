@@ -25,6 +25,7 @@ class LocalPointWorkers : public PointWorkers {
   void FinishStep(bool accept) override;
 
   const RcsSystem& system() const { return system_; }
+  int num_threads() const { return num_threads_; }
 
  private:
   Problem* problem_;

@@ -109,4 +109,44 @@ RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads, 
   return round;
 }
 
+void KeepOnly(const KeptObservations& kept, Problem* problem) {
+  int64_t obs_out = 0, point_out = 0, end = 0;
+  for (int64_t k = 0; k < problem->num_points(); ++k) {
+    const int64_t begin = end;  // point_offsets[k] may already be compacted
+    end = problem->point_offsets[k + 1];
+    if (!kept.point[k]) continue;
+    for (int d = 0; d < 3; ++d) problem->points[3 * point_out + d] = problem->points[3 * k + d];
+    for (int64_t o = begin; o < end; ++o) {
+      if (!kept.observation[o]) continue;
+      problem->obs_camera[obs_out] = problem->obs_camera[o];
+      problem->obs_pixel[2 * obs_out] = problem->obs_pixel[2 * o];
+      problem->obs_pixel[2 * obs_out + 1] = problem->obs_pixel[2 * o + 1];
+      ++obs_out;
+    }
+    problem->point_offsets[++point_out] = obs_out;
+  }
+  problem->points.resize(3 * point_out);
+  problem->point_offsets.resize(point_out + 1);
+  problem->obs_camera.resize(obs_out);
+  problem->obs_pixel.resize(2 * obs_out);
+}
+
+std::vector<RejectionRound> RunRejectionRounds(
+    const std::function<RejectionRound()>& drop, const std::function<void()>& solve_again,
+    const std::function<void(int, const RejectionRound&)>& on_round) {
+  constexpr int kMaxRounds = 5;
+  constexpr double kSettled = 5e-4;  // fraction of the observations
+  std::vector<RejectionRound> rounds;
+  for (int r = 1; r <= kMaxRounds; ++r) {
+    const RejectionRound round = drop();
+    rounds.push_back(round);
+    on_round(r, round);
+    if (round.observations_dropped == 0) break;
+    solve_again();
+    const int64_t before = round.observations_left + round.observations_dropped;
+    if (round.observations_dropped < kSettled * static_cast<double>(before)) break;
+  }
+  return rounds;
+}
+
 }  // namespace dba

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "dba/problem/problem.h"
@@ -40,6 +41,25 @@ struct OriginalIndices {
   // The identity for `problem`.
   static OriginalIndices Identity(const Problem& problem);
 };
+
+// What is left after outlier rejection, as a flag per observation and per
+// point of the problem as loaded.
+struct KeptObservations {
+  std::vector<uint8_t> observation;
+  std::vector<uint8_t> point;
+};
+
+// Keeps only what `kept` flags in `problem` (the problem as loaded; a point
+// is kept with the observations flagged among its own).
+void KeepOnly(const KeptObservations& kept, Problem* problem);
+
+// The rounds of --reject-outliers after the first solve (COLMAP's global BA
+// filter): `drop` one round, then `solve_again`, until a round drops nothing
+// or fewer than 0.05% of the observations it started with, or after 5
+// rounds. `on_round` hears of each round as it ends (1-based).
+std::vector<RejectionRound> RunRejectionRounds(
+    const std::function<RejectionRound()>& drop, const std::function<void()>& solve_again,
+    const std::function<void(int, const RejectionRound&)>& on_round);
 
 // Drops from `problem` the observations with |r| > max_error_px at its
 // current parameters, then the points with fewer than 2 observations left or
