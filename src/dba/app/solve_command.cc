@@ -642,11 +642,11 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
                       &problem.points[kPointSize * k]);
         }
       }
-      // The loaded pixels, for the truth's outlier counts: read again when
-      // the main rank never held the observations.
-      if (!options.truth_path.empty() && ranks_read_file) {
-        loaded_pixels = ReadProblem(options.input).obs_pixel;
-      }
+    }
+    // The loaded pixels, for the truth (which are mismatches): read again
+    // when the main rank never held the observations.
+    if (main && !options.truth_path.empty() && loaded_pixels.empty()) {
+      loaded_pixels = LoadSolveInput(options.input, options.unknowns).obs_pixel;
     }
   }
   if (!main) return 0;
@@ -664,8 +664,11 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       point_kept.assign(report.num_points, 0);
       for (int64_t k : original.point) point_kept[k] = 1;
     }
+    // The generated mismatches are left out of the RMS to the noise-free
+    // pixels (their noise-free pixel is not what was matched).
+    const std::vector<double>& pixels = loaded_pixels.empty() ? problem.obs_pixel : loaded_pixels;
     report.truth = CompareWithGroundTruthFile(options.truth_path, problem.cameras, points,
-                                              problem.model, point_kept);
+                                              problem.model, point_kept, pixels);
     report.has_truth = true;
   }
   Timer write_timer;

@@ -152,6 +152,14 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
                   r.truth.rms_to_noise_free_px, r.truth.similarity_scale,
                   r.truth.camera_centre_rms, r.truth.point_rms);
     out << buf;
+    if (r.truth.mismatches_left_out > 0) {
+      std::snprintf(buf, sizeof buf,
+                    "                      (the RMS over %lld true inliers; %lld generated "
+                    "mismatches left out)\n",
+                    static_cast<long long>(r.truth.rms_observations),
+                    static_cast<long long>(r.truth.mismatches_left_out));
+      out << buf;
+    }
     // Intrinsic groups (photogrammetric model): each, or the worst of many.
     const auto& err = r.truth.intrinsics_error;
     const size_t shown = err.size() <= 8 ? err.size() : 0;
@@ -307,6 +315,8 @@ std::string SolveReportJson(const SolveReport& r) {
   }
   if (r.has_truth) {
     j["ground_truth"] = {{"rms_to_noise_free_px", r.truth.rms_to_noise_free_px},
+                         {"rms_observations", r.truth.rms_observations},
+                         {"mismatches_left_out", r.truth.mismatches_left_out},
                          {"similarity_scale", r.truth.similarity_scale},
                          {"camera_centre_rms", r.truth.camera_centre_rms},
                          {"point_rms", r.truth.point_rms}};

@@ -9,6 +9,7 @@
 #include "dba/camera/observation_residual.h"
 #include "dba/io/binary_problem.h"
 #include "dba/io/read_problem.h"
+#include "dba/synthetic/uav_generator.h"
 
 namespace dba {
 namespace {
@@ -32,23 +33,43 @@ Eigen::Matrix3Xd Centres(const Problem& side, const std::vector<double>& cameras
 struct SquaredSum {
   double sum = 0.0;
   int64_t count = 0;
+  int64_t left_out = 0;  // generated mismatches
 };
 SquaredSum SquaredResiduals(const Problem& side, int64_t first, std::span<const int64_t> offsets,
                             std::span<const int32_t> obs_camera, std::span<const double> pixels,
                             const std::vector<double>& cameras, const std::vector<double>& points,
-                            std::span<const uint8_t> point_kept) {
+                            std::span<const uint8_t> point_kept,
+                            std::span<const double> loaded_pixels) {
   SquaredSum s;
   for (size_t k = 0; k + 1 < offsets.size(); ++k) {
     if (!point_kept.empty() && !point_kept[first + static_cast<int64_t>(k)]) continue;
     const double* X = points.data() + kPointSize * (first + static_cast<int64_t>(k));
     for (int64_t o = offsets[k]; o < offsets[k + 1]; ++o) {
       const int64_t j = o - offsets[0];
+      if (!loaded_pixels.empty() && IsTrueOutlier(&loaded_pixels[2 * o], &pixels[2 * j])) {
+        ++s.left_out;
+        continue;
+      }
       s.sum += ObservationResidual(side, cameras.data(), obs_camera[j], X, pixels.data() + 2 * j)
                    .squaredNorm();
       ++s.count;
     }
   }
   return s;
+}
+
+// Per observation, like the solver's RMS: sqrt(Σ |r|² / observations).
+void SetRms(const SquaredSum& s, GroundTruthErrors* e) {
+  e->rms_to_noise_free_px = std::sqrt(s.sum / std::max<int64_t>(s.count, 1));
+  e->rms_observations = s.count;
+  e->mismatches_left_out = s.left_out;
+}
+
+void CheckLoadedPixels(int64_t truth_observations, std::span<const double> loaded_pixels) {
+  if (!loaded_pixels.empty() && static_cast<int64_t>(loaded_pixels.size()) != 2 * truth_observations) {
+    throw std::invalid_argument(
+        "the ground truth does not match the problem (different numbers of observations)");
+  }
 }
 
 void CheckSizes(const Problem& truth, const std::vector<double>& cameras,
@@ -115,13 +136,15 @@ GroundTruthErrors GeometryErrors(const Problem& truth, const std::vector<double>
 GroundTruthErrors CompareWithGroundTruth(const Problem& truth,
                                          const std::vector<double>& cameras,
                                          const std::vector<double>& points, CameraModel model,
-                                         std::span<const uint8_t> point_kept) {
+                                         std::span<const uint8_t> point_kept,
+                                         std::span<const double> loaded_pixels) {
   CheckSizes(truth, cameras, points, model);
+  CheckLoadedPixels(truth.num_observations(), loaded_pixels);
   GroundTruthErrors e = GeometryErrors(truth, cameras, points, point_kept);
   const SquaredSum s = SquaredResiduals(truth, 0, truth.point_offsets, truth.obs_camera,
-                                        truth.obs_pixel, cameras, points, point_kept);
-  // Per observation, like the solver's RMS: sqrt(Σ |r|² / observations).
-  e.rms_to_noise_free_px = std::sqrt(s.sum / std::max<int64_t>(s.count, 1));
+                                        truth.obs_pixel, cameras, points, point_kept,
+                                        loaded_pixels);
+  SetRms(s, &e);
   return e;
 }
 
@@ -129,11 +152,14 @@ GroundTruthErrors CompareWithGroundTruthFile(const std::string& path,
                                              const std::vector<double>& cameras,
                                              const std::vector<double>& points,
                                              CameraModel model,
-                                             std::span<const uint8_t> point_kept) {
+                                             std::span<const uint8_t> point_kept,
+                                             std::span<const double> loaded_pixels) {
   if (!IsBinaryProblem(path)) {
-    return CompareWithGroundTruth(ReadProblem(path), cameras, points, model, point_kept);
+    return CompareWithGroundTruth(ReadProblem(path), cameras, points, model, point_kept,
+                                  loaded_pixels);
   }
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
+  CheckLoadedPixels(h.num_observations, loaded_pixels);
   Problem truth(ReadBinaryCameraSide(path));  // camera side and points only
   // Point coordinates of the truth, read in one go (3 doubles per point).
   truth.points = ReadBinaryPointCoordinates(path);
@@ -143,13 +169,14 @@ GroundTruthErrors CompareWithGroundTruthFile(const std::string& path,
                           [&](int64_t first, std::span<const int64_t> offsets,
                               std::span<const int32_t> c, std::span<const double> px) {
                             const SquaredSum s = SquaredResiduals(truth, first, offsets, c, px,
-                                                                  cameras, points, point_kept);
+                                                                  cameras, points, point_kept,
+                                                                  loaded_pixels);
                             sum.sum += s.sum;
                             sum.count += s.count;
+                            sum.left_out += s.left_out;
                           });
-  (void)h;
   GroundTruthErrors e = GeometryErrors(truth, cameras, points, point_kept);
-  e.rms_to_noise_free_px = std::sqrt(sum.sum / std::max<int64_t>(sum.count, 1));
+  SetRms(sum, &e);
   return e;
 }
 

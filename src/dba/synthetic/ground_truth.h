@@ -29,7 +29,12 @@
 namespace dba {
 
 struct GroundTruthErrors {
+  // Over the true inliers of the points that count: the observations whose
+  // loaded pixel is a generated mismatch (IsTrueOutlier) are left out, as
+  // their noise-free pixel is not what was matched.
   double rms_to_noise_free_px = 0.0;
+  int64_t rms_observations = 0;
+  int64_t mismatches_left_out = 0;
   double camera_centre_rms = 0.0;  // in the truth's units, after alignment
   double point_rms = 0.0;
   double similarity_scale = 1.0;
@@ -49,12 +54,15 @@ struct GroundTruthErrors {
 // Throws std::invalid_argument when the sizes or the model differ from the
 // truth's. `point_kept` (optional, one flag per point): only these points
 // and their observations count (points dropped by outlier rejection are no
-// longer part of the solution).
+// longer part of the solution). `loaded_pixels` (optional, 2 per truth
+// observation): the pixels the problem was loaded with, to leave the
+// generated mismatches out of the RMS.
 GroundTruthErrors CompareWithGroundTruth(const Problem& truth,
                                          const std::vector<double>& cameras,
                                          const std::vector<double>& points,
                                          CameraModel model = CameraModel::kBal,
-                                         std::span<const uint8_t> point_kept = {});
+                                         std::span<const uint8_t> point_kept = {},
+                                         std::span<const double> loaded_pixels = {});
 
 // The same from a ground-truth file; a binary one is streamed (only its
 // camera side and points are held), so large problems do not need twice the
@@ -63,6 +71,7 @@ GroundTruthErrors CompareWithGroundTruthFile(const std::string& truth_path,
                                              const std::vector<double>& cameras,
                                              const std::vector<double>& points,
                                              CameraModel model = CameraModel::kBal,
-                                             std::span<const uint8_t> point_kept = {});
+                                             std::span<const uint8_t> point_kept = {},
+                                             std::span<const double> loaded_pixels = {});
 
 }  // namespace dba

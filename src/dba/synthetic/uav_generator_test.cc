@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "dba/camera/observation_residual.h"
 #include "dba/io/read_problem.h"
 #include "dba/lm/bundle_adjust.h"
 #include "dba/synthetic/ground_truth.h"
@@ -55,6 +56,46 @@ TEST(UavGenerator, BinaryAndBalTextHoldTheSameProblem) {
   EXPECT_EQ(bin.obs_pixel, txt.obs_pixel);  // shortest round-trip text is exact
   EXPECT_EQ(bin.cameras, txt.cameras);
   EXPECT_EQ(ReadProblem(Tmp("p.truth.dba")).obs_pixel, ReadProblem(Tmp("p.truth.txt")).obs_pixel);
+}
+
+// With the loaded pixels the generated mismatches leave the RMS to the
+// noise-free pixels: at the true parameters it is then the noise alone, in
+// memory and streamed from a .dba truth alike.
+TEST(UavGenerator, MismatchesAreLeftOutOfTheRmsToTheTruth) {
+  UavSurveyOptions o = Small();
+  o.outlier_fraction = 0.05;
+  GenerateUavSurvey(o, Tmp("m.dba"), Tmp("m.truth.dba"));
+  const Problem p = ReadProblem(Tmp("m.dba")), truth = ReadProblem(Tmp("m.truth.dba"));
+  int64_t mismatches = 0;
+  for (int64_t a = 0; a < p.num_observations(); ++a) {
+    mismatches += IsTrueOutlier(p.pixel(a), truth.pixel(a));
+  }
+  ASSERT_GT(mismatches, 0);
+  const GroundTruthErrors all = CompareWithGroundTruth(truth, truth.cameras, truth.points);
+  EXPECT_LT(all.rms_to_noise_free_px, 1e-9);  // the truth against itself
+  // The solve's starting cameras against the truth: with and without the
+  // mismatches' slots, in memory and streamed.
+  const GroundTruthErrors with = CompareWithGroundTruth(truth, p.cameras, p.points);
+  const GroundTruthErrors without =
+      CompareWithGroundTruth(truth, p.cameras, p.points, CameraModel::kBal, {}, p.obs_pixel);
+  const GroundTruthErrors streamed = CompareWithGroundTruthFile(
+      Tmp("m.truth.dba"), p.cameras, p.points, CameraModel::kBal, {}, p.obs_pixel);
+  EXPECT_EQ(with.rms_observations, p.num_observations());
+  EXPECT_EQ(without.rms_observations, p.num_observations() - mismatches);
+  EXPECT_EQ(without.mismatches_left_out, mismatches);
+  EXPECT_EQ(streamed.mismatches_left_out, mismatches);
+  EXPECT_NEAR(streamed.rms_to_noise_free_px, without.rms_to_noise_free_px,
+              1e-12 * without.rms_to_noise_free_px);
+  double sum = 0.0;
+  for (int64_t k = 0; k < p.num_points(); ++k) {
+    for (int64_t a = p.point_offsets[k]; a < p.point_offsets[k + 1]; ++a) {
+      if (IsTrueOutlier(p.pixel(a), truth.pixel(a))) continue;
+      sum += ObservationResidual(truth, p.cameras.data(), p.obs_camera[a], p.point(k),
+                                 truth.pixel(a)).squaredNorm();
+    }
+  }
+  EXPECT_NEAR(without.rms_to_noise_free_px, std::sqrt(sum / (p.num_observations() - mismatches)),
+              1e-12 * without.rms_to_noise_free_px);
 }
 
 TEST(UavGenerator, TracksFollowFromTheOverlap) {
