@@ -48,14 +48,16 @@ class Parser {
   // Tokens left on the current line (not consumed).
   int TokensLeftOnLine() const { return tokens_.Remaining(); }
 
-  // The most observations the file can hold: a plain file at least 8 bytes
-  // per observation ("c p x y" and a newline), a bzip2 one unbounded (its
-  // content's size is not known before it is read).
+  // The most observations worth reserving for: a plain file holds at most
+  // one per 8 bytes ("c p x y" and a newline). A bzip2 file's content size
+  // is not known before it is read; BAL text compresses 3-5x, so 64x its
+  // size bounds any real file (beyond it the vectors grow as data comes).
   int64_t MaxObservations(const std::string& path) const {
-    if (reader_.is_bz2()) return std::numeric_limits<int64_t>::max();
     std::error_code ec;
     const auto size = std::filesystem::file_size(path, ec);
-    return ec ? std::numeric_limits<int64_t>::max() : static_cast<int64_t>(size / 8 + 1);
+    if (ec) return kMaxReserve;
+    const int64_t content = static_cast<int64_t>(size) * (reader_.is_bz2() ? 64 : 1);
+    return content / 8 + 1;
   }
 
   template <class What>
