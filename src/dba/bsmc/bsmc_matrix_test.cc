@@ -29,7 +29,9 @@ TEST(BsmcMatrix, FindBlockFindsEveryStoredBlockAndNoOther) {
     }
     for (int32_t i = 0; i < m.num_block_rows(); ++i) {
       for (int32_t j = i; j < m.num_block_rows(); ++j) {
-        if (!stored.count({i, j})) EXPECT_EQ(m.FindBlock(i, j), -1) << i << "," << j;
+        if (!stored.count({i, j})) {
+          EXPECT_EQ(m.FindBlock(i, j), -1) << i << "," << j;
+        }
       }
     }
   }

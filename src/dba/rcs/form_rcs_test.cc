@@ -234,7 +234,9 @@ TEST_P(RobustFormRcsTest, MatchesDenseRobustSchurComplement) {
       inliers += loss.trivial() || dense.r.segment<2>(2 * a).squaredNorm() <= 4.0;
     }
     EXPECT_EQ(sys.residuals.inliers, inliers) << what;
-    if (!loss.trivial()) EXPECT_LT(inliers, problem.num_observations()) << what;
+    if (!loss.trivial()) {
+      EXPECT_LT(inliers, problem.num_observations()) << what;
+    }
   }
 }
 

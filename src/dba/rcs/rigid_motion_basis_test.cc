@@ -78,7 +78,9 @@ TEST(RigidMotionBases, SimilarityMotionsAreNullVectorsOfTheBalRcs) {
     const Problem problem = testing::MakeSyntheticBal(Geometry(seed)).problem;
     for (int k = 0; k < 7; ++k) {
       EXPECT_LT(RelativeResidual(problem, k, true), 1e-10) << "seed " << seed << " motion " << k;
-      if (k < 6) EXPECT_GT(RelativeResidual(problem, k, false), 1e-4) << "seed " << seed << " unknown " << k;
+      if (k < 6) {
+        EXPECT_GT(RelativeResidual(problem, k, false), 1e-4) << "seed " << seed << " unknown " << k;
+      }
     }
   }
 }
@@ -88,7 +90,9 @@ TEST(RigidMotionBases, SimilarityMotionsAreNullVectorsOfThePhotoRcs) {
     const Problem problem = PhotoProblem(seed);
     for (int k = 0; k < 7; ++k) {
       EXPECT_LT(RelativeResidual(problem, k, true), 1e-10) << "seed " << seed << " motion " << k;
-      if (k < 6) EXPECT_GT(RelativeResidual(problem, k, false), 1e-4) << "seed " << seed << " unknown " << k;
+      if (k < 6) {
+        EXPECT_GT(RelativeResidual(problem, k, false), 1e-4) << "seed " << seed << " unknown " << k;
+      }
     }
   }
 }
