@@ -47,13 +47,51 @@ double MaxTriangulationAngle(const Problem& problem, const std::vector<double>& 
   return std::acos(std::clamp(min_cos, -1.0, 1.0));
 }
 
+namespace {
+
+// Keeps, in order, the points with point_kept[k] and of their observations
+// those with obs_kept[o]; `original` (may be null) follows.
+void Compact(const std::vector<uint8_t>& obs_kept, const std::vector<uint8_t>& point_kept,
+             Problem* problem, OriginalIndices* original) {
+  const int64_t num_points = problem->num_points();
+  int64_t obs_out = 0, point_out = 0, end = 0;
+  for (int64_t k = 0; k < num_points; ++k) {
+    // point_offsets[k] may already hold the compacted value: the old one is
+    // the previous end. point_offsets[k + 1] is still the old one.
+    const int64_t begin = end;
+    end = problem->point_offsets[k + 1];
+    if (!point_kept[k]) continue;
+    for (int d = 0; d < 3; ++d) problem->points[3 * point_out + d] = problem->points[3 * k + d];
+    if (original != nullptr) original->point[point_out] = original->point[k];
+    for (int64_t o = begin; o < end; ++o) {
+      if (!obs_kept[o]) continue;
+      problem->obs_camera[obs_out] = problem->obs_camera[o];
+      problem->obs_pixel[2 * obs_out] = problem->obs_pixel[2 * o];
+      problem->obs_pixel[2 * obs_out + 1] = problem->obs_pixel[2 * o + 1];
+      if (original != nullptr) original->observation[obs_out] = original->observation[o];
+      ++obs_out;
+    }
+    problem->point_offsets[++point_out] = obs_out;
+  }
+  problem->points.resize(3 * point_out);
+  problem->point_offsets.resize(point_out + 1);
+  problem->obs_camera.resize(obs_out);
+  problem->obs_pixel.resize(2 * obs_out);
+  if (original != nullptr) {
+    original->point.resize(point_out);
+    original->observation.resize(obs_out);
+  }
+}
+
+}  // namespace
+
 RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads, Problem* problem,
                             OriginalIndices* original) {
   const int64_t num_points = problem->num_points();
   const double bound = criteria.max_error_px * criteria.max_error_px;
   const double min_angle = criteria.min_triangulation_angle_deg * M_PI / 180.0;
   std::vector<uint8_t> keep(problem->num_observations());
-  std::vector<uint8_t> small_angle(num_points, 0);
+  std::vector<uint8_t> small_angle(num_points, 0), point_kept(num_points, 0);
   const std::vector<double> centres = min_angle > 0.0 ? CameraCentres(*problem) : std::vector<double>();
 #pragma omp parallel for num_threads(num_threads) schedule(dynamic, 1024)
   for (int64_t k = 0; k < num_points; ++k) {
@@ -67,68 +105,22 @@ RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads, 
     if (min_angle > 0.0 && kept >= 2 && MaxTriangulationAngle(*problem, centres, k, keep.data()) < min_angle) {
       small_angle[k] = 1;
     }
+    point_kept[k] = kept >= 2 && !small_angle[k];
   }
-  // Compact in place: points with at least 2 kept observations, in order.
   RejectionRound round;
-  int64_t obs_out = 0, point_out = 0, end = 0;
-  for (int64_t k = 0; k < num_points; ++k) {
-    // point_offsets[k] may already hold the compacted value: the old one is
-    // the previous end. point_offsets[k + 1] is still the old one.
-    const int64_t begin = end;
-    end = problem->point_offsets[k + 1];
-    int64_t kept = 0;
-    for (int64_t o = begin; o < end; ++o) kept += keep[o];
-    round.observations_dropped += (end - begin) - kept;
-    if (kept < 2 || small_angle[k]) {
-      ++round.points_dropped;
-      if (kept >= 2) ++round.points_small_angle;
-      round.observations_dropped += kept;  // a point's last observation goes with it
-      continue;
-    }
-    for (int d = 0; d < 3; ++d) problem->points[3 * point_out + d] = problem->points[3 * k + d];
-    original->point[point_out] = original->point[k];
-    for (int64_t o = begin; o < end; ++o) {
-      if (!keep[o]) continue;
-      problem->obs_camera[obs_out] = problem->obs_camera[o];
-      problem->obs_pixel[2 * obs_out] = problem->obs_pixel[2 * o];
-      problem->obs_pixel[2 * obs_out + 1] = problem->obs_pixel[2 * o + 1];
-      original->observation[obs_out] = original->observation[o];
-      ++obs_out;
-    }
-    ++point_out;
-    problem->point_offsets[point_out] = obs_out;
-  }
-  problem->points.resize(3 * point_out);
-  problem->point_offsets.resize(point_out + 1);
-  problem->obs_camera.resize(obs_out);
-  problem->obs_pixel.resize(2 * obs_out);
-  original->point.resize(point_out);
-  original->observation.resize(obs_out);
-  round.observations_left = obs_out;
-  round.points_left = point_out;
+  round.points_dropped = num_points - std::count(point_kept.begin(), point_kept.end(), 1);
+  round.points_small_angle = std::count(small_angle.begin(), small_angle.end(), 1);
+  // A dropped point's last observations go with it.
+  const int64_t before = problem->num_observations();
+  Compact(keep, point_kept, problem, original);
+  round.observations_left = problem->num_observations();
+  round.observations_dropped = before - round.observations_left;
+  round.points_left = problem->num_points();
   return round;
 }
 
 void KeepOnly(const KeptObservations& kept, Problem* problem) {
-  int64_t obs_out = 0, point_out = 0, end = 0;
-  for (int64_t k = 0; k < problem->num_points(); ++k) {
-    const int64_t begin = end;  // point_offsets[k] may already be compacted
-    end = problem->point_offsets[k + 1];
-    if (!kept.point[k]) continue;
-    for (int d = 0; d < 3; ++d) problem->points[3 * point_out + d] = problem->points[3 * k + d];
-    for (int64_t o = begin; o < end; ++o) {
-      if (!kept.observation[o]) continue;
-      problem->obs_camera[obs_out] = problem->obs_camera[o];
-      problem->obs_pixel[2 * obs_out] = problem->obs_pixel[2 * o];
-      problem->obs_pixel[2 * obs_out + 1] = problem->obs_pixel[2 * o + 1];
-      ++obs_out;
-    }
-    problem->point_offsets[++point_out] = obs_out;
-  }
-  problem->points.resize(3 * point_out);
-  problem->point_offsets.resize(point_out + 1);
-  problem->obs_camera.resize(obs_out);
-  problem->obs_pixel.resize(2 * obs_out);
+  Compact(kept.observation, kept.point, problem, nullptr);
 }
 
 std::vector<RejectionRound> RunRejectionRounds(
