@@ -28,8 +28,9 @@ void PrintHelp(std::ostream& out) {
          "\n"
          "Camera models: 'bal' writes one 9-parameter BAL camera per image (images of\n"
          "one physical camera get the same intrinsic values, as separate unknowns);\n"
-         "'photo' writes a pose per image and one shared intrinsic group (f, cx, cy,\n"
-         "k1, k2) per physical camera, COLMAP's axes, .dba outputs only.\n"
+         "'photo' writes a pose per image and one shared intrinsic group per physical\n"
+         "camera, COLMAP's axes, .dba outputs only; the group's lens model is RADIAL\n"
+         "(f, cx, cy, k1, k2) unless --camera-model names another.\n"
          "\n"
          "Options:\n"
          "  --images N              images (default " << d.images << ")\n"
@@ -39,6 +40,13 @@ void PrintHelp(std::ostream& out) {
          "  --cameras C             physical cameras, one per strip in turn, whose intrinsics\n"
          "                          their images share (default " << d.physical_cameras << ")\n"
          "  --model bal|photo       camera model (default bal; see above)\n"
+         "  --camera-model NAME     the groups' lens model (--model photo): any of\n"
+         "                          dba solve --list-camera-models, with typical values\n"
+         "                          (default RADIAL)\n"
+         "  --field-of-view DEG     the lens's field of view across the image, in (0, 160)\n"
+         "                          (default: that of a " << d.focal_px << " px focal length, about 53);\n"
+         "                          fisheye models get the equidistant focal length, so\n"
+         "                          wide angles and high-order terms are observed\n"
          "  --noise S               pixel noise sigma (default " << d.pixel_noise << ")\n"
          "  --outliers F            replace a fraction F of the observations by mismatches:\n"
          "                          uniform random pixels of the image, at least 50 px from\n"
@@ -80,6 +88,19 @@ int GenerateMain(const std::vector<std::string>& args) {
         if (v == "bal") o.model = CameraModel::kBal;
         else if (v == "photo") o.model = CameraModel::kPhoto;
         else throw std::invalid_argument(a + ": expected bal or photo, got '" + v + "'");
+      } else if (a == "--camera-model") {
+        const std::string& v = value();
+        const LensModelInfo* m = FindLensModel(v);
+        if (m == nullptr) {
+          throw std::invalid_argument(a + ": unknown camera model '" + v + "' (known: " +
+                                      LensModelNames() + ")");
+        }
+        o.camera_model = m->id;
+      } else if (a == "--field-of-view") {
+        o.field_of_view = ParseNumberArgument(a, value());
+        if (!(o.field_of_view > 0 && o.field_of_view < 160)) {
+          throw std::invalid_argument(a + ": must be in (0, 160) degrees");
+        }
       } else if (a == "--noise") {
         o.pixel_noise = ParseNumberArgument(a, value());
       } else if (a == "--seed") {
@@ -103,6 +124,9 @@ int GenerateMain(const std::vector<std::string>& args) {
     auto binary = [](const std::string& p) {
       return KindOfPath(p) == PathKind::kBinary;
     };
+    if (o.camera_model != LensModel::kRadial && o.model != CameraModel::kPhoto) {
+      throw std::invalid_argument("--camera-model needs --model photo (a BAL camera is its own model)");
+    }
     if (o.model == CameraModel::kPhoto && (!binary(output) || (!truth.empty() && !binary(truth)))) {
       throw std::invalid_argument(
           "--model photo needs .dba files (the BAL text format cannot hold shared intrinsics)");

@@ -55,7 +55,8 @@ INSTANTIATE_TEST_SUITE_P(
         Refusal{"negative_triangulation_angle", {"a.txt", "--min-triangulation-angle", "-1"}, "--min-triangulation-angle: expected a number >= 0"},
         Refusal{"straight_triangulation_angle", {"a.txt", "--min-triangulation-angle", "180"}, "--min-triangulation-angle: must be in [0, 180) (degrees)"},
         Refusal{"bad_partition", {"a.txt", "--partition", "random"}, "--partition: unknown partition scheme 'random'"},
-        Refusal{"bad_fix_intrinsics", {"a.txt", "--fix-intrinsics", "q"}, "unknown intrinsic parameter 'q'"},
+        Refusal{"bad_fix_intrinsics_group", {"a.txt", "--fix-intrinsics", "1,2:f"}, "--fix-intrinsics: one group before ':'"},
+        Refusal{"empty_fix_intrinsics", {"a.txt", "--fix-intrinsics", "0:"}, "--fix-intrinsics: empty list"},
         Refusal{"bad_max_iterations", {"a.txt", "--max-iterations", "-3"}, "--max-iterations"},
         Refusal{"nan_tolerance", {"a.txt", "--function-tolerance", "nan"}, "--function-tolerance"}),
     [](const ::testing::TestParamInfo<Refusal>& info) { return std::string(info.param.name); });

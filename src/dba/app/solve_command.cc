@@ -4,6 +4,7 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
@@ -84,9 +85,15 @@ void PrintSolveHelp(std::ostream& out) {
          "  --intrinsics shared|per-image\n"
          "                             COLMAP input: one intrinsic group per COLMAP camera\n"
          "                             (default: shared), or one per image\n"
-         "  --fix-intrinsics LIST      hold intrinsics fixed in every group: all, or a\n"
-         "                             comma-separated list of f, cx, cy, k1, k2\n"
-         "                             (photogrammetric model only)\n"
+         "  --fix-intrinsics [GROUP:]NAMES\n"
+         "                             hold intrinsics fixed by name: all, or a comma-\n"
+         "                             separated list of the groups' lens models' names\n"
+         "                             (COLMAP's: f, fx, fy, cx, cy, k1, k2, p1, p2, ...;\n"
+         "                             see dba solve --list-camera-models), in every group\n"
+         "                             whose model has the name, or in GROUP only (a COLMAP\n"
+         "                             camera id, or a 0-based group of a .dba problem);\n"
+         "                             repeatable (photogrammetric model only)\n"
+         "  --list-camera-models       print the lens models and their parameter names\n"
          "  --fix-images LIST          hold these images' poses fixed (gauge): COLMAP image\n"
          "                             ids for a COLMAP input, 0-based camera indices\n"
          "                             otherwise (a BAL camera is then fixed whole)\n"
@@ -224,7 +231,7 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       else if (v == "per-image") o.unknowns.shared_intrinsics = false;
       else throw std::invalid_argument(a + ": expected shared or per-image, got '" + v + "'");
     } else if (a == "--fix-intrinsics") {
-      o.unknowns.fixed_intrinsics = ParseIntrinsicsList(a, value());
+      o.unknowns.fixed_intrinsics.push_back(ParseIntrinsicFixing(a, value()));
     } else if (a == "--fix-images") {
       o.unknowns.fixed_images = ParseIdList(a, value());
     } else if (a == "-t" || a == "--threads") {
@@ -495,7 +502,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       report.num_observations = h.num_observations;
       // Checked here, before the solve; every rank holds them fixed in the
       // camera side it reads (the same command line on every rank).
-      CheckedFixings(options.unknowns, h.num_cameras, h.model);
+      CheckedFixings(options.unknowns, ReadBinaryCameraSide(options.input));
     } else {
       problem = LoadSolveInput(options.input, options.unknowns);
       model = problem.model;
@@ -599,7 +606,10 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     DistributedOptions distributed = options.distributed;
     distributed.memory_check = options.memory_check;
     if (ranks_read_file) {
-      distributed.fixings = {options.unknowns.fixed_images, options.unknowns.fixed_intrinsics};
+      distributed.fixings = Fixings{options.unknowns.fixed_images, {}};
+      for (const IntrinsicFixing& x : options.unknowns.fixed_intrinsics) {
+        if (!x.names.empty()) distributed.fixings.intrinsics.push_back(x);
+      }
     }
     const RejectionCriteria criteria{options.reject_outliers_px, options.min_triangulation_angle_deg};
     distributed.reject_outliers = options.reject_outliers_px > 0;
@@ -749,6 +759,12 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
 int SolveMain(const std::vector<std::string>& args) {
   SolveCommandOptions options;
   try {
+    if (std::find(args.begin(), args.end(), "--list-camera-models") != args.end()) {
+      std::cout << "Lens models of intrinsic groups and their parameters (the names\n"
+                   "--fix-intrinsics takes; COLMAP's models as COLMAP defines them):\n"
+                << LensModelTable();
+      return 0;
+    }
     bool help = false;
     options = ParseSolveArguments(args, &help);
     if (help) {

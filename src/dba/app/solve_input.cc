@@ -44,26 +44,23 @@ std::vector<uint32_t> ColmapImageIds(const UnknownsOptions& u) {
 
 }  // namespace
 
-uint8_t ParseIntrinsicsList(const std::string& flag, const std::string& value) {
-  if (value == "all") return kAllIntrinsics;
-  if (value == "none") return 0;
-  static const char* const kNames[kPhotoIntrinsicsSize] = {"f", "cx", "cy", "k1", "k2"};
-  uint8_t mask = 0;
-  const std::vector<std::string> items = SplitCommas(value);
-  if (items.empty()) throw UsageError(flag + ": empty list (use none to fix nothing)");
-  for (const std::string& item : items) {
-    int bit = -1;
-    for (int d = 0; d < kPhotoIntrinsicsSize; ++d) {
-      if (item == kNames[d]) bit = d;
+IntrinsicFixing ParseIntrinsicFixing(const std::string& flag, const std::string& value) {
+  IntrinsicFixing fixing;
+  std::string names = value;
+  if (const size_t colon = value.find(':'); colon != std::string::npos) {
+    fixing.group = ParseIdList(flag + " (group)", value.substr(0, colon)).front();
+    if (value.substr(0, colon).find(',') != std::string::npos) {
+      throw UsageError(flag + ": one group before ':' (got '" + value.substr(0, colon) + "')");
     }
-    if (bit < 0) {
-      throw UsageError(flag + ": unknown intrinsic parameter '" + item +
-                                  "' (expected all, none, or a comma-separated list of f, "
-                                  "cx, cy, k1, k2)");
-    }
-    mask |= static_cast<uint8_t>(1u << bit);
+    names = value.substr(colon + 1);
   }
-  return mask;
+  if (names == "none") return fixing;
+  fixing.names = SplitCommas(names);
+  if (fixing.names.empty()) throw UsageError(flag + ": empty list (use none to fix nothing)");
+  for (const std::string& name : fixing.names) {
+    if (name.empty()) throw UsageError(flag + ": an empty name in '" + value + "'");
+  }
+  return fixing;
 }
 
 std::vector<int64_t> ParseIdList(const std::string& flag, const std::string& value) {
@@ -97,23 +94,38 @@ void ApplyFixings(const UnknownsOptions& u, Problem* p) {
         "--intrinsics per-image applies to COLMAP models only (a .dba problem holds its "
         "own intrinsic groups)");
   }
-  ApplyFixings(CheckedFixings(u, p->num_images(), p->model), p);
+  ApplyFixings(CheckedFixings(u, *p), p);
 }
 
-Fixings CheckedFixings(const UnknownsOptions& u, int64_t num_images, CameraModel model) {
+Fixings CheckedFixings(const UnknownsOptions& u, const CameraSide& side) {
   for (int64_t i : u.fixed_images) {
-    if (i >= num_images) {
+    if (i >= side.num_images()) {
       throw UsageError("--fix-images: camera " + std::to_string(i) +
-                       " does not exist (the problem has " + std::to_string(num_images) +
+                       " does not exist (the problem has " + std::to_string(side.num_images()) +
                        " cameras, 0-based)");
     }
   }
-  if (u.fixed_intrinsics != 0 && model != CameraModel::kPhoto) {
+  Fixings f{u.fixed_images, {}};
+  for (const IntrinsicFixing& x : u.fixed_intrinsics) {
+    if (!x.names.empty()) f.intrinsics.push_back(x);
+  }
+  if (!f.intrinsics.empty() && side.model != CameraModel::kPhoto) {
     throw UsageError(
         "--fix-intrinsics needs the photogrammetric model (a COLMAP model, or a .dba "
         "problem with shared intrinsics); a BAL camera's 9 parameters are one block");
   }
-  return Fixings{u.fixed_images, u.fixed_intrinsics};
+  CameraSide trial;  // the names against the groups' models, on a copy's flags
+  trial.model = side.model;
+  trial.intrinsics_size = side.intrinsics_size;
+  trial.group_models = side.group_models;
+  trial.camera_intrinsics = side.camera_intrinsics;
+  trial.cameras.resize(side.cameras.size());
+  try {
+    ApplyFixings(Fixings{{}, f.intrinsics}, &trial);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--fix-intrinsics: ") + e.what());
+  }
+  return f;
 }
 
 Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns) {
@@ -163,8 +175,13 @@ ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unkn
   in.format = *DetectColmapFormat(path);
   in.model = ReadColmapModel(path);
   in.source = ProblemFromColmap(in.model, ColmapOptions(unknowns), path);
-  ApplyFixings(ColmapFixings(in.model, in.source, fixed_ids, unknowns.fixed_intrinsics, path),
-               &in.source.problem);
+  const Fixings fixings =
+      ColmapFixings(in.model, in.source, fixed_ids, unknowns.fixed_intrinsics, path);
+  try {
+    ApplyFixings(fixings, &in.source.problem);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--fix-intrinsics: ") + e.what());
+  }
   return in;
 }
 

@@ -24,17 +24,20 @@ struct UnknownsOptions {
   // COLMAP input: one intrinsic group per COLMAP camera (true), or one per
   // image.
   bool shared_intrinsics = true;
-  // IntrinsicBit mask held fixed in every intrinsic group (photogrammetric
-  // model only).
-  uint8_t fixed_intrinsics = 0;
+  // Intrinsics held fixed by name (photogrammetric model only), in every
+  // group or in one: a COLMAP camera id for a COLMAP input, a 0-based group
+  // index otherwise.
+  std::vector<IntrinsicFixing> fixed_intrinsics;
   // Images whose pose (BAL: whole camera) is held fixed: COLMAP image ids for
   // a COLMAP input, 0-based camera indices otherwise.
   std::vector<int64_t> fixed_images;
 };
 
-// "f,cx,k1" / "all" / "none" -> IntrinsicBit mask; throws
-// std::invalid_argument naming the flag.
-uint8_t ParseIntrinsicsList(const std::string& flag, const std::string& value);
+// "[GROUP:]NAMES" -> the names (a comma-separated list, or all; none gives
+// no names) in group GROUP, or in every group. The names are checked
+// against the models when the input is read; throws UsageError naming the
+// flag for an empty list or a bad group.
+IntrinsicFixing ParseIntrinsicFixing(const std::string& flag, const std::string& value);
 // "3,7,12" -> ids; throws std::invalid_argument naming the flag.
 std::vector<int64_t> ParseIdList(const std::string& flag, const std::string& value);
 
@@ -48,9 +51,10 @@ bool IsColmapInput(const std::string& path);
 Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns);
 
 // The command line's fixings of a problem read from a file (not COLMAP) as
-// data (problem/fixings.h), checked against it: UsageError for an image
-// that does not exist or intrinsics of a BAL problem.
-Fixings CheckedFixings(const UnknownsOptions& unknowns, int64_t num_images, CameraModel model);
+// data (problem/fixings.h), checked against its camera side: UsageError for
+// an image or group that does not exist, intrinsics of a BAL problem, or a
+// name no targeted group's model has.
+Fixings CheckedFixings(const UnknownsOptions& unknowns, const CameraSide& side);
 // CheckedFixings, then marks them in `problem`.
 void ApplyFixings(const UnknownsOptions& unknowns, Problem* problem);
 

@@ -160,28 +160,39 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
                     static_cast<long long>(r.truth.mismatches_left_out));
       out << buf;
     }
-    // Intrinsic groups (photogrammetric model): each, or the worst of many.
+    // Intrinsic groups (photogrammetric model): each, or the worst of many
+    // (per parameter, named after the first group's model).
     const auto& err = r.truth.intrinsics_error;
+    const auto line = [&](const std::string& what, LensModel m, const std::vector<double>& e,
+                          double focal_relative) {
+      std::string s = "  intrinsics " + what + " error";
+      for (size_t j = 0; j < e.size(); ++j) {
+        std::snprintf(buf, sizeof buf, "%s %s %.4g", j == 0 ? "" : ",",
+                      LensModelParamName(m, static_cast<int>(j)).c_str(), e[j]);
+        s += buf;
+        if (j == 0) {
+          std::snprintf(buf, sizeof buf, " (%.3g %%)", 100.0 * focal_relative);
+          s += buf;
+        }
+      }
+      out << s << "\n";
+    };
     const size_t shown = err.size() <= 8 ? err.size() : 0;
     for (size_t g = 0; g < shown; ++g) {
-      std::snprintf(buf, sizeof buf,
-                    "  intrinsics %-8zu error f %.4g (%.3g %%), cx %.4g, cy %.4g, k1 %.3g, k2 %.3g\n",
-                    g, err[g][0], 100.0 * err[g][0] / r.truth.true_focal[g], err[g][1], err[g][2],
-                    err[g][3], err[g][4]);
-      out << buf;
+      std::snprintf(buf, sizeof buf, "%-8zu", g);
+      line(buf, r.truth.intrinsics_model[g], err[g], err[g][0] / r.truth.true_focal[g]);
     }
     if (err.size() > shown) {
-      std::array<double, kPhotoIntrinsicsSize> worst{};
+      std::vector<double> worst(err[0].size(), 0.0);
       double worst_f = 0.0;
       for (size_t g = 0; g < err.size(); ++g) {
-        for (int j = 0; j < kPhotoIntrinsicsSize; ++j) worst[j] = std::max(worst[j], err[g][j]);
+        for (size_t j = 0; j < std::min(worst.size(), err[g].size()); ++j) {
+          worst[j] = std::max(worst[j], err[g][j]);
+        }
         worst_f = std::max(worst_f, err[g][0] / r.truth.true_focal[g]);
       }
-      std::snprintf(buf, sizeof buf,
-                    "  intrinsics (%zu groups) largest error f %.4g (%.3g %%), cx %.4g, cy %.4g, "
-                    "k1 %.3g, k2 %.3g\n",
-                    err.size(), worst[0], 100.0 * worst_f, worst[1], worst[2], worst[3], worst[4]);
-      out << buf;
+      line("(" + std::to_string(err.size()) + " groups) largest", r.truth.intrinsics_model[0],
+           worst, worst_f);
     }
   }
   if (r.solve.ranks > 1) {
@@ -324,13 +335,14 @@ std::string SolveReportJson(const SolveReport& r) {
       nlohmann::ordered_json groups = nlohmann::ordered_json::array();
       for (size_t g = 0; g < r.truth.intrinsics_error.size(); ++g) {
         const auto& e = r.truth.intrinsics_error[g];
-        groups.push_back({{"group", g},
-                          {"f", e[0]},
-                          {"f_relative", e[0] / r.truth.true_focal[g]},
-                          {"cx", e[1]},
-                          {"cy", e[2]},
-                          {"k1", e[3]},
-                          {"k2", e[4]}});
+        const LensModel m = r.truth.intrinsics_model[g];
+        nlohmann::ordered_json group = {{"group", g},
+                                        {"model", Info(m).name},
+                                        {"f_relative", e[0] / r.truth.true_focal[g]}};
+        for (size_t p = 0; p < e.size(); ++p) {
+          group[LensModelParamName(m, static_cast<int>(p))] = e[p];
+        }
+        groups.push_back(std::move(group));
       }
       j["ground_truth"]["intrinsics_error"] = groups;
     }

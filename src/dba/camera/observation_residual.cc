@@ -12,10 +12,9 @@ Vec2 ObservationResidual(const CameraSide& side, const double* cameras, int32_t 
   if (side.model == CameraModel::kBal) {
     return BalResidual(cameras + kBalCameraSize * int64_t{i}, X, pixel);
   }
-  const int64_t intrinsics = kPhotoPoseSize * side.num_images();
-  return PhotoResidual(cameras + kPhotoPoseSize * int64_t{i},
-                       cameras + intrinsics + kPhotoIntrinsicsSize * int64_t{side.camera_intrinsics[i]},
-                       X, pixel);
+  const int32_t g = side.camera_intrinsics[i];
+  return PhotoResidual(side.group_model(g), cameras + kPhotoPoseSize * int64_t{i},
+                       cameras + side.intrinsics_offset(g), X, pixel);
 }
 
 Vec2 ObservationResidual(const CameraSide& side, const double* cameras, RotationFrameCache* frames,
@@ -25,11 +24,10 @@ Vec2 ObservationResidual(const CameraSide& side, const double* cameras, Rotation
     return BalResidualAndJacobians(frames->Get(i, camera), camera, X, pixel, nullptr, nullptr);
   }
   const double* pose = cameras + kPhotoPoseSize * int64_t{i};
-  const int64_t intrinsics = kPhotoPoseSize * side.num_images();
-  return PhotoResidualAndJacobians(
-      frames->Get(i, pose), pose,
-      cameras + intrinsics + kPhotoIntrinsicsSize * int64_t{side.camera_intrinsics[i]}, X, pixel,
-      nullptr, nullptr, nullptr);
+  const int32_t g = side.camera_intrinsics[i];
+  return PhotoResidualAndJacobians(side.group_model(g), frames->Get(i, pose), pose,
+                                   cameras + side.intrinsics_offset(g), X, pixel, nullptr,
+                                   nullptr, nullptr);
 }
 
 NonFiniteResiduals FindNonFiniteResiduals(const Problem& problem, int keep) {

@@ -34,9 +34,9 @@ TEST(ObservationResidual, PhotoModelUsesTheImagesGroup) {
   const double X[3] = {0.1, -0.2, 0.3}, pixel[2] = {300.0, 200.0};
   for (int32_t i = 0; i < p.num_images(); ++i) {
     const Vec2 r = ObservationResidual(p, p.cameras.data(), i, X, pixel);
-    EXPECT_EQ(r, PhotoResidual(p.camera(i), p.intrinsics(i % 3), X, pixel)) << i;
+    EXPECT_EQ(r, PhotoResidual(LensModel::kRadial, p.camera(i), p.intrinsics(i % 3), X, pixel)) << i;
     if (i % 3 != 0) {
-      EXPECT_NE(r, PhotoResidual(p.camera(i), p.intrinsics(0), X, pixel)) << i;
+      EXPECT_NE(r, PhotoResidual(LensModel::kRadial, p.camera(i), p.intrinsics(0), X, pixel)) << i;
     }
   }
 }

@@ -1,45 +1,41 @@
-// The photogrammetric camera model with shared intrinsics (the
-// paper's 6 exterior + 5 interior unknowns), in COLMAP's conventions (camera
-// looks down +z, image origin at the top-left pixel corner, y down):
+// The photogrammetric camera: a pose per image and an intrinsic group, in
+// one of the lens models (problem/lens_model.h), shared by the images taken
+// with it. COLMAP's conventions (camera looks down +z, image origin at the
+// top-left pixel corner, y down):
 //
-//   pose  (6 per image):           ω[3] angle-axis, t[3]      (world -> camera)
-//   intrinsics (5 per camera):     f, cx, cy, k1, k2          (shared by images)
+//   pose  (6 per image):   ω[3] angle-axis, t[3]      (world -> camera)
+//   intrinsics:            the group's lens model's parameters, in its order
 //
-//   P = R(ω) X + t,   p = P.xy / P.z,   d = 1 + k1 |p|² + k2 |p|⁴
-//   u = f d p + (cx, cy),   residual r = u - u_observed
+//   P = R(ω) X + t,   u = lens(P) (camera/lens_projection.h),
+//   residual r = u - u_observed
 //
-// Derivatives:
-//   ∂u/∂p = f (d I + 2 (k1 + 2 k2 |p|²) p pᵀ)
-//   ∂p/∂P = [ 1/Pz   0   -Px/Pz² ]
-//           [  0   1/Pz  -Py/Pz² ]
+// Derivatives (∂u/∂P and ∂u/∂intrinsics from the lens):
 //   ∂P/∂X = R,  ∂P/∂t = I,  ∂P/∂ω = -[R X]ₓ J_l(ω)
-//   ∂u/∂f = d p,  ∂u/∂(cx, cy) = I,  ∂u/∂k1 = f |p|² p,  ∂u/∂k2 = f |p|⁴ p
-// COLMAP's SIMPLE_PINHOLE, PINHOLE (fx = fy), SIMPLE_RADIAL and RADIAL are
-// this model with some intrinsics held at zero.
 //
 // All functions are pure and thread-safe.
 #pragma once
 
+#include "dba/camera/lens_projection.h"
 #include "dba/camera/rotation.h"
 
 namespace dba {
 
 inline constexpr int kPoseSize = 6;
-inline constexpr int kIntrinsicsSize = 5;
 
 using PoseJacobian = Eigen::Matrix<double, 2, kPoseSize, Eigen::RowMajor>;
-using IntrinsicsJacobian = Eigen::Matrix<double, 2, kIntrinsicsSize, Eigen::RowMajor>;
+// ∂r/∂intrinsics: the first LensModelParams(model) columns.
+using IntrinsicsJacobian = LensParamsJacobian;
 
-Vec2 PhotoResidual(const double* pose, const double* intrinsics, const double* point,
-                   const double* observed);
+Vec2 PhotoResidual(LensModel model, const double* pose, const double* intrinsics,
+                   const double* point, const double* observed);
 
 // Residual and Jacobians; any Jacobian pointer may be null.
-Vec2 PhotoResidualAndJacobians(const double* pose, const double* intrinsics,
+Vec2 PhotoResidualAndJacobians(LensModel model, const double* pose, const double* intrinsics,
                                const double* point, const double* observed,
                                PoseJacobian* J_pose, IntrinsicsJacobian* J_intrinsics,
                                PointJacobian* J_point);
 // The same with the pose's rotation frame given (MakeRotationFrame(pose)).
-Vec2 PhotoResidualAndJacobians(const RotationFrame& frame, const double* pose,
+Vec2 PhotoResidualAndJacobians(LensModel model, const RotationFrame& frame, const double* pose,
                                const double* intrinsics, const double* point,
                                const double* observed, PoseJacobian* J_pose,
                                IntrinsicsJacobian* J_intrinsics, PointJacobian* J_point);

@@ -11,8 +11,8 @@ namespace {
 
 void SendShare(Communicator* comm, int rank, const RankShare& s) {
   const Traffic t = Traffic::kDistribution;
-  int32_t model = static_cast<int32_t>(s.problem.model);
-  comm->Send(rank, t, std::span<const int32_t>(&model, 1));
+  const int32_t scalars[2] = {static_cast<int32_t>(s.problem.model), s.problem.intrinsics_size};
+  comm->Send(rank, t, std::span<const int32_t>(scalars, 2));
   comm->SendVector(rank, t, s.global_camera);
   comm->SendVector(rank, t, s.global_intrinsics);
   comm->SendVector(rank, t, s.global_point);
@@ -46,9 +46,10 @@ std::function<void(const RcsSystem&)> EstimateAndCheck(const Communicator* comm,
 RankShare RecvShare(Communicator* comm) {
   const Traffic t = Traffic::kDistribution;
   RankShare s;
-  int32_t model = 0;
-  comm->Recv(0, t, std::span<int32_t>(&model, 1));
-  s.problem.model = static_cast<CameraModel>(model);
+  int32_t scalars[2] = {0, 0};
+  comm->Recv(0, t, std::span<int32_t>(scalars, 2));
+  s.problem.model = static_cast<CameraModel>(scalars[0]);
+  s.problem.intrinsics_size = scalars[1];
   s.global_camera = comm->RecvVector<int32_t>(0, t);
   s.global_intrinsics = comm->RecvVector<int32_t>(0, t);
   s.global_point = comm->RecvVector<int64_t>(0, t);

@@ -8,6 +8,8 @@ RankShare ExtractShare(const Problem& full, std::span<const int32_t> point_group
   RankShare s;
   Problem& p = s.problem;
   p.model = full.model;
+  p.intrinsics_size = full.intrinsics_size;
+  p.group_models = full.group_models;
   p.cameras = full.cameras;
   p.camera_intrinsics = full.camera_intrinsics;
   p.fixed_cameras = full.fixed_cameras;
@@ -32,7 +34,9 @@ void KeepTouchedCameras(RankShare* share) {
   Problem& p = share->problem;
   Problem old;  // the camera side as it was
   old.model = p.model;
+  old.intrinsics_size = p.intrinsics_size;
   old.cameras.swap(p.cameras);
+  old.group_models.swap(p.group_models);
   old.camera_intrinsics.swap(p.camera_intrinsics);
   old.fixed_cameras.swap(p.fixed_cameras);
   old.fixed_intrinsics.swap(p.fixed_intrinsics);
@@ -57,7 +61,8 @@ void KeepTouchedCameras(RankShare* share) {
     local_group[g] = static_cast<int32_t>(share->global_intrinsics.size());
     share->global_intrinsics.push_back(static_cast<int32_t>(g));
     p.cameras.insert(p.cameras.end(), old.intrinsics(g),
-                     old.intrinsics(g) + kPhotoIntrinsicsSize);
+                     old.intrinsics(g) + old.intrinsics_size);
+    if (!old.group_models.empty()) p.group_models.push_back(old.group_models[g]);
     if (!old.fixed_intrinsics.empty()) p.fixed_intrinsics.push_back(old.fixed_intrinsics[g]);
   }
   for (int32_t c : share->global_camera) {

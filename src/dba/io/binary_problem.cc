@@ -23,6 +23,7 @@ static_assert(std::endian::native == std::endian::little,
 constexpr char kMagic[8] = {'D', 'B', 'A', 'P', 'R', 'O', 'B', '\n'};
 constexpr uint32_t kVersion1 = 1;  // BAL only
 constexpr uint32_t kVersion2 = 2;  // + photogrammetric model, fixed flags
+constexpr uint32_t kVersion3 = 3;  // + a lens model per group, 1 to 16 intrinsic slots
 constexpr uint32_t kByteOrderMark = 0x01020304;
 constexpr uint32_t kBalModel = 1;
 constexpr uint32_t kPhotoModel = 2;
@@ -39,9 +40,10 @@ struct RawHeader {
   uint64_t counts[3];
   uint64_t sections[5];
   uint64_t file_size;
-  // Version 2 (version 1: zero).
+  // Version 2 and 3 (version 1: zero).
   uint32_t intrinsic_groups;
-  uint32_t optional_sections;
+  uint16_t optional_sections;
+  uint16_t intrinsic_slots;  // version 3 (version 2: zero)
   uint64_t sections2[3];  // intrinsics, image groups, flags
 };
 static_assert(sizeof(RawHeader) == kHeaderSize);
@@ -53,7 +55,8 @@ int64_t Align8(int64_t x) { return (x + 7) & ~int64_t{7}; }
 // or the flags need it. Throws std::invalid_argument for a group count that
 // does not fit the model.
 BinaryProblemHeader Layout(CameraModel model, int64_t cameras, int64_t groups, bool fixed,
-                           bool free, int64_t points, int64_t observations) {
+                           bool free, int64_t points, int64_t observations, bool v3 = false,
+                           int slots = kPhotoIntrinsicsSize) {
   const bool photo = model == CameraModel::kPhoto;
   if (photo ? (groups < 1 || groups > cameras) : (groups != 0 || free)) {
     throw std::invalid_argument("binary problem: " + std::to_string(groups) +
@@ -61,7 +64,8 @@ BinaryProblemHeader Layout(CameraModel model, int64_t cameras, int64_t groups, b
                                 (photo ? " photogrammetric images" : " BAL cameras"));
   }
   BinaryProblemHeader h;
-  h.version = photo || fixed || free ? kVersion2 : kVersion1;
+  h.version = v3 ? kVersion3 : photo || fixed || free ? kVersion2 : kVersion1;
+  h.intrinsics_size = slots;
   h.model = model;
   h.camera_model = photo ? kPhotoModel : kBalModel;
   h.camera_size = photo ? kPhotoPoseSize : kBalCameraSize;
@@ -73,9 +77,11 @@ BinaryProblemHeader Layout(CameraModel model, int64_t cameras, int64_t groups, b
   h.has_intrinsics_free = free;
   h.cameras_offset = kHeaderSize;
   h.intrinsics_offset = h.cameras_offset + 8 * int64_t{h.camera_size} * cameras;
-  h.image_groups_offset = h.intrinsics_offset + 8 * kPhotoIntrinsicsSize * groups;
+  h.group_models_offset = h.intrinsics_offset + 8 * int64_t{slots} * groups;
+  h.image_groups_offset = Align8(h.group_models_offset + (v3 ? 2 * groups : 0));
   h.flags_offset = Align8(h.image_groups_offset + (photo ? 4 * cameras : 0));
-  h.points_offset = Align8(h.flags_offset + (fixed ? cameras : 0) + (free ? groups : 0));
+  h.points_offset =
+      Align8(h.flags_offset + (fixed ? cameras : 0) + (free ? (v3 ? 2 : 1) * groups : 0));
   h.point_offsets_offset = h.points_offset + 8 * kPointSize * points;
   h.obs_camera_offset = h.point_offsets_offset + 8 * (points + 1);
   h.obs_pixel_offset = Align8(h.obs_camera_offset + 4 * observations);
@@ -125,6 +131,7 @@ void CheckCameras(const BinaryFile& f, std::span<const int32_t> cameras, int64_t
 CameraSide ReadCameraSide(const BinaryFile& f, const BinaryProblemHeader& h) {
   CameraSide p;
   p.model = h.model;
+  p.intrinsics_size = h.intrinsics_size;
   p.cameras = f.ReadArrayAt<double>(h.cameras_offset, h.camera_side_size(), "cameras");
   const int64_t poses = int64_t{h.camera_size} * h.num_cameras;
   for (int64_t i = 0; i < static_cast<int64_t>(p.cameras.size()); ++i) {
@@ -134,8 +141,31 @@ CameraSide ReadCameraSide(const BinaryFile& f, const BinaryProblemHeader& h) {
     }
     throw InputError(f.path(), 0,
                      "non-finite value in intrinsics of group " +
-                         std::to_string((i - poses) / kPhotoIntrinsicsSize) + " (parameter " +
-                         std::to_string((i - poses) % kPhotoIntrinsicsSize) + ")");
+                         std::to_string((i - poses) / h.intrinsics_size) + " (parameter " +
+                         std::to_string((i - poses) % h.intrinsics_size) + ")");
+  }
+  if (h.version == kVersion3) {
+    // Per group: lens model id, parameter count.
+    const std::vector<uint8_t> models =
+        f.ReadArrayAt<uint8_t>(h.group_models_offset, 2 * h.num_intrinsics, "group models");
+    p.group_models.resize(h.num_intrinsics);
+    for (int64_t g = 0; g < h.num_intrinsics; ++g) {
+      const LensModelInfo* m = FindLensModel(models[2 * g]);
+      if (m == nullptr) {
+        throw InputError(f.path(), 0,
+                         "intrinsic group " + std::to_string(g) + ": unknown lens model id " +
+                             std::to_string(models[2 * g]) + " (this dba knows " +
+                             LensModelNames() + ")");
+      }
+      if (models[2 * g + 1] != m->num_params || m->num_params > h.intrinsics_size) {
+        throw InputError(f.path(), 0,
+                         "intrinsic group " + std::to_string(g) + ": " + m->name + " has " +
+                             std::to_string(m->num_params) + " parameters, the file says " +
+                             std::to_string(models[2 * g + 1]) + " in " +
+                             std::to_string(h.intrinsics_size) + " slots per group");
+      }
+      p.group_models[g] = m->id;
+    }
   }
   if (h.model == CameraModel::kPhoto) {
     p.camera_intrinsics = f.ReadArrayAt<int32_t>(h.image_groups_offset, h.num_cameras, "image groups");
@@ -161,15 +191,26 @@ CameraSide ReadCameraSide(const BinaryFile& f, const BinaryProblemHeader& h) {
     }
   }
   if (h.has_intrinsics_free) {
-    // The file stores the free parameters; the problem the fixed ones.
-    p.fixed_intrinsics = f.ReadArrayAt<uint8_t>(flags, h.num_intrinsics, "free intrinsics");
+    // The file stores the free parameters (u8 masks in version 2, u16 in
+    // version 3); the problem the fixed ones.
+    std::vector<uint16_t> free;
+    if (h.version == kVersion3) {
+      free = f.ReadArrayAt<uint16_t>(flags, h.num_intrinsics, "free intrinsics");
+    } else {
+      const std::vector<uint8_t> v2 = f.ReadArrayAt<uint8_t>(flags, h.num_intrinsics, "free intrinsics");
+      free.assign(v2.begin(), v2.end());
+    }
+    p.fixed_intrinsics.resize(h.num_intrinsics);
     for (int64_t g = 0; g < h.num_intrinsics; ++g) {
-      uint8_t& m = p.fixed_intrinsics[g];
-      if (m > kAllIntrinsics) {
-        throw InputError(f.path(), 0, "free-intrinsics mask " + std::to_string(m) + " of group " +
-                                          std::to_string(g) + " has bits beyond f, cx, cy, k1, k2");
+      const uint16_t all = LensModelParamMask(p.group_model(g));
+      if ((free[g] & ~all) != 0) {
+        throw InputError(f.path(), 0, "free-intrinsics mask " + std::to_string(free[g]) +
+                                          " of group " + std::to_string(g) +
+                                          " has bits beyond its " + Info(p.group_model(g)).name +
+                                          " model's parameters (" + Info(p.group_model(g)).params +
+                                          ")");
       }
-      m = static_cast<uint8_t>(kAllIntrinsics & ~m);
+      p.fixed_intrinsics[g] = static_cast<uint16_t>(all & ~free[g]);
     }
   }
   return p;
@@ -182,15 +223,36 @@ BinaryProblemHeader CameraSideLayout(const Problem& c, int64_t points, int64_t o
   const bool photo = c.model == CameraModel::kPhoto;
   const int64_t n = c.num_images(), g = c.num_groups();
   const bool sizes_ok =
-      photo ? static_cast<int64_t>(c.cameras.size()) == kPhotoPoseSize * n + kPhotoIntrinsicsSize * g
+      photo ? c.intrinsics_size >= 1 && c.intrinsics_size <= kMaxIntrinsics &&
+                  static_cast<int64_t>(c.cameras.size()) ==
+                      kPhotoPoseSize * n + int64_t{c.intrinsics_size} * g &&
+                  (c.group_models.empty() || static_cast<int64_t>(c.group_models.size()) == g)
             : c.cameras.size() % kBalCameraSize == 0 && c.camera_intrinsics.empty();
   if (!sizes_ok || (!c.fixed_cameras.empty() && static_cast<int64_t>(c.fixed_cameras.size()) != n) ||
       (!c.fixed_intrinsics.empty() && static_cast<int64_t>(c.fixed_intrinsics.size()) != g)) {
     throw std::invalid_argument(
         "BinaryProblemWriter: camera parameters, image groups and fixed flags do not agree");
   }
+  // Version 3 only when version 2 cannot hold it: a model other than
+  // RADIAL, or other than 5 slots per group.
+  bool v3 = photo && c.intrinsics_size != kPhotoIntrinsicsSize;
+  for (int64_t x = 0; photo && x < g; ++x) {
+    const LensModel m = c.group_model(x);
+    if (m != LensModel::kRadial) v3 = true;
+    if (LensModelParams(m) > c.intrinsics_size) {
+      throw std::invalid_argument("BinaryProblemWriter: group " + std::to_string(x) + "'s " +
+                                  Info(m).name + " model has more parameters than " +
+                                  std::to_string(c.intrinsics_size) + " slots");
+    }
+    if (!c.fixed_intrinsics.empty() && (c.fixed_intrinsics[x] & ~LensModelParamMask(m)) != 0) {
+      throw std::invalid_argument("BinaryProblemWriter: fixed-intrinsics mask " +
+                                  std::to_string(c.fixed_intrinsics[x]) + " of group " +
+                                  std::to_string(x) + " has bits beyond its " + Info(m).name +
+                                  " model's parameters");
+    }
+  }
   return Layout(c.model, n, g, !c.fixed_cameras.empty(), !c.fixed_intrinsics.empty(), points,
-                observations);
+                observations, v3, photo ? c.intrinsics_size : kPhotoIntrinsicsSize);
 }
 
 }  // namespace
@@ -219,11 +281,12 @@ BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
   if (raw.byte_order != kByteOrderMark) {
     throw InputError(path, 0, "written with another byte order (big-endian?)");
   }
-  if (raw.version != kVersion1 && raw.version != kVersion2) {
+  if (raw.version != kVersion1 && raw.version != kVersion2 && raw.version != kVersion3) {
     throw InputError(path, 0, "format version " + std::to_string(raw.version) +
-                                  ", this dba reads versions 1 and 2");
+                                  ", this dba reads versions 1 to 3");
   }
-  const bool v2 = raw.version == kVersion2;
+  const bool v3 = raw.version == kVersion3;
+  const bool v2 = raw.version == kVersion2 || v3;  // version 3 extends version 2
   const bool bal = raw.camera_model == kBalModel && raw.camera_size == kBalCameraSize;
   const bool photo = v2 && raw.camera_model == kPhotoModel && raw.camera_size == kPhotoPoseSize;
   if (!bal && !photo) {
@@ -254,7 +317,7 @@ BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
   if (v2) {
     if ((raw.optional_sections & ~(kHasFixedCameras | kHasIntrinsicsFree)) != 0 ||
         (!photo && (raw.optional_sections & kHasIntrinsicsFree) != 0)) {
-      throw InputError(path, 0, "version 2 header: unknown optional sections " +
+      throw InputError(path, 0, "version 2/3 header: unknown optional sections " +
                                     std::to_string(raw.optional_sections) + " for camera model " +
                                     std::to_string(raw.camera_model));
     }
@@ -267,13 +330,21 @@ BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
                                            : " BAL cameras (need 0)"));
     }
   }
+  if (v2 && (v3 ? !photo || raw.intrinsic_slots < 1 || raw.intrinsic_slots > kMaxIntrinsics
+                 : raw.intrinsic_slots != 0)) {
+    throw InputError(path, 0, "version " + std::to_string(raw.version) + " header: " +
+                                  std::to_string(raw.intrinsic_slots) +
+                                  " intrinsic slots per group (version 3: 1 to 16, "
+                                  "photogrammetric model only; version 2: 0)");
+  }
   // (Version 1: the padding is not looked at, as before version 2.)
   const uint32_t optional = v2 ? raw.optional_sections : 0;
   BinaryProblemHeader h =
       Layout(photo ? CameraModel::kPhoto : CameraModel::kBal, cameras,
              v2 ? raw.intrinsic_groups : 0, (optional & kHasFixedCameras) != 0,
              (optional & kHasIntrinsicsFree) != 0,
-             static_cast<int64_t>(raw.counts[1]), static_cast<int64_t>(raw.counts[2]));
+             static_cast<int64_t>(raw.counts[1]), static_cast<int64_t>(raw.counts[2]), v3,
+             v3 ? raw.intrinsic_slots : kPhotoIntrinsicsSize);
   h.version = raw.version;  // a v2 file may hold what v1 could
   const int64_t sections[5] = {h.cameras_offset, h.points_offset, h.point_offsets_offset,
                                h.obs_camera_offset, h.obs_pixel_offset};
@@ -506,18 +577,27 @@ BinaryProblemWriter::BinaryProblemWriter(const std::string& path, const Problem&
                                     " out of range [0, " + std::to_string(h_.num_intrinsics) + ")");
       }
     }
+    if (h_.version == kVersion3) {
+      std::vector<uint8_t> models;
+      for (int64_t g = 0; g < h_.num_intrinsics; ++g) {
+        models.push_back(static_cast<uint8_t>(c.group_model(g)));
+        models.push_back(static_cast<uint8_t>(LensModelParams(c.group_model(g))));
+      }
+      models.resize(h_.image_groups_offset - h_.group_models_offset, 0);  // zero padding
+      Write(h_.group_models_offset, models.data(), static_cast<int64_t>(models.size()));
+    }
     const int64_t end = h_.image_groups_offset + 4 * h_.num_cameras;
     Write(h_.image_groups_offset, c.camera_intrinsics.data(), 4 * h_.num_cameras);
     Write(end, zeros, h_.flags_offset - end);
   }
   std::vector<uint8_t> flags;
   for (uint8_t f : c.fixed_cameras) flags.push_back(f != 0 ? 1 : 0);
-  for (uint8_t m : c.fixed_intrinsics) {
-    if (m > kAllIntrinsics) {
-      throw std::invalid_argument("BinaryProblemWriter: fixed-intrinsics mask " +
-                                  std::to_string(m) + " beyond kAllIntrinsics");
-    }
-    flags.push_back(static_cast<uint8_t>(kAllIntrinsics & ~m));  // the file stores the free ones
+  for (size_t g = 0; g < c.fixed_intrinsics.size(); ++g) {
+    // The file stores the free ones (CameraSideLayout checked the masks).
+    const uint16_t free =
+        static_cast<uint16_t>(LensModelParamMask(c.group_model(g)) & ~c.fixed_intrinsics[g]);
+    flags.push_back(static_cast<uint8_t>(free & 0xff));
+    if (h_.version == kVersion3) flags.push_back(static_cast<uint8_t>(free >> 8));
   }
   flags.resize(h_.points_offset - h_.flags_offset, 0);  // zero padding
   Write(h_.flags_offset, flags.data(), static_cast<int64_t>(flags.size()));
@@ -537,10 +617,11 @@ void BinaryProblemWriter::WriteHeader() {
                                h_.obs_camera_offset, h_.obs_pixel_offset};
   for (int s = 0; s < 5; ++s) raw.sections[s] = sections[s];
   raw.file_size = h_.file_size;
-  if (h_.version == kVersion2) {
+  if (h_.version == kVersion2 || h_.version == kVersion3) {
     raw.intrinsic_groups = static_cast<uint32_t>(h_.num_intrinsics);
-    raw.optional_sections = (h_.has_fixed_cameras ? kHasFixedCameras : 0) |
-                            (h_.has_intrinsics_free ? kHasIntrinsicsFree : 0);
+    raw.optional_sections = static_cast<uint16_t>((h_.has_fixed_cameras ? kHasFixedCameras : 0) |
+                                                  (h_.has_intrinsics_free ? kHasIntrinsicsFree : 0));
+    if (h_.version == kVersion3) raw.intrinsic_slots = static_cast<uint16_t>(h_.intrinsics_size);
     raw.sections2[0] = h_.intrinsics_offset;
     raw.sections2[1] = h_.image_groups_offset;
     raw.sections2[2] = h_.flags_offset;

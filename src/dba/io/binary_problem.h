@@ -3,10 +3,12 @@
 // owns without reading the rest (docs/design.md §4, §6).
 //
 // Version 1 holds BAL problems; version 2 adds the photogrammetric model
-// (poses plus shared intrinsic groups) and the fixed flags. A writer uses
-// version 2 only when the problem needs it (camera model 2, or fixed flags),
-// so a plain BAL problem is still written as version 1, byte for byte as
-// before; both versions are read.
+// (poses plus shared intrinsic groups of 5 RADIAL parameters) and the fixed
+// flags; version 3 gives each group a lens model (problem/lens_model.h) and
+// the groups 1 to 16 parameter slots. A writer uses the lowest version that
+// holds the problem (version 2: camera model 2 or fixed flags; version 3: a
+// group whose model is not RADIAL, or slots other than 5), so older problems
+// are still written byte for byte as before; all three versions are read.
 //
 //   offset 0    header, 128 bytes:
 //                 magic "DBAPROB\n" | u32 version (1 or 2) | u32 byte-order
@@ -19,24 +21,36 @@
 //               version 1: zero padding (32 bytes; written as zeros, not
 //                 read)
 //               version 2: u32 intrinsic groups (model 1: 0; model 2: 1 to
-//                 cameras, which are at most 2^31) | u32 optional sections (bit 0: fixed cameras,
-//                 bit 1: free intrinsics, model 2 only; other bits 0) | u64
+//                 cameras, which are at most 2^31) | u16 optional sections (bit 0: fixed cameras,
+//                 bit 1: free intrinsics, model 2 only; other bits 0) | u16 zero | u64
 //                 section offsets: intrinsics, image groups, flags
+//               version 3 (model 2 only): as version 2, but the u16 after
+//                 the optional sections is the slots per group S (1 to 16)
 //   sections, each starting at a multiple of 8 bytes, in this order:
 //     cameras        f64[camera size · cameras]  BAL cameras, or image poses
 //                                          (ω, t; world -> camera, COLMAP's
 //                                          axes, camera/photo_camera.h)
 //     intrinsics     f64[5 · groups]     (version 2) f, cx, cy, k1, k2 per
-//                                          group; right after the cameras,
-//                                          so the two are Problem::cameras
+//                                          group; version 3: f64[S · groups],
+//                                          each group's model's parameters in
+//                                          its order, unused slots 0; right
+//                                          after the cameras, so the two are
+//                                          Problem::cameras
+//     group models   (version 3) u8[2 · groups]  per group its lens model id
+//                                          and parameter count (checked
+//                                          against the model), zero-padded
+//                                          to 8 bytes; its offset follows
+//                                          from the counts (not in the header)
 //     image groups   i32[cameras]        (version 2, model 2; else empty)
 //                                          group of each image, in
 //                                          [0, groups); zero-padded to 8 bytes
 //     flags          (version 2) u8[cameras] fixed_cameras (0/1) if bit 0,
 //                                          then u8[groups] free intrinsics
-//                                          (IntrinsicBit masks, <= 31; the
-//                                          complement of fixed_intrinsics) if
-//                                          bit 1; zero-padded to 8 bytes
+//                                          (version 3: u16[groups]; bit j:
+//                                          parameter j, within the group's
+//                                          model; the complement of
+//                                          fixed_intrinsics) if bit 1;
+//                                          zero-padded to 8 bytes
 //     points         f64[3 · points]
 //     point offsets  i64[points + 1]     observations of point k are
 //                                          [offsets[k], offsets[k+1])
@@ -48,8 +62,8 @@
 // refused.
 //
 // The fixed flags are problem data, stored when non-empty: fixed_intrinsics
-// says which intrinsics a camera model has at all (SIMPLE_PINHOLE has no k1;
-// colmap_problem.h), so dropping it would change the problem, and
+// holds what the problem was posed with fixed (a version-2 file of a COLMAP
+// SIMPLE_PINHOLE camera holds it with k1, k2 fixed at 0), and
 // fixed_cameras (e.g. a COLMAP model's fixed images) fixes the gauge the
 // problem was posed with. A distributed solve needs them on every rank and on
 // the main rank alike, which reading them from the one file guarantees.
@@ -83,6 +97,7 @@ struct BinaryProblemHeader {
   bool has_intrinsics_free = false;
   int64_t cameras_offset = 0;
   int64_t intrinsics_offset = 0;
+  int64_t group_models_offset = 0;  // version 3 (derived, not in the header)
   int64_t image_groups_offset = 0;
   int64_t flags_offset = 0;
   int64_t points_offset = 0;
@@ -90,10 +105,11 @@ struct BinaryProblemHeader {
   int64_t obs_camera_offset = 0;
   int64_t obs_pixel_offset = 0;
   int64_t file_size = 0;
+  int32_t intrinsics_size = kPhotoIntrinsicsSize;  // slots per group (version 3: 1 to 16)
 
-  // Size of Problem::cameras: camera size · cameras + 5 · groups.
+  // Size of Problem::cameras: camera size · cameras + slots · groups.
   int64_t camera_side_size() const {
-    return int64_t{camera_size} * num_cameras + kPhotoIntrinsicsSize * num_intrinsics;
+    return int64_t{camera_size} * num_cameras + int64_t{intrinsics_size} * num_intrinsics;
   }
 };
 

@@ -501,7 +501,7 @@ TEST_F(CorruptPhotoBinaryTest, RefusesEachFailureMode) {
   ExpectRefused(With<uint32_t>(20, 9), "camera model 2 of size 9 is not supported");
   ExpectRefused(With<uint32_t>(16, 3), "camera model 3 of size 6 is not supported");
   ExpectRefused(With<uint32_t>(8, 1), "camera model 2 of size 6 is not supported in version 1");
-  ExpectRefused(With<uint32_t>(8, 3), "format version 3, this dba reads versions 1 and 2");
+  ExpectRefused(With<uint32_t>(8, 4), "format version 4, this dba reads versions 1 to 3");
   // A BAL model with free-intrinsics masks, or with intrinsic groups.
   std::string b = With<uint32_t>(16, 1);
   const uint32_t nine = 9, fixed_only = 1;
@@ -529,8 +529,10 @@ TEST_F(CorruptPhotoBinaryTest, EveryReaderRefusesABadGroup) {
 
 TEST_F(CorruptBinaryTest, Version1RelabelledAsVersion2OrAnUnknownVersionIsRefused) {
   std::string b = bytes_;
-  b[8] = 3;
-  ExpectRefused(b, "format version 3");
+  b[8] = 4;
+  ExpectRefused(b, "format version 4");
+  b[8] = 3;  // version 3 is photogrammetric only
+  ExpectRefused(b, "version 3 header: 0 intrinsic slots");
   b[8] = 2;  // the version-2 section table is zero
   ExpectRefused(b, "version 2 header: intrinsics, image groups and flags sections do not match");
 }
@@ -570,7 +572,7 @@ TEST(CheckedInBinaryFiles, Version2PhotoWithFixingsDecodes) {
                                  0.002}));
   EXPECT_EQ(p.camera_intrinsics, (std::vector<int32_t>{0, 1, 0}));
   EXPECT_EQ(p.fixed_cameras, (std::vector<uint8_t>{0, 1, 0}));
-  EXPECT_EQ(p.fixed_intrinsics, (std::vector<uint8_t>{0, kIntrinsicCx | kIntrinsicCy}));
+  EXPECT_EQ(p.fixed_intrinsics, (std::vector<uint16_t>{0, kIntrinsicCx | kIntrinsicCy}));
   EXPECT_EQ(p.points, (std::vector<double>{0.5, 0.25, 10, -0.5, 1.5, 12}));
   EXPECT_EQ(p.point_offsets, (std::vector<int64_t>{0, 2, 4}));
   EXPECT_EQ(p.obs_camera, (std::vector<int32_t>{0, 2, 1, 2}));

@@ -42,7 +42,7 @@ void ReadCameras(const std::string& path, ColmapModel* model) {
     c.width = in.Get<uint64_t>("width");
     c.height = in.Get<uint64_t>("height");
     c.params.resize(m->num_params);
-    const std::string what = std::string(m->name) + " parameters (" + m->params_info + ")";
+    const std::string what = std::string(m->name) + " parameters (" + m->params + ")";
     in.Read(c.params.data(), sizeof(double) * c.params.size(), what.c_str());
   }
   in.ExpectEnd("the last camera");

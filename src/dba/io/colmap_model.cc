@@ -24,34 +24,6 @@
 namespace dba {
 namespace {
 
-// COLMAP's camera models (src/colmap/sensor/models.h), in id order.
-constexpr ColmapCameraModelInfo kModels[] = {
-    {0, "SIMPLE_PINHOLE", 3, "f, cx, cy"},
-    {1, "PINHOLE", 4, "fx, fy, cx, cy"},
-    {2, "SIMPLE_RADIAL", 4, "f, cx, cy, k"},
-    {3, "RADIAL", 5, "f, cx, cy, k1, k2"},
-    {4, "OPENCV", 8, "fx, fy, cx, cy, k1, k2, p1, p2"},
-    {5, "OPENCV_FISHEYE", 8, "fx, fy, cx, cy, k1, k2, k3, k4"},
-    {6, "FULL_OPENCV", 12, "fx, fy, cx, cy, k1, k2, p1, p2, k3, k4, k5, k6"},
-    {7, "FOV", 5, "fx, fy, cx, cy, omega"},
-    {8, "SIMPLE_RADIAL_FISHEYE", 4, "f, cx, cy, k"},
-    {9, "RADIAL_FISHEYE", 5, "f, cx, cy, k1, k2"},
-    {10, "THIN_PRISM_FISHEYE", 12, "fx, fy, cx, cy, k1, k2, p1, p2, k3, k4, sx1, sy1"},
-    {11, "RAD_TAN_THIN_PRISM_FISHEYE", 16,
-     "fx, fy, cx, cy, k0, k1, k2, k3, k4, k5, p0, p1, s0, s1, s2, s3"},
-    {12, "SIMPLE_DIVISION", 4, "f, cx, cy, k"},
-    {13, "DIVISION", 5, "fx, fy, cx, cy, k"},
-    {14, "SIMPLE_FISHEYE", 3, "f, cx, cy"},
-    {15, "FISHEYE", 4, "fx, fy, cx, cy"},
-    {16, "EUCM", 6, "fx, fy, cx, cy, alpha, beta"},
-    {17, "EQUIRECTANGULAR", 2, "w, h"},
-};
-
-constexpr int32_t kSimplePinhole = 0;
-constexpr int32_t kPinhole = 1;
-constexpr int32_t kSimpleRadial = 2;
-constexpr int32_t kRadial = 3;
-
 uint64_t Bits(double v) { return std::bit_cast<uint64_t>(v); }
 
 std::string Num(double v) {
@@ -62,18 +34,19 @@ std::string Num(double v) {
 
 }  // namespace
 
-std::span<const ColmapCameraModelInfo> ColmapCameraModels() { return kModels; }
+std::span<const ColmapCameraModelInfo> ColmapCameraModels() {
+  // The lens table lists COLMAP's models first, in id order.
+  return LensModels().first(static_cast<size_t>(LensModel::kEquirectangular) + 1);
+}
 
 const ColmapCameraModelInfo* FindColmapCameraModel(std::string_view name) {
-  for (const auto& m : kModels) {
-    if (name == m.name) return &m;
-  }
-  return nullptr;
+  const LensModelInfo* m = FindLensModel(name);
+  return m != nullptr && m->colmap ? m : nullptr;
 }
 
 const ColmapCameraModelInfo* FindColmapCameraModel(int32_t id) {
-  if (id < 0 || id >= static_cast<int32_t>(std::size(kModels))) return nullptr;
-  return &kModels[id];
+  const LensModelInfo* m = FindLensModel(id);
+  return m != nullptr && m->colmap ? m : nullptr;
 }
 
 std::string ColmapCamera::ModelName() const {
@@ -225,7 +198,7 @@ void ValidateColmapModel(const ColmapModel& model, const std::string& dir,
     if (c.params.size() != static_cast<size_t>(m->num_params)) {
       throw InputError(cameras_file, line,
                        at() + m->name + " has " + std::to_string(m->num_params) +
-                           " parameters (" + m->params_info + "), the camera has " +
+                           " parameters (" + m->params + "), the camera has " +
                            std::to_string(c.params.size()));
     }
     if (!finite(c.params.data(), c.params.size())) {
@@ -430,82 +403,20 @@ ColmapModel ReadColmapModel(const std::string& dir) {
 
 // ---------------------------------------------------------------------------
 
-std::string SupportedColmapCameraModels() {
-  return "SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL";
-}
-
-ColmapIntrinsics IntrinsicsFromColmapCamera(const ColmapCamera& camera,
-                                            const std::string& file) {
+LensModel LensModelOfColmapCamera(const ColmapCamera& camera, const std::string& file) {
   const std::string at = "camera " + std::to_string(camera.camera_id) + ": ";
-  const std::vector<double>& p = camera.params;
-  auto need = [&](size_t n) {
-    if (p.size() != n) {
-      throw InputError(file, 0,
-                       at + camera.ModelName() + " needs " + std::to_string(n) +
-                           " parameters, the camera has " + std::to_string(p.size()));
-    }
-  };
-  ColmapIntrinsics in;
-  switch (camera.model_id) {
-    case kSimplePinhole:
-      need(3);
-      in.f = p[0], in.cx = p[1], in.cy = p[2];
-      return in;
-    case kPinhole: {
-      need(4);
-      const double fx = p[0], fy = p[1];
-      if (std::abs(fx - fy) > kColmapPinholeFocalTolerance * std::max(std::abs(fx), std::abs(fy))) {
-        throw InputError(file, 0,
-                         at + "PINHOLE with fx = " + Num(fx) + " and fy = " + Num(fy) +
-                             ": the shared-intrinsics model has one focal length, so fx "
-                             "and fy must agree to 1e-9 relative");
-      }
-      in.f = 0.5 * (fx + fy), in.cx = p[2], in.cy = p[3];
-      return in;
-    }
-    case kSimpleRadial:
-      need(4);
-      in.f = p[0], in.cx = p[1], in.cy = p[2], in.k1 = p[3];
-      in.has_k1 = true;
-      return in;
-    case kRadial:
-      need(5);
-      in.f = p[0], in.cx = p[1], in.cy = p[2], in.k1 = p[3], in.k2 = p[4];
-      in.has_k1 = in.has_k2 = true;
-      return in;
-    default:
-      throw InputError(file, 0,
-                       at + "camera model " + camera.ModelName() +
-                           " is not supported (the photogrammetric model has f, cx, cy, "
-                           "k1, k2); supported COLMAP camera models: " +
-                           SupportedColmapCameraModels());
+  const LensModelInfo* m = FindLensModel(camera.model_id);
+  if (m == nullptr || !m->colmap) {
+    throw InputError(file, 0,
+                     at + "unknown camera model id " + std::to_string(camera.model_id) +
+                         " (COLMAP's models: " + LensModelNames() + ")");
   }
-}
-
-void SetColmapCameraIntrinsics(const ColmapIntrinsics& in, ColmapCamera* camera) {
-  const std::string at = "COLMAP camera " + std::to_string(camera->camera_id) + " (" +
-                         camera->ModelName() + "): ";
-  const bool k1 = camera->model_id == kSimpleRadial || camera->model_id == kRadial;
-  const bool k2 = camera->model_id == kRadial;
-  if (!k1 && in.k1 != 0) throw std::invalid_argument(at + "cannot hold k1 = " + Num(in.k1));
-  if (!k2 && in.k2 != 0) throw std::invalid_argument(at + "cannot hold k2 = " + Num(in.k2));
-  switch (camera->model_id) {
-    case kSimplePinhole:
-      camera->params = {in.f, in.cx, in.cy};
-      return;
-    case kPinhole:
-      camera->params = {in.f, in.f, in.cx, in.cy};
-      return;
-    case kSimpleRadial:
-      camera->params = {in.f, in.cx, in.cy, in.k1};
-      return;
-    case kRadial:
-      camera->params = {in.f, in.cx, in.cy, in.k1, in.k2};
-      return;
-    default:
-      throw std::invalid_argument(at + "unsupported camera model; supported: " +
-                                  SupportedColmapCameraModels());
+  if (camera.params.size() != static_cast<size_t>(m->num_params)) {
+    throw InputError(file, 0,
+                     at + m->name + " needs " + std::to_string(m->num_params) +
+                         " parameters, the camera has " + std::to_string(camera.params.size()));
   }
+  return m->id;
 }
 
 }  // namespace dba

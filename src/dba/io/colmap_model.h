@@ -24,6 +24,8 @@
 // distinct models/directories may be used from different threads.
 #pragma once
 
+#include "dba/problem/lens_model.h"
+
 #include <array>
 #include <cstdint>
 #include <cstdio>
@@ -36,14 +38,9 @@
 
 namespace dba {
 
-// COLMAP's camera models (sensor/models.h): id, name, parameter count and the
-// order of the parameters.
-struct ColmapCameraModelInfo {
-  int32_t id;
-  const char* name;
-  int num_params;
-  const char* params_info;
-};
+// COLMAP's camera models (sensor/models.h): the lens models
+// (problem/lens_model.h) that are COLMAP's, with COLMAP's ids.
+using ColmapCameraModelInfo = LensModelInfo;
 
 // All models COLMAP defines, in id order (ids 0..17).
 std::span<const ColmapCameraModelInfo> ColmapCameraModels();
@@ -143,39 +140,14 @@ std::optional<ColmapFormat> DetectColmapFormat(const std::string& dir);
 ColmapModel ReadColmapModel(const std::string& dir);
 
 // ---------------------------------------------------------------------------
-// Mapping COLMAP cameras onto dba's photogrammetric intrinsics (f, cx, cy, k1,
-// k2; camera/photo_camera.h): SIMPLE_PINHOLE (f, cx, cy), PINHOLE (fx, fy, cx,
-// cy with fx == fy), SIMPLE_RADIAL (f, cx, cy, k), RADIAL (f, cx, cy, k1, k2).
-// Parameters the model lacks are zero and must stay fixed at zero.
+// COLMAP cameras as intrinsic groups: COLMAP's model ids are dba's LensModel
+// ids (problem/lens_model.h) and its parameters are a group's, in the same
+// order, so a camera's params are a group's as they are.
 
-struct ColmapIntrinsics {
-  double f = 0;
-  double cx = 0;
-  double cy = 0;
-  double k1 = 0;
-  double k2 = 0;
-  // f, cx and cy exist in every supported model.
-  bool has_k1 = false;
-  bool has_k2 = false;
-};
-
-// Relative tolerance within which PINHOLE's fx and fy count as one focal
-// length: |fx - fy| <= kColmapPinholeFocalTolerance * max(|fx|, |fy|).
-inline constexpr double kColmapPinholeFocalTolerance = 1e-9;
-
-// "SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL".
-std::string SupportedColmapCameraModels();
-
-// Throws dba::InputError(file, 0, ...) for any other model (naming it and
-// listing the supported ones) and for PINHOLE with fx != fy (beyond the
-// tolerance; f = (fx + fy) / 2 otherwise). `file` names where the camera came
-// from, e.g. "<dir>/cameras.bin".
-ColmapIntrinsics IntrinsicsFromColmapCamera(const ColmapCamera& camera,
-                                            const std::string& file = "COLMAP cameras");
-
-// The inverse: writes `intrinsics` into the camera's params in its own model's
-// layout (PINHOLE gets fx = fy = f). Throws std::invalid_argument for an
-// unsupported model or a non-zero k1/k2 the model cannot hold.
-void SetColmapCameraIntrinsics(const ColmapIntrinsics& intrinsics, ColmapCamera* camera);
+// The lens model of `camera`. Throws dba::InputError(file, 0, ...) for an
+// unknown model id or a parameter count that is not its model's. `file`
+// names where the camera came from, e.g. "<dir>/cameras.bin".
+LensModel LensModelOfColmapCamera(const ColmapCamera& camera,
+                                  const std::string& file = "COLMAP cameras");
 
 }  // namespace dba

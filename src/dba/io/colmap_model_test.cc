@@ -92,16 +92,18 @@ TEST(ColmapModelTest, CameraModelTableMatchesColmap) {
   ASSERT_EQ(models.size(), 18u);
   std::set<std::string> names;
   for (size_t i = 0; i < models.size(); ++i) {
-    EXPECT_EQ(models[i].id, static_cast<int32_t>(i));
+    EXPECT_EQ(static_cast<int32_t>(models[i].id), static_cast<int32_t>(i));
     EXPECT_TRUE(names.insert(models[i].name).second) << models[i].name;
     EXPECT_EQ(FindColmapCameraModel(models[i].name), &models[i]);
-    EXPECT_EQ(FindColmapCameraModel(models[i].id), &models[i]);
+    EXPECT_EQ(FindColmapCameraModel(static_cast<int32_t>(models[i].id)), &models[i]);
   }
   const std::pair<const char*, int> expected[] = {
       {"SIMPLE_PINHOLE", 3}, {"PINHOLE", 4},         {"SIMPLE_RADIAL", 4},
       {"RADIAL", 5},         {"OPENCV", 8},          {"OPENCV_FISHEYE", 8},
       {"FULL_OPENCV", 12},   {"FOV", 5},             {"SIMPLE_RADIAL_FISHEYE", 4},
-      {"RADIAL_FISHEYE", 5}, {"THIN_PRISM_FISHEYE", 12}};
+      {"RADIAL_FISHEYE", 5}, {"THIN_PRISM_FISHEYE", 12}, {"RAD_TAN_THIN_PRISM_FISHEYE", 16},
+      {"SIMPLE_DIVISION", 4}, {"DIVISION", 5},        {"SIMPLE_FISHEYE", 3},
+      {"FISHEYE", 4},        {"EUCM", 6},            {"EQUIRECTANGULAR", 2}};
   for (const auto& [name, n] : expected) {
     ASSERT_NE(FindColmapCameraModel(name), nullptr) << name;
     EXPECT_EQ(FindColmapCameraModel(name)->num_params, n) << name;
@@ -109,6 +111,8 @@ TEST(ColmapModelTest, CameraModelTableMatchesColmap) {
   EXPECT_EQ(FindColmapCameraModel("NOPE"), nullptr);
   EXPECT_EQ(FindColmapCameraModel(-1), nullptr);
   EXPECT_EQ(FindColmapCameraModel(18), nullptr);
+  EXPECT_EQ(FindColmapCameraModel("BROWN"), nullptr);  // dba's own, not COLMAP's
+  EXPECT_EQ(FindColmapCameraModel(static_cast<int32_t>(LensModel::kBrown)), nullptr);
   ColmapCamera c;
   c.model_id = 42;
   EXPECT_EQ(c.ModelName(), "UNKNOWN(42)");
@@ -141,17 +145,10 @@ TEST(ColmapModelTest, SharedModelsHaveTheReadmeCountsAndConsistentTracks) {
     }
     EXPECT_EQ(checked, s.observations);
 
-    // Every camera is SIMPLE_RADIAL and maps onto (f, cx, cy, k1) with k2 = 0.
+    // Every camera is SIMPLE_RADIAL.
     for (const ColmapCamera& c : m.cameras) {
       ASSERT_EQ(c.ModelName(), "SIMPLE_RADIAL");
-      const ColmapIntrinsics in = IntrinsicsFromColmapCamera(c);
-      EXPECT_EQ(in.f, c.params[0]);
-      EXPECT_EQ(in.cx, c.params[1]);
-      EXPECT_EQ(in.cy, c.params[2]);
-      EXPECT_EQ(in.k1, c.params[3]);
-      EXPECT_EQ(in.k2, 0.0);
-      EXPECT_TRUE(in.has_k1);
-      EXPECT_FALSE(in.has_k2);
+      EXPECT_EQ(LensModelOfColmapCamera(c), LensModel::kSimpleRadial);
     }
   }
 }
@@ -251,96 +248,22 @@ TEST(ColmapModelTest, FirstDifferenceFindsBitLevelChanges) {
   EXPECT_EQ(b, c);  // operator== compares values, FirstColmapModelDifference bits
 }
 
-TEST(ColmapModelTest, IntrinsicsOfEverySupportedModel) {
-  ColmapCamera c;
-  c.camera_id = 4;
-
-  c.model_id = 0;  // SIMPLE_PINHOLE
-  c.params = {800, 320, 240};
-  ColmapIntrinsics in = IntrinsicsFromColmapCamera(c);
-  EXPECT_EQ(in.f, 800);
-  EXPECT_EQ(in.cx, 320);
-  EXPECT_EQ(in.cy, 240);
-  EXPECT_EQ(in.k1, 0);
-  EXPECT_EQ(in.k2, 0);
-  EXPECT_FALSE(in.has_k1);
-  EXPECT_FALSE(in.has_k2);
-
-  c.model_id = 1;  // PINHOLE, fx == fy within 1e-9 relative
-  c.params = {1000, 1000 * (1 + 5e-10), 320, 240};
-  in = IntrinsicsFromColmapCamera(c);
-  EXPECT_DOUBLE_EQ(in.f, 1000 * (1 + 2.5e-10));
-  EXPECT_EQ(in.cx, 320);
-  EXPECT_EQ(in.cy, 240);
-  EXPECT_FALSE(in.has_k1);
-
-  c.params = {1000, 1001, 320, 240};
-  ExpectInputError([&] { IntrinsicsFromColmapCamera(c, "x/cameras.txt"); },
-                   {"x/cameras.txt", "camera 4", "PINHOLE", "fx = 1000", "fy = 1001"});
-
-  c.model_id = 2;  // SIMPLE_RADIAL
-  c.params = {900, 300, 200, -0.2};
-  in = IntrinsicsFromColmapCamera(c);
-  EXPECT_EQ(in.f, 900);
-  EXPECT_EQ(in.k1, -0.2);
-  EXPECT_EQ(in.k2, 0);
-  EXPECT_TRUE(in.has_k1);
-  EXPECT_FALSE(in.has_k2);
-
-  c.model_id = 3;  // RADIAL
-  c.params = {900, 300, 200, -0.2, 0.05};
-  in = IntrinsicsFromColmapCamera(c);
-  EXPECT_EQ(in.k1, -0.2);
-  EXPECT_EQ(in.k2, 0.05);
-  EXPECT_TRUE(in.has_k1);
-  EXPECT_TRUE(in.has_k2);
-
-  c.params = {900, 300, 200};
-  ExpectInputError([&] { IntrinsicsFromColmapCamera(c); }, {"RADIAL needs 5 parameters"});
-}
-
-TEST(ColmapModelTest, IntrinsicsRefuseEveryOtherModel) {
+TEST(ColmapModelTest, EveryColmapModelIsALensModelWithItsParameters) {
   for (const ColmapCameraModelInfo& info : ColmapCameraModels()) {
-    if (info.id <= 3) continue;
     SCOPED_TRACE(info.name);
     ColmapCamera c;
-    c.camera_id = 1;
-    c.model_id = info.id;
+    c.camera_id = 4;
+    c.model_id = static_cast<int32_t>(info.id);
     c.params.assign(info.num_params, 1.0);
-    ExpectInputError([&] { IntrinsicsFromColmapCamera(c); },
-                     {std::string("camera model ") + info.name + " is not supported",
-                      "SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL"});
+    EXPECT_EQ(LensModelOfColmapCamera(c), info.id);
+    c.params.push_back(2.0);
+    ExpectInputError([&] { LensModelOfColmapCamera(c, "x/cameras.txt"); },
+                     {"x/cameras.txt", "camera 4", std::string(info.name) + " needs " +
+                                                       std::to_string(info.num_params)});
   }
-}
-
-TEST(ColmapModelTest, SetIntrinsicsWritesTheModelsLayout) {
-  ColmapIntrinsics in;
-  in.f = 700, in.cx = 310, in.cy = 230;
   ColmapCamera c;
-  c.model_id = 1;
-  c.params = {1, 1, 1, 1};
-  SetColmapCameraIntrinsics(in, &c);
-  EXPECT_EQ(c.params, (std::vector<double>{700, 700, 310, 230}));
-  c.model_id = 0;
-  SetColmapCameraIntrinsics(in, &c);
-  EXPECT_EQ(c.params, (std::vector<double>{700, 310, 230}));
-
-  in.k1 = -0.1;
-  EXPECT_THROW(SetColmapCameraIntrinsics(in, &c), std::invalid_argument);
-  c.model_id = 2;
-  SetColmapCameraIntrinsics(in, &c);
-  EXPECT_EQ(c.params, (std::vector<double>{700, 310, 230, -0.1}));
-  in.k2 = 0.01;
-  EXPECT_THROW(SetColmapCameraIntrinsics(in, &c), std::invalid_argument);
-  c.model_id = 3;
-  SetColmapCameraIntrinsics(in, &c);
-  EXPECT_EQ(c.params, (std::vector<double>{700, 310, 230, -0.1, 0.01}));
-  const ColmapIntrinsics back = IntrinsicsFromColmapCamera(c);
-  EXPECT_EQ(back.f, in.f);
-  EXPECT_EQ(back.k2, in.k2);
-
-  c.model_id = 4;
-  EXPECT_THROW(SetColmapCameraIntrinsics(ColmapIntrinsics{}, &c), std::invalid_argument);
+  c.model_id = 40;
+  ExpectInputError([&] { LensModelOfColmapCamera(c); }, {"unknown camera model id 40"});
 }
 
 }  // namespace

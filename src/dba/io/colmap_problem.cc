@@ -34,20 +34,34 @@ std::array<double, 4> AngleAxisToQuaternion(const Vec3& omega) {
 }  // namespace
 
 Fixings ColmapFixings(const ColmapModel& model, const ColmapProblem& problem,
-                      const std::vector<uint32_t>& fixed_image_ids, uint8_t fixed_intrinsics,
+                      const std::vector<uint32_t>& fixed_image_ids,
+                      const std::vector<IntrinsicFixing>& fixed_intrinsics,
                       const std::string& source) {
-  if ((fixed_intrinsics & ~kAllIntrinsics) != 0) {
-    throw std::invalid_argument("ColmapFixings: fixed_intrinsics " +
-                                std::to_string(fixed_intrinsics) +
-                                " has bits beyond kAllIntrinsics (31)");
-  }
   std::unordered_map<uint32_t, int64_t> problem_image_of_id;  // -1: not in the problem
   for (const ColmapImage& im : model.images) problem_image_of_id.emplace(im.image_id, -1);
   for (size_t i = 0; i < problem.image_index.size(); ++i) {
     problem_image_of_id[model.images[problem.image_index[i]].image_id] = static_cast<int64_t>(i);
   }
   Fixings f;
-  f.intrinsics = fixed_intrinsics;
+  for (const IntrinsicFixing& x : fixed_intrinsics) {
+    if (x.group < 0) {
+      f.intrinsics.push_back(x);
+      continue;
+    }
+    // A COLMAP camera id: every group cut from that camera.
+    const bool known = std::any_of(model.cameras.begin(), model.cameras.end(),
+                                   [&](const ColmapCamera& c) { return c.camera_id == x.group; });
+    if (!known) {
+      throw InputError(source, 0,
+                       "fixed intrinsics of camera " + std::to_string(x.group) +
+                           ": the COLMAP model has no camera with that id");
+    }
+    for (size_t g = 0; g < problem.group_camera.size(); ++g) {
+      if (model.cameras[problem.group_camera[g]].camera_id == x.group) {
+        f.intrinsics.push_back({static_cast<int64_t>(g), x.names});
+      }
+    }
+  }
   for (uint32_t id : fixed_image_ids) {
     auto it = problem_image_of_id.find(id);
     if (it == problem_image_of_id.end()) {
@@ -137,9 +151,16 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
     for (int64_t i = 0; i < n; ++i) bp.camera_intrinsics[i] = static_cast<int32_t>(i);
   }
 
-  // Parameters: poses, then intrinsic groups.
+  // Parameters: poses, then intrinsic groups (each camera's params as they
+  // are: COLMAP's model is the group's lens model).
   const int64_t num_groups = static_cast<int64_t>(out.group_camera.size());
-  bp.cameras.resize(kPhotoPoseSize * n + kPhotoIntrinsicsSize * num_groups);
+  bp.group_models.resize(num_groups);
+  bp.intrinsics_size = 1;
+  for (int64_t g = 0; g < num_groups; ++g) {
+    bp.group_models[g] = LensModelOfColmapCamera(model.cameras[out.group_camera[g]], source);
+    bp.intrinsics_size = std::max(bp.intrinsics_size, LensModelParams(bp.group_models[g]));
+  }
+  bp.cameras.assign(kPhotoPoseSize * n + int64_t{bp.intrinsics_size} * num_groups, 0.0);
   for (int64_t i = 0; i < n; ++i) {
     const ColmapImage& im = model.images[out.image_index[i]];
     const double qnorm = std::sqrt(im.qvec[0] * im.qvec[0] + im.qvec[1] * im.qvec[1] +
@@ -156,14 +177,9 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
       pose[3 + d] = im.tvec[d];
     }
   }
-  bp.fixed_intrinsics.resize(num_groups);
   for (int64_t g = 0; g < num_groups; ++g) {
-    const ColmapIntrinsics in =
-        IntrinsicsFromColmapCamera(model.cameras[out.group_camera[g]], source);
-    double* x = bp.intrinsics(g);
-    x[0] = in.f, x[1] = in.cx, x[2] = in.cy, x[3] = in.k1, x[4] = in.k2;
-    // Parameters the COLMAP model lacks stay 0, fixed.
-    bp.fixed_intrinsics[g] = (in.has_k1 ? 0 : kIntrinsicK1) | (in.has_k2 ? 0 : kIntrinsicK2);
+    const std::vector<double>& params = model.cameras[out.group_camera[g]].params;
+    std::copy(params.begin(), params.end(), bp.intrinsics(g));
   }
 
   // Points and their observations, point-major.
@@ -254,17 +270,18 @@ void UpdateColmapModel(const ColmapProblem& source, const Problem& adjusted,
   for (int64_t g = 0; g < num_groups; ++g) {
     const int64_t c = source.group_camera[g];
     const double* x = adjusted.intrinsics(g);
-    ColmapIntrinsics in;
-    in.f = x[0], in.cx = x[1], in.cy = x[2], in.k1 = x[3], in.k2 = x[4];
+    const auto set_params = [&](ColmapCamera* camera) {
+      std::copy(x, x + camera->params.size(), camera->params.begin());
+    };
     if (owner_group[c] == g) {
-      SetColmapCameraIntrinsics(in, &model->cameras[c]);
+      set_params(&model->cameras[c]);
       group_id[g] = model->cameras[c].camera_id;
       continue;
     }
     if (max_id >= std::numeric_limits<uint32_t>::max()) fail("no camera id left for a new camera");
     ColmapCamera camera = model->cameras[c];
     camera.camera_id = static_cast<uint32_t>(++max_id);
-    SetColmapCameraIntrinsics(in, &camera);
+    set_params(&camera);
     group_id[g] = camera.camera_id;
     model->cameras.push_back(std::move(camera));
   }

@@ -9,14 +9,14 @@
 //   pose               ω = angle-axis of the normalised quaternion (qw, qx,
 //                      qy, qz) (text files hold it unit only to ~5e-7), t =
 //                      tvec; x_cam = R(ω) X + t
-//   intrinsic group g  (f, cx, cy, k1, k2) from IntrinsicsFromColmapCamera:
-//                      one group per COLMAP camera used by the problem's
-//                      images (shared_intrinsics, groups in model.cameras
-//                      order), or one group per problem image (group i =
-//                      camera i). Parameters the camera model lacks (k1 for
-//                      SIMPLE_PINHOLE and PINHOLE, k2 unless RADIAL) are 0 and
-//                      not free. What the user holds fixed is applied
-//                      afterwards, as Fixings (ColmapFixings).
+//   intrinsic group g  the camera's model (COLMAP's ids are LensModel's) and
+//                      params as they are (LensModelOfColmapCamera): one
+//                      group per COLMAP camera used by the problem's images
+//                      (shared_intrinsics, groups in model.cameras order), or
+//                      one group per problem image (group i = camera i);
+//                      intrinsics_size is the largest parameter count. What
+//                      the user holds fixed is applied afterwards, as Fixings
+//                      (ColmapFixings).
 //   problem point k    a 3D point whose track has at least min_track_length
 //                      elements, in model order; its observations are its
 //                      track elements in track order, each observing the 2D
@@ -79,13 +79,15 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
                                 const std::string& source);
 
 // What is held fixed, in the problem's numbering (problem/fixings.h): the
-// images with these COLMAP ids, and `fixed_intrinsics` in every group. An id
-// the model does not have is refused (dba::InputError naming `source` and
-// the id); an image of the model that is not in the problem (no observation
-// of an adjusted point) is simply not adjusted. std::invalid_argument for
-// fixed_intrinsics beyond kAllIntrinsics.
+// images with these COLMAP ids, and the intrinsics `fixed_intrinsics` names,
+// in every group (group -1) or in the groups cut from the COLMAP camera
+// whose id is `group`. An image or camera id the model does not have is
+// refused (dba::InputError naming `source` and the id); an image or camera
+// of the model that is not in the problem (no observation of an adjusted
+// point) is simply not adjusted.
 Fixings ColmapFixings(const ColmapModel& model, const ColmapProblem& problem,
-                      const std::vector<uint32_t>& fixed_image_ids, uint8_t fixed_intrinsics,
+                      const std::vector<uint32_t>& fixed_image_ids,
+                      const std::vector<IntrinsicFixing>& fixed_intrinsics,
                       const std::string& source);
 
 // Writes `adjusted` (the source problem after adjustment: same structure,
@@ -93,9 +95,7 @@ Fixings ColmapFixings(const ColmapModel& model, const ColmapProblem& problem,
 // came from (see above for what changes). Throws std::invalid_argument when
 // `adjusted`'s structure differs from source.problem or `model` does not
 // match the indices, when a new camera is needed and no id above the largest
-// is left (2^32 - 1 in use), and (from SetColmapCameraIntrinsics) when a
-// camera would get a non-zero k1/k2 its model cannot hold. *model may be
-// partly updated when it throws.
+// is left (2^32 - 1 in use). *model may be partly updated when it throws.
 void UpdateColmapModel(const ColmapProblem& source, const Problem& adjusted,
                        ColmapModel* model);
 

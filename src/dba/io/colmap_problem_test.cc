@@ -55,8 +55,8 @@ std::vector<double> ObservationErrors(const Problem& p) {
   for (int64_t k = 0; k < p.num_points(); ++k) {
     for (int64_t o = p.point_offsets[k]; o < p.point_offsets[k + 1]; ++o) {
       const int32_t i = p.obs_camera[o];
-      e[o] = PhotoResidual(p.camera(i), p.intrinsics(p.camera_intrinsics[i]), p.point(k),
-                           p.pixel(o))
+      const int32_t g = p.camera_intrinsics[i];
+      e[o] = PhotoResidual(p.group_model(g), p.camera(i), p.intrinsics(g), p.point(k), p.pixel(o))
                  .norm();
     }
   }
@@ -299,18 +299,22 @@ TEST(ColmapProblemTest, SharedAndPerImageGroups) {
     const ColmapProblem shared = ProblemFromColmap(model, options, "m");
     options.shared_intrinsics = false;
     ColmapProblem per_image = ProblemFromColmap(model, options, "m");
-    ApplyFixings(ColmapFixings(model, per_image, {}, kIntrinsicCx | kIntrinsicCy, "m"),
+    ApplyFixings(ColmapFixings(model, per_image, {}, {{-1, {"cx", "cy"}}}, "m"),
                  &per_image.problem);
     EXPECT_EQ(shared.problem.num_images(), c.images);
     EXPECT_EQ(shared.problem.num_groups(), c.shared_groups);
     EXPECT_EQ(per_image.problem.num_images(), c.images);
     EXPECT_EQ(per_image.problem.num_groups(), c.images);
+    // SIMPLE_RADIAL's 4 parameters (f, cx, cy, k) per group, all free; then
+    // cx, cy fixed.
+    EXPECT_EQ(shared.problem.intrinsics_size, 4);
     EXPECT_EQ(static_cast<int64_t>(shared.problem.cameras.size()),
-              6 * c.images + 5 * c.shared_groups);
-    // SIMPLE_RADIAL has no k2: k2 fixed; then cx, cy fixed too.
-    for (uint8_t mask : shared.problem.fixed_intrinsics) EXPECT_EQ(mask, kIntrinsicK2);
-    for (uint8_t mask : per_image.problem.fixed_intrinsics) {
-      EXPECT_EQ(mask, kIntrinsicCx | kIntrinsicCy | kIntrinsicK2);
+              6 * c.images + 4 * c.shared_groups);
+    EXPECT_EQ(shared.problem.group_models,
+              std::vector<LensModel>(c.shared_groups, LensModel::kSimpleRadial));
+    EXPECT_TRUE(shared.problem.fixed_intrinsics.empty());
+    for (uint16_t mask : per_image.problem.fixed_intrinsics) {
+      EXPECT_EQ(mask, kIntrinsicCx | kIntrinsicCy);
     }
     EXPECT_TRUE(shared.problem.fixed_cameras.empty());
     for (int64_t i = 0; i < c.images; ++i) {
@@ -322,45 +326,84 @@ TEST(ColmapProblemTest, SharedAndPerImageGroups) {
       ASSERT_EQ(cam.camera_id, im.camera_id);
       const double* x = shared.problem.intrinsics(g);
       EXPECT_EQ(std::vector<double>(x, x + 4), cam.params);
-      EXPECT_EQ(x[4], 0.0);
       const double* y = per_image.problem.intrinsics(i);
-      EXPECT_EQ(std::vector<double>(y, y + 5), std::vector<double>(x, x + 5));
+      EXPECT_EQ(std::vector<double>(y, y + 4), std::vector<double>(x, x + 4));
     }
   }
 }
 
-TEST(ColmapProblemTest, UnsupportedCameraModelIsRefused) {
+TEST(ColmapProblemTest, EveryModelKeepsItsParametersAndSizesTheGroups) {
   ColmapModel m = SmallModel();
-  m.cameras[1].model_id = FindColmapCameraModel("OPENCV")->id;
-  m.cameras[1].params = {600, 600, 400, 300, 0.01, 0.02, 0.001, 0.002};
+  m.cameras[0].model_id = static_cast<int32_t>(LensModel::kPinhole);
+  m.cameras[0].params = {500, 510, 320, 240};  // fx != fy is solved as such
+  m.cameras[1].model_id = static_cast<int32_t>(LensModel::kOpenCV);
+  m.cameras[1].params = {600, 601, 400, 300, 0.01, 0.02, 0.001, 0.002};
   ValidateColmapModel(m, "small", ".txt");
-  ExpectInputError([&] { ProblemFromColmap(m, {}, "/some/model"); },
-                   {"/some/model", "camera 2", "OPENCV", SupportedColmapCameraModels()});
-  ColmapProblemOptions per_image;
-  per_image.shared_intrinsics = false;
-  ExpectInputError([&] { ProblemFromColmap(m, per_image, "/some/model"); }, {"OPENCV"});
-  // Only cameras of problem images matter: image 9 is camera 2's only user.
-  m.points3D[0].track.pop_back();
-  m.images[3].points2D[0].point3D_id = kColmapNoPoint3D;
-  const ColmapProblem cp = ProblemFromColmap(m, {}, "/some/model");
-  EXPECT_EQ(cp.problem.num_images(), 2);
-  EXPECT_EQ(cp.group_camera, std::vector<int64_t>{0});
-}
-
-TEST(ColmapProblemTest, PinholeLacksK1AndK2) {
-  ColmapModel m = SmallModel();
-  m.cameras[0].model_id = FindColmapCameraModel("PINHOLE")->id;
-  m.cameras[0].params = {500, 500, 320, 240};
-  m.cameras[1].model_id = FindColmapCameraModel("RADIAL")->id;
-  m.cameras[1].params = {600, 400, 300, 0.05, -0.01};
   const ColmapProblem cp = ProblemFromColmap(m, {}, "small");
   ASSERT_EQ(cp.group_camera, (std::vector<int64_t>{0, 1}));
-  EXPECT_EQ(cp.problem.fixed_intrinsics,
-            (std::vector<uint8_t>{kIntrinsicK1 | kIntrinsicK2, 0}));
-  EXPECT_EQ(std::vector<double>(cp.problem.intrinsics(0), cp.problem.intrinsics(0) + 5),
-            (std::vector<double>{500, 320, 240, 0, 0}));
-  EXPECT_EQ(std::vector<double>(cp.problem.intrinsics(1), cp.problem.intrinsics(1) + 5),
-            (std::vector<double>{600, 400, 300, 0.05, -0.01}));
+  EXPECT_EQ(cp.problem.group_models,
+            (std::vector<LensModel>{LensModel::kPinhole, LensModel::kOpenCV}));
+  EXPECT_EQ(cp.problem.intrinsics_size, 8);
+  EXPECT_TRUE(cp.problem.fixed_intrinsics.empty());
+  EXPECT_EQ(cp.problem.intrinsics_free_mask(0), 0xF);
+  EXPECT_EQ(cp.problem.intrinsics_free_mask(1), 0xFF);
+  EXPECT_EQ(std::vector<double>(cp.problem.intrinsics(0), cp.problem.intrinsics(0) + 8),
+            (std::vector<double>{500, 510, 320, 240, 0, 0, 0, 0}));
+  EXPECT_EQ(std::vector<double>(cp.problem.intrinsics(1), cp.problem.intrinsics(1) + 8),
+            m.cameras[1].params);
+  // Written back, each camera keeps its model and gets its group's values.
+  Problem adjusted = cp.problem;
+  adjusted.intrinsics(0)[1] = 512;
+  adjusted.intrinsics(1)[7] = 0.003;
+  ColmapModel out = m;
+  UpdateColmapModel(cp, adjusted, &out);
+  const auto camera_of_image = [&](uint32_t image_id) {
+    for (const ColmapImage& im : out.images) {
+      if (im.image_id != image_id) continue;
+      for (const ColmapCamera& c : out.cameras) {
+        if (c.camera_id == im.camera_id) return c;
+      }
+    }
+    return ColmapCamera{};
+  };
+  EXPECT_EQ(camera_of_image(3).model_id, static_cast<int32_t>(LensModel::kPinhole));
+  EXPECT_EQ(camera_of_image(3).params, (std::vector<double>{500, 512, 320, 240}));
+  EXPECT_EQ(camera_of_image(9).model_id, static_cast<int32_t>(LensModel::kOpenCV));
+  EXPECT_EQ(camera_of_image(9).params,
+            (std::vector<double>{600, 601, 400, 300, 0.01, 0.02, 0.001, 0.003}));
+}
+
+TEST(ColmapProblemTest, FixingsByNameFollowEachGroupsModel) {
+  ColmapModel m = SmallModel();
+  m.cameras[0].model_id = static_cast<int32_t>(LensModel::kSimpleRadial);
+  m.cameras[0].params = {500, 320, 240, 0.01};
+  m.cameras[1].model_id = static_cast<int32_t>(LensModel::kOpenCV);
+  m.cameras[1].params = {600, 601, 400, 300, 0.01, 0.02, 0.001, 0.002};
+  ColmapProblem cp = ProblemFromColmap(m, {}, "small");
+  // k2 only in OPENCV's group; cx in both; fx in camera 2 only.
+  ApplyFixings(ColmapFixings(m, cp, {}, {{-1, {"k2", "cx"}}, {2, {"fx"}}}, "small"),
+               &cp.problem);
+  EXPECT_EQ(cp.problem.fixed_intrinsics, (std::vector<uint16_t>{0x2, 0x1 | 0x4 | 0x20}));
+  // A name no model has, with the models' names; an unknown camera id.
+  ColmapProblem again = ProblemFromColmap(m, {}, "small");
+  try {
+    ApplyFixings(ColmapFixings(m, again, {}, {{-1, {"k3"}}}, "small"), &again.problem);
+    ADD_FAILURE() << "k3 accepted";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("'k3'"), std::string::npos) << what;
+    EXPECT_NE(what.find("SIMPLE_RADIAL (f, cx, cy, k)"), std::string::npos) << what;
+    EXPECT_NE(what.find("OPENCV (fx, fy, cx, cy, k1, k2, p1, p2)"), std::string::npos) << what;
+  }
+  EXPECT_TRUE(again.problem.fixed_intrinsics.empty());  // nothing half-applied
+  try {
+    ApplyFixings(ColmapFixings(m, again, {}, {{7, {"k2"}}}, "small"), &again.problem);
+    ADD_FAILURE() << "k2 accepted in camera 7 (SIMPLE_RADIAL)";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("group 0"), std::string::npos) << e.what();
+  }
+  ExpectInputError([&] { ColmapFixings(m, again, {}, {{77, {"f"}}}, "/the/model"); },
+                   {"/the/model", "camera 77"});
 }
 
 TEST(ColmapProblemTest, FixedImagesAndBadOptions) {
@@ -370,7 +413,7 @@ TEST(ColmapProblemTest, FixedImagesAndBadOptions) {
   std::vector<uint32_t> fixed_ids(fixed.begin(), fixed.end());
   ColmapProblem cp = ProblemFromColmap(model, options, "m");
   EXPECT_TRUE(cp.problem.fixed_cameras.empty());
-  ApplyFixings(ColmapFixings(model, cp, fixed_ids, 0, "m"), &cp.problem);
+  ApplyFixings(ColmapFixings(model, cp, fixed_ids, {}, "m"), &cp.problem);
   ASSERT_EQ(cp.problem.fixed_cameras.size(), 40u);
   int count = 0;
   for (int64_t i = 0; i < 40; ++i) {
@@ -384,13 +427,12 @@ TEST(ColmapProblemTest, FixedImagesAndBadOptions) {
   for (const ColmapImage& im : model.images) unknown = std::max(unknown, im.image_id);
   unknown += 1000;
   fixed_ids.push_back(unknown);
-  ExpectInputError([&] { ColmapFixings(model, cp, fixed_ids, 0, "/the/model"); },
+  ExpectInputError([&] { ColmapFixings(model, cp, fixed_ids, {}, "/the/model"); },
                    {"/the/model", "fixed image id " + std::to_string(unknown)});
 
   ColmapProblemOptions bad;
   bad.min_track_length = 0;
   EXPECT_THROW(ProblemFromColmap(model, bad, "m"), std::invalid_argument);
-  EXPECT_THROW(ColmapFixings(model, cp, {}, 32, "m"), std::invalid_argument);
 }
 
 TEST(ColmapProblemTest, PerImageWriteBackCreatesNewCameras) {
@@ -431,12 +473,8 @@ TEST(ColmapProblemTest, PerImageWriteBackCreatesNewCameras) {
   for (const ColmapCamera& c : back.cameras) cams[c.camera_id] = &c;
   for (int64_t i = 0; i < 40; ++i) {
     const ColmapImage& im = back.images[cp.image_index[i]];
-    const ColmapIntrinsics in = IntrinsicsFromColmapCamera(*cams.at(im.camera_id));
     const double* x = adjusted.intrinsics(adjusted.camera_intrinsics[i]);
-    EXPECT_EQ(in.f, x[0]);
-    EXPECT_EQ(in.cx, x[1]);
-    EXPECT_EQ(in.cy, x[2]);
-    EXPECT_EQ(in.k1, x[3]);
+    EXPECT_EQ(cams.at(im.camera_id)->params, std::vector<double>(x, x + 4));
   }
   // And a problem built from the written model, shared, has 40 groups equal
   // to the adjusted ones.
@@ -445,7 +483,7 @@ TEST(ColmapProblemTest, PerImageWriteBackCreatesNewCameras) {
   for (int64_t i = 0; i < 40; ++i) {
     const double* a = again.problem.intrinsics(again.problem.camera_intrinsics[i]);
     const double* b = adjusted.intrinsics(i);
-    EXPECT_EQ(std::vector<double>(a, a + 5), std::vector<double>(b, b + 5));
+    EXPECT_EQ(std::vector<double>(a, a + 4), std::vector<double>(b, b + 4));
   }
 }
 

@@ -135,14 +135,14 @@ void ReadCameras(const std::string& path, ColmapModel* model,
       }
       file.Fail("unknown camera model " + Quote(name) + "; COLMAP's models are " + known);
     }
-    c.model_id = m->id;
+    c.model_id = static_cast<int32_t>(m->id);
     c.width = t.Unsigned("WIDTH", std::numeric_limits<uint64_t>::max());
     c.height = t.Unsigned("HEIGHT", std::numeric_limits<uint64_t>::max());
     c.params.reserve(m->num_params);
     while (!t.Done()) c.params.push_back(t.Double("camera parameter"));
     if (c.params.size() != static_cast<size_t>(m->num_params)) {
       file.Fail(std::string(m->name) + " has " + std::to_string(m->num_params) +
-                " parameters (" + m->params_info + "), the line has " +
+                " parameters (" + m->params + "), the line has " +
                 std::to_string(c.params.size()));
     }
     model->cameras.push_back(std::move(c));

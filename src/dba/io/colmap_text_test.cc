@@ -266,15 +266,13 @@ TEST(ColmapTextTest, ExactForAwkwardDoubles) {
   EXPECT_EQ(FirstColmapModelDifference(ReadColmapText(out), m), "");
 }
 
-TEST(ColmapTextTest, UnsupportedCameraModelIsReadButRefusedForIntrinsics) {
+TEST(ColmapTextTest, OpencvIsReadAsItsLensModel) {
   const std::string cameras = "1 OPENCV 640 480 500 501 320 240 0.1 0.01 0.001 0.002\n";
   const std::string dir = TinyDir("opencv", cameras);
   const ColmapModel m = ReadColmapModel(dir);
   ASSERT_EQ(m.cameras[0].ModelName(), "OPENCV");
   EXPECT_EQ(m.cameras[0].params.size(), 8u);
-  ExpectInputError([&] { IntrinsicsFromColmapCamera(m.cameras[0], dir + "/cameras.txt"); },
-                   {dir + "/cameras.txt", "camera 1", "OPENCV",
-                    "SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL"});
+  EXPECT_EQ(LensModelOfColmapCamera(m.cameras[0], dir + "/cameras.txt"), LensModel::kOpenCV);
   // And it round-trips like any other model.
   const std::string out = TempDir("opencv_out");
   WriteColmapText(m, out);

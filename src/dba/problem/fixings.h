@@ -1,7 +1,9 @@
 // What a solve holds fixed, as data: whole images (a BAL camera's 9
 // parameters, a pose's 6) by their 0-based index in the problem, and
-// intrinsic parameters in every group (photogrammetric model). Fixed
-// parameters are not unknowns (rcs/unknown_layout.h).
+// intrinsic parameters by name, in every group or in one (photogrammetric
+// model). Names are each group's lens model's (problem/lens_model.h: COLMAP's
+// own names, e.g. k0…k5 and p0, p1 for RAD_TAN_THIN_PRISM_FISHEYE), or
+// "all". Fixed parameters are not unknowns (rcs/unknown_layout.h).
 //
 // The command line's fixings (app/solve_input.h) become these after they are
 // checked against the input; the ranks of a distributed solve that read a
@@ -10,7 +12,6 @@
 #pragma once
 
 #include <cstdint>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -18,32 +19,24 @@
 
 namespace dba {
 
-struct Fixings {
-  std::vector<int64_t> images;  // 0-based image indices
-  uint8_t intrinsics = 0;       // IntrinsicBit mask held in every group
-  bool empty() const { return images.empty() && intrinsics == 0; }
+// `names` held fixed in group `group` (0-based), or in every group (-1).
+struct IntrinsicFixing {
+  int64_t group = -1;
+  std::vector<std::string> names;
+  bool operator==(const IntrinsicFixing&) const = default;
 };
 
-// Adds `f` to what the camera side already holds fixed. std::invalid_argument for
-// an image index out of range or fixed intrinsics of a BAL problem.
-inline void ApplyFixings(const Fixings& f, CameraSide* problem) {
-  if (!f.images.empty()) {
-    problem->fixed_cameras.resize(problem->num_images(), 0);
-    for (int64_t i : f.images) {
-      if (i < 0 || i >= problem->num_images()) {
-        throw std::invalid_argument("image " + std::to_string(i) + " does not exist (the problem has " +
-                                    std::to_string(problem->num_images()) + " images, 0-based)");
-      }
-      problem->fixed_cameras[i] = 1;
-    }
-  }
-  if (f.intrinsics != 0) {
-    if (problem->model != CameraModel::kPhoto) {
-      throw std::invalid_argument("fixed intrinsics need the photogrammetric model");
-    }
-    problem->fixed_intrinsics.resize(problem->num_groups(), 0);
-    for (uint8_t& m : problem->fixed_intrinsics) m |= f.intrinsics;
-  }
-}
+struct Fixings {
+  std::vector<int64_t> images;  // 0-based image indices
+  std::vector<IntrinsicFixing> intrinsics;
+  bool empty() const { return images.empty() && intrinsics.empty(); }
+};
+
+// Adds `f` to what the camera side already holds fixed: each name to the
+// groups it targets whose model has it. std::invalid_argument for an image
+// or group index out of range, fixed intrinsics of a BAL problem, and a name
+// that none of the targeted groups' models has (listing their models and
+// parameter names). Nothing is changed when it throws.
+void ApplyFixings(const Fixings& f, CameraSide* problem);
 
 }  // namespace dba

@@ -3,13 +3,15 @@
 //
 //   kBal    one camera per image, 9 parameters (ω, t, f, k1, k2)
 //   kPhoto  per image a pose (ω, t: 6 parameters) and per physical camera an
-//           intrinsic group (f, cx, cy, k1, k2: 5 parameters) shared by the
-//           images taken with it (the paper's 6 exterior + 5 interior
-//           unknowns)
+//           intrinsic group shared by the images taken with it: a lens model
+//           (problem/lens_model.h: COLMAP's models and Brown) and its
+//           parameters (the paper's 6 exterior + 5 interior unknowns are a
+//           RADIAL group)
 //
 // All camera-side parameters live in one vector `cameras`: the images' 9 or 6
-// parameters each, then (kPhoto) the intrinsic groups' 5 each. The LM loop
-// steps that vector as a whole.
+// parameters each, then (kPhoto) the intrinsic groups', intrinsics_size
+// slots each (a group uses the first LensModelParams(its model) of them; the
+// rest are zero and never unknowns). The LM loop steps that vector as a whole.
 //
 // Two types: a CameraSide (the model, the camera-side parameters, the images'
 // groups, what is held fixed), which is what the main rank of a distributed
@@ -29,34 +31,47 @@
 #include <utility>
 #include <vector>
 
+#include "dba/problem/lens_model.h"
+
 namespace dba {
 
 inline constexpr int kBalCameraSize = 9;  // angle-axis r[3], t[3], f, k1, k2
 inline constexpr int kPointSize = 3;
 inline constexpr int kPhotoPoseSize = 6;        // ω[3], t[3]
-inline constexpr int kPhotoIntrinsicsSize = 5;  // f, cx, cy, k1, k2
+// Slots per intrinsic group unless a problem says otherwise: RADIAL's f,
+// cx, cy, k1, k2 (the paper's model).
+inline constexpr int kPhotoIntrinsicsSize = 5;
 
 enum class CameraModel : int32_t { kBal = 0, kPhoto = 1 };
 
-// Bits of the intrinsic parameters (kPhoto), for fixed_intrinsics.
-enum IntrinsicBit : uint8_t {
+// Bits of a group's parameters (bit j: its model's parameter j), for
+// fixed_intrinsics. The named bits are RADIAL's (f, cx, cy, k1, k2; all five
+// are kAllIntrinsics), which also name the first parameters of
+// SIMPLE_PINHOLE, SIMPLE_RADIAL and Brown; other models' masks come from
+// LensModelParamMask and LensModelParamIndex.
+enum IntrinsicBit : uint16_t {
   kIntrinsicF = 1, kIntrinsicCx = 2, kIntrinsicCy = 4, kIntrinsicK1 = 8, kIntrinsicK2 = 16,
   kAllIntrinsics = 31,
 };
 
 struct CameraSide {
   CameraModel model = CameraModel::kBal;
+  // kPhoto: slots per intrinsic group, at least every group's model's
+  // parameter count (at most kMaxIntrinsics).
+  int32_t intrinsics_size = kPhotoIntrinsicsSize;
   // Camera-side parameters: camera_size() per image (a BAL camera, or a
-  // pose), then, for kPhoto, kPhotoIntrinsicsSize per intrinsic group.
+  // pose), then, for kPhoto, intrinsics_size per intrinsic group.
   std::vector<double> cameras;
+  // kPhoto: each group's lens model; empty means every group is RADIAL.
+  std::vector<LensModel> group_models;
   // kPhoto: the intrinsic group of each image (size num_images()).
   std::vector<int32_t> camera_intrinsics;
   // What is held fixed (fixed parameters are not unknowns of the solve).
   // fixed_cameras: empty (none fixed), or one flag per image (the whole
   // pose/camera). fixed_intrinsics: kPhoto, empty (none fixed) or per group
-  // a mask of IntrinsicBit: the parameters held fixed.
+  // a mask of the parameters held fixed (bit j: parameter j).
   std::vector<uint8_t> fixed_cameras;
-  std::vector<uint8_t> fixed_intrinsics;
+  std::vector<uint16_t> fixed_intrinsics;
 
   int camera_size() const {
     return model == CameraModel::kBal ? kBalCameraSize : kPhotoPoseSize;
@@ -72,34 +87,41 @@ struct CameraSide {
     return model == CameraModel::kBal
                ? 0
                : (static_cast<int64_t>(cameras.size()) - kPhotoPoseSize * num_images()) /
-                     kPhotoIntrinsicsSize;
+                     intrinsics_size;
+  }
+  // Group g's lens model (kPhoto).
+  LensModel group_model(int64_t g) const {
+    return group_models.empty() ? LensModel::kRadial : group_models[g];
   }
   double* camera(int64_t i) { return cameras.data() + camera_size() * i; }
   const double* camera(int64_t i) const { return cameras.data() + camera_size() * i; }
   // Intrinsic group g (kPhoto).
-  double* intrinsics(int64_t g) {
-    return cameras.data() + kPhotoPoseSize * num_images() + kPhotoIntrinsicsSize * g;
-  }
-  const double* intrinsics(int64_t g) const {
-    return cameras.data() + kPhotoPoseSize * num_images() + kPhotoIntrinsicsSize * g;
+  double* intrinsics(int64_t g) { return cameras.data() + intrinsics_offset(g); }
+  const double* intrinsics(int64_t g) const { return cameras.data() + intrinsics_offset(g); }
+  // Where group g's parameters start in `cameras`.
+  int64_t intrinsics_offset(int64_t g) const {
+    return kPhotoPoseSize * num_images() + int64_t{intrinsics_size} * g;
   }
   bool camera_fixed(int64_t i) const { return !fixed_cameras.empty() && fixed_cameras[i]; }
-  // The intrinsic parameters of group g that are unknowns.
-  uint8_t intrinsics_free_mask(int64_t g) const {
-    return fixed_intrinsics.empty() ? uint8_t{kAllIntrinsics}
-                                    : static_cast<uint8_t>(kAllIntrinsics & ~fixed_intrinsics[g]);
+  // The intrinsic parameters of group g that are unknowns: its model's
+  // (not metadata) and not held fixed.
+  uint16_t intrinsics_free_mask(int64_t g) const {
+    const uint16_t model = LensModelParamMask(group_model(g));
+    return fixed_intrinsics.empty() ? model
+                                    : static_cast<uint16_t>(model & ~fixed_intrinsics[g]);
   }
 
-  // Every array, in one fixed order (cameras, camera_intrinsics,
-  // fixed_cameras, fixed_intrinsics): the one list of the fields for code that
-  // treats them alike (sending a share, sizing). `f` gets each vector.
+  // Every array, in one fixed order (cameras, group_models,
+  // camera_intrinsics, fixed_cameras, fixed_intrinsics): the one list of the
+  // fields for code that treats them alike (sending a share, sizing). `f`
+  // gets each vector.
   template <class F>
   void ForEachArray(F&& f) {
-    f(cameras), f(camera_intrinsics), f(fixed_cameras), f(fixed_intrinsics);
+    f(cameras), f(group_models), f(camera_intrinsics), f(fixed_cameras), f(fixed_intrinsics);
   }
   template <class F>
   void ForEachArray(F&& f) const {
-    f(cameras), f(camera_intrinsics), f(fixed_cameras), f(fixed_intrinsics);
+    f(cameras), f(group_models), f(camera_intrinsics), f(fixed_cameras), f(fixed_intrinsics);
   }
   // Bytes held by the arrays (capacity, not size).
   int64_t MemoryBytes() const { return ArrayBytes(*this); }

@@ -7,8 +7,9 @@
 namespace dba {
 namespace {
 
-// Four vectors and the model, then four more: a new field fails here first.
-static_assert(sizeof(CameraSide) == sizeof(std::vector<double>) * 4 + alignof(std::vector<double>),
+// Five vectors and the model with the slots per group, then four more: a new
+// field fails here first.
+static_assert(sizeof(CameraSide) == sizeof(std::vector<double>) * 5 + alignof(std::vector<double>),
               "a new field of CameraSide must be added to its ForEachArray");
 static_assert(sizeof(Problem) == sizeof(CameraSide) + sizeof(std::vector<double>) * 4,
               "a new field of Problem must be added to its ForEachArray");
@@ -16,6 +17,7 @@ static_assert(sizeof(Problem) == sizeof(CameraSide) + sizeof(std::vector<double>
 TEST(Problem, ForEachArrayVisitsEveryArrayOnceInOrder) {
   Problem p;
   p.cameras.resize(1);
+  p.group_models.resize(9);
   p.camera_intrinsics.resize(2);
   p.fixed_cameras.resize(3);
   p.fixed_intrinsics.resize(4);
@@ -25,13 +27,14 @@ TEST(Problem, ForEachArrayVisitsEveryArrayOnceInOrder) {
   p.obs_pixel.resize(8);
   std::vector<size_t> sizes;
   p.ForEachArray([&](const auto& v) { sizes.push_back(v.size()); });
-  EXPECT_EQ(sizes, (std::vector<size_t>{1, 2, 3, 4, 5, 6, 7, 8}));
-  const int64_t expected = 1 * 8 + 2 * 4 + 3 + 4 + 5 * 8 + 6 * 8 + 7 * 4 + 8 * 8;
+  EXPECT_EQ(sizes, (std::vector<size_t>{1, 9, 2, 3, 4, 5, 6, 7, 8}));
+  const int64_t camera_side = 1 * 8 + 9 + 2 * 4 + 3 + 4 * 2;
+  const int64_t expected = camera_side + 5 * 8 + 6 * 8 + 7 * 4 + 8 * 8;
   int64_t capacities = 0;
   p.ForEachArray([&](const auto& v) { capacities += static_cast<int64_t>(v.capacity()); });
-  ASSERT_EQ(capacities, 36);  // resize of an empty vector: capacity == size
+  ASSERT_EQ(capacities, 45);  // resize of an empty vector: capacity == size
   EXPECT_EQ(p.MemoryBytes(), expected);
-  EXPECT_EQ(p.camera_side().MemoryBytes(), 1 * 8 + 2 * 4 + 3 + 4);
+  EXPECT_EQ(p.camera_side().MemoryBytes(), camera_side);
 }
 
 }  // namespace

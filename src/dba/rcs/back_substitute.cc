@@ -107,8 +107,10 @@ StepEvaluation BackSubstitute(const Problem& problem, const UnknownLayout& layou
     return BackSubstituteWith<BalModel>(problem, layout, lambda, bounds, delta_c,
                                         candidate_cameras, num_threads, candidate_points, loss);
   }
-  return BackSubstituteWith<PhotoModel>(problem, layout, lambda, bounds, delta_c,
-                                        candidate_cameras, num_threads, candidate_points, loss);
+  return WithPhotoModel(layout.max_intrinsics_block(), [&]<class Model>() {
+    return BackSubstituteWith<Model>(problem, layout, lambda, bounds, delta_c, candidate_cameras,
+                                     num_threads, candidate_points, loss);
+  });
 }
 
 }  // namespace dba

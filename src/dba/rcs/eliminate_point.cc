@@ -36,10 +36,10 @@ Vec2 Linearize(const Problem& problem, const UnknownLayout& layout, int64_t obs,
     const int32_t row = layout.intrinsics_row(g);
     sys->intrinsics_row[a] = row;
     IntrinsicsJacobian full;
-    const Vec2 r = PhotoResidualAndJacobians(sys->frames.Get(i, problem.camera(i)), problem.camera(i),
-                                             problem.intrinsics(g), X,
-                                             problem.pixel(obs), &sys->J_c[a],
-                                             row >= 0 ? &full : nullptr, &sys->J_p[a]);
+    const Vec2 r = PhotoResidualAndJacobians(
+        problem.group_model(g), sys->frames.Get(i, problem.camera(i)), problem.camera(i),
+        problem.intrinsics(g), X, problem.pixel(obs), &sys->J_c[a], row >= 0 ? &full : nullptr,
+        &sys->J_p[a]);
     if (row >= 0) {
       const auto& index = layout.intrinsics_free_index(g);
       const int n = layout.block_size(row);
@@ -110,13 +110,16 @@ void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Mode
   }
 }
 
-template void LinearizePoint(const Problem&, const UnknownLayout&, const RobustLoss&, int64_t,
-                             PointSystem<BalModel>*);
-template void LinearizePoint(const Problem&, const UnknownLayout&, const RobustLoss&, int64_t,
-                             PointSystem<PhotoModel>*);
-template void InvertDampedV(double, const DampingBounds&, PointSystem<BalModel>*);
-template void InvertDampedV(double, const DampingBounds&, PointSystem<PhotoModel>*);
-template void EliminatePoint(double, const DampingBounds&, PointSystem<BalModel>*);
-template void EliminatePoint(double, const DampingBounds&, PointSystem<PhotoModel>*);
+#define DBA_INSTANTIATE(Model)                                                              \
+  template void LinearizePoint(const Problem&, const UnknownLayout&, const RobustLoss&, int64_t, \
+                               PointSystem<Model>*);                                            \
+  template void InvertDampedV(double, const DampingBounds&, PointSystem<Model>*);               \
+  template void EliminatePoint(double, const DampingBounds&, PointSystem<Model>*);
+DBA_INSTANTIATE(BalModel)
+DBA_INSTANTIATE(PhotoModelOf<5>)
+DBA_INSTANTIATE(PhotoModelOf<8>)
+DBA_INSTANTIATE(PhotoModelOf<12>)
+DBA_INSTANTIATE(PhotoModelOf<16>)
+#undef DBA_INSTANTIATE
 
 }  // namespace dba

@@ -3,7 +3,7 @@
 // For point k with observations a = 1..m, each observation touches up to two
 // camera-side blocks of unknowns (rcs/unknown_layout.h): its camera c_a (the
 // 9 BAL parameters, or a 6-parameter pose) and, in the photogrammetric model,
-// its intrinsic group g_a (the group's free parameters, ≤ 5). Either may be
+// its intrinsic group g_a (the group's free parameters, ≤ kMaxIntrinsics). Either may be
 // held fixed, and then has no block. With e ranging over an observation's
 // blocks:
 //   J_e,a = ∂r_a/∂(block e) (2 x |e|), J_p,a = ∂r_a/∂X_k (2x3), r_a residual
@@ -68,10 +68,26 @@ struct BalModel {
   static constexpr int kCamera = kBalCameraSize;
   static constexpr int kIntrinsics = 0;
 };
-struct PhotoModel {
+// The photogrammetric model with intrinsics blocks of at most kWidth
+// unknowns: the kernels are instantiated for 5 (the paper's model and every
+// model with ≤ 5 parameters), 8, 12 and 16, so a problem pays only for the
+// width its largest block needs.
+template <int kWidth>
+struct PhotoModelOf {
   static constexpr int kCamera = kPhotoPoseSize;
-  static constexpr int kIntrinsics = kPhotoIntrinsicsSize;
+  static constexpr int kIntrinsics = kWidth;
 };
+using PhotoModel = PhotoModelOf<kPhotoIntrinsicsSize>;
+
+// f.template operator()<M>() with M the narrowest PhotoModelOf whose width
+// holds `max_block` unknowns (UnknownLayout::max_intrinsics_block).
+template <class F>
+decltype(auto) WithPhotoModel(int max_block, F&& f) {
+  if (max_block <= 5) return f.template operator()<PhotoModelOf<5>>();
+  if (max_block <= 8) return f.template operator()<PhotoModelOf<8>>();
+  if (max_block <= 12) return f.template operator()<PhotoModelOf<12>>();
+  return f.template operator()<PhotoModelOf<16>>();
+}
 
 template <class Model>
 struct PointSystem {

@@ -349,7 +349,9 @@ void FormRcs(const Problem& problem, double lambda,
   if (problem.model == CameraModel::kBal) {
     FormRcsWith<BalModel>(problem, lambda, bounds, loss, num_threads, sys);
   } else {
-    FormRcsWith<PhotoModel>(problem, lambda, bounds, loss, num_threads, sys);
+    WithPhotoModel(sys->layout.max_intrinsics_block(), [&]<class Model>() {
+      FormRcsWith<Model>(problem, lambda, bounds, loss, num_threads, sys);
+    });
   }
 }
 

@@ -1,8 +1,11 @@
 // The RCS formed point by point in BSMC (paper eq. 4) against the Schur
 // complement of the dense damped normal equations.
 #include "dba/rcs/form_rcs.h"
+#include "dba/problem/fixings.h"
 
 #include <gtest/gtest.h>
+
+#include <bit>
 
 #include "dba/testing/dense_reference.h"
 #include "dba/testing/synthetic_bal.h"
@@ -161,6 +164,70 @@ INSTANTIATE_TEST_SUITE_P(
                       PhotoCase{"intrinsics_fixed", 0, {}},
                       PhotoCase{"two_images_fixed", kAllIntrinsics, {0, 4}}),
     [](const ::testing::TestParamInfo<PhotoCase>& info) { return info.param.name; });
+
+// Every lens model: pose-intrinsics and intrinsics-intrinsics blocks of its
+// size, against the dense Schur complement.
+Problem LensProblem(LensModel m, uint32_t seed) {
+  testing::SyntheticPhotoOptions o;
+  o.geometry.num_cameras = 7;
+  o.geometry.num_points = 60;
+  o.geometry.max_track = 5;
+  o.geometry.pixel_noise = 1.0;
+  o.geometry.rotation_perturbation = 0.01;
+  o.geometry.translation_perturbation = 0.05;
+  o.geometry.point_perturbation = 0.05;
+  o.geometry.seed = seed;
+  o.num_groups = 3;
+  o.focal_perturbation = 0.01;
+  o.principal_perturbation = 2.0;
+  o.distortion_perturbation = 0.05;
+  o.lens_model = m;
+  return testing::MakeSyntheticPhoto(o).problem;
+}
+
+void ExpectMatchesDense(const Problem& problem, const std::string& what) {
+  for (double lambda : {1e-4, 1.0}) {
+    const DampingBounds bounds;
+    RcsSystem sys = RcsSystem::ForProblem(problem);
+    FormRcs(problem, lambda, bounds, 2, &sys);
+    DampCameraBlocks(lambda, bounds, sys.camera_side_jtj_diagonal, &sys.S);
+    const auto dense = testing::BuildDenseNormalEquations(problem, lambda, bounds);
+    ASSERT_EQ(sys.S.num_rows(), dense.num_camera_params) << what;
+    EXPECT_LT(RelativeError(testing::DenseFromBsmc(sys.S), dense.ReducedCameraMatrix()), 1e-10)
+        << what << " lambda " << lambda;
+    const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(sys.b.data(), sys.b.size());
+    EXPECT_LT(RelativeError(b, dense.ReducedRhs()), 1e-10) << what;
+    EXPECT_NEAR(sys.cost, dense.cost, 1e-12 * dense.cost) << what;
+  }
+}
+
+TEST(FormRcs, EveryLensModelMatchesDenseSchurComplement) {
+  for (const LensModelInfo& info : LensModels()) {
+    const Problem problem = LensProblem(info.id, 1);
+    const UnknownLayout layout(problem);
+    // 7 poses, then a row per group with its model's unknowns (none for
+    // EQUIRECTANGULAR, whose w and h are not unknowns).
+    const int unknowns = std::popcount(LensModelParamMask(info.id));
+    EXPECT_EQ(layout.num_block_rows(), 7 + (unknowns > 0 ? 3 : 0)) << info.name;
+    EXPECT_EQ(layout.max_intrinsics_block(), unknowns) << info.name;
+    ExpectMatchesDense(problem, info.name);
+  }
+}
+
+// Groups of different models and sizes in one problem (the kernels' width is
+// the largest block's), some parameters fixed by name.
+TEST(FormRcs, MixedLensModelsAndFixedParametersMatchDenseSchurComplement) {
+  Problem problem = LensProblem(LensModel::kRadTanThinPrismFisheye, 2);
+  // FISHEYE and THIN_PRISM_FISHEYE read the first 4 and 12 of the values.
+  problem.group_models = {LensModel::kFisheye, LensModel::kThinPrismFisheye,
+                          LensModel::kRadTanThinPrismFisheye};
+  ApplyFixings(Fixings{{3}, {{2, {"k3", "k4", "k5", "p0"}}, {1, {"cy"}}}}, &problem);
+  const UnknownLayout layout(problem);
+  EXPECT_EQ(layout.block_size(layout.intrinsics_row(0)), 4);
+  EXPECT_EQ(layout.block_size(layout.intrinsics_row(1)), 11);
+  EXPECT_EQ(layout.block_size(layout.intrinsics_row(2)), 12);
+  ExpectMatchesDense(problem, "mixed");
+}
 
 TEST(FormRcs, PhotoRowsAndBlockSizes) {
   const Problem problem =

@@ -29,17 +29,18 @@ UnknownLayout::UnknownLayout(const CameraSide& problem) {
   intrinsics_row_.assign(num_groups, -1);
   free_index_.resize(num_groups);
   for (int64_t g = 0; g < num_groups; ++g) {
-    const uint8_t mask = problem.intrinsics_free_mask(g);
+    const uint16_t mask = problem.intrinsics_free_mask(g);
     auto& index = free_index_[g];
     index.fill(-1);
     int n = 0;
-    for (int d = 0; d < kPhotoIntrinsicsSize; ++d) {
+    for (int d = 0; d < kMaxIntrinsics; ++d) {
       if (mask & (1u << d)) index[n++] = static_cast<int8_t>(d);
     }
     if (n == 0) continue;
+    max_intrinsics_block_ = std::max(max_intrinsics_block_, n);
     intrinsics_row_[g] = static_cast<int32_t>(block_sizes_.size());
     block_sizes_.push_back(n);
-    param_offset_.push_back(kPhotoPoseSize * num_cameras + kPhotoIntrinsicsSize * g);
+    param_offset_.push_back(problem.intrinsics_offset(g));
     row_entity_.push_back(static_cast<int32_t>(g));
     row_offset_.push_back(row_offset_.back() + n);
   }

@@ -5,7 +5,8 @@
 //   1. every camera (image) that is not held fixed, in camera order:
 //      9 unknowns (kBal) or a 6-unknown pose (kPhoto);
 //   2. (kPhoto) every intrinsic group with at least one free parameter, in
-//      group order: as many unknowns as it has free parameters (≤ 5).
+//      group order: as many unknowns as it has free parameters (≤
+//      kMaxIntrinsics).
 // Intrinsic rows come last, so a block (camera row, intrinsic row) is always
 // in the stored upper triangle. Fixed parameters are not unknowns: they have
 // no row and no column, and a step never changes them.
@@ -44,11 +45,14 @@ class UnknownLayout {
   }
   // Rows [0, num_camera_rows()) are cameras, the rest intrinsic groups.
   int32_t num_camera_rows() const { return num_camera_rows_; }
-  // Free parameter j of intrinsic group g, as an index into its 5
+  // Free parameter j of intrinsic group g, as an index into its
   // parameters (free parameters in increasing order).
-  const std::array<int8_t, kPhotoIntrinsicsSize>& intrinsics_free_index(int64_t g) const {
+  const std::array<int8_t, kMaxIntrinsics>& intrinsics_free_index(int64_t g) const {
     return free_index_[g];
   }
+  // The largest intrinsics block (0 when there is none): the width the
+  // kernels are instantiated for.
+  int max_intrinsics_block() const { return max_intrinsics_block_; }
 
   // out = x ⊞ δ (out may alias x).
   void Plus(const double* x, const double* delta, double* out) const;
@@ -65,9 +69,10 @@ class UnknownLayout {
  private:
   int64_t num_parameters_ = 0;
   int32_t num_camera_rows_ = 0;
+  int max_intrinsics_block_ = 0;
   std::vector<int32_t> camera_row_;
   std::vector<int32_t> intrinsics_row_;
-  std::vector<std::array<int8_t, kPhotoIntrinsicsSize>> free_index_;
+  std::vector<std::array<int8_t, kMaxIntrinsics>> free_index_;
   std::vector<int32_t> block_sizes_;
   std::vector<int64_t> row_offset_{0};
   std::vector<int64_t> param_offset_;

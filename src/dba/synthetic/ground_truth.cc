@@ -118,14 +118,15 @@ GroundTruthErrors GeometryErrors(const Problem& truth, const std::vector<double>
     point_sum += (X - Eigen::Map<const Vec3>(truth.point(k))).squaredNorm();
   }
   e.point_rms = std::sqrt(point_sum / std::max<int64_t>(point_count, 1));
-  const int64_t first = kPhotoPoseSize * truth.num_images();
   for (int64_t g = 0; g < truth.num_groups(); ++g) {
-    std::array<double, kPhotoIntrinsicsSize> err;
-    for (int j = 0; j < kPhotoIntrinsicsSize; ++j) {
-      const int64_t at = first + kPhotoIntrinsicsSize * g + j;
+    const LensModel m = truth.group_model(g);
+    std::vector<double> err(LensModelParams(m));
+    for (size_t j = 0; j < err.size(); ++j) {
+      const int64_t at = truth.intrinsics_offset(g) + static_cast<int64_t>(j);
       err[j] = std::abs(cameras[at] - truth.cameras[at]);
     }
-    e.intrinsics_error.push_back(err);
+    e.intrinsics_model.push_back(m);
+    e.intrinsics_error.push_back(std::move(err));
     e.true_focal.push_back(truth.intrinsics(g)[0]);
   }
   return e;

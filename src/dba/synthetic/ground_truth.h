@@ -41,10 +41,12 @@ struct GroundTruthErrors {
   // Per camera (image): the true centre's x and y and the aligned centre's
   // distance from it (for a top view of the errors over the survey).
   std::vector<double> centre_x, centre_y, centre_error;
-  // kPhoto: per intrinsic group, |solved - true| of f, cx, cy, k1, k2 (in
-  // that order); the true f of each group, for relative errors. Empty for
+  // kPhoto: per intrinsic group, its lens model and |solved - true| of each
+  // of its parameters (in the model's order); the true first parameter (the
+  // focal length, f or fx) of each group, for relative errors. Empty for
   // kBal.
-  std::vector<std::array<double, kPhotoIntrinsicsSize>> intrinsics_error;
+  std::vector<LensModel> intrinsics_model;
+  std::vector<std::vector<double>> intrinsics_error;
   std::vector<double> true_focal;
 };
 

@@ -1,6 +1,10 @@
 // Synthetic UAV surveys; see uav_generator.h.
 #include "dba/synthetic/uav_generator.h"
 
+#include <numbers>
+
+#include "dba/camera/typical_lens.h"
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -40,6 +44,10 @@ struct Layout {
 };
 
 Layout MakeLayout(const UavSurveyOptions& o) {
+  if (o.field_of_view != 0 && !(o.field_of_view > 0 && o.field_of_view < 160)) {
+    throw std::invalid_argument("field of view " + std::to_string(o.field_of_view) +
+                                " degrees: must be in (0, 160)");
+  }
   Layout l;
   l.footprint = o.image_size / o.focal_px * o.flying_height;
   l.along = l.footprint * (1.0 - o.forward_overlap);
@@ -110,7 +118,12 @@ Problem PhotoCameraSide(const UavSurveyOptions& o, const Layout& l,
   p.model = CameraModel::kPhoto;
   const int64_t groups = std::min<int64_t>(o.physical_cameras, l.strips);
   p.camera_intrinsics.resize(l.images);
-  p.cameras.resize(kPhotoPoseSize * l.images + kPhotoIntrinsicsSize * groups);
+  const bool radial = o.camera_model == LensModel::kRadial;
+  if (!radial) {
+    p.group_models.assign(groups, o.camera_model);
+    p.intrinsics_size = LensModelParams(o.camera_model);
+  }
+  p.cameras.resize(kPhotoPoseSize * l.images + int64_t{p.intrinsics_size} * groups);
   const Mat3 flip = Vec3(1, -1, -1).asDiagonal();
   for (int64_t i = 0; i < l.images; ++i) {
     const double* c = bal.data() + kBalCameraSize * i;
@@ -122,8 +135,19 @@ Problem PhotoCameraSide(const UavSurveyOptions& o, const Layout& l,
     p.camera_intrinsics[i] = cam;
     if (i == cam * l.per_strip) {  // the group's first image (strip cam)
       const double half = o.image_size / 2;
-      const double values[5] = {c[6], half + 1.5 + 2.0 * cam, half - 2.5 + 1.0 * cam, c[7], c[8]};
-      std::copy(values, values + 5, p.intrinsics(cam));
+      if (radial) {
+        const double values[5] = {c[6], half + 1.5 + 2.0 * cam, half - 2.5 + 1.0 * cam, c[7], c[8]};
+        std::copy(values, values + 5, p.intrinsics(cam));
+      } else {
+        // The BAL camera's focal error scales every focal length.
+        std::vector<double> values = TypicalLensParams(
+            o.camera_model, LensFocal(o) * c[6] / o.focal_px, o.image_size, o.image_size);
+        if (const auto cx = LensModelParamIndex(o.camera_model, "cx")) {
+          values[*cx] += 2.0 * cam;
+          values[*cx + 1] += 1.0 * cam;
+        }
+        std::copy(values.begin(), values.end(), p.intrinsics(cam));
+      }
     }
   }
   return p;
@@ -196,9 +220,37 @@ void ForEachPoint(const UavSurveyOptions& o, const Layout& l, Project project,
 
 }  // namespace
 
-UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& o, const std::string& path,
+bool IsFisheyeModel(LensModel m) {
+  switch (m) {
+    case LensModel::kOpenCVFisheye:
+    case LensModel::kSimpleRadialFisheye:
+    case LensModel::kRadialFisheye:
+    case LensModel::kThinPrismFisheye:
+    case LensModel::kRadTanThinPrismFisheye:
+    case LensModel::kSimpleFisheye:
+    case LensModel::kFisheye:
+      return true;
+    default:
+      return false;
+  }
+}
+
+double LensFocal(const UavSurveyOptions& o) {
+  if (o.field_of_view <= 0 || !IsFisheyeModel(o.camera_model)) return o.focal_px;
+  const double half_angle = 0.5 * o.field_of_view * std::numbers::pi / 180.0;
+  return 0.5 * o.image_size / half_angle;
+}
+
+UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::string& path,
                                    const std::string& truth_path,
                                    const std::function<void(double)>& progress) {
+  UavSurveyOptions o = options;
+  if (o.field_of_view > 0 && o.field_of_view < 160) {
+    o.focal_px = 0.5 * o.image_size / std::tan(0.25 * o.field_of_view * std::numbers::pi / 90.0);
+  }
+  if (o.model != CameraModel::kPhoto && o.camera_model != LensModel::kRadial) {
+    throw std::invalid_argument("generate: a camera model other than RADIAL needs the photo model");
+  }
   if (o.images < 2 || o.features_per_image <= 0 || o.physical_cameras < 1 ||
       !(o.forward_overlap > 0 && o.forward_overlap < 1) ||
       !(o.side_overlap > 0 && o.side_overlap < 1) || o.pixel_noise < 0 ||
@@ -238,8 +290,9 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& o, const std::string&
   const double zero[2] = {0.0, 0.0}, half = o.image_size / 2;
   const auto project = [&](int64_t i, const double* X, Vec2* px) {
     if (photo) {
-      *px = PhotoResidual(true_side.camera(i),
-                          true_side.intrinsics(true_side.camera_intrinsics[i]), X, zero);
+      const int32_t g = true_side.camera_intrinsics[i];
+      *px = PhotoResidual(true_side.group_model(g), true_side.camera(i), true_side.intrinsics(g),
+                          X, zero);
       return px->x() >= 0 && px->x() < o.image_size && px->y() >= 0 && px->y() < o.image_size;
     }
     *px = BalResidual(true_side.camera(i), X, zero);

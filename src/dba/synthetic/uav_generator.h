@@ -14,10 +14,16 @@
 //   kBal    one 9-parameter BAL camera per image: the images of a physical
 //           camera get the same intrinsic values, but as separate unknowns.
 //   kPhoto  per image a pose (COLMAP's axes: the BAL pose turned about its
-//           x axis, camera/photo_camera.h), and one intrinsic group
-//           (f, cx, cy, k1, k2) per physical camera used (min(C, strips)),
-//           shared by its images; the principal point is a few pixels off
-//           the image centre. Only a .dba output can hold it.
+//           x axis, camera/photo_camera.h), and one intrinsic group per
+//           physical camera used (min(C, strips)), shared by its images, in
+//           `camera_model`: RADIAL (f, cx, cy, k1, k2, the BAL camera's f,
+//           k1, k2) by default, any other lens model with
+//           TypicalLensParams; the principal point is a few pixels off the
+//           image centre. Only a .dba output can hold it.
+// Field of view (`field_of_view`, degrees, across the image; 0: from
+// focal_px): sets focal_px to the pinhole focal length of that angle, which
+// sizes the footprints, and a fisheye model's f to the equidistant one
+// (image_size / 2 = f · angle / 2), so wide-angle lenses fill the image.
 // Both draw the same survey from the same random streams (centres,
 // rotations, points, pixel noise), and perturb the initial values the same
 // way: rotation and centre per image, points, and the focal length once per
@@ -62,7 +68,15 @@ struct UavSurveyOptions {
   double focal_px = 1000.0;
   double image_size = 1000.0;    // pixels, square images
   CameraModel model = CameraModel::kBal;
+  LensModel camera_model = LensModel::kRadial;  // kPhoto's groups
+  double field_of_view = 0.0;  // degrees, (0, 160); 0: focal_px as given
 };
+
+// The focal length of `o`'s lens model: focal_px, or with a field of view
+// the equidistant one for fisheye models (see above).
+double LensFocal(const UavSurveyOptions& o);
+// Whether the model is one of COLMAP's equidistant fisheye models.
+bool IsFisheyeModel(LensModel m);
 
 inline constexpr double kOutlierMinDistance = 50.0;  // pixels
 // Whether an observation at `observed` whose noise-free pixel is `truth` is

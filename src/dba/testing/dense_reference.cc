@@ -40,13 +40,13 @@ DenseNormalEquations BuildDenseNormalEquations(const Problem& problem,
         const int32_t g = problem.camera_intrinsics[i];
         PoseJacobian J_pose;
         IntrinsicsJacobian J_in;
-        r = PhotoResidualAndJacobians(problem.camera(i), problem.intrinsics(g),
-                                      problem.point(k), problem.pixel(obs), &J_pose, &J_in,
-                                      &J_p);
+        r = PhotoResidualAndJacobians(problem.group_model(g), problem.camera(i),
+                                      problem.intrinsics(g), problem.point(k),
+                                      problem.pixel(obs), &J_pose, &J_in, &J_p);
         if (row >= 0) d.J.block(2 * obs, layout.row_offset(row), 2, 6) = J_pose;
         const int32_t grow = layout.intrinsics_row(g);
         int64_t col = grow >= 0 ? layout.row_offset(grow) : -1;
-        for (int p = 0; p < kPhotoIntrinsicsSize && col >= 0; ++p) {
+        for (int p = 0; p < problem.intrinsics_size && col >= 0; ++p) {
           if (problem.intrinsics_free_mask(g) & (1u << p)) d.J.block(2 * obs, col++, 2, 1) = J_in.col(p);
         }
       }

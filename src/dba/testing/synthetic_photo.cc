@@ -1,6 +1,8 @@
 // Synthetic photogrammetric problems for tests; see synthetic_photo.h.
 #include "dba/testing/synthetic_photo.h"
 
+#include "dba/camera/typical_lens.h"
+
 #include <Eigen/Geometry>
 #include <random>
 
@@ -35,18 +37,28 @@ SyntheticProblem MakeSyntheticPhoto(const SyntheticPhotoOptions& o) {
   t.model = CameraModel::kPhoto;
   const int n = static_cast<int>(bal.truth.num_images());
   t.camera_intrinsics.resize(n);
-  t.cameras.resize(kPhotoPoseSize * n + kPhotoIntrinsicsSize * o.num_groups);
+  const bool radial = o.lens_model == LensModel::kRadial;
+  if (!radial) {
+    t.group_models.assign(o.num_groups, o.lens_model);
+    t.intrinsics_size = LensModelParams(o.lens_model);
+  }
+  t.cameras.resize(kPhotoPoseSize * n + int64_t{t.intrinsics_size} * o.num_groups);
   for (int i = 0; i < n; ++i) {
     t.camera_intrinsics[i] = i % o.num_groups;
     PoseFromBal(bal.truth.camera(i), t.camera(i));
   }
   for (int gi = 0; gi < o.num_groups; ++gi) {
-    double* c = t.intrinsics(gi);
+    // RADIAL's values (the same draws for every model, so a seed gives
+    // the same focal length), or the model's typical ones at that focal.
+    double c[5];
     c[0] = 800.0 + 50.0 * uniform(rng);
     c[1] = 320.0 + 10.0 * uniform(rng);
     c[2] = 240.0 + 10.0 * uniform(rng);
     c[3] = 0.05 * uniform(rng);
     c[4] = 0.005 * uniform(rng);
+    const std::vector<double> values =
+        radial ? std::vector<double>(c, c + 5) : TypicalLensParams(o.lens_model, c[0], 640.0, 480.0);
+    std::copy(values.begin(), values.end(), t.intrinsics(gi));
   }
   t.points = bal.truth.points;
   t.point_offsets = bal.truth.point_offsets;
@@ -59,8 +71,8 @@ SyntheticProblem MakeSyntheticPhoto(const SyntheticPhotoOptions& o) {
     for (int64_t obs = t.point_offsets[k]; obs < t.point_offsets[k + 1]; ++obs) {
       const int32_t i = t.obs_camera[obs];
       const double zero[2] = {0.0, 0.0};
-      const Vec2 u = PhotoResidual(t.camera(i), t.intrinsics(t.camera_intrinsics[i]),
-                                   t.point(k), zero);
+      const int32_t g = t.camera_intrinsics[i];
+      const Vec2 u = PhotoResidual(t.group_model(g), t.camera(i), t.intrinsics(g), t.point(k), zero);
       t.obs_pixel[2 * obs] = u.x();
       t.obs_pixel[2 * obs + 1] = u.y();
     }
@@ -73,7 +85,25 @@ SyntheticProblem MakeSyntheticPhoto(const SyntheticPhotoOptions& o) {
     // The same pose perturbation as the BAL problem's.
     PoseFromBal(bal.problem.camera(i), p.camera(i));
   }
-  for (int gi = 0; gi < o.num_groups; ++gi) {
+  for (int gi = 0; gi < o.num_groups && !radial; ++gi) {
+    // Focal lengths relative, principal point in pixels, extras relative.
+    const LensModel m = o.lens_model;
+    double* c = p.intrinsics(gi);
+    const uint16_t free = LensModelParamMask(m);
+    const int first_extra = LensModelParamIndex(m, "fy") ? 4 : 3;
+    for (int j = 0; j < LensModelParams(m); ++j) {
+      if (!(free & (1u << j))) continue;
+      const std::string name = LensModelParamName(m, j);
+      if (name == "cx" || name == "cy") {
+        c[j] += o.principal_perturbation * normal(rng);
+      } else if (j < first_extra) {
+        c[j] *= 1.0 + o.focal_perturbation * normal(rng);
+      } else {
+        c[j] += o.distortion_perturbation * (std::abs(c[j]) + 1e-3) * normal(rng);
+      }
+    }
+  }
+  for (int gi = 0; gi < o.num_groups && radial; ++gi) {
     double* c = p.intrinsics(gi);
     c[0] *= 1.0 + o.focal_perturbation * normal(rng);
     c[1] += o.principal_perturbation * normal(rng);
