@@ -42,6 +42,12 @@ uint64_t CameraSideFingerprint(const Problem& side, int64_t num_points) {
   f.AddVector(side.camera_intrinsics);
   f.AddVector(side.fixed_cameras);
   f.AddVector(side.fixed_intrinsics);
+  // The lens models (only when a problem has them, so fingerprints of the
+  // paper's RADIAL-only problems stay what earlier versions wrote).
+  if (!side.group_models.empty() || side.intrinsics_size != kPhotoIntrinsicsSize) {
+    f.Add(&side.intrinsics_size, sizeof side.intrinsics_size);
+    f.AddVector(side.group_models);
+  }
   return f.h;
 }
 
