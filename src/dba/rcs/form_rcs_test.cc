@@ -111,7 +111,9 @@ struct PhotoCase {
 
 class PhotoFormRcsTest : public ::testing::TestWithParam<PhotoCase> {};
 
-Problem PhotoProblem(const PhotoCase& c, uint32_t seed) {
+// A small problem of 7 images and 3 intrinsic groups in lens model `m`,
+// perturbed.
+Problem LensProblem(LensModel m, uint32_t seed) {
   testing::SyntheticPhotoOptions o;
   o.geometry.num_cameras = 7;
   o.geometry.num_points = 60;
@@ -124,8 +126,13 @@ Problem PhotoProblem(const PhotoCase& c, uint32_t seed) {
   o.num_groups = 3;
   o.focal_perturbation = 0.01;
   o.principal_perturbation = 2.0;
-  o.distortion_perturbation = 0.01;
-  Problem p = testing::MakeSyntheticPhoto(o).problem;
+  o.distortion_perturbation = 0.05;
+  o.lens_model = m;
+  return testing::MakeSyntheticPhoto(o).problem;
+}
+
+Problem PhotoProblem(const PhotoCase& c, uint32_t seed) {
+  Problem p = LensProblem(LensModel::kRadial, seed);
   p.fixed_intrinsics.assign(p.num_groups(), static_cast<uint8_t>(kAllIntrinsics & ~c.free_intrinsics));
   p.fixed_cameras.assign(p.num_images(), 0);
   for (int i : c.fixed_images) p.fixed_cameras[i] = 1;
@@ -167,24 +174,6 @@ INSTANTIATE_TEST_SUITE_P(
 
 // Every lens model: pose-intrinsics and intrinsics-intrinsics blocks of its
 // size, against the dense Schur complement.
-Problem LensProblem(LensModel m, uint32_t seed) {
-  testing::SyntheticPhotoOptions o;
-  o.geometry.num_cameras = 7;
-  o.geometry.num_points = 60;
-  o.geometry.max_track = 5;
-  o.geometry.pixel_noise = 1.0;
-  o.geometry.rotation_perturbation = 0.01;
-  o.geometry.translation_perturbation = 0.05;
-  o.geometry.point_perturbation = 0.05;
-  o.geometry.seed = seed;
-  o.num_groups = 3;
-  o.focal_perturbation = 0.01;
-  o.principal_perturbation = 2.0;
-  o.distortion_perturbation = 0.05;
-  o.lens_model = m;
-  return testing::MakeSyntheticPhoto(o).problem;
-}
-
 void ExpectMatchesDense(const Problem& problem, const std::string& what) {
   for (double lambda : {1e-4, 1.0}) {
     const DampingBounds bounds;
