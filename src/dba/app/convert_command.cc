@@ -130,19 +130,24 @@ int InfoMain(const std::vector<std::string>& args) {
     const double sparsity = (2.0 * static_cast<double>(rcs.size()) - rows) / (rows * rows);
     std::printf("%s (%s)\n", args[0].c_str(), IsBinaryProblem(args[0]) ? "dba binary" : "BAL text");
     std::printf("  model         %s\n",
-                photo ? "photogrammetric (6-parameter pose per image, 5-parameter intrinsic "
-                        "groups f, cx, cy, k1, k2)"
+                photo ? "photogrammetric (6-parameter pose per image, shared intrinsic groups)"
                       : "BAL (9 parameters per camera)");
     std::printf("  %s  %ld\n", photo ? "images      " : "cameras     ", static_cast<long>(nc));
     if (photo) {
       std::printf("  intrinsic groups  %ld\n", static_cast<long>(p.num_groups()));
+      // Groups per lens model, in the table's order.
+      for (const LensModelInfo& m : LensModels()) {
+        int64_t n = 0;
+        for (int64_t g = 0; g < p.num_groups(); ++g) n += p.group_model(g) == m.id;
+        if (n > 0) std::printf("    %-26s %ld (%s)\n", m.name, static_cast<long>(n), m.params);
+      }
     }
     std::printf("  points        %ld\n  observations  %ld\n",
                 static_cast<long>(p.num_points()), static_cast<long>(p.num_observations()));
     const int64_t fixed = std::count_if(p.fixed_cameras.begin(), p.fixed_cameras.end(),
                                         [](uint8_t f) { return f != 0; });
     const int64_t partly = std::count_if(p.fixed_intrinsics.begin(), p.fixed_intrinsics.end(),
-                                         [](uint8_t m) { return m != 0; });
+                                         [](uint16_t m) { return m != 0; });
     if (fixed > 0 || partly > 0) {
       std::printf("  held fixed    %ld %s; %ld intrinsic groups with fixed parameters\n",
                   static_cast<long>(fixed), photo ? "image poses" : "cameras",

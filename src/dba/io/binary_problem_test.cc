@@ -15,6 +15,7 @@
 #include "dba/io/bal_reader.h"
 #include "dba/io/bal_writer.h"
 #include "dba/io/read_problem.h"
+#include "dba/problem/fixings.h"
 #include "dba/testing/synthetic_photo.h"
 #include "dba/testing/temp_files.h"
 
@@ -578,6 +579,92 @@ TEST(CheckedInBinaryFiles, Version2PhotoWithFixingsDecodes) {
   EXPECT_EQ(p.obs_camera, (std::vector<int32_t>{0, 2, 1, 2}));
   EXPECT_EQ(p.obs_pixel,
             (std::vector<double>{300.5, 200.25, 310, 210.5, 280.75, 260, 290.125, 250.5}));
+}
+
+}  // namespace
+}  // namespace dba
+
+namespace dba {
+namespace {
+
+// Version 3: groups of different lens models and sizes, fixed by name,
+// round-trip exactly; a problem of RADIAL groups is still version 2; a
+// model id, a parameter count or a mask that does not fit is refused.
+Problem MixedLensProblem() {
+  testing::SyntheticPhotoOptions o;
+  o.geometry.num_cameras = 6;
+  o.geometry.num_points = 40;
+  o.num_groups = 3;
+  o.lens_model = LensModel::kRadTanThinPrismFisheye;
+  Problem p = testing::MakeSyntheticPhoto(o).problem;
+  p.group_models = {LensModel::kFisheye, LensModel::kThinPrismFisheye,
+                    LensModel::kRadTanThinPrismFisheye};
+  ApplyFixings(Fixings{{1}, {{2, {"k5", "s3"}}, {0, {"cx", "cy"}}}}, &p);
+  return p;
+}
+
+TEST(BinaryProblem, Version3HoldsEachGroupsLensModel) {
+  const Problem p = MixedLensProblem();
+  const std::string path = Tmp("v3.dba");
+  WriteBinaryProblem(p, path);
+  EXPECT_EQ(ReadBinaryProblemHeader(path).version, 3u);
+  EXPECT_EQ(ReadBinaryProblemHeader(path).intrinsics_size, 16);
+  const Problem q = ReadBinaryProblem(path);
+  EXPECT_EQ(q.group_models, p.group_models);
+  EXPECT_EQ(q.intrinsics_size, 16);
+  EXPECT_EQ(q.cameras, p.cameras);
+  EXPECT_EQ(q.camera_intrinsics, p.camera_intrinsics);
+  EXPECT_EQ(q.fixed_cameras, p.fixed_cameras);
+  EXPECT_EQ(q.fixed_intrinsics, p.fixed_intrinsics);
+  EXPECT_EQ(q.fixed_intrinsics[2], (1u << 9) | (1u << 15));  // k5, s3
+  EXPECT_EQ(q.obs_pixel, p.obs_pixel);
+  // And the ranks' reader sees the same camera side.
+  const CameraSide side = ReadBinaryCameraSide(path);
+  EXPECT_EQ(side.group_models, p.group_models);
+  EXPECT_EQ(side.fixed_intrinsics, p.fixed_intrinsics);
+
+  // RADIAL groups in 5 slots: version 2, as before.
+  testing::SyntheticPhotoOptions radial;
+  radial.geometry.num_cameras = 6;
+  radial.geometry.num_points = 40;
+  WriteBinaryProblem(testing::MakeSyntheticPhoto(radial).problem, Tmp("v2.dba"));
+  EXPECT_EQ(ReadBinaryProblemHeader(Tmp("v2.dba")).version, 2u);
+}
+
+TEST(BinaryProblem, Version3RefusesModelsCountsAndMasksThatDoNotFit) {
+  const std::string good = Tmp("v3_good.dba"), bad = Tmp("v3_bad.dba");
+  WriteBinaryProblem(MixedLensProblem(), good);
+  const BinaryProblemHeader h = ReadBinaryProblemHeader(good);
+  const std::string bytes = testing::ReadFileBytes(good);
+  auto refused = [&](int64_t at, uint8_t value, const std::string& phrase) {
+    std::string b = bytes;
+    b[at] = static_cast<char>(value);
+    ASSERT_TRUE(testing::WriteFileBytes(bad, b));
+    try {
+      ReadBinaryProblem(bad);
+      ADD_FAILURE() << "accepted: " << phrase;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos) << e.what();
+    }
+  };
+  refused(h.group_models_offset, 99, "intrinsic group 0: unknown lens model id 99");
+  refused(h.group_models_offset + 1, 5, "FISHEYE has 4 parameters, the file says 5");
+  // Group 0 (FISHEYE, 4 parameters): a free bit for parameter 7.
+  const int64_t masks = h.flags_offset + h.num_cameras;
+  refused(masks, 0x80, "has bits beyond its FISHEYE model's parameters (fx, fy, cx, cy)");
+
+  // The writer refuses a mask beyond the model's parameters, and a model
+  // with more parameters than slots.
+  Problem p = MixedLensProblem();
+  p.fixed_intrinsics[0] = 1u << 6;
+  EXPECT_THROW(WriteBinaryProblem(p, Tmp("never.dba")), std::invalid_argument);
+  p = MixedLensProblem();
+  p.group_models[0] = LensModel::kBrown;
+  p.intrinsics_size = 16;
+  p.fixed_intrinsics.clear();
+  WriteBinaryProblem(p, Tmp("brown.dba"));  // 10 parameters in 16 slots: fine
+  EXPECT_EQ(ReadBinaryProblem(Tmp("brown.dba")).group_models[0], LensModel::kBrown);
+  EXPECT_FALSE(std::filesystem::exists(Tmp("never.dba")));
 }
 
 }  // namespace

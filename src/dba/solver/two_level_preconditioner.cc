@@ -223,6 +223,7 @@ TwoLevelPreconditioner::TwoLevelPreconditioner(const BsmcMatrix& S, int aggregat
 
 void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
   DBA_DCHECK(!S.values_narrowed());
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) DBA_DCHECK(S.block_size(i) <= 16);
   jacobi_.Update(S);
   const int threads = static_cast<int>(thread_rows_.size()) - 1;
 #pragma omp parallel num_threads(threads) if (threads > 1)
@@ -234,7 +235,11 @@ void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
     // columns are sorted, and an aggregate's cameras mostly neighbours) are
     // summed after the right half of the transform and take the left half
     // once: Σ_j N_iᵀ S_ij N_j = N_iᵀ (Σ_j S_ij N_j).
-    double right[9 * 10], sum_right[10 * 10], transformed[10 * 10];
+    // Blocks of up to kMaxBlock unknowns (a 16-parameter intrinsic group),
+    // coarse blocks one more (the scale direction).
+    constexpr int kMaxBlock = 16;
+    double right[kMaxBlock * (kMaxBlock + 1)], sum_right[kMaxBlock * (kMaxBlock + 1)],
+        transformed[(kMaxBlock + 1) * (kMaxBlock + 1)];
     for (int32_t i = thread_rows_[t]; i < thread_rows_[t + 1]; ++i) {
       const int r = S.block_size(i), ci = CoarseSize(i);
       for (int64_t b = S.row_begin(i); b < S.row_end(i);) {
