@@ -42,10 +42,13 @@ __all__ = ["solve", "solve_arrays", "read_problem", "Problem", "Result", "Summar
 class Problem:
     """A problem as arrays. camera_model 'bal': cameras (N, 9) = angle-axis,
     translation, f, k1, k2. 'photo': cameras (N, 6) poses (angle-axis,
-    translation), intrinsics (G, 5) = f, cx, cy, k1, k2 and camera_intrinsics
-    (N,) the group of each camera. observations (M, 2) pixels of point
-    point_indices[i] in camera camera_indices[i]. fixed_cameras (N,) and
-    fixed_intrinsics (G, 5): True where held fixed."""
+    translation), intrinsics (G, S) and camera_intrinsics (N,) the group of
+    each camera, lens_models (G,) each group's model by name (COLMAP's, or
+    BROWN; dba solve --list-camera-models), whose parameters fill the first
+    columns of its row of intrinsics in the model's order (RADIAL: f, cx, cy,
+    k1, k2). observations (M, 2) pixels of point point_indices[i] in camera
+    camera_indices[i]. fixed_cameras (N,) and fixed_intrinsics (G, S): True
+    where held fixed (a model's unused columns read True)."""
     camera_model: str
     cameras: np.ndarray
     points: np.ndarray
@@ -56,6 +59,7 @@ class Problem:
     camera_intrinsics: np.ndarray
     fixed_cameras: np.ndarray
     fixed_intrinsics: np.ndarray
+    lens_models: list = None
 
 
 @dataclass
@@ -163,7 +167,7 @@ def solve(path, *, verbose=False, **options) -> Result:
 
 def solve_arrays(cameras, points, observations, camera_indices, point_indices, *,
                  camera_model="bal", intrinsics=None, camera_intrinsics=None,
-                 fixed_cameras=None, fixed_intrinsics=None, verbose=False,
+                 fixed_cameras=None, fixed_intrinsics=None, lens_models=None, verbose=False,
                  **options) -> Result:
     """Bundle-adjusts a problem given as arrays (see Problem; observations in
     any order). The inputs are not modified; the Result holds the adjusted
@@ -171,7 +175,7 @@ def solve_arrays(cameras, points, observations, camera_indices, point_indices, *
     return _result(_dba.solve_arrays(camera_model, cameras, points, observations,
                                      camera_indices, point_indices, intrinsics,
                                      camera_intrinsics, fixed_cameras, fixed_intrinsics,
-                                     _arguments(options), verbose))
+                                     lens_models, _arguments(options), verbose))
 
 
 def read_problem(path) -> Problem:

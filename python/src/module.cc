@@ -162,6 +162,7 @@ PYBIND11_MODULE(_dba, m) {
          DoubleArray observations, IndexArray camera_indices, IndexArray point_indices,
          std::optional<DoubleArray> intrinsics, std::optional<IndexArray> camera_intrinsics,
          std::optional<FlagArray> fixed_cameras, std::optional<FlagArray> fixed_intrinsics,
+         std::optional<std::vector<std::string>> lens_models,
          const std::vector<std::string>& args, bool verbose) {
         ProblemArrays a;
         a.camera_model = camera_model;
@@ -174,12 +175,13 @@ PYBIND11_MODULE(_dba, m) {
         a.camera_intrinsics = std::move(camera_intrinsics);
         a.fixed_cameras = std::move(fixed_cameras);
         a.fixed_intrinsics = std::move(fixed_intrinsics);
+        a.lens_models = std::move(lens_models);
         return SolveArrays(a, args, verbose);
       },
       py::arg("camera_model"), py::arg("cameras"), py::arg("points"), py::arg("observations"),
       py::arg("camera_indices"), py::arg("point_indices"), py::arg("intrinsics"),
       py::arg("camera_intrinsics"), py::arg("fixed_cameras"), py::arg("fixed_intrinsics"),
-      py::arg("args"), py::arg("verbose") = false,
+      py::arg("lens_models"), py::arg("args"), py::arg("verbose") = false,
       "the solve of dba solve on arrays: (report JSON, adjusted problem arrays, printed text)");
   m.def("read_problem", &Read, py::arg("path"),
         "the problem at path (BAL, .dba, COLMAP directory) as a dict of arrays");

@@ -85,9 +85,37 @@ Problem ProblemFromArrays(const ProblemArrays& in) {
     }
   } else {
     if (!has_intrinsics || !has_groups) {
-      throw Bad("camera_model 'photo' needs intrinsics (G, 5) and camera_intrinsics (N,)");
+      throw Bad("camera_model 'photo' needs intrinsics (G, S) and camera_intrinsics (N,)");
     }
-    groups = Rows(*in.intrinsics, kPhotoIntrinsicsSize, "intrinsics", "(G, 5)");
+    const py::array& k = *in.intrinsics;
+    if (k.ndim() != 2 || k.shape(1) < 1 || k.shape(1) > kMaxIntrinsics) {
+      throw Bad("intrinsics: expected shape (G, S) with S from 1 to 16, got " + Shape(k));
+    }
+    groups = k.shape(0);
+    p.intrinsics_size = static_cast<int32_t>(k.shape(1));
+    if (in.lens_models) {
+      if (static_cast<int64_t>(in.lens_models->size()) != groups) {
+        throw Bad("lens_models: expected " + std::to_string(groups) +
+                  " names (one per intrinsic group), got " +
+                  std::to_string(in.lens_models->size()));
+      }
+      for (size_t g = 0; g < in.lens_models->size(); ++g) {
+        const LensModelInfo* m = FindLensModel((*in.lens_models)[g]);
+        if (m == nullptr) {
+          throw Bad("lens_models[" + std::to_string(g) + "] = '" + (*in.lens_models)[g] +
+                    "': unknown (known: " + LensModelNames() + ")");
+        }
+        if (m->num_params > p.intrinsics_size) {
+          throw Bad("intrinsics: " + std::string(m->name) + " (group " + std::to_string(g) +
+                    ") has " + std::to_string(m->num_params) + " parameters, the array " +
+                    std::to_string(p.intrinsics_size) + " columns");
+        }
+        p.group_models.push_back(m->id);
+      }
+    } else if (p.intrinsics_size != kPhotoIntrinsicsSize) {
+      throw Bad("intrinsics: expected shape (G, 5) (RADIAL: f, cx, cy, k1, k2) without lens_models, got " +
+                Shape(k));
+    }
     if (Length(*in.camera_intrinsics, "camera_intrinsics") != n) {
       throw Bad("camera_intrinsics: expected " + std::to_string(n) + " entries (one per camera), got " +
                 Shape(*in.camera_intrinsics));
@@ -104,17 +132,22 @@ Problem ProblemFromArrays(const ProblemArrays& in) {
       p.camera_intrinsics[i] = static_cast<int32_t>(g);
     }
     if (in.fixed_intrinsics && in.fixed_intrinsics->size() > 0) {
-      if (Rows(*in.fixed_intrinsics, kPhotoIntrinsicsSize, "fixed_intrinsics", "(G, 5)") != groups) {
-        throw Bad("fixed_intrinsics: expected shape (" + std::to_string(groups) + ", 5), got " +
-                  Shape(*in.fixed_intrinsics));
+      const int s = p.intrinsics_size;
+      if (in.fixed_intrinsics->ndim() != 2 || in.fixed_intrinsics->shape(0) != groups ||
+          in.fixed_intrinsics->shape(1) != s) {
+        throw Bad("fixed_intrinsics: expected shape (" + std::to_string(groups) + ", " +
+                  std::to_string(s) + "), got " + Shape(*in.fixed_intrinsics));
       }
       p.fixed_intrinsics.assign(groups, 0);
       for (int64_t g = 0; g < groups; ++g) {
-        for (int d = 0; d < kPhotoIntrinsicsSize; ++d) {
-          if (in.fixed_intrinsics->data()[kPhotoIntrinsicsSize * g + d]) {
-            p.fixed_intrinsics[g] |= static_cast<uint8_t>(1u << d);
+        for (int d = 0; d < s; ++d) {
+          if (in.fixed_intrinsics->data()[s * g + d]) {
+            p.fixed_intrinsics[g] |= static_cast<uint16_t>(1u << d);
           }
         }
+        // Only the model's own parameters (metadata and unused slots are
+        // never unknowns anyway).
+        p.fixed_intrinsics[g] &= LensModelParamMask(p.group_model(g));
       }
     }
   }
@@ -173,7 +206,11 @@ py::dict ProblemToArrays(const Problem& p) {
   const std::vector<double> poses(p.cameras.begin(), p.cameras.begin() + size * n);
   const std::vector<double> intrinsics(p.cameras.begin() + size * n, p.cameras.end());
   d["cameras"] = Array(poses, {n, size});
-  d["intrinsics"] = Array(intrinsics, {groups, kPhotoIntrinsicsSize});
+  const int slots = p.intrinsics_size;
+  d["intrinsics"] = Array(intrinsics, {groups, slots});
+  py::list lens_models;
+  for (int64_t g = 0; g < groups; ++g) lens_models.append(Info(p.group_model(g)).name);
+  d["lens_models"] = lens_models;
   std::vector<int64_t> groups_of(p.camera_intrinsics.begin(), p.camera_intrinsics.end());
   d["camera_intrinsics"] = Array(groups_of, {static_cast<py::ssize_t>(groups_of.size())});
   d["points"] = Array(p.points, {num_points, kPointSize});
@@ -189,11 +226,10 @@ py::dict ProblemToArrays(const Problem& p) {
   py::array_t<bool> fixed(std::vector<py::ssize_t>{n});
   for (int64_t i = 0; i < n; ++i) fixed.mutable_data()[i] = p.camera_fixed(i);
   d["fixed_cameras"] = fixed;
-  py::array_t<bool> fixed_intrinsics(std::vector<py::ssize_t>{groups, kPhotoIntrinsicsSize});
+  py::array_t<bool> fixed_intrinsics(std::vector<py::ssize_t>{groups, slots});
   for (int64_t g = 0; g < groups; ++g) {
-    for (int b = 0; b < kPhotoIntrinsicsSize; ++b) {
-      fixed_intrinsics.mutable_data()[kPhotoIntrinsicsSize * g + b] =
-          (p.intrinsics_free_mask(g) & (1u << b)) == 0;
+    for (int b = 0; b < slots; ++b) {
+      fixed_intrinsics.mutable_data()[slots * g + b] = (p.intrinsics_free_mask(g) & (1u << b)) == 0;
     }
   }
   d["fixed_intrinsics"] = fixed_intrinsics;

@@ -23,9 +23,12 @@ using IndexArray = py::array_t<int64_t, py::array::c_style | py::array::forcecas
 using FlagArray = py::array_t<bool, py::array::c_style | py::array::forcecast>;
 
 // The arrays of solve_arrays. camera_model "bal": cameras (N, 9), no
-// intrinsics. "photo": cameras (N, 6) poses, intrinsics (G, 5) and
-// camera_intrinsics (N,) the group of each image. observations (M, 2) pixels
-// with camera_indices (M,) and point_indices (M,) in any order.
+// intrinsics. "photo": cameras (N, 6) poses, intrinsics (G, S) and
+// camera_intrinsics (N,) the group of each image, lens_models the model of
+// each group by name (absent: every group RADIAL, S = 5), each group's
+// parameters in its model's order in the first columns (S at least the
+// largest count, at most 16; the rest 0). observations (M, 2) pixels with
+// camera_indices (M,) and point_indices (M,) in any order.
 struct ProblemArrays {
   std::string camera_model = "bal";
   DoubleArray cameras, points, observations;
@@ -33,7 +36,8 @@ struct ProblemArrays {
   std::optional<DoubleArray> intrinsics;
   std::optional<IndexArray> camera_intrinsics;
   std::optional<FlagArray> fixed_cameras;     // (N,) True: the pose/camera is held
-  std::optional<FlagArray> fixed_intrinsics;  // (G, 5) True: held (f, cx, cy, k1, k2)
+  std::optional<FlagArray> fixed_intrinsics;  // (G, S) True: held
+  std::optional<std::vector<std::string>> lens_models;  // (G,) names
 };
 
 // Builds the problem (observations stored point-major, stable). Throws

@@ -13,7 +13,7 @@ def solve_problem(p, **options):
                             p.point_indices, camera_model=p.camera_model,
                             intrinsics=p.intrinsics, camera_intrinsics=p.camera_intrinsics,
                             fixed_cameras=p.fixed_cameras, fixed_intrinsics=p.fixed_intrinsics,
-                            **options)
+                            lens_models=p.lens_models, **options)
 
 
 def test_read_problem_arrays(ladybug_problem):
@@ -68,18 +68,38 @@ def test_fixed_cameras_do_not_move(ladybug_problem):
 def test_photo_model_with_intrinsic_groups():
     model = SHARED_DATA / "colmap" / "mithunnallana_6img" / "sparse" / "0"
     p = dba.read_problem(model)
-    assert p.camera_model == "photo" and p.intrinsics.shape == (1, 5)
+    assert p.camera_model == "photo" and p.intrinsics.shape == (1, 4)
+    assert p.lens_models == ["SIMPLE_RADIAL"]
     from_file = dba.solve(model, threads=2)
     r = solve_problem(p, threads=2)
     assert r.summary.final_cost == pytest.approx(from_file.summary.final_cost, rel=1e-9)
     # Fixed intrinsics stay where they were.
-    fixed = np.ones((1, 5), dtype=bool)
+    fixed = np.ones((1, 4), dtype=bool)
     held = dba.solve_arrays(p.cameras, p.points, p.observations, p.camera_indices,
                             p.point_indices, camera_model="photo", intrinsics=p.intrinsics,
                             camera_intrinsics=p.camera_intrinsics, fixed_intrinsics=fixed,
-                            threads=2, max_iterations=5)
+                            lens_models=p.lens_models, threads=2, max_iterations=5)
     np.testing.assert_array_equal(held.intrinsics, p.intrinsics)
     assert held.summary.final_cost < held.summary.initial_cost
+    # The same camera as OPENCV (fx = fy = f, k1 = k, the rest 0): two
+    # focal lengths and tangential terms, never above SIMPLE_RADIAL's cost.
+    f, cx, cy, k = p.intrinsics[0]
+    opencv = np.array([[f, f, cx, cy, k, 0, 0, 0]])
+    r8 = dba.solve_arrays(p.cameras, p.points, p.observations, p.camera_indices,
+                          p.point_indices, camera_model="photo", intrinsics=opencv,
+                          camera_intrinsics=p.camera_intrinsics, lens_models=["OPENCV"],
+                          threads=2)
+    assert r8.problem.lens_models == ["OPENCV"] and r8.intrinsics.shape == (1, 8)
+    assert r8.summary.final_cost <= from_file.summary.final_cost * (1 + 1e-5)
+    assert r8.intrinsics[0, 0] != r8.intrinsics[0, 1]  # fx and fy apart
+    with pytest.raises(ValueError, match=r"lens_models\[0\] = 'OPENCV5': unknown"):
+        dba.solve_arrays(p.cameras, p.points, p.observations, p.camera_indices,
+                         p.point_indices, camera_model="photo", intrinsics=opencv,
+                         camera_intrinsics=p.camera_intrinsics, lens_models=["OPENCV5"])
+    with pytest.raises(ValueError, match=r"OPENCV \(group 0\) has 8 parameters, the array 4"):
+        dba.solve_arrays(p.cameras, p.points, p.observations, p.camera_indices,
+                         p.point_indices, camera_model="photo", intrinsics=p.intrinsics,
+                         camera_intrinsics=p.camera_intrinsics, lens_models=["OPENCV"])
 
 
 def test_bad_arrays_are_refused(ladybug_problem):

@@ -201,6 +201,9 @@ constexpr Polynomial Radial2(int k) { return {2, {k, k + 1}, 0, {}, -1, -1, -1, 
 
 Vec2 LensProject(LensModel m, const double* k, const Vec3& P, LensPointJacobian* du_dP,
                  ParamsJ* J) {
+  if (const int num_k = lens_internal::OneFocalRadialTerms(m); num_k >= 0) {
+    return lens_internal::OneFocalRadial(num_k, k, P, du_dP, J);
+  }
   if (m == LensModel::kEquirectangular) return Equirectangular(k, P, du_dP, J);
   const bool want_dP = du_dP != nullptr;
   Mat23 dn_dP;
@@ -220,20 +223,9 @@ Vec2 LensProject(LensModel m, const double* k, const Vec3& P, LensPointJacobian*
     return out;
   };
   switch (m) {
-    case LensModel::kSimplePinhole:
-      two_focal = false;
-      [[fallthrough]];
     case LensModel::kPinhole:
       d = n;
       if (want_dP) dd_dn.setIdentity();
-      break;
-    case LensModel::kSimpleRadial:
-      two_focal = false;
-      d = Distort(Radial1(3), k, n, dd, J);
-      break;
-    case LensModel::kRadial:
-      two_focal = false;
-      d = Distort(Radial2(3), k, n, dd, J);
       break;
     case LensModel::kOpenCV:
       d = Distort({2, {4, 5}, 0, {}, 6, 7, -1, -1, -1, -1}, k, n, dd, J);
@@ -314,6 +306,9 @@ Vec2 LensProject(LensModel m, const double* k, const Vec3& P, LensPointJacobian*
       }
       return A * d + Vec2(k[1], k[2]);
     }
+    case LensModel::kSimplePinhole:
+    case LensModel::kSimpleRadial:
+    case LensModel::kRadial:
     case LensModel::kEquirectangular:
       break;  // handled above
   }

@@ -61,4 +61,57 @@ using LensParamsJacobian = Eigen::Matrix<double, 2, kMaxIntrinsics, Eigen::RowMa
 Eigen::Vector2d LensProject(LensModel m, const double* params, const Eigen::Vector3d& P,
                             LensPointJacobian* du_dP, LensParamsJacobian* du_dparams);
 
+namespace lens_internal {
+
+// SIMPLE_PINHOLE, SIMPLE_RADIAL and RADIAL: how many radial terms (0, 1,
+// 2), or -1 for any other model.
+inline int OneFocalRadialTerms(LensModel m) {
+  return m == LensModel::kSimplePinhole ? 0
+         : m == LensModel::kSimpleRadial ? 1
+         : m == LensModel::kRadial       ? 2
+                                          : -1;
+}
+
+// Those three models (f, cx, cy[, k1[, k2]]: the paper's model and every
+// shipped COLMAP model) written out and inline, where the generic path's
+// loops, branches and calls cost 20% of back-substitution on fountain_p11
+// (bench/README.md, "Camera models"):
+//   d = 1 + k1 r² + k2 r⁴,  u = f d n + c,  ∂u/∂n = f (d I + 2 (k1 + 2 k2 r²) n nᵀ)
+inline Eigen::Vector2d OneFocalRadial(int num_k, const double* k, const Eigen::Vector3d& P,
+                                      LensPointJacobian* du_dP, LensParamsJacobian* J) {
+  const double f = k[0], k1 = num_k > 0 ? k[3] : 0.0, k2 = num_k > 1 ? k[4] : 0.0;
+  const double iz = 1.0 / P.z();
+  const Eigen::Vector2d n(P.x() * iz, P.y() * iz);
+  const double r2 = n.squaredNorm();
+  const double d = 1.0 + r2 * (k1 + k2 * r2);
+  if (du_dP != nullptr) {
+    const Eigen::Matrix2d du_dn =
+        f * (d * Eigen::Matrix2d::Identity() + 2.0 * (k1 + 2.0 * k2 * r2) * n * n.transpose());
+    Eigen::Matrix<double, 2, 3> dn_dP;
+    dn_dP << iz, 0.0, -n.x() * iz, 0.0, iz, -n.y() * iz;
+    *du_dP = du_dn * dn_dP;
+  }
+  if (J != nullptr) {
+    J->col(0) = d * n;
+    J->col(1) = Eigen::Vector2d(1.0, 0.0);
+    J->col(2) = Eigen::Vector2d(0.0, 1.0);
+    if (num_k > 0) J->col(3) = f * r2 * n;
+    if (num_k > 1) J->col(4) = f * r2 * r2 * n;
+  }
+  return Eigen::Vector2d(f * d * n.x() + k[1], f * d * n.y() + k[2]);
+}
+
+}  // namespace lens_internal
+
+// LensProject with the three one-focal radial models inline (the kernels'
+// call: no call into the generic path for them).
+inline Eigen::Vector2d LensProjectInline(LensModel m, const double* params,
+                                         const Eigen::Vector3d& P, LensPointJacobian* du_dP,
+                                         LensParamsJacobian* du_dparams) {
+  if (const int num_k = lens_internal::OneFocalRadialTerms(m); num_k >= 0) {
+    return lens_internal::OneFocalRadial(num_k, params, P, du_dP, du_dparams);
+  }
+  return LensProject(m, params, P, du_dP, du_dparams);
+}
+
 }  // namespace dba

@@ -27,7 +27,8 @@ Vec2 PhotoResidualAndJacobians(LensModel model, const RotationFrame& frame, cons
   const Vec3 P = RX + t;
   const bool geometry = J_pose != nullptr || J_point != nullptr;
   LensPointJacobian du_dP;
-  const Vec2 u = LensProject(model, intrinsics, P, geometry ? &du_dP : nullptr, J_intrinsics);
+  const Vec2 u =
+      LensProjectInline(model, intrinsics, P, geometry ? &du_dP : nullptr, J_intrinsics);
   if (J_pose != nullptr) {
     J_pose->block<2, 3>(0, 0) = -du_dP * SkewSymmetric(RX) * frame.J_l;
     J_pose->block<2, 3>(0, 3) = du_dP;
