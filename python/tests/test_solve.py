@@ -83,7 +83,8 @@ def test_colmap_model_directory():
     model = SHARED_DATA / "colmap" / "mithunnallana_6img" / "sparse" / "0"
     r = dba.solve(model, threads=2)
     assert r.problem.camera_model == "photo"
-    assert r.cameras.shape == (6, 6) and r.intrinsics.shape == (1, 5)
+    assert r.cameras.shape == (6, 6) and r.intrinsics.shape == (1, 4)
+    assert r.problem.lens_models == ["SIMPLE_RADIAL"]
     # As tests/cli_solve.sh: the final RMS is 0.52 px.
     assert 0.52 <= r.summary.final_rms_px < 0.53
 
