@@ -9,7 +9,7 @@ namespace dba {
 BundleAdjustSummary BundleAdjust(
     const LmOptions& options, Problem* problem,
     const std::function<void(const IterationSummary&)>& on_iteration,
-    const std::function<void(const RcsSystem&)>& before_values) {
+    const std::function<void(const RcsSystem&)>& before_values, const CameraPriors* priors) {
   BundleAdjustSummary summary;
   Timer symbolic;
   LocalPointWorkers workers(problem, options.damping, options.num_threads, options.loss,
@@ -17,8 +17,14 @@ BundleAdjustSummary BundleAdjust(
   summary.symbolic_seconds = symbolic.Seconds();
   summary.rcs = RcsFootprint::Of(workers.system().S);
   std::vector<double> cameras = problem->cameras;
-  summary.lm = SolveLevenbergMarquardt(options, problem->num_observations(),
-                                       &cameras, &workers, on_iteration);
+  if (priors != nullptr && !priors->empty()) {
+    PriorWorkers with_priors(&workers, &cameras, problem->camera_size(), *priors);
+    summary.lm = SolveLevenbergMarquardt(options, problem->num_observations(), &cameras,
+                                         &with_priors, on_iteration);
+  } else {
+    summary.lm = SolveLevenbergMarquardt(options, problem->num_observations(), &cameras,
+                                         &workers, on_iteration);
+  }
   return summary;
 }
 

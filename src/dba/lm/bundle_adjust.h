@@ -6,6 +6,7 @@
 
 #include "dba/bsmc/bsmc_matrix.h"
 #include "dba/lm/levenberg_marquardt.h"
+#include "dba/lm/prior_workers.h"
 #include "dba/problem/problem.h"
 
 namespace dba {
@@ -30,10 +31,13 @@ struct BundleAdjustSummary {
 // Adjusts `problem`'s cameras and points in place. `before_values`: called
 // with the RCS structure before its values are allocated (RcsSystem::
 // ForProblem): to estimate the solve's memory, or refuse it by throwing.
+// `priors` (optional): camera-centre priors in the solve (lm/prior_workers.h);
+// the costs then include theirs.
 BundleAdjustSummary BundleAdjust(
     const LmOptions& options, Problem* problem,
     const std::function<void(const IterationSummary&)>& on_iteration = {},
-    const std::function<void(const RcsSystem&)>& before_values = {});
+    const std::function<void(const RcsSystem&)>& before_values = {},
+    const CameraPriors* priors = nullptr);
 
 // `total` followed by `next` (a solve after a rejection round): iterations,
 // times and the log add up; the final state is next's.

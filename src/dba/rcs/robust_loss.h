@@ -55,15 +55,17 @@ struct RobustLoss {
   bool IsInlier(double s) const { return trivial() || s <= scale * scale; }
 };
 
-// The correction of one observation with squared residual norm s.
+// The correction of one residual with squared norm s: an observation's 2D
+// residual, or a prior's 3D one (lm/prior_workers.h).
 class LossCorrection {
  public:
   LossCorrection(double s, const double rho[3]);
   // r̃ from r.
-  Vec2 Residual(const Vec2& r) const { return residual_scaling_ * r; }
-  // J̃ from J (2 x n, any n), given the uncorrected residual r.
-  template <class Jacobian>
-  void CorrectJacobian(const Vec2& r, Jacobian* J) const {
+  template <class V>
+  V Residual(const V& r) const { return residual_scaling_ * r; }
+  // J̃ from J (|r| x n, any n), given the uncorrected residual r.
+  template <class V, class Jacobian>
+  void CorrectJacobian(const V& r, Jacobian* J) const {
     if (alpha_sq_norm_ == 0.0) {
       *J *= sqrt_rho1_;
       return;

@@ -1,0 +1,39 @@
+// A prior on a camera's centre (a GNSS position), in either camera model:
+// the pose's first six parameters are ω (angle-axis, world -> camera) and t,
+// so the centre is C = -R(ω)ᵀ t, and the residual, per axis in units of its
+// σ, is
+//
+//   r = Σ⁻¹ (C - C_prior),   Σ = diag(σ_x, σ_y, σ_z)   (σ_x = σ_y = σ_xy)
+//
+// with the Jacobian on (ω, t) (additive steps, rotation.h):
+//   ∂C/∂t = -Rᵀ,   ∂C/∂ω = [C]ₓ J_l(ω)ᵀ
+// (Rᵀ = R(-ω), and ∂(R(v) t)/∂v = -[R(v) t]ₓ J_l(v) at v = -ω, J_l(-ω) =
+// J_l(ω)ᵀ). A prior touches only its camera's pose: the point-by-point Schur
+// elimination is unchanged.
+//
+// Thread safety: pure functions.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+
+#include "dba/camera/rotation.h"
+
+namespace dba {
+
+struct CameraCentrePrior {
+  int32_t image = 0;  // 0-based image (camera) index in the problem
+  Vec3 centre = Vec3::Zero();
+  Vec3 sigma = Vec3::Ones();  // σ_x, σ_y, σ_z (> 0)
+};
+
+using CentrePriorJacobian = Eigen::Matrix<double, 3, 6, Eigen::RowMajor>;  // ∂r/∂(ω, t)
+
+// C = -R(ω)ᵀ t of a pose (ω[3], t[3]).
+Vec3 CameraCentre(const double* pose);
+
+// r (above), and ∂r/∂(ω, t) when J is not null.
+Vec3 CentrePriorResidual(const double* pose, const CameraCentrePrior& prior,
+                         CentrePriorJacobian* J);
+
+}  // namespace dba

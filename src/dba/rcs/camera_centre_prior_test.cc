@@ -1,0 +1,51 @@
+// The camera-centre prior's Jacobian against central differences, and its
+// centre against the camera's projection centre (the point every ray meets).
+#include "dba/rcs/camera_centre_prior.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace dba {
+namespace {
+
+TEST(CameraCentrePrior, JacobianMatchesCentralDifferences) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 500; ++trial) {
+    const double scale = trial % 5 == 0 ? 1e-7 : 2.0;  // near θ = 0 too
+    double pose[6] = {scale * u(rng), scale * u(rng), scale * u(rng),
+                      50 * u(rng),    50 * u(rng),    50 * u(rng)};
+    CameraCentrePrior prior;
+    prior.centre = Vec3(10 * u(rng), 10 * u(rng), 10 * u(rng));
+    prior.sigma = Vec3(0.5, 0.5, 2.0);
+    CentrePriorJacobian J;
+    const Vec3 r = CentrePriorResidual(pose, prior, &J);
+    EXPECT_LT((r - CentrePriorResidual(pose, prior, nullptr)).norm(), 1e-12);
+    for (int j = 0; j < 6; ++j) {
+      const double x0 = pose[j], h = 1e-6 * std::max(1.0, std::abs(x0));
+      pose[j] = x0 + h;
+      const Vec3 plus = CentrePriorResidual(pose, prior, nullptr);
+      pose[j] = x0 - h;
+      const Vec3 minus = CentrePriorResidual(pose, prior, nullptr);
+      pose[j] = x0;
+      const Vec3 numeric = (plus - minus) / (2 * h);
+      EXPECT_LT((numeric - J.col(j)).norm(), 1e-6 * (1 + J.col(j).norm()))
+          << "trial " << trial << " parameter " << j;
+    }
+  }
+}
+
+TEST(CameraCentrePrior, CentreIsWhereTheCameraFrameHasItsOrigin) {
+  const double pose[6] = {0.3, -0.2, 0.1, 4, -5, 6};
+  const Vec3 C = CameraCentre(pose);
+  const Mat3 R = AngleAxisToRotation(Vec3(pose[0], pose[1], pose[2]));
+  EXPECT_LT((R * C + Vec3(pose[3], pose[4], pose[5])).norm(), 1e-12);
+  CameraCentrePrior prior;
+  prior.centre = C + Vec3(1, -2, 4);
+  prior.sigma = Vec3(0.5, 0.5, 2);
+  EXPECT_LT((CentrePriorResidual(pose, prior, nullptr) - Vec3(-2, 4, -2)).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace dba
