@@ -48,6 +48,14 @@ void PrintHelp(std::ostream& out) {
          "                          fisheye models get the equidistant focal length, so\n"
          "                          wide angles and high-order terms are observed\n"
          "  --noise S               pixel noise sigma (default " << d.pixel_noise << ")\n"
+         "  --priors FILE           also write GNSS camera-centre priors (dba solve\n"
+         "                          --camera-priors): the true centres with noise\n"
+         "  --gnss-sigma XY,Z       their σ in metres (default " << d.gnss_sigma_xy << "," << d.gnss_sigma_z << ")\n"
+         "  --gnss-outliers F       a fraction F of the images gets a gross error of 20 to\n"
+         "                          50 m instead (marked '# outlier' in the file)\n"
+         "  --unaligned             start the survey in a random similarity frame (scale,\n"
+         "                          rotation, shift), as a reconstruction before\n"
+         "                          georeferencing; the truth stays in the world frame\n"
          "  --outliers F            replace a fraction F of the observations by mismatches:\n"
          "                          uniform random pixels of the image, at least 50 px from\n"
          "                          the true projection (default 0); the ground truth keeps\n"
@@ -101,6 +109,24 @@ int GenerateMain(const std::vector<std::string>& args) {
         if (!(o.field_of_view > 0 && o.field_of_view < 160)) {
           throw std::invalid_argument(a + ": must be in (0, 160) degrees");
         }
+      } else if (a == "--priors") {
+        o.priors_path = value();
+      } else if (a == "--gnss-sigma") {
+        const std::string& v = value();
+        const size_t comma = v.find(',');
+        o.gnss_sigma_xy = ParseNumberArgument(a, v.substr(0, comma));
+        o.gnss_sigma_z = comma == std::string::npos ? o.gnss_sigma_xy
+                                                    : ParseNumberArgument(a, v.substr(comma + 1));
+        if (!(o.gnss_sigma_xy > 0 && o.gnss_sigma_z > 0)) {
+          throw std::invalid_argument(a + ": expected XY,Z both > 0 (metres)");
+        }
+      } else if (a == "--gnss-outliers") {
+        o.gnss_outliers = ParseNumberArgument(a, value());
+        if (!(o.gnss_outliers >= 0 && o.gnss_outliers < 1)) {
+          throw std::invalid_argument(a + ": must be in [0, 1)");
+        }
+      } else if (a == "--unaligned") {
+        o.unaligned = true;
       } else if (a == "--noise") {
         o.pixel_noise = ParseNumberArgument(a, value());
       } else if (a == "--seed") {

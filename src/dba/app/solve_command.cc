@@ -1,5 +1,8 @@
 // `dba solve`; see solve_command.h.
 #include "dba/app/solve_command.h"
+#include "dba/lm/prior_alignment.h"
+#include "dba/lm/prior_accuracy.h"
+#include <unordered_set>
 
 #include <omp.h>
 #include <unistd.h>
@@ -130,6 +133,16 @@ void PrintSolveHelp(std::ostream& out) {
          "                             The solves after a round use the squared loss, the\n"
          "                             efficient estimator once the outliers are gone\n"
          "  --reject-keep-loss         keep --loss in the solves after a rejection round\n"
+         "  --camera-priors FILE       GNSS camera centres in the solve: per line IMAGE X Y Z\n"
+         "                             [SIGMA_XY SIGMA_Z], IMAGE a COLMAP image name or a\n"
+         "                             0-based camera index, metres in a Cartesian frame;\n"
+         "                             reports the agreement per axis, CE90/LE90 and the\n"
+         "                             priors flagged as outliers (χ²₃ 99.9%)\n"
+         "  --prior-sigma XY,Z         σ of the priors that give none (metres; σ_xy per\n"
+         "                             horizontal axis)\n"
+         "  --prior-loss NAME          the priors' robust loss, in units of σ (default\n"
+         "                             cauchy, provisional: see docs/georeferencing.md)\n"
+         "  --prior-loss-scale S       its scale in units of σ (default 3)\n"
          "  --min-triangulation-angle DEG\n"
          "                             with --reject-outliers: a point whose rays meet at\n"
          "                             less than DEG degrees (the largest angle between two of\n"
@@ -277,6 +290,23 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       }
     } else if (a == "--reject-keep-loss") {
       o.reject_keep_loss = true;
+    } else if (a == "--camera-priors") {
+      o.camera_priors_path = value();
+    } else if (a == "--prior-sigma") {
+      const std::string& v = value();
+      const size_t comma = v.find(',');
+      const double xy = ParseNumberArgument(a, v.substr(0, comma));
+      const double z = comma == std::string::npos ? xy : ParseNumberArgument(a, v.substr(comma + 1));
+      if (!(xy > 0.0 && z > 0.0)) throw std::invalid_argument(a + ": expected XY,Z both > 0 (metres)");
+      o.prior_sigma = Eigen::Vector2d(xy, z);
+    } else if (a == "--prior-loss") {
+      const std::string& v = value();
+      if (!ParseLoss(v, &o.prior_loss.type)) {
+        throw std::invalid_argument(a + ": expected trivial, huber, soft_l1, cauchy, arctan or tukey, got '" + v + "'");
+      }
+    } else if (a == "--prior-loss-scale") {
+      o.prior_loss.scale = ParseNumberArgument(a, value());
+      if (!(o.prior_loss.scale > 0.0)) throw std::invalid_argument(a + ": must be > 0 (in units of σ)");
     } else if (a == "--reject-outliers") {
       o.reject_outliers_px = ParseNumberArgument(a, value());
       if (!(o.reject_outliers_px > 0.0)) throw std::invalid_argument(a + ": must be > 0 (pixels)");
@@ -415,7 +445,7 @@ std::string RejectionRoundLine(const RejectionCriteria& criteria, int r, const R
 // points in the loaded numbering kept in `all_points`.
 void RejectOutlierRounds(const RejectionCriteria& criteria, const LmOptions& resolve,
                          const std::function<void(const IterationSummary&)>& log,
-                         Problem* problem, OriginalIndices* original,
+                         const CameraPriors& priors, Problem* problem, OriginalIndices* original,
                          std::vector<double>* all_points, SolveReport* report, std::ostream& out) {
   *all_points = problem->points;
   report->rejection = RunRejectionRounds(
@@ -424,7 +454,7 @@ void RejectOutlierRounds(const RejectionCriteria& criteria, const LmOptions& res
         return DropOutliers(criteria, resolve.num_threads, problem, original);
       },
       [&] {
-        AppendSolve(BundleAdjust(resolve, problem, log), &report->solve.ba);
+        AppendSolve(BundleAdjust(resolve, problem, log, {}, &priors), &report->solve.ba);
         report->final_loss = resolve.loss;
       },
       [&](int r, const RejectionRound& round) {
@@ -490,6 +520,8 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   // Distributed runs on a binary file: every rank reads its own points.
   const bool ranks_read_file = comm->size() > 1 && IsBinaryProblem(options.input);
   std::optional<Checkpoint> resumed;  // main rank
+  CameraPriors priors;                // main rank: --camera-priors
+  std::vector<std::string> image_names;  // main rank, with priors: each image's name
   if (main) {
     Timer load_timer;
     CameraModel model = CameraModel::kBal;
@@ -533,6 +565,43 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     if (!options.ply_path.empty()) CheckWritable("--ply", options.ply_path, false);
     if (!options.checkpoint_path.empty()) CheckWritable("--checkpoint", options.checkpoint_path, false);
     if (!options.truth_path.empty()) CheckTruthFile(options.truth_path, report);
+    if (!options.camera_priors_path.empty()) {
+      // By image name for a COLMAP input (the problem's images in order;
+      // the model's others have no observations to adjust), else by index.
+      std::unordered_set<std::string> others;
+      if (IsColmapInput(options.input)) {
+        const ColmapInput in = ReadColmapInput(options.input, options.unknowns);
+        for (int64_t j : in.source.image_index) image_names.push_back(in.model.images[j].name);
+        for (const ColmapImage& im : in.model.images) others.insert(im.name);
+        for (const std::string& n : image_names) others.erase(n);
+      }
+      priors = LoadCameraPriors(options.camera_priors_path, image_names, others,
+                                report.num_cameras, options.prior_sigma, options.prior_loss);
+      if (image_names.empty()) {
+        for (int64_t i = 0; i < report.num_cameras; ++i) image_names.push_back(std::to_string(i));
+      }
+      // Before LM, the block onto the priors (lm/prior_alignment.h).
+      if (ranks_read_file) {
+        out << "camera priors: " << priors.priors.size()
+            << "; not aligned before LM (the ranks read the .dba themselves)\n";
+      } else {
+        SimilarityFit fit;
+        try {
+          fit = AlignToPriors(priors, problem.cameras, problem.camera_size());
+        } catch (const std::invalid_argument& e) {
+          throw InputError(options.camera_priors_path, 0, e.what());
+        }
+        ApplySimilarity(fit, &problem, &problem.points);
+        char line[200];
+        std::snprintf(line, sizeof line,
+                      "camera priors: %zu; aligned onto them (scale %.6g, %lld inliers)%s\n",
+                      priors.priors.size(), fit.scale, static_cast<long long>(fit.inliers),
+                      fit.collinear ? "; the centres are collinear: the roll about their line "
+                                      "is left to the priors inside LM"
+                                    : "");
+        out << line;
+      }
+    }
     report.load_seconds = load_timer.Seconds();
     out << "dba solve " << options.input << ": " << report.num_cameras
         << (report.num_intrinsic_groups > 0
@@ -595,11 +664,11 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       }
       if (options.memory_check) CheckMemoryFits(report.memory_estimate, report.available_memory_bytes);
     };
-    report.solve.ba = BundleAdjust(lm, &problem, log, check_memory);
+    report.solve.ba = BundleAdjust(lm, &problem, log, check_memory, &priors);
     if (options.reject_outliers_px > 0) {
       LmOptions resolve = lm;
       if (!options.reject_keep_loss) resolve.loss = RobustLoss();
-      RejectOutlierRounds({options.reject_outliers_px, options.min_triangulation_angle_deg}, resolve, log, &problem, &original, &all_points,
+      RejectOutlierRounds({options.reject_outliers_px, options.min_triangulation_angle_deg}, resolve, log, priors, &problem, &original, &all_points,
                           &report, out);
     }
   } else {
@@ -615,6 +684,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     distributed.reject_outliers = options.reject_outliers_px > 0;
     distributed.rejection = criteria;
     distributed.reject_keep_loss = options.reject_keep_loss;
+    distributed.priors = priors;
     DistributedHooks hooks;
     hooks.on_iteration = log;
     hooks.on_rejection_round = [&](int r, const RejectionRound& round) {
@@ -680,6 +750,12 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     report.truth = CompareWithGroundTruthFile(options.truth_path, problem.cameras, points,
                                               problem.model, point_kept, pixels);
     report.has_truth = true;
+  }
+  if (main && !priors.empty()) {
+    report.prior_accuracy =
+        MeasurePriorAccuracy(priors, problem.cameras, problem.camera_size(), image_names);
+    report.has_priors = true;
+    report.prior_loss = priors.loss;
   }
   Timer write_timer;
   if (comm->size() > 1) MaybeInjectFault(0, "write", 1);

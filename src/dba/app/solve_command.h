@@ -35,6 +35,11 @@ struct SolveCommandOptions {
   // The solves after a rejection round keep the robust loss (false: the
   // squared loss, the efficient estimator once the outliers are gone).
   bool reject_keep_loss = false;
+  // --camera-priors (io/camera_priors_file.h): GNSS camera centres, their
+  // default σ (xy, z; rows may give their own) and their loss, in σ units.
+  std::string camera_priors_path;
+  std::optional<Eigen::Vector2d> prior_sigma;
+  RobustLoss prior_loss{LossType::kCauchy, 3.0};
   // One process: refuse to start when the memory estimate exceeds what the
   // machine (or the cgroup) has available; false: --no-memory-check.
   bool memory_check = true;

@@ -1,5 +1,8 @@
 // dba solve's inputs and outputs; see solve_input.h.
 #include "dba/app/solve_input.h"
+#include <unordered_map>
+#include "dba/io/text_tokens.h"
+#include "dba/io/camera_priors_file.h"
 
 #include "dba/io/path_kind.h"
 #include "dba/app/arguments.h"
@@ -126,6 +129,43 @@ Fixings CheckedFixings(const UnknownsOptions& u, const CameraSide& side) {
     throw UsageError(std::string("--fix-intrinsics: ") + e.what());
   }
   return f;
+}
+
+CameraPriors LoadCameraPriors(const std::string& path, const std::vector<std::string>& names,
+                              const std::unordered_set<std::string>& other_names,
+                              int64_t num_images, const std::optional<Eigen::Vector2d>& default_sigma,
+                              const RobustLoss& loss) {
+  std::unordered_map<std::string, int32_t> index_of_name;
+  for (size_t i = 0; i < names.size(); ++i) index_of_name.emplace(names[i], static_cast<int32_t>(i));
+  CameraPriors priors;
+  priors.loss = loss;
+  for (const CameraPriorRow& row : ReadCameraPriorsFile(path)) {
+    CameraCentrePrior p;
+    if (!names.empty()) {
+      const auto it = index_of_name.find(row.image);
+      if (it == index_of_name.end()) {
+        if (other_names.contains(row.image)) continue;  // not adjusted
+        throw InputError(path, row.line, "unknown image '" + row.image + "' (not in the COLMAP model)");
+      }
+      p.image = it->second;
+    } else {
+      int64_t i = -1;
+      if (ParseInteger(row.image, &i) != NumberStatus::kOk || i < 0 || i >= num_images) {
+        throw InputError(path, row.line,
+                         "image '" + row.image + "': expected a 0-based camera index below " +
+                             std::to_string(num_images) + " (BAL and .dba problems have no names)");
+      }
+      p.image = static_cast<int32_t>(i);
+    }
+    const std::optional<Eigen::Vector2d> sigma = row.sigma ? row.sigma : default_sigma;
+    if (!sigma) {
+      throw InputError(path, row.line, "no SIGMA_XY SIGMA_Z on the line and no --prior-sigma XY,Z");
+    }
+    p.centre = row.xyz;
+    p.sigma = Vec3((*sigma)[0], (*sigma)[0], (*sigma)[1]);
+    priors.priors.push_back(p);
+  }
+  return priors;
 }
 
 Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns) {

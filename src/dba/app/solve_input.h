@@ -11,6 +11,11 @@
 #include <string>
 #include <vector>
 
+#include <unordered_set>
+
+#include <Eigen/Core>
+
+#include "dba/lm/prior_workers.h"
 #include "dba/problem/fixings.h"
 #include "dba/io/colmap_model.h"
 #include "dba/io/colmap_problem.h"
@@ -57,6 +62,18 @@ Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns)
 Fixings CheckedFixings(const UnknownsOptions& unknowns, const CameraSide& side);
 // CheckedFixings, then marks them in `problem`.
 void ApplyFixings(const UnknownsOptions& unknowns, Problem* problem);
+
+// --camera-priors (io/camera_priors_file.h): the rows of `path` matched to
+// the problem's images, by name when `names` is not empty (a COLMAP input,
+// problem order; a name in `other_names`, an image of the model without
+// observations to adjust, is skipped), else by 0-based index below
+// num_images. Rows without σ take `default_sigma` (--prior-sigma XY,Z).
+// Throws InputError(path, line, ...) for an unknown image, an index out of
+// range, or no σ at all.
+CameraPriors LoadCameraPriors(const std::string& path, const std::vector<std::string>& names,
+                              const std::unordered_set<std::string>& other_names,
+                              int64_t num_images, const std::optional<Eigen::Vector2d>& default_sigma,
+                              const RobustLoss& loss);
 
 // Output kinds, by the output path: .dba binary, .txt/.bz2 BAL text,
 // anything else a COLMAP model directory (COLMAP input only).

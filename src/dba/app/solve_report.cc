@@ -145,6 +145,21 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
                   r.true_inliers ? 100.0 * r.true_inliers_dropped / r.true_inliers : 0.0);
     out << buf;
   }
+  if (r.has_priors) {
+    const PriorAccuracy& a = r.prior_accuracy;
+    std::snprintf(buf, sizeof buf,
+                  "  camera priors       %lld; C - prior (m): mean X %.4g Y %.4g Z %.4g, sd %.4g %.4g "
+                  "%.4g, RMS %.4g %.4g %.4g, 3D %.4g; CE90 %.4g, LE90 %.4g\n",
+                  static_cast<long long>(a.count), a.mean[0], a.mean[1], a.mean[2], a.sd[0],
+                  a.sd[1], a.sd[2], a.rms[0], a.rms[1], a.rms[2], a.rms_3d, a.ce90, a.le90);
+    out << buf;
+    std::string flagged;
+    for (size_t k = 0; k < a.flagged.size() && k < 10; ++k) flagged += " " + a.flagged[k];
+    if (a.flagged.size() > 10) flagged += " ...";
+    out << "  priors flagged      " << a.flagged.size()
+        << " (squared Mahalanobis distance > 16.27)" << (flagged.empty() ? "" : ":" + flagged)
+        << "\n";
+  }
   if (r.has_truth) {
     std::snprintf(buf, sizeof buf,
                   "  ground truth        RMS to noise-free observations %.4f px; after a\n"
@@ -323,6 +338,13 @@ std::string SolveReportJson(const SolveReport& r) {
                           {"outliers_dropped", r.true_outliers_dropped},
                           {"inliers", r.true_inliers},
                           {"inliers_dropped", r.true_inliers_dropped}};
+  }
+  if (r.has_priors) {
+    const PriorAccuracy& a = r.prior_accuracy;
+    j["camera_priors"] = {{"count", a.count},     {"mean", a.mean},     {"sd", a.sd},
+                          {"rms", a.rms},         {"rms_3d", a.rms_3d}, {"ce90", a.ce90},
+                          {"le90", a.le90},       {"flagged", a.flagged},
+                          {"loss", {{"type", LossName(r.prior_loss.type)}, {"scale", r.prior_loss.scale}}}};
   }
   if (r.has_truth) {
     j["ground_truth"] = {{"rms_to_noise_free_px", r.truth.rms_to_noise_free_px},

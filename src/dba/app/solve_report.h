@@ -1,6 +1,8 @@
 // The summary of `dba solve`: printed for people, written as JSON for tools.
 #pragma once
 
+#include "dba/lm/prior_accuracy.h"
+
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -42,6 +44,10 @@ struct SolveReport {
   bool has_outlier_truth = false;
   int64_t true_outliers = 0, true_outliers_dropped = 0;
   int64_t true_inliers = 0, true_inliers_dropped = 0;
+  // --camera-priors: the adjusted centres against the priors.
+  bool has_priors = false;
+  PriorAccuracy prior_accuracy;
+  RobustLoss prior_loss;
   bool has_truth = false;
   GroundTruthErrors truth;        // against a generated problem's ground truth
 

@@ -311,8 +311,16 @@ DistributedSummary DistributedBundleAdjust(
   // factorizes: BLAS threads would compete with them (sparse_cholesky.h).
   LmOptions main_options = options;
   if (comm->ranks_on_node() > 1) main_options.linear_solver.threaded_blas = false;
-  summary.ba.lm = SolveLevenbergMarquardt(main_options, num_observations, &problem->cameras,
-                                          workers.get(), log);
+  // With camera priors the LM loop sees the workers through PriorWorkers.
+  const auto solve = [&](const LmOptions& lm) {
+    if (distributed.priors.empty()) {
+      return SolveLevenbergMarquardt(lm, num_observations, &problem->cameras, workers.get(), log);
+    }
+    PriorWorkers with_priors(workers.get(), &problem->cameras, problem->camera_size(),
+                             distributed.priors);
+    return SolveLevenbergMarquardt(lm, num_observations, &problem->cameras, &with_priors, log);
+  };
+  summary.ba.lm = solve(main_options);
   if (distributed.reject_outliers) {
     ShareRejection own_rejection;
     LmOptions resolve = main_options;
@@ -331,8 +339,7 @@ DistributedSummary DistributedBundleAdjust(
           BundleAdjustSummary next;
           next.symbolic_seconds = again.Seconds();
           next.rcs = RcsFootprint::Of(workers->global().S);
-          next.lm = SolveLevenbergMarquardt(resolve, num_observations, &problem->cameras,
-                                            workers.get(), log);
+          next.lm = solve(resolve);
           AppendSolve(next, &summary.ba);
         },
         [&](int r, const RejectionRound& round) {

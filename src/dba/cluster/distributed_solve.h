@@ -5,6 +5,8 @@
 // Thread safety: collective over the communicator; one call per process.
 #pragma once
 
+#include "dba/lm/prior_workers.h"
+
 #include <functional>
 #include <string>
 #include <vector>
@@ -39,6 +41,9 @@ struct DistributedOptions {
   bool reject_outliers = false;
   RejectionCriteria rejection;
   bool reject_keep_loss = false;
+  // Camera-centre priors (lm/prior_workers.h), global image numbering: the
+  // main rank adds their terms to the global RCS.
+  CameraPriors priors;
 };
 
 struct DistributedSummary {

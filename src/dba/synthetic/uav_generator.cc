@@ -1,5 +1,6 @@
 // Synthetic UAV surveys; see uav_generator.h.
 #include "dba/synthetic/uav_generator.h"
+#include "dba/io/atomic_output_file.h"
 
 #include <numbers>
 
@@ -241,6 +242,33 @@ double LensFocal(const UavSurveyOptions& o) {
   return 0.5 * o.image_size / half_angle;
 }
 
+// The priors file of o.priors_path from the true cameras (see the header).
+void WriteGnssPriors(const UavSurveyOptions& o, const Problem& true_side) {
+  std::mt19937_64 rng(Mix(o.seed ^ 0x676e7373ULL));
+  std::normal_distribution<double> n01(0.0, 1.0);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::string text =
+      "# dba generate: GNSS camera centres (world frame, metres): IMAGE X Y Z SIGMA_XY SIGMA_Z\n";
+  char line[256];
+  for (int64_t i = 0; i < true_side.num_images(); ++i) {
+    const double* pose = true_side.camera(i);  // C = -R(ω)ᵀ t
+    Vec3 c = -AngleAxisToRotation(Vec3(pose[0], pose[1], pose[2])).transpose() *
+             Vec3(pose[3], pose[4], pose[5]);
+    const bool outlier = u01(rng) < o.gnss_outliers;
+    if (outlier) {
+      const Vec3 direction = Vec3(n01(rng), n01(rng), n01(rng)).normalized();
+      c += (20.0 + 30.0 * u01(rng)) * direction;
+    } else {
+      c += Vec3(o.gnss_sigma_xy * n01(rng), o.gnss_sigma_xy * n01(rng), o.gnss_sigma_z * n01(rng));
+    }
+    std::snprintf(line, sizeof line, "%lld %.6f %.6f %.6f %g %g%s\n", static_cast<long long>(i),
+                  c.x(), c.y(), c.z(), o.gnss_sigma_xy, o.gnss_sigma_z,
+                  outlier ? " # outlier" : "");
+    text += line;
+  }
+  WriteFileAtomically(o.priors_path, text);
+}
+
 UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::string& path,
                                    const std::string& truth_path,
                                    const std::function<void(double)>& progress) {
@@ -287,6 +315,32 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
     true_side.cameras.swap(true_cameras);
     initial_side.cameras.swap(initial_cameras);
   }
+  if (!o.priors_path.empty()) WriteGnssPriors(o, true_side);
+  // --unaligned: X' = s Q X + T for the initial points; each initial pose
+  // (ω, t) becomes (R Qᵀ, s t - R Qᵀ T), so every camera sees the same.
+  double s_unaligned = 1.0;
+  Mat3 Q = Mat3::Identity();
+  Vec3 T = Vec3::Zero();
+  if (o.unaligned) {
+    std::mt19937_64 rng(Mix(o.seed ^ 0x616c69676eULL));
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    s_unaligned = std::exp2(u(rng));
+    const Vec3 axis = Vec3(u(rng), u(rng), u(rng)).normalized();
+    Q = AngleAxisToRotation(3.0 * u(rng) * axis);
+    T = 1000.0 * Vec3(u(rng), u(rng), u(rng));
+    for (int64_t i = 0; i < l.images; ++i) {
+      double* pose = initial_side.camera(i);
+      const Mat3 R = AngleAxisToRotation(Vec3(pose[0], pose[1], pose[2])) * Q.transpose();
+      const Eigen::AngleAxisd aa(R);
+      const Vec3 omega = aa.angle() * aa.axis();
+      const Vec3 t = s_unaligned * Vec3(pose[3], pose[4], pose[5]) - R * T;
+      for (int k = 0; k < 3; ++k) pose[k] = omega[k], pose[3 + k] = t[k];
+    }
+  }
+  const auto initial_point = [&](const double* X0, double* out) {
+    const Vec3 x = s_unaligned * (Q * Vec3(X0[0], X0[1], X0[2])) + T;
+    for (int k = 0; k < 3; ++k) out[k] = x[k];
+  };
   const double zero[2] = {0.0, 0.0}, half = o.image_size / 2;
   const auto project = [&](int64_t i, const double* X, Vec2* px) {
     if (photo) {
@@ -318,7 +372,9 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
     ForEachPoint(o, l, project, half_progress(0.5),
                  [&](const double* X, const double* X0, const std::vector<int32_t>& seen,
                      const std::vector<double>& clean, const std::vector<double>& noisy) {
-                   out.AppendPoint(X0, seen, noisy);
+                   double x0[3];
+                   initial_point(X0, x0);
+                   out.AppendPoint(x0, seen, noisy);
                    if (truth) truth->AppendPoint(X, seen, clean);
                  });
     out.Commit();
@@ -331,7 +387,9 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
     ForEachPoint(o, l, project, progress,
                  [&](const double* X, const double* X0, const std::vector<int32_t>& seen,
                      const std::vector<double>& clean, const std::vector<double>& noisy) {
-                   problem.points.insert(problem.points.end(), X0, X0 + 3);
+                   double x0[3];
+                   initial_point(X0, x0);
+                   problem.points.insert(problem.points.end(), x0, x0 + 3);
                    truth.points.insert(truth.points.end(), X, X + 3);
                    problem.obs_camera.insert(problem.obs_camera.end(), seen.begin(), seen.end());
                    problem.obs_pixel.insert(problem.obs_pixel.end(), noisy.begin(), noisy.end());

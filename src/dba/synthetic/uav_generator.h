@@ -70,6 +70,18 @@ struct UavSurveyOptions {
   CameraModel model = CameraModel::kBal;
   LensModel camera_model = LensModel::kRadial;  // kPhoto's groups
   double field_of_view = 0.0;  // degrees, (0, 160); 0: focal_px as given
+  // GNSS camera-centre priors (io/camera_priors_file.h), written when
+  // priors_path is set: the true centres (world frame, metres) with
+  // Gaussian noise σ_xy per horizontal axis and σ_z, and a fraction
+  // gnss_outliers of the images given a gross error of 20 to 50 m in a
+  // random direction instead (their lines end in "# outlier").
+  std::string priors_path;
+  double gnss_sigma_xy = 2.0, gnss_sigma_z = 4.0;
+  double gnss_outliers = 0.0;
+  // The initial cameras and points in a random similarity frame (scale
+  // 0.5 to 2, any rotation, a shift of up to 1 km), as a reconstruction is
+  // before georeferencing; the truth stays in the world frame.
+  bool unaligned = false;
 };
 
 // The focal length of `o`'s lens model: focal_px, or with a field of view

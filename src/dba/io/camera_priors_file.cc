@@ -1,0 +1,64 @@
+// Reading camera priors; see camera_priors_file.h.
+#include "dba/io/camera_priors_file.h"
+
+#include <unordered_map>
+
+#include "dba/common/error.h"
+#include "dba/io/text_line_reader.h"
+#include "dba/io/text_tokens.h"
+
+namespace dba {
+
+std::vector<CameraPriorRow> ReadCameraPriorsFile(const std::string& path) {
+  TextLineReader in(path);
+  std::vector<CameraPriorRow> rows;
+  std::unordered_map<std::string, int64_t> seen;  // image -> its line
+  std::string_view view;
+  while (in.ReadLine(&view)) {
+    const int64_t line = in.line_number();
+    std::string text(view.substr(0, view.find('#')));
+    for (char& c : text) {
+      if (c == ',') c = ' ';
+    }
+    LineTokens t(text);
+    std::vector<std::string_view> fields;
+    std::string_view token;
+    while (t.Next(&token)) fields.push_back(token);
+    if (fields.empty()) continue;
+    if (fields.size() != 4 && fields.size() != 6) {
+      throw InputError(path, line,
+                       "expected IMAGE X Y Z [SIGMA_XY SIGMA_Z] (4 or 6 fields), got " +
+                           std::to_string(fields.size()));
+    }
+    static const char* const kNames[] = {"X", "Y", "Z", "SIGMA_XY", "SIGMA_Z"};
+    double v[5] = {};
+    for (size_t k = 1; k < fields.size(); ++k) {
+      if (ParseDouble(fields[k], &v[k - 1]) != NumberStatus::kOk) {
+        throw InputError(path, line,
+                         std::string(kNames[k - 1]) + ": '" + std::string(fields[k]) +
+                             "' is not a finite number");
+      }
+    }
+    CameraPriorRow row;
+    row.image = std::string(fields[0]);
+    row.xyz = Eigen::Vector3d(v[0], v[1], v[2]);
+    row.line = line;
+    if (fields.size() == 6) {
+      if (!(v[3] > 0) || !(v[4] > 0)) {
+        throw InputError(path, line, "sigma must be > 0, got SIGMA_XY " + std::string(fields[4]) +
+                                         " and SIGMA_Z " + std::string(fields[5]));
+      }
+      row.sigma = Eigen::Vector2d(v[3], v[4]);
+    }
+    const auto [it, fresh] = seen.emplace(row.image, line);
+    if (!fresh) {
+      throw InputError(path, line, "image '" + row.image + "' already has a prior (line " +
+                                       std::to_string(it->second) + ")");
+    }
+    rows.push_back(std::move(row));
+  }
+  if (rows.empty()) throw InputError(path, 0, "no priors (every line blank or a comment)");
+  return rows;
+}
+
+}  // namespace dba

@@ -1,0 +1,107 @@
+// The robust similarity onto the priors; see prior_alignment.h.
+#include "dba/lm/prior_alignment.h"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <random>
+#include <stdexcept>
+
+namespace dba {
+namespace {
+
+SimilarityFit Umeyama(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to) {
+  const Eigen::Matrix4d m = Eigen::umeyama(from, to, true);
+  SimilarityFit fit;
+  const Mat3 sR = m.topLeftCorner<3, 3>();
+  fit.scale = std::cbrt(sR.determinant());
+  fit.rotation = sR / fit.scale;
+  fit.translation = m.topRightCorner<3, 1>();
+  return fit;
+}
+
+}  // namespace
+
+SimilarityFit AlignToPriors(const CameraPriors& priors, const std::vector<double>& cameras,
+                            int camera_size) {
+  const int64_t n = static_cast<int64_t>(priors.priors.size());
+  if (n < 3) {
+    throw std::invalid_argument("the alignment onto the priors needs at least 3 priors, got " +
+                                std::to_string(n));
+  }
+  Eigen::Matrix3Xd from(3, n), to(3, n);
+  Eigen::VectorXd sigma(n);
+  for (int64_t x = 0; x < n; ++x) {
+    const CameraCentrePrior& p = priors.priors[x];
+    from.col(x) = CameraCentre(cameras.data() + int64_t{camera_size} * p.image);
+    to.col(x) = p.centre;
+    sigma[x] = p.sigma.maxCoeff();
+  }
+  // Collinear centres: the spread's second direction against the first.
+  const Vec3 mean = to.rowwise().mean();
+  const Eigen::Matrix3d spread = (to.colwise() - mean) * (to.colwise() - mean).transpose();
+  const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(spread).eigenvalues();
+  const bool collinear = ev[1] <= 1e-6 * ev[2];
+
+  const auto inliers_of = [&](const SimilarityFit& f, std::vector<int64_t>* in) {
+    in->clear();
+    for (int64_t x = 0; x < n; ++x) {
+      const Vec3 d = f.scale * (f.rotation * from.col(x)) + f.translation - to.col(x);
+      if (d.norm() <= 5.0 * sigma[x]) in->push_back(x);
+    }
+  };
+  std::mt19937_64 rng(0x5eed);
+  std::uniform_int_distribution<int64_t> pick(0, n - 1);
+  std::vector<int64_t> best, in;
+  const int trials = n == 3 ? 1 : 500;
+  for (int trial = 0; trial < trials; ++trial) {
+    int64_t a = 0, b = 1, c = 2;
+    if (n > 3) {
+      a = pick(rng), b = pick(rng), c = pick(rng);
+      if (a == b || b == c || a == c) continue;
+    }
+    Eigen::Matrix3Xd f3(3, 3), t3(3, 3);
+    f3 << from.col(a), from.col(b), from.col(c);
+    t3 << to.col(a), to.col(b), to.col(c);
+    const SimilarityFit f = Umeyama(f3, t3);
+    if (!std::isfinite(f.scale) || !(f.scale > 0)) continue;
+    inliers_of(f, &in);
+    if (in.size() > best.size()) best = in;
+  }
+  if (best.size() < 3) {
+    best.resize(n);
+    for (int64_t x = 0; x < n; ++x) best[x] = x;  // no consensus: all of them
+  }
+  // Least squares on the inliers, then once more on the refit's inliers.
+  SimilarityFit fit;
+  for (int round = 0; round < 2; ++round) {
+    Eigen::Matrix3Xd f(3, best.size()), t(3, best.size());
+    for (size_t k = 0; k < best.size(); ++k) f.col(k) = from.col(best[k]), t.col(k) = to.col(best[k]);
+    fit = Umeyama(f, t);
+    inliers_of(fit, &in);
+    if (in.size() < 3) break;
+    best = in;
+  }
+  fit.inliers = static_cast<int64_t>(best.size());
+  fit.collinear = collinear;
+  return fit;
+}
+
+void ApplySimilarity(const SimilarityFit& fit, CameraSide* side, std::vector<double>* points) {
+  const double s = fit.scale;
+  const Mat3& Q = fit.rotation;
+  const Vec3& T = fit.translation;
+  for (int64_t i = 0; i < side->num_images(); ++i) {
+    double* pose = side->camera(i);
+    const Mat3 R = AngleAxisToRotation(Vec3(pose[0], pose[1], pose[2])) * Q.transpose();
+    const Eigen::AngleAxisd aa(R);
+    const Vec3 omega = aa.angle() * aa.axis();
+    const Vec3 t = s * Vec3(pose[3], pose[4], pose[5]) - R * T;
+    for (int k = 0; k < 3; ++k) pose[k] = omega[k], pose[3 + k] = t[k];
+  }
+  for (size_t k = 0; k + 2 < points->size(); k += 3) {
+    const Vec3 X = s * (Q * Vec3((*points)[k], (*points)[k + 1], (*points)[k + 2])) + T;
+    for (int a = 0; a < 3; ++a) (*points)[k + a] = X[a];
+  }
+}
+
+}  // namespace dba

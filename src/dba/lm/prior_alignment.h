@@ -1,0 +1,38 @@
+// Before LM, a robust similarity from the current camera centres to their
+// priors (what COLMAP does before a georeferenced bundle adjustment), so
+// that LM starts close: RANSAC over triples of priors (deterministic), the
+// inliers those within 5σ of the prior after the triple's similarity, then
+// Umeyama's least-squares similarity (Eigen::umeyama) on the best set's
+// inliers. X' = s Q X + T moves every point; a pose (ω, t) becomes
+// (R(ω) Qᵀ, s t - R(ω) Qᵀ T), so every image sees the same.
+//
+// For centres on a line (a single strip) the rotation about that line is not
+// determined by centres alone: `collinear` says so, and the roll is the
+// fit's arbitrary one until the priors (or control points) inside LM set it.
+//
+// Thread safety: pure functions (ApplySimilarity writes *problem).
+#pragma once
+
+#include <Eigen/Core>
+
+#include "dba/lm/prior_workers.h"
+#include "dba/problem/problem.h"
+
+namespace dba {
+
+struct SimilarityFit {
+  double scale = 1.0;
+  Mat3 rotation = Mat3::Identity();
+  Vec3 translation = Vec3::Zero();
+  int64_t inliers = 0;
+  bool collinear = false;
+};
+
+// Throws std::invalid_argument when fewer than 3 priors are given.
+SimilarityFit AlignToPriors(const CameraPriors& priors, const std::vector<double>& cameras,
+                            int camera_size);
+
+// Moves the problem's cameras and points by the similarity.
+void ApplySimilarity(const SimilarityFit& fit, CameraSide* side, std::vector<double>* points);
+
+}  // namespace dba
