@@ -756,6 +756,13 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
         MeasurePriorAccuracy(priors, problem.cameras, problem.camera_size(), image_names);
     report.has_priors = true;
     report.prior_loss = priors.loss;
+    PriorAccuracy& a = report.prior_accuracy;
+    const LmSummary& lm_summary = report.solve.ba.lm;
+    a.degrees_of_freedom = 2 * lm_summary.num_observations + 3 * a.count -
+                           (report.solve.ba.rcs.camera_unknowns + 3 * report.num_points);
+    if (a.degrees_of_freedom > 0) {
+      a.sigma0_squared = 2.0 * lm_summary.final_cost / static_cast<double>(a.degrees_of_freedom);
+    }
   }
   Timer write_timer;
   if (comm->size() > 1) MaybeInjectFault(0, "write", 1);

@@ -156,6 +156,9 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
     std::string flagged;
     for (size_t k = 0; k < a.flagged.size() && k < 10; ++k) flagged += " " + a.flagged[k];
     if (a.flagged.size() > 10) flagged += " ...";
+    std::snprintf(buf, sizeof buf, "  unit weight         σ0² %.4g (%lld degrees of freedom)\n",
+                  a.sigma0_squared, static_cast<long long>(a.degrees_of_freedom));
+    out << buf;
     out << "  priors flagged      " << a.flagged.size()
         << " (squared Mahalanobis distance > 16.27)" << (flagged.empty() ? "" : ":" + flagged)
         << "\n";
@@ -344,6 +347,8 @@ std::string SolveReportJson(const SolveReport& r) {
     j["camera_priors"] = {{"count", a.count},     {"mean", a.mean},     {"sd", a.sd},
                           {"rms", a.rms},         {"rms_3d", a.rms_3d}, {"ce90", a.ce90},
                           {"le90", a.le90},       {"flagged", a.flagged},
+                          {"sigma0_squared", a.sigma0_squared},
+                          {"degrees_of_freedom", a.degrees_of_freedom},
                           {"loss", {{"type", LossName(r.prior_loss.type)}, {"scale", r.prior_loss.scale}}}};
   }
   if (r.has_truth) {

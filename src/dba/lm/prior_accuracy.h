@@ -24,6 +24,11 @@ struct PriorAccuracy {
   std::array<double, 3> mean{}, sd{}, rms{};  // X, Y, Z
   double rms_3d = 0.0, ce90 = 0.0, le90 = 0.0;
   std::vector<std::string> flagged;  // names of the outliers, in prior order
+  // The variance of unit weight σ0² = 2F / dof, dof = residuals - unknowns
+  // (2 per observation, 3 per prior; camera-side unknowns and 3 per point),
+  // F the final cost (robust: an approximation); set by the caller.
+  double sigma0_squared = 0.0;
+  int64_t degrees_of_freedom = 0;
 };
 
 // `name(i)`: how image i is called in messages and the report.
