@@ -103,6 +103,54 @@ check "every gross error is flagged, and few others" json "$tmp/g.json" \
 check "the block lands in the priors' frame (the truth's, unaligned by the generator)" json "$tmp/g.json" \
   "all(abs(m) < 1.0 for m in d['camera_priors']['mean'])
    and near(d['ground_truth']['similarity_scale'], 1, 0.01)"
+# The same priors in WGS84 (EPSG:4979: latitude, longitude, ellipsoidal
+# height), the generator's frame taken as east, north, up at 47°N 8°E 500 m:
+# solved in a local ENU frame through geocentric coordinates (PROJ), the
+# same priors are flagged and σ0² is the metric solve's.
+python3 - "$tmp/g.priors" "$tmp/g84.priors" <<'PY'
+import math, sys
+a, f = 6378137.0, 1 / 298.257223563
+e2 = f * (2 - f)
+def ecef(lat, lon, h):
+    p, l = math.radians(lat), math.radians(lon)
+    n = a / math.sqrt(1 - e2 * math.sin(p) ** 2)
+    return ((n + h) * math.cos(p) * math.cos(l), (n + h) * math.cos(p) * math.sin(l),
+            (n * (1 - e2) + h) * math.sin(p))
+def geodetic(x, y, z):
+    lon, r = math.atan2(y, x), math.hypot(x, y)
+    lat = math.atan2(z, r * (1 - e2))
+    for _ in range(10):
+        n = a / math.sqrt(1 - e2 * math.sin(lat) ** 2)
+        h = r / math.cos(lat) - n
+        lat = math.atan2(z, r * (1 - e2 * n / (n + h)))
+    return math.degrees(lat), math.degrees(lon), h
+lat0, lon0 = math.radians(47.0), math.radians(8.0)
+o = ecef(47.0, 8.0, 500.0)
+e = (-math.sin(lon0), math.cos(lon0), 0.0)
+n = (-math.sin(lat0) * math.cos(lon0), -math.sin(lat0) * math.sin(lon0), math.cos(lat0))
+u = (math.cos(lat0) * math.cos(lon0), math.cos(lat0) * math.sin(lon0), math.sin(lat0))
+with open(sys.argv[1]) as src, open(sys.argv[2], "w") as out:
+    for line in src:
+        if line.startswith("#"):
+            continue
+        t = line.split()
+        x, y, z = map(float, t[1:4])
+        p = [o[k] + x * e[k] + y * n[k] + z * u[k] for k in range(3)]
+        lat, lon, h = geodetic(*p)
+        out.write(f"{t[0]} {lat:.10f} {lon:.10f} {h:.4f} {t[4]} {t[5]}\n")
+PY
+"$dba" solve "$tmp/g.dba" -q --camera-priors "$tmp/g84.priors" --prior-crs EPSG:4979 \
+  --report "$tmp/g84.json" >"$tmp/g84out" 2>&1
+check "--prior-crs EPSG:4979 solves in a local frame" grep -q "local frame: east, north, up at latitude 47.0" "$tmp/g84out"
+check "and flags the same priors with the same σ0²" json "$tmp/g84.json" \
+  "d['camera_priors']['flagged'] == $(python3 -c "import json; print(json.load(open('$tmp/g.json'))['camera_priors']['flagged'])")
+   and near(d['camera_priors']['sigma0_squared'], $(python3 -c "import json; print(json.load(open('$tmp/g.json'))['camera_priors']['sigma0_squared'])"), 1e-3)
+   and d['camera_priors']['crs'] == 'EPSG:4979' and 'cart' in d['camera_priors']['local_frame']['proj_pipeline']"
+"$dba" solve "$tmp/g.dba" -q --camera-priors "$tmp/g84.priors" --prior-crs EPSG:4326 >"$tmp/gerr" 2>&1
+check "a 2D CRS exits 2" test $? -eq 2
+check "and says why" grep -q -- "--prior-crs: the CRS 'EPSG:4326' has 2 axes: a 3D CRS is needed" "$tmp/gerr"
+"$dba" solve "$tmp/g.dba" -q --camera-priors "$tmp/g84.priors" --prior-crs NOPE:1 >"$tmp/gerr" 2>&1
+check "a CRS PROJ cannot parse is refused" grep -q -- "--prior-crs: PROJ cannot parse the CRS 'NOPE:1'" "$tmp/gerr"
 # Bad priors files: file and line, nothing solved.
 printf '0 1 2 3 2 4\n0 1 2 3 2 4\n' >"$tmp/dup.priors"
 printf '0 1 2 3\n' >"$tmp/nosigma.priors"

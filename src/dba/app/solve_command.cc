@@ -1,5 +1,6 @@
 // `dba solve`; see solve_command.h.
 #include "dba/app/solve_command.h"
+#include "dba/geo/local_frame.h"
 #include "dba/lm/prior_alignment.h"
 #include "dba/lm/prior_accuracy.h"
 #include <unordered_set>
@@ -15,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -138,6 +140,11 @@ void PrintSolveHelp(std::ostream& out) {
          "                             0-based camera index, metres in a Cartesian frame;\n"
          "                             reports the agreement per axis, CE90/LE90 and the\n"
          "                             priors flagged as outliers (χ²₃ 99.9%)\n"
+         "  --prior-crs CRS            the priors' coordinates in any 3D CRS PROJ knows\n"
+         "                             (EPSG:4979: WGS84 latitude, longitude, ellipsoidal\n"
+         "                             height, EPSG's axis order); the solve and its outputs\n"
+         "                             are then in a local east-north-up frame at the priors'\n"
+         "                             centre (origin and PROJ pipeline in the report)\n"
          "  --prior-sigma XY,Z         σ of the priors that give none (metres; σ_xy per\n"
          "                             horizontal axis)\n"
          "  --prior-loss NAME          the priors' robust loss, in units of σ (default\n"
@@ -299,6 +306,8 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       const double z = comma == std::string::npos ? xy : ParseNumberArgument(a, v.substr(comma + 1));
       if (!(xy > 0.0 && z > 0.0)) throw std::invalid_argument(a + ": expected XY,Z both > 0 (metres)");
       o.prior_sigma = Eigen::Vector2d(xy, z);
+    } else if (a == "--prior-crs") {
+      o.prior_crs = value();
     } else if (a == "--prior-loss") {
       const std::string& v = value();
       if (!ParseLoss(v, &o.prior_loss.type)) {
@@ -579,6 +588,39 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
                                 report.num_cameras, options.prior_sigma, options.prior_loss);
       if (image_names.empty()) {
         for (int64_t i = 0; i < report.num_cameras; ++i) image_names.push_back(std::to_string(i));
+      }
+      if (!options.prior_crs.empty()) {
+        // Through geocentric coordinates into east, north, up at their centre.
+        std::unique_ptr<CrsToGeocentric> crs;
+        try {
+          crs = std::make_unique<CrsToGeocentric>(options.prior_crs);
+        } catch (const std::invalid_argument& e) {
+          throw UsageError(std::string("--prior-crs: ") + e.what());
+        }
+        std::vector<Eigen::Vector3d> ecef;
+        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+        for (const CameraCentrePrior& p : priors.priors) {
+          try {
+            ecef.push_back(crs->Forward(p.centre));
+          } catch (const std::runtime_error& e) {
+            throw InputError(options.camera_priors_path, 0,
+                             "image " + image_names[p.image] + ": " + e.what());
+          }
+          mean += ecef.back() / static_cast<double>(priors.priors.size());
+        }
+        const LocalFrame frame = LocalFrame::At(mean);
+        for (size_t x = 0; x < ecef.size(); ++x) priors.priors[x].centre = frame.ToLocal(ecef[x]);
+        report.has_local_frame = true;
+        report.local_frame_origin = frame.origin_geodetic;
+        report.local_frame_pipeline = crs->Pipeline();
+        report.prior_crs = options.prior_crs;
+        report.prior_heights = crs->HeightKind();
+        char line[200];
+        std::snprintf(line, sizeof line,
+                      "local frame: east, north, up at latitude %.9f, longitude %.9f, "
+                      "ellipsoidal height %.3f m (WGS84)\n",
+                      frame.origin_geodetic.x(), frame.origin_geodetic.y(), frame.origin_geodetic.z());
+        out << line;
       }
       // Before LM, the block onto the priors (lm/prior_alignment.h).
       if (ranks_read_file) {

@@ -39,6 +39,7 @@ struct SolveCommandOptions {
   // default σ (xy, z; rows may give their own) and their loss, in σ units.
   std::string camera_priors_path;
   std::optional<Eigen::Vector2d> prior_sigma;
+  std::string prior_crs;  // empty: the priors are in a metric Cartesian frame
   RobustLoss prior_loss{LossType::kCauchy, 3.0};
   // One process: refuse to start when the memory estimate exceeds what the
   // machine (or the cgroup) has available; false: --no-memory-check.

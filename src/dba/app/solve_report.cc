@@ -156,6 +156,14 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
     std::string flagged;
     for (size_t k = 0; k < a.flagged.size() && k < 10; ++k) flagged += " " + a.flagged[k];
     if (a.flagged.size() > 10) flagged += " ...";
+    if (r.has_local_frame) {
+      std::snprintf(buf, sizeof buf,
+                    "  local frame         ENU at %.9f, %.9f, %.3f m (WGS84 φ, λ, h); priors in %s "
+                    "(%s heights)\n",
+                    r.local_frame_origin.x(), r.local_frame_origin.y(), r.local_frame_origin.z(),
+                    r.prior_crs.c_str(), r.prior_heights.c_str());
+      out << buf << "  PROJ pipeline       " << r.local_frame_pipeline << "\n";
+    }
     std::snprintf(buf, sizeof buf, "  unit weight         σ0² %.4g (%lld degrees of freedom)\n",
                   a.sigma0_squared, static_cast<long long>(a.degrees_of_freedom));
     out << buf;
@@ -348,6 +356,13 @@ std::string SolveReportJson(const SolveReport& r) {
                           {"rms", a.rms},         {"rms_3d", a.rms_3d}, {"ce90", a.ce90},
                           {"le90", a.le90},       {"flagged", a.flagged},
                           {"sigma0_squared", a.sigma0_squared},
+                          {"crs", r.prior_crs},
+                          {"heights", r.prior_heights},
+                          {"local_frame",
+                           {{"origin_latitude", r.local_frame_origin.x()},
+                            {"origin_longitude", r.local_frame_origin.y()},
+                            {"origin_height", r.local_frame_origin.z()},
+                            {"proj_pipeline", r.local_frame_pipeline}}},
                           {"degrees_of_freedom", a.degrees_of_freedom},
                           {"loss", {{"type", LossName(r.prior_loss.type)}, {"scale", r.prior_loss.scale}}}};
   }

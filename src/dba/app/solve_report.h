@@ -48,6 +48,10 @@ struct SolveReport {
   bool has_priors = false;
   PriorAccuracy prior_accuracy;
   RobustLoss prior_loss;
+  // --prior-crs: the local east-north-up frame the solve ran in.
+  bool has_local_frame = false;
+  Eigen::Vector3d local_frame_origin = Eigen::Vector3d::Zero();  // φ, λ (deg), h (m)
+  std::string local_frame_pipeline, prior_crs, prior_heights;
   bool has_truth = false;
   GroundTruthErrors truth;        // against a generated problem's ground truth
 

@@ -1,0 +1,118 @@
+// CRS to geocentric through PROJ, and the local east-north-up frame; see
+// local_frame.h.
+#include "dba/geo/local_frame.h"
+
+#include <proj.h>
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace dba {
+namespace {
+
+std::string ProjError(PJ_CONTEXT* ctx) {
+  return proj_context_errno_string(ctx, proj_context_errno(ctx));
+}
+
+// The number of axes of a CRS (a compound CRS: its parts'), or 0.
+int AxisCount(PJ_CONTEXT* ctx, PJ* crs) {
+  if (proj_get_type(crs) == PJ_TYPE_COMPOUND_CRS) {
+    int n = 0;
+    for (int i = 0; i < 2; ++i) {
+      PJ* part = proj_crs_get_sub_crs(ctx, crs, i);
+      if (part != nullptr) n += AxisCount(ctx, part), proj_destroy(part);
+    }
+    return n;
+  }
+  PJ* cs = proj_crs_get_coordinate_system(ctx, crs);
+  if (cs == nullptr) return 0;
+  const int n = proj_cs_get_axis_count(ctx, cs);
+  proj_destroy(cs);
+  return n;
+}
+
+}  // namespace
+
+CrsToGeocentric::CrsToGeocentric(const std::string& crs) {
+  PJ_CONTEXT* ctx = proj_context_create();
+  context_ = ctx;
+  PJ* source = proj_create(ctx, crs.c_str());
+  if (source == nullptr || !proj_is_crs(source)) {
+    const std::string why = ProjError(ctx);
+    if (source != nullptr) proj_destroy(source);
+    proj_context_destroy(ctx);
+    throw std::invalid_argument("PROJ cannot parse the CRS '" + crs + "'" +
+                                (why.empty() ? "" : ": " + why));
+  }
+  const int axes = AxisCount(ctx, source);
+  height_kind_ = proj_get_type(source) == PJ_TYPE_COMPOUND_CRS ? "geoid/other" : "ellipsoidal";
+  if (axes != 3) {
+    proj_destroy(source);
+    proj_context_destroy(ctx);
+    throw std::invalid_argument("the CRS '" + crs + "' has " + std::to_string(axes) +
+                                " axes: a 3D CRS is needed (with heights), e.g. EPSG:4979 "
+                                "(WGS84 latitude, longitude, ellipsoidal height)");
+  }
+  PJ* target = proj_create(ctx, "EPSG:4978");
+  PJ* t = proj_create_crs_to_crs_from_pj(ctx, source, target, nullptr, nullptr);
+  proj_destroy(source);
+  proj_destroy(target);
+  if (t == nullptr) {
+    const std::string why = ProjError(ctx);
+    proj_context_destroy(ctx);
+    throw std::invalid_argument("PROJ has no transformation from '" + crs +
+                                "' to geocentric coordinates: " + why);
+  }
+  transform_ = t;
+}
+
+CrsToGeocentric::~CrsToGeocentric() {
+  proj_destroy(static_cast<PJ*>(transform_));
+  proj_context_destroy(static_cast<PJ_CONTEXT*>(context_));
+}
+
+Eigen::Vector3d CrsToGeocentric::Forward(const Eigen::Vector3d& xyz) const {
+  PJ_COORD c = proj_coord(xyz.x(), xyz.y(), xyz.z(), 0.0);
+  const PJ_COORD r = proj_trans(static_cast<PJ*>(transform_), PJ_FWD, c);
+  const Eigen::Vector3d out(r.xyz.x, r.xyz.y, r.xyz.z);
+  if (!out.allFinite() || std::abs(out.x()) == HUGE_VAL) {
+    throw std::runtime_error("PROJ cannot transform (" + std::to_string(xyz.x()) + ", " +
+                             std::to_string(xyz.y()) + ", " + std::to_string(xyz.z()) +
+                             ") to geocentric coordinates (outside the CRS's area, or a grid "
+                             "it needs is missing)");
+  }
+  return out;
+}
+
+std::string CrsToGeocentric::Pipeline() const {
+  const PJ_PROJ_INFO info = proj_pj_info(static_cast<PJ*>(transform_));
+  return info.definition != nullptr ? info.definition : "";
+}
+
+Eigen::Vector3d GeocentricToGeodetic(const Eigen::Vector3d& p) {
+  constexpr double a = 6378137.0, f = 1.0 / 298.257223563;
+  constexpr double b = a * (1 - f), e2 = f * (2 - f), ep2 = e2 / (1 - e2);
+  const double r = std::hypot(p.x(), p.y());
+  const double theta = std::atan2(p.z() * a, r * b);
+  const double st = std::sin(theta), ct = std::cos(theta);
+  const double phi = std::atan2(p.z() + ep2 * b * st * st * st, r - e2 * a * ct * ct * ct);
+  const double lambda = std::atan2(p.y(), p.x());
+  const double N = a / std::sqrt(1 - e2 * std::sin(phi) * std::sin(phi));
+  const double h = r / std::cos(phi) - N;
+  constexpr double deg = 180.0 / std::numbers::pi;
+  return Eigen::Vector3d(phi * deg, lambda * deg, h);
+}
+
+LocalFrame LocalFrame::At(const Eigen::Vector3d& origin_ecef) {
+  LocalFrame f;
+  f.origin = origin_ecef;
+  f.origin_geodetic = GeocentricToGeodetic(origin_ecef);
+  constexpr double rad = std::numbers::pi / 180.0;
+  const double phi = f.origin_geodetic.x() * rad, lambda = f.origin_geodetic.y() * rad;
+  const double sp = std::sin(phi), cp = std::cos(phi), sl = std::sin(lambda), cl = std::cos(lambda);
+  f.R << -sl, cl, 0.0, -sp * cl, -sp * sl, cp, cp * cl, cp * sl, sp;
+  return f;
+}
+
+}  // namespace dba
