@@ -10,6 +10,8 @@
 # of CI (tests/cli_generate.sh runs a 300-image version).
 #
 #   bash bench/georeferencing.sh [IMAGES] [SEEDS...]
+#   PRIOR_ARGS="--prior-loss huber --prior-loss-scale 2" bash bench/georeferencing.sh ...
+# (the solve's prior options; default: none, dba's defaults)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 images=${1:-10000}
@@ -19,13 +21,14 @@ dba=./build/dba
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-echo "| seed | images | mean offset X, Y, Z (m) | 3σ/√N (m) | gross errors flagged | inliers flagged | iterations | ms/iteration with priors | without |"
-echo "|---:|---:|---|---|---:|---:|---:|---:|---:|"
+echo "| seed | images | mean offset X, Y, Z (m) | 3σ/√N (m) | RMS centre error (m) | gross errors flagged | inliers flagged | iterations | ms/iteration with priors | without |"
+echo "|---:|---:|---|---|---:|---:|---:|---:|---:|---:|"
 for seed in "${seeds[@]}"; do
   "$dba" generate "$work/s.dba" --model photo --images "$images" --cameras 2 --seed "$seed" \
     --unaligned --priors "$work/p.txt" --gnss-sigma 2,4 --gnss-outliers 0.02 \
     --truth "$work/t.dba" >/dev/null
-  "$dba" solve "$work/s.dba" -q --camera-priors "$work/p.txt" -o "$work/out.dba" \
+  # shellcheck disable=SC2086
+  "$dba" solve "$work/s.dba" -q --camera-priors "$work/p.txt" ${PRIOR_ARGS:-} -o "$work/out.dba" \
     --report "$work/with.json" >/dev/null
   "$dba" solve "$work/out.dba" -q --report "$work/without.json" >/dev/null
   python3 - "$work" "$images" "$seed" <<'PY'
@@ -54,6 +57,7 @@ def centres(path):
     return out
 solved, truth = centres(f"{work}/out.dba"), centres(f"{work}/t.dba")
 mean = [sum(a[j] - b[j] for a, b in zip(solved, truth)) / n for j in range(3)]
+rms = math.sqrt(sum(sum((a[j] - b[j]) ** 2 for j in range(3)) for a, b in zip(solved, truth)) / n)
 bound = [3 * 2 / math.sqrt(n), 3 * 2 / math.sqrt(n), 3 * 4 / math.sqrt(n)]
 outliers = set(l.split()[0] for l in open(f"{work}/p.txt") if l.rstrip().endswith("# outlier"))
 flagged = set(with_["camera_priors"]["flagged"])
@@ -61,6 +65,7 @@ per_it = lambda d: 1000 * (d["seconds"]["rcs_formation"] + d["seconds"]["linear_
                            d["seconds"]["back_substitution"]) / max(1, d["iterations"])
 print(f"| {sys.argv[3]} | {n} | "
       f"{mean[0]:.3f}, {mean[1]:.3f}, {mean[2]:.3f} | {bound[0]:.3f}, {bound[1]:.3f}, {bound[2]:.3f} | "
+      f"{rms:.3f} | "
       f"{len(outliers & flagged)} of {len(outliers)} | {len(flagged - outliers)} of {n - len(outliers)} | "
       f"{with_['iterations']} | {per_it(with_):.0f} | {per_it(without):.0f} |")
 PY

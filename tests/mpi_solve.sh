@@ -207,22 +207,22 @@ fi
 
 # Camera priors: the main rank adds their terms to the global RCS. A BAL
 # text survey (rank 0 holds it, aligns it onto the priors and hands it out)
-# on 1 and 3 ranks, and a photogrammetric .dba read by the ranks (not
-# aligned first) on 2 and 3 ranks: the same optimum with defaults (1e-5).
+# on 1 and 4 ranks, and a photogrammetric .dba read by the ranks (not
+# aligned first) on 2 and 4 ranks: the same optimum with defaults (1e-5).
 "$dba" generate "$tmp/gnss.txt" --images 80 --seed 8 --priors "$tmp/gnss.priors" --gnss-outliers 0.05 >/dev/null
 "$dba" solve "$tmp/gnss.txt" -q --camera-priors "$tmp/gnss.priors" --report "$tmp/gnss1.json" >/dev/null 2>&1 \
   || fail "BAL with priors, one process"
-mpirun_n 3 "$dba" solve "$tmp/gnss.txt" -q --camera-priors "$tmp/gnss.priors" --report "$tmp/gnss3.json" \
-  >"$tmp/gnss.out" 2>&1 || { fail "BAL with priors -np 3 exited non-zero"; cat "$tmp/gnss.out" >&2; }
+mpirun_n 4 "$dba" solve "$tmp/gnss.txt" -q --camera-priors "$tmp/gnss.priors" --report "$tmp/gnss3.json" \
+  >"$tmp/gnss.out" 2>&1 || { fail "BAL with priors -np 4 exited non-zero"; cat "$tmp/gnss.out" >&2; }
 "$dba" generate "$tmp/gnssp.dba" --model photo --images 80 --cameras 2 --seed 8 --priors "$tmp/gnssp.priors" >/dev/null
 mpirun_n 2 "$dba" solve "$tmp/gnssp.dba" -q --camera-priors "$tmp/gnssp.priors" --report "$tmp/gnssp2.json" >/dev/null 2>&1 \
   || fail "photo .dba with priors -np 2 exited non-zero"
-mpirun_n 3 "$dba" solve "$tmp/gnssp.dba" -q --camera-priors "$tmp/gnssp.priors" --report "$tmp/gnssp3.json" >/dev/null 2>&1 \
-  || fail "photo .dba with priors -np 3 exited non-zero"
+mpirun_n 4 "$dba" solve "$tmp/gnssp.dba" -q --camera-priors "$tmp/gnssp.priors" --report "$tmp/gnssp3.json" >/dev/null 2>&1 \
+  || fail "photo .dba with priors -np 4 exited non-zero"
 if within "$(final_cost "$tmp/gnss1.json")" "$(final_cost "$tmp/gnss3.json")" 1e-5 && \
    within "$(final_cost "$tmp/gnssp2.json")" "$(final_cost "$tmp/gnssp3.json")" 1e-5 && \
    json "$tmp/gnss3.json" "d['camera_priors']['flagged'] == $(python3 -c "import json; print(json.load(open('$tmp/gnss1.json'))['camera_priors']['flagged'])")"; then
-  passes=$((passes + 1)); echo "ok   camera priors: BAL -np 3, photo .dba -np 2 and 3"
+  passes=$((passes + 1)); echo "ok   camera priors: BAL -np 1 and 4, photo .dba -np 2 and 4"
 else
   fail "camera priors: $(final_cost "$tmp/gnss3.json") vs $(final_cost "$tmp/gnss1.json"); $(final_cost "$tmp/gnssp3.json") vs $(final_cost "$tmp/gnssp2.json")"
 fi

@@ -148,7 +148,7 @@ void PrintSolveHelp(std::ostream& out) {
          "  --prior-sigma XY,Z         σ of the priors that give none (metres; σ_xy per\n"
          "                             horizontal axis)\n"
          "  --prior-loss NAME          the priors' robust loss, in units of σ (default\n"
-         "                             cauchy, provisional: see docs/georeferencing.md)\n"
+         "                             cauchy, chosen by measurement: bench/README.md)\n"
          "  --prior-loss-scale S       its scale in units of σ (default 3)\n"
          "  --min-triangulation-angle DEG\n"
          "                             with --reject-outliers: a point whose rays meet at\n"
