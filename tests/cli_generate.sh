@@ -103,6 +103,15 @@ check "every gross error is flagged, and few others" json "$tmp/g.json" \
 check "the block lands in the priors' frame (the truth's, unaligned by the generator)" json "$tmp/g.json" \
   "all(abs(m) < 1.0 for m in d['camera_priors']['mean'])
    and near(d['ground_truth']['similarity_scale'], 1, 0.01)"
+# --truth-absolute: no alignment before the comparison. With the priors the
+# centres are within a metre of the truth; the same survey solved without
+# them stays in the generator's random frame.
+"$dba" solve "$tmp/g.dba" -q --camera-priors "$tmp/g.priors" --truth "$tmp/g.truth.dba" --truth-absolute \
+  --report "$tmp/ga.json" >/dev/null 2>&1
+"$dba" solve "$tmp/g.dba" -q --truth "$tmp/g.truth.dba" --truth-absolute --report "$tmp/gn.json" >/dev/null 2>&1
+check "absolute truth: within a metre with priors, far without" json "$tmp/ga.json" \
+  "d['ground_truth']['absolute'] and d['ground_truth']['camera_centre_rms'] < 1.0
+   and $(python3 -c "import json; print(json.load(open('$tmp/gn.json'))['ground_truth']['camera_centre_rms'])") > 50"
 # The same priors in WGS84 (EPSG:4979: latitude, longitude, ellipsoidal
 # height), the generator's frame taken as east, north, up at 47°N 8°E 500 m:
 # solved in a local ENU frame through geocentric coordinates (PROJ), the

@@ -117,6 +117,8 @@ void PrintSolveHelp(std::ostream& out) {
          "                             observations, the camera/point errors after a\n"
          "                             similarity alignment and, photogrammetric model,\n"
          "                             each intrinsic group's errors (f, cx, cy, k1, k2)\n"
+         "  --truth-absolute           with --truth: compare with no alignment (a\n"
+         "                             georeferenced solve is in the truth's frame)\n"
          "  -t, --threads N            threads per rank (default: the node's cores divided\n"
          "                             by its ranks; " << DefaultThreads() << " cores here)\n"
          "  --loss trivial|huber|soft_l1|cauchy|arctan|tukey\n"
@@ -232,6 +234,8 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       o.report_path = value();
     } else if (a == "--truth") {
       o.truth_path = value();
+    } else if (a == "--truth-absolute") {
+      o.truth_absolute = true;
     } else if (a == "--ply") {
       o.ply_path = value();
     } else if (a == "--checkpoint") {
@@ -373,6 +377,9 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
   }
   if (o.checkpoint_every_s > 0 && o.checkpoint_path.empty()) {
     throw std::invalid_argument("--checkpoint-every: no --checkpoint to write");
+  }
+  if (o.truth_absolute && o.truth_path.empty()) {
+    throw std::invalid_argument("--truth-absolute needs --truth FILE");
   }
   return o;
 }
@@ -790,7 +797,8 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     // pixels (their noise-free pixel is not what was matched).
     const std::vector<double>& pixels = loaded_pixels.empty() ? problem.obs_pixel : loaded_pixels;
     report.truth = CompareWithGroundTruthFile(options.truth_path, problem.cameras, points,
-                                              problem.model, point_kept, pixels);
+                                              problem.model, point_kept, pixels,
+                                              options.truth_absolute);
     report.has_truth = true;
   }
   if (main && !priors.empty()) {

@@ -19,6 +19,7 @@ struct SolveCommandOptions {
   std::string output;       // empty: no output file
   std::string report_path;  // empty: no JSON report
   std::string truth_path;   // empty: no ground-truth comparison
+  bool truth_absolute = false;  // compare with no similarity alignment
   std::string ply_path;     // empty: no point cloud
   // io/checkpoint.h: written after accepted iterations (at most every
   // checkpoint_every_s seconds; 0: after each), and a solve resumed from one.

@@ -171,13 +171,21 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
         << " (squared Mahalanobis distance > 16.27)" << (flagged.empty() ? "" : ":" + flagged)
         << "\n";
   }
-  if (r.has_truth) {
+  if (r.has_truth && r.truth.absolute) {
+    std::snprintf(buf, sizeof buf,
+                  "  ground truth        RMS to noise-free observations %.4f px; absolute (no\n"
+                  "                      alignment): camera centres %.4g, points %.4g (RMS)\n",
+                  r.truth.rms_to_noise_free_px, r.truth.camera_centre_rms, r.truth.point_rms);
+    out << buf;
+  } else if (r.has_truth) {
     std::snprintf(buf, sizeof buf,
                   "  ground truth        RMS to noise-free observations %.4f px; after a\n"
                   "                      similarity (scale %.6f): camera centres %.4g, points %.4g (RMS)\n",
                   r.truth.rms_to_noise_free_px, r.truth.similarity_scale,
                   r.truth.camera_centre_rms, r.truth.point_rms);
     out << buf;
+  }
+  if (r.has_truth) {
     if (r.truth.mismatches_left_out > 0) {
       std::snprintf(buf, sizeof buf,
                     "                      (the RMS over %lld true inliers; %lld generated "
@@ -371,6 +379,7 @@ std::string SolveReportJson(const SolveReport& r) {
                          {"rms_observations", r.truth.rms_observations},
                          {"mismatches_left_out", r.truth.mismatches_left_out},
                          {"similarity_scale", r.truth.similarity_scale},
+                         {"absolute", r.truth.absolute},
                          {"camera_centre_rms", r.truth.camera_centre_rms},
                          {"point_rms", r.truth.point_rms}};
     if (!r.truth.intrinsics_error.empty()) {

@@ -91,10 +91,13 @@ void CheckSizes(const Problem& truth, const std::vector<double>& cameras,
 // only.
 GroundTruthErrors GeometryErrors(const Problem& truth, const std::vector<double>& cameras,
                                  const std::vector<double>& points,
-                                 std::span<const uint8_t> point_kept) {
+                                 std::span<const uint8_t> point_kept, bool absolute) {
   GroundTruthErrors e;
+  e.absolute = absolute;
   const Eigen::Matrix3Xd solved = Centres(truth, cameras), true_centres = Centres(truth, truth.cameras);
-  const Eigen::Matrix4d T = Eigen::umeyama(solved, true_centres, /*with_scaling=*/true);
+  const Eigen::Matrix4d T = absolute ? Eigen::Matrix4d::Identity()
+                                     : Eigen::Matrix4d(Eigen::umeyama(solved, true_centres,
+                                                                      /*with_scaling=*/true));
   const Eigen::Matrix3d sR = T.topLeftCorner<3, 3>();
   const Vec3 shift = T.topRightCorner<3, 1>();
   e.similarity_scale = std::cbrt(sR.determinant());
@@ -138,10 +141,10 @@ GroundTruthErrors CompareWithGroundTruth(const Problem& truth,
                                          const std::vector<double>& cameras,
                                          const std::vector<double>& points, CameraModel model,
                                          std::span<const uint8_t> point_kept,
-                                         std::span<const double> loaded_pixels) {
+                                         std::span<const double> loaded_pixels, bool absolute) {
   CheckSizes(truth, cameras, points, model);
   CheckLoadedPixels(truth.num_observations(), loaded_pixels);
-  GroundTruthErrors e = GeometryErrors(truth, cameras, points, point_kept);
+  GroundTruthErrors e = GeometryErrors(truth, cameras, points, point_kept, absolute);
   const SquaredSum s = SquaredResiduals(truth, 0, truth.point_offsets, truth.obs_camera,
                                         truth.obs_pixel, cameras, points, point_kept,
                                         loaded_pixels);
@@ -154,10 +157,11 @@ GroundTruthErrors CompareWithGroundTruthFile(const std::string& path,
                                              const std::vector<double>& points,
                                              CameraModel model,
                                              std::span<const uint8_t> point_kept,
-                                             std::span<const double> loaded_pixels) {
+                                             std::span<const double> loaded_pixels,
+                                             bool absolute) {
   if (!IsBinaryProblem(path)) {
     return CompareWithGroundTruth(ReadProblem(path), cameras, points, model, point_kept,
-                                  loaded_pixels);
+                                  loaded_pixels, absolute);
   }
   const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
   CheckLoadedPixels(h.num_observations, loaded_pixels);
@@ -176,7 +180,7 @@ GroundTruthErrors CompareWithGroundTruthFile(const std::string& path,
                             sum.count += s.count;
                             sum.left_out += s.left_out;
                           });
-  GroundTruthErrors e = GeometryErrors(truth, cameras, points, point_kept);
+  GroundTruthErrors e = GeometryErrors(truth, cameras, points, point_kept, absolute);
   SetRms(sum, &e);
   return e;
 }

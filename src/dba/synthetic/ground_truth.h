@@ -7,7 +7,8 @@
 //   - camera-centre and point errors after the similarity transform
 //     (rotation, translation, scale; Umeyama) that best maps the solved
 //     camera centres onto the true ones, since bundle adjustment fixes the
-//     solution only up to such a transform. The centre is C = -Rᵀ t in both
+//     solution only up to such a transform; or, `absolute`, with no
+//     transform (a georeferenced solve, whose frame is the truth's). The centre is C = -Rᵀ t in both
 //     camera models (the photogrammetric pose's R has COLMAP's axes, which
 //     does not change C);
 //   - photogrammetric model: per intrinsic group the absolute errors
@@ -38,6 +39,7 @@ struct GroundTruthErrors {
   double camera_centre_rms = 0.0;  // in the truth's units, after alignment
   double point_rms = 0.0;
   double similarity_scale = 1.0;
+  bool absolute = false;  // no similarity applied
   // Per camera (image): the true centre's x and y and the aligned centre's
   // distance from it (for a top view of the errors over the survey).
   std::vector<double> centre_x, centre_y, centre_error;
@@ -64,7 +66,8 @@ GroundTruthErrors CompareWithGroundTruth(const Problem& truth,
                                          const std::vector<double>& points,
                                          CameraModel model = CameraModel::kBal,
                                          std::span<const uint8_t> point_kept = {},
-                                         std::span<const double> loaded_pixels = {});
+                                         std::span<const double> loaded_pixels = {},
+                                         bool absolute = false);
 
 // The same from a ground-truth file; a binary one is streamed (only its
 // camera side and points are held), so large problems do not need twice the
@@ -74,6 +77,7 @@ GroundTruthErrors CompareWithGroundTruthFile(const std::string& truth_path,
                                              const std::vector<double>& points,
                                              CameraModel model = CameraModel::kBal,
                                              std::span<const uint8_t> point_kept = {},
-                                             std::span<const double> loaded_pixels = {});
+                                             std::span<const double> loaded_pixels = {},
+                                             bool absolute = false);
 
 }  // namespace dba
