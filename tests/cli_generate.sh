@@ -107,7 +107,13 @@ check "the block lands in the priors' frame (the truth's, unaligned by the gener
 # centres are within a metre of the truth; the same survey solved without
 # them stays in the generator's random frame.
 "$dba" solve "$tmp/g.dba" -q --camera-priors "$tmp/g.priors" --truth "$tmp/g.truth.dba" --truth-absolute \
-  --report "$tmp/ga.json" >/dev/null 2>&1
+  --report "$tmp/ga.json" --accuracy-report "$tmp/ga.txt" >/dev/null 2>&1
+check "--accuracy-report: a row per prior, the flagged ones the report's" test \
+  "$(grep -vc '^#' "$tmp/ga.txt") $(grep -c ' 1$' "$tmp/ga.txt")" = \
+  "300 $(python3 -c "import json; print(len(json.load(open('$tmp/ga.json'))['camera_priors']['flagged']))")"
+"$dba" solve "$tmp/g.dba" -q --accuracy-report "$tmp/never.txt" >"$tmp/gerr" 2>&1
+check "--accuracy-report without priors exits 2" test $? -eq 2
+check "and writes nothing" test ! -e "$tmp/never.txt"
 "$dba" solve "$tmp/g.dba" -q --truth "$tmp/g.truth.dba" --truth-absolute --report "$tmp/gn.json" >/dev/null 2>&1
 check "absolute truth: within a metre with priors, far without" json "$tmp/ga.json" \
   "d['ground_truth']['absolute'] and d['ground_truth']['camera_centre_rms'] < 1.0

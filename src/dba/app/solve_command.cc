@@ -147,6 +147,9 @@ void PrintSolveHelp(std::ostream& out) {
          "                             height, EPSG's axis order); the solve and its outputs\n"
          "                             are then in a local east-north-up frame at the priors'\n"
          "                             centre (origin and PROJ pipeline in the report)\n"
+         "  --accuracy-report FILE     with --camera-priors: the figures as a table, and\n"
+         "                             each prior's dx, dy, dz, squared Mahalanobis distance\n"
+         "                             and flag\n"
          "  --prior-sigma XY,Z         σ of the priors that give none (metres; σ_xy per\n"
          "                             horizontal axis)\n"
          "  --prior-loss NAME          the priors' robust loss, in units of σ (default\n"
@@ -310,6 +313,8 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       const double z = comma == std::string::npos ? xy : ParseNumberArgument(a, v.substr(comma + 1));
       if (!(xy > 0.0 && z > 0.0)) throw std::invalid_argument(a + ": expected XY,Z both > 0 (metres)");
       o.prior_sigma = Eigen::Vector2d(xy, z);
+    } else if (a == "--accuracy-report") {
+      o.accuracy_report_path = value();
     } else if (a == "--prior-crs") {
       o.prior_crs = value();
     } else if (a == "--prior-loss") {
@@ -377,6 +382,9 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
   }
   if (o.checkpoint_every_s > 0 && o.checkpoint_path.empty()) {
     throw std::invalid_argument("--checkpoint-every: no --checkpoint to write");
+  }
+  if (!o.accuracy_report_path.empty() && o.camera_priors_path.empty()) {
+    throw std::invalid_argument("--accuracy-report needs --camera-priors FILE");
   }
   if (o.truth_absolute && o.truth_path.empty()) {
     throw std::invalid_argument("--truth-absolute needs --truth FILE");
@@ -579,6 +587,9 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     }
     if (!options.report_path.empty()) CheckWritable("--report", options.report_path, false);
     if (!options.ply_path.empty()) CheckWritable("--ply", options.ply_path, false);
+    if (!options.accuracy_report_path.empty()) {
+      CheckWritable("--accuracy-report", options.accuracy_report_path, false);
+    }
     if (!options.checkpoint_path.empty()) CheckWritable("--checkpoint", options.checkpoint_path, false);
     if (!options.truth_path.empty()) CheckTruthFile(options.truth_path, report);
     if (!options.camera_priors_path.empty()) {
@@ -812,6 +823,11 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
                            (report.solve.ba.rcs.camera_unknowns + 3 * report.num_points);
     if (a.degrees_of_freedom > 0) {
       a.sigma0_squared = 2.0 * lm_summary.final_cost / static_cast<double>(a.degrees_of_freedom);
+    }
+    if (!options.accuracy_report_path.empty()) {
+      WriteFileAtomically(options.accuracy_report_path,
+                          PriorAccuracyTable(a, priors, problem.cameras, problem.camera_size(),
+                                             image_names));
     }
   }
   Timer write_timer;

@@ -41,6 +41,7 @@ struct SolveCommandOptions {
   std::string camera_priors_path;
   std::optional<Eigen::Vector2d> prior_sigma;
   std::string prior_crs;  // empty: the priors are in a metric Cartesian frame
+  std::string accuracy_report_path;  // empty: none (needs camera priors)
   RobustLoss prior_loss{LossType::kCauchy, 3.0};
   // One process: refuse to start when the memory estimate exceeds what the
   // machine (or the cgroup) has available; false: --no-memory-check.

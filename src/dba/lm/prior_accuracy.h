@@ -36,4 +36,11 @@ PriorAccuracy MeasurePriorAccuracy(const CameraPriors& priors, const std::vector
                                    int camera_size,
                                    const std::vector<std::string>& image_names);
 
+// The figures as a text table (--accuracy-report FILE): the summary per
+// axis and in 3D, CE90, LE90, σ0², then one row per prior: image, dx, dy,
+// dz (m), the squared Mahalanobis distance, and whether it is flagged.
+std::string PriorAccuracyTable(const PriorAccuracy& accuracy, const CameraPriors& priors,
+                               const std::vector<double>& cameras, int camera_size,
+                               const std::vector<std::string>& image_names);
+
 }  // namespace dba
