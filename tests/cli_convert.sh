@@ -47,4 +47,29 @@ check "no output after failure" test ! -e "$tmp/out.txt"
 "$dba" convert >/dev/null 2>&1; check "convert without arguments exits 2" test $? -eq 2
 "$dba" convert --help >"$tmp/help"; check "convert --help" grep -q "losslessly" "$tmp/help"
 
+
+# COLMAP models: to a COLMAP directory every value as read (binary byte for
+# byte, text idempotent), in either form, and to a .dba in their own lens
+# models (a fixture of every COLMAP camera model, tests/data/colmap_models).
+fixtures="$root/tests/data/colmap_models"
+for model in OPENCV FULL_OPENCV RAD_TAN_THIN_PRISM_FISHEYE EQUIRECTANGULAR; do
+  "$dba" convert "$fixtures/$model/binary" "$tmp/cm_$model" >/dev/null 2>&1
+  check "convert $model binary -> binary exits 0" test $? -eq 0
+  check "$model: binary byte for byte" cmp -s "$tmp/cm_$model/cameras.bin" "$fixtures/$model/binary/cameras.bin"
+  check "$model: points3D byte for byte" cmp -s "$tmp/cm_$model/points3D.bin" "$fixtures/$model/binary/points3D.bin"
+  "$dba" convert "$fixtures/$model/text" "$tmp/ct_$model" >/dev/null 2>&1
+  "$dba" convert "$tmp/ct_$model" "$tmp/ct2_$model" >/dev/null 2>&1
+  check "$model: text idempotent" cmp -s "$tmp/ct_$model/cameras.txt" "$tmp/ct2_$model/cameras.txt"
+  "$dba" convert "$fixtures/$model/binary" "$tmp/cb_$model" --colmap-format text >/dev/null 2>&1
+  check "$model: binary -> text is the text fixture's cameras" cmp -s "$tmp/cb_$model/cameras.txt" "$tmp/ct_$model/cameras.txt"
+  "$dba" convert "$fixtures/$model/binary" "$tmp/cm_$model.dba" >/dev/null 2>&1
+  check "$model -> .dba exits 0" test $? -eq 0
+  "$dba" info "$tmp/cm_$model.dba" >"$tmp/cm_info" 2>&1
+  check "$model .dba holds its lens model" grep -q "^    $model " "$tmp/cm_info"
+done
+"$dba" convert "$fixtures/OPENCV/binary" "$tmp/cm_OPENCV" --colmap-format text >"$tmp/err" 2>&1
+check "a COLMAP output that would be shadowed is refused" grep -q "other form" "$tmp/err"
+"$dba" convert "$fixtures/OPENCV/binary" "$tmp/cm.txt" >"$tmp/err" 2>&1
+check "COLMAP to BAL text is refused" grep -q "cannot hold shared intrinsics" "$tmp/err"
+
 finish

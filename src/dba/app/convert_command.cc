@@ -1,5 +1,10 @@
 // `dba convert` and `dba info`; see convert_command.h.
 #include "dba/app/convert_command.h"
+#include <optional>
+#include "dba/io/binary_problem.h"
+#include "dba/io/colmap_text.h"
+#include "dba/io/colmap_binary.h"
+#include "dba/app/solve_input.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -47,18 +52,85 @@ Stats Statistics(int64_t n, F value) {
 
 }  // namespace
 
-int ConvertMain(const std::vector<std::string>& args) {
+// A COLMAP model directory to a COLMAP directory (text or binary, every
+// value as read: binary byte for byte) or to a photogrammetric .dba (each
+// COLMAP camera an intrinsic group in its own lens model).
+int ConvertColmap(const std::string& in, const std::string& out, std::optional<ColmapFormat> format) {
+  Timer timer;
+  const ColmapModel model = ReadColmapModel(in);
+  if (KindOfPath(out) == PathKind::kBinary) {
+    if (format) throw std::invalid_argument("--colmap-format applies to a COLMAP output directory");
+    const ColmapProblem cp = ProblemFromColmap(model, {}, in);
+    WriteBinaryProblem(cp.problem, out);
+    std::printf("%s -> %s: %ld images, %ld intrinsic groups, %ld points, %ld observations, %.2f s\n",
+                in.c_str(), out.c_str(), static_cast<long>(cp.problem.num_images()),
+                static_cast<long>(cp.problem.num_groups()), static_cast<long>(cp.problem.num_points()),
+                static_cast<long>(cp.problem.num_observations()), timer.Seconds());
+    return 0;
+  }
+  if (KindOfPath(out) != PathKind::kOther) {
+    throw std::invalid_argument(out + ": a COLMAP model converts to a COLMAP directory or a .dba "
+                                "(the BAL format cannot hold shared intrinsics)");
+  }
+  const ColmapFormat f = format.value_or(*DetectColmapFormat(in));
+  const std::optional<ColmapFormat> there = DetectColmapFormat(out);
+  if (there && *there != f) {
+    throw std::invalid_argument(out + ": holds a COLMAP model in the other form, which would be "
+                                "read instead of the one written; remove it or use --colmap-format");
+  }
+  if (f == ColmapFormat::kText) {
+    WriteColmapText(model, out);
+  } else {
+    WriteColmapBinary(model, out);
+  }
+  std::printf("%s -> %s (%s): %zu cameras, %zu images, %zu points, %.2f s\n", in.c_str(),
+              out.c_str(), f == ColmapFormat::kText ? "text" : "binary", model.cameras.size(),
+              model.images.size(), model.points3D.size(), timer.Seconds());
+  return 0;
+}
+
+int ConvertMain(const std::vector<std::string>& all_args) {
+  std::vector<std::string> args;
+  std::optional<ColmapFormat> colmap_format;
+  for (size_t i = 0; i < all_args.size(); ++i) {
+    if (all_args[i] == "--colmap-format" && i + 1 < all_args.size()) {
+      const std::string& v = all_args[++i];
+      if (v != "text" && v != "binary") {
+        std::cerr << "dba convert: --colmap-format: expected text or binary, got '" << v << "'\n";
+        return 2;
+      }
+      colmap_format = v == "text" ? ColmapFormat::kText : ColmapFormat::kBinary;
+    } else {
+      args.push_back(all_args[i]);
+    }
+  }
   if (WantsHelp(args) || args.size() != 2) {
     (WantsHelp(args) ? std::cout : std::cerr)
-        << "Usage: dba convert INPUT OUTPUT\n"
+        << "Usage: dba convert INPUT OUTPUT [--colmap-format text|binary]\n"
            "\n"
            "Converts between BAL text (plain or .bz2) and the dba binary format,\n"
            "losslessly. The input kind is detected by content; the output kind by\n"
            "the extension: .dba is binary, .bz2 is compressed BAL, anything else\n"
            "BAL text. The output is written to a temporary name and renamed.\n"
            "A photogrammetric .dba (poses and shared intrinsic groups) converts to\n"
-           ".dba only: the BAL format cannot hold shared intrinsics.\n";
+           ".dba only: the BAL format cannot hold shared intrinsics.\n"
+           "\n"
+           "A COLMAP model directory converts to a COLMAP directory (the input's form\n"
+           "unless --colmap-format says; every value as read, binary byte for byte) or\n"
+           "to a .dba (each COLMAP camera an intrinsic group in its own model).\n";
     return WantsHelp(args) ? 0 : 2;
+  }
+  if (IsColmapInput(args[0])) {
+    try {
+      return ConvertColmap(args[0], args[1], colmap_format);
+    } catch (const std::exception& e) {
+      std::cerr << "dba convert: error: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  if (colmap_format) {
+    std::cerr << "dba convert: --colmap-format applies to a COLMAP input\n";
+    return 2;
   }
   try {
     Timer timer;

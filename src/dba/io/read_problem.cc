@@ -17,8 +17,9 @@ Problem ReadProblem(const std::string& path) {
   if (std::filesystem::is_directory(path, ec)) {
     if (DetectColmapFormat(path).has_value()) {
       throw InputError(path, 0,
-                       "is a COLMAP model directory: dba solve reads it directly; this "
-                       "command reads BAL text (.txt, .bz2) and dba binary (.dba) problems");
+                       "is a COLMAP model directory: dba solve reads it directly, and dba "
+                       "convert makes a .dba of it; this command reads BAL text (.txt, .bz2) "
+                       "and dba binary (.dba) problems");
     }
     throw InputError(path, 0, "is a directory; expected a BAL (.txt, .bz2) or .dba problem file");
   }
