@@ -28,4 +28,12 @@ int64_t ParseIntegerArgument(const std::string& flag, const std::string& value, 
   return v;
 }
 
+std::pair<double, double> ParseSigmaPair(const std::string& flag, const std::string& value) {
+  const size_t comma = value.find(',');
+  const double xy = ParseNumberArgument(flag, value.substr(0, comma));
+  const double z = comma == std::string::npos ? xy : ParseNumberArgument(flag, value.substr(comma + 1));
+  if (!(xy > 0.0 && z > 0.0)) throw std::invalid_argument(flag + ": expected XY,Z both > 0 (metres)");
+  return {xy, z};
+}
+
 }  // namespace dba

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <iostream>
 #include <stdexcept>
+#include <tuple>
 
 #include "dba/io/path_kind.h"
 #include "dba/app/arguments.h"
@@ -112,14 +113,7 @@ int GenerateMain(const std::vector<std::string>& args) {
       } else if (a == "--priors") {
         o.priors_path = value();
       } else if (a == "--gnss-sigma") {
-        const std::string& v = value();
-        const size_t comma = v.find(',');
-        o.gnss_sigma_xy = ParseNumberArgument(a, v.substr(0, comma));
-        o.gnss_sigma_z = comma == std::string::npos ? o.gnss_sigma_xy
-                                                    : ParseNumberArgument(a, v.substr(comma + 1));
-        if (!(o.gnss_sigma_xy > 0 && o.gnss_sigma_z > 0)) {
-          throw std::invalid_argument(a + ": expected XY,Z both > 0 (metres)");
-        }
+        std::tie(o.gnss_sigma_xy, o.gnss_sigma_z) = ParseSigmaPair(a, value());
       } else if (a == "--gnss-outliers") {
         o.gnss_outliers = ParseNumberArgument(a, value());
         if (!(o.gnss_outliers >= 0 && o.gnss_outliers < 1)) {

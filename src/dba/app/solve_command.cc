@@ -307,11 +307,7 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
     } else if (a == "--camera-priors") {
       o.camera_priors_path = value();
     } else if (a == "--prior-sigma") {
-      const std::string& v = value();
-      const size_t comma = v.find(',');
-      const double xy = ParseNumberArgument(a, v.substr(0, comma));
-      const double z = comma == std::string::npos ? xy : ParseNumberArgument(a, v.substr(comma + 1));
-      if (!(xy > 0.0 && z > 0.0)) throw std::invalid_argument(a + ": expected XY,Z both > 0 (metres)");
+      const auto [xy, z] = ParseSigmaPair(a, value());
       o.prior_sigma = Eigen::Vector2d(xy, z);
     } else if (a == "--accuracy-report") {
       o.accuracy_report_path = value();
