@@ -17,7 +17,9 @@ for opt in --output --report --threads --max-iterations --function-tolerance \
            --gradient-tolerance --parameter-tolerance --initial-lambda \
            --pcg-tolerance --pcg-max-iterations --quiet --ply --intrinsics \
            --fix-intrinsics --fix-images --colmap-format --pcg-precision \
-           --min-triangulation-angle --no-memory-check; do
+           --min-triangulation-angle --no-memory-check --list-camera-models \
+           --camera-priors --prior-sigma --prior-crs --prior-loss --prior-loss-scale \
+           --accuracy-report --truth-absolute; do
   check "solve --help lists $opt" contains "$tmp/solve_help" "$opt"
 done
 
