@@ -3,7 +3,6 @@
 #include "dba/geo/local_frame.h"
 #include "dba/lm/prior_alignment.h"
 #include "dba/lm/prior_accuracy.h"
-#include <unordered_set>
 
 #include <omp.h>
 #include <unistd.h>
@@ -542,6 +541,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   std::optional<Checkpoint> resumed;  // main rank
   CameraPriors priors;                // main rank: --camera-priors
   std::vector<std::string> image_names;  // main rank, with priors: each image's name
+  ImageNames colmap_names;               // main rank, with priors and a COLMAP input
   if (main) {
     Timer load_timer;
     CameraModel model = CameraModel::kBal;
@@ -556,7 +556,8 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       // camera side it reads (the same command line on every rank).
       CheckedFixings(options.unknowns, ReadBinaryCameraSide(options.input));
     } else {
-      problem = LoadSolveInput(options.input, options.unknowns);
+      problem = LoadSolveInput(options.input, options.unknowns,
+                               options.camera_priors_path.empty() ? nullptr : &colmap_names);
       model = problem.model;
       report.num_cameras = problem.num_images();
       report.num_intrinsic_groups = problem.num_groups();
@@ -589,17 +590,10 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     if (!options.checkpoint_path.empty()) CheckWritable("--checkpoint", options.checkpoint_path, false);
     if (!options.truth_path.empty()) CheckTruthFile(options.truth_path, report);
     if (!options.camera_priors_path.empty()) {
-      // By image name for a COLMAP input (the problem's images in order;
-      // the model's others have no observations to adjust), else by index.
-      std::unordered_set<std::string> others;
-      if (IsColmapInput(options.input)) {
-        const ColmapInput in = ReadColmapInput(options.input, options.unknowns);
-        for (int64_t j : in.source.image_index) image_names.push_back(in.model.images[j].name);
-        for (const ColmapImage& im : in.model.images) others.insert(im.name);
-        for (const std::string& n : image_names) others.erase(n);
-      }
-      priors = LoadCameraPriors(options.camera_priors_path, image_names, others,
-                                report.num_cameras, options.prior_sigma, options.prior_loss);
+      // By image name for a COLMAP input (read with it), else by index.
+      priors = LoadCameraPriors(options.camera_priors_path, colmap_names, report.num_cameras,
+                                options.prior_sigma, options.prior_loss);
+      image_names = colmap_names.problem;
       if (image_names.empty()) {
         for (int64_t i = 0; i < report.num_cameras; ++i) image_names.push_back(std::to_string(i));
       }

@@ -117,34 +117,29 @@ Fixings CheckedFixings(const UnknownsOptions& u, const CameraSide& side) {
         "--fix-intrinsics needs the photogrammetric model (a COLMAP model, or a .dba "
         "problem with shared intrinsics); a BAL camera's 9 parameters are one block");
   }
-  CameraSide trial;  // the names against the groups' models, on a copy's flags
-  trial.model = side.model;
-  trial.intrinsics_size = side.intrinsics_size;
-  trial.group_models = side.group_models;
-  trial.camera_intrinsics = side.camera_intrinsics;
-  trial.cameras.resize(side.cameras.size());
   try {
-    ApplyFixings(Fixings{{}, f.intrinsics}, &trial);
+    FixedIntrinsicsAfter(f, side);  // the names against the groups' models
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("--fix-intrinsics: ") + e.what());
   }
   return f;
 }
 
-CameraPriors LoadCameraPriors(const std::string& path, const std::vector<std::string>& names,
-                              const std::unordered_set<std::string>& other_names,
+CameraPriors LoadCameraPriors(const std::string& path, const ImageNames& names,
                               int64_t num_images, const std::optional<Eigen::Vector2d>& default_sigma,
                               const RobustLoss& loss) {
   std::unordered_map<std::string, int32_t> index_of_name;
-  for (size_t i = 0; i < names.size(); ++i) index_of_name.emplace(names[i], static_cast<int32_t>(i));
+  for (size_t i = 0; i < names.problem.size(); ++i) {
+    index_of_name.emplace(names.problem[i], static_cast<int32_t>(i));
+  }
   CameraPriors priors;
   priors.loss = loss;
   for (const CameraPriorRow& row : ReadCameraPriorsFile(path)) {
     CameraCentrePrior p;
-    if (!names.empty()) {
+    if (!names.problem.empty()) {
       const auto it = index_of_name.find(row.image);
       if (it == index_of_name.end()) {
-        if (other_names.contains(row.image)) continue;  // not adjusted
+        if (names.others.contains(row.image)) continue;  // not adjusted
         throw InputError(path, row.line, "unknown image '" + row.image + "' (not in the COLMAP model)");
       }
       p.image = it->second;
@@ -168,8 +163,19 @@ CameraPriors LoadCameraPriors(const std::string& path, const std::vector<std::st
   return priors;
 }
 
-Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns) {
-  if (IsColmapInput(path)) return std::move(ReadColmapInput(path, unknowns).source.problem);
+Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
+                       ImageNames* names) {
+  if (IsColmapInput(path)) {
+    ColmapInput in = ReadColmapInput(path, unknowns);
+    if (names != nullptr) {
+      for (const ColmapImage& im : in.model.images) names->others.insert(im.name);
+      for (int64_t j : in.source.image_index) {
+        names->problem.push_back(in.model.images[j].name);
+        names->others.erase(in.model.images[j].name);
+      }
+    }
+    return std::move(in.source.problem);
+  }
   Problem p = ReadProblem(path);
   ApplyFixings(unknowns, &p);
   return p;

@@ -49,11 +49,20 @@ std::vector<int64_t> ParseIdList(const std::string& flag, const std::string& val
 // True when `path` is a directory holding a COLMAP sparse model.
 bool IsColmapInput(const std::string& path);
 
+// A COLMAP input's image names: the problem's images in order, and the
+// model's images without observations to adjust.
+struct ImageNames {
+  std::vector<std::string> problem;
+  std::unordered_set<std::string> others;
+};
+
 // Reads the input and marks the fixed parameters. Throws InputError for bad
 // input (file, line or entry, what is wrong), std::invalid_argument for
 // fixings that do not fit the problem (an index out of range, intrinsics of
-// a BAL problem).
-Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns);
+// a BAL problem). `names` (optional): a COLMAP input's image names (left
+// empty for other inputs).
+Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
+                       ImageNames* names = nullptr);
 
 // The command line's fixings of a problem read from a file (not COLMAP) as
 // data (problem/fixings.h), checked against its camera side: UsageError for
@@ -64,14 +73,12 @@ Fixings CheckedFixings(const UnknownsOptions& unknowns, const CameraSide& side);
 void ApplyFixings(const UnknownsOptions& unknowns, Problem* problem);
 
 // --camera-priors (io/camera_priors_file.h): the rows of `path` matched to
-// the problem's images, by name when `names` is not empty (a COLMAP input,
-// problem order; a name in `other_names`, an image of the model without
-// observations to adjust, is skipped), else by 0-based index below
-// num_images. Rows without σ take `default_sigma` (--prior-sigma XY,Z).
+// the problem's images, by name when names.problem is not empty (a COLMAP
+// input; a name in names.others, an image of the model without observations
+// to adjust, is skipped), else by 0-based index below num_images. Rows without σ take `default_sigma` (--prior-sigma XY,Z).
 // Throws InputError(path, line, ...) for an unknown image, an index out of
 // range, or no σ at all.
-CameraPriors LoadCameraPriors(const std::string& path, const std::vector<std::string>& names,
-                              const std::unordered_set<std::string>& other_names,
+CameraPriors LoadCameraPriors(const std::string& path, const ImageNames& names,
                               int64_t num_images, const std::optional<Eigen::Vector2d>& default_sigma,
                               const RobustLoss& loss);
 

@@ -45,7 +45,7 @@ SimilarityFit AlignToPriors(const CameraPriors& priors, const std::vector<double
   const auto inliers_of = [&](const SimilarityFit& f, std::vector<int64_t>* in) {
     in->clear();
     for (int64_t x = 0; x < n; ++x) {
-      const Vec3 d = f.scale * (f.rotation * from.col(x)) + f.translation - to.col(x);
+      const Vec3 d = f.Apply(from.col(x)) - to.col(x);
       if (d.norm() <= 5.0 * sigma[x]) in->push_back(x);
     }
   };
@@ -87,19 +87,9 @@ SimilarityFit AlignToPriors(const CameraPriors& priors, const std::vector<double
 }
 
 void ApplySimilarity(const SimilarityFit& fit, CameraSide* side, std::vector<double>* points) {
-  const double s = fit.scale;
-  const Mat3& Q = fit.rotation;
-  const Vec3& T = fit.translation;
-  for (int64_t i = 0; i < side->num_images(); ++i) {
-    double* pose = side->camera(i);
-    const Mat3 R = AngleAxisToRotation(Vec3(pose[0], pose[1], pose[2])) * Q.transpose();
-    const Eigen::AngleAxisd aa(R);
-    const Vec3 omega = aa.angle() * aa.axis();
-    const Vec3 t = s * Vec3(pose[3], pose[4], pose[5]) - R * T;
-    for (int k = 0; k < 3; ++k) pose[k] = omega[k], pose[3 + k] = t[k];
-  }
+  for (int64_t i = 0; i < side->num_images(); ++i) MovePose(fit, side->camera(i));
   for (size_t k = 0; k + 2 < points->size(); k += 3) {
-    const Vec3 X = s * (Q * Vec3((*points)[k], (*points)[k + 1], (*points)[k + 2])) + T;
+    const Vec3 X = fit.Apply(Vec3((*points)[k], (*points)[k + 1], (*points)[k + 2]));
     for (int a = 0; a < 3; ++a) (*points)[k + a] = X[a];
   }
 }

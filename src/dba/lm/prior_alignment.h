@@ -3,8 +3,7 @@
 // that LM starts close: RANSAC over triples of priors (deterministic), the
 // inliers those within 5σ of the prior after the triple's similarity, then
 // Umeyama's least-squares similarity (Eigen::umeyama) on the best set's
-// inliers. X' = s Q X + T moves every point; a pose (ω, t) becomes
-// (R(ω) Qᵀ, s t - R(ω) Qᵀ T), so every image sees the same.
+// inliers, applied to the poses and points by camera/pose_similarity.h.
 //
 // For centres on a line (a single strip) the rotation about that line is not
 // determined by centres alone: `collinear` says so, and the roll is the
@@ -15,15 +14,13 @@
 
 #include <Eigen/Core>
 
+#include "dba/camera/pose_similarity.h"
 #include "dba/lm/prior_workers.h"
 #include "dba/problem/problem.h"
 
 namespace dba {
 
-struct SimilarityFit {
-  double scale = 1.0;
-  Mat3 rotation = Mat3::Identity();
-  Vec3 translation = Vec3::Zero();
+struct SimilarityFit : Similarity {
   int64_t inliers = 0;
   bool collinear = false;
 };

@@ -23,18 +23,12 @@ std::string ModelsOf(const CameraSide& side, int64_t first, int64_t last) {
 
 }  // namespace
 
-void ApplyFixings(const Fixings& f, CameraSide* problem) {
-  for (int64_t i : f.images) {
-    if (i < 0 || i >= problem->num_images()) {
-      throw std::invalid_argument("image " + std::to_string(i) + " does not exist (the problem has " +
-                                  std::to_string(problem->num_images()) + " images, 0-based)");
-    }
-  }
-  if (!f.intrinsics.empty() && problem->model != CameraModel::kPhoto) {
+std::vector<uint16_t> FixedIntrinsicsAfter(const Fixings& f, const CameraSide& side) {
+  if (!f.intrinsics.empty() && side.model != CameraModel::kPhoto) {
     throw std::invalid_argument("fixed intrinsics need the photogrammetric model");
   }
-  const int64_t groups = problem->num_groups();
-  std::vector<uint16_t> fixed = problem->fixed_intrinsics;
+  const int64_t groups = side.num_groups();
+  std::vector<uint16_t> fixed = side.fixed_intrinsics;
   if (!f.intrinsics.empty()) fixed.resize(groups, 0);
   for (const IntrinsicFixing& x : f.intrinsics) {
     if (x.group < -1 || x.group >= groups) {
@@ -46,7 +40,7 @@ void ApplyFixings(const Fixings& f, CameraSide* problem) {
     for (const std::string& name : x.names) {
       bool found = false;
       for (int64_t g = first; g < last; ++g) {
-        const LensModel m = problem->group_model(g);
+        const LensModel m = side.group_model(g);
         if (name == "all") {
           fixed[g] |= LensModelParamMask(m);
           found = true;
@@ -60,10 +54,21 @@ void ApplyFixings(const Fixings& f, CameraSide* problem) {
             "no intrinsic parameter '" + name + "' in " +
             (x.group < 0 ? std::string("any group's model")
                          : "group " + std::to_string(x.group) + "'s model") +
-            "; the models are " + ModelsOf(*problem, first, last));
+            "; the models are " + ModelsOf(side, first, last));
       }
     }
   }
+  return fixed;
+}
+
+void ApplyFixings(const Fixings& f, CameraSide* problem) {
+  for (int64_t i : f.images) {
+    if (i < 0 || i >= problem->num_images()) {
+      throw std::invalid_argument("image " + std::to_string(i) + " does not exist (the problem has " +
+                                  std::to_string(problem->num_images()) + " images, 0-based)");
+    }
+  }
+  std::vector<uint16_t> fixed = FixedIntrinsicsAfter(f, *problem);
   if (!f.images.empty()) {
     problem->fixed_cameras.resize(problem->num_images(), 0);
     for (int64_t i : f.images) problem->fixed_cameras[i] = 1;

@@ -39,4 +39,9 @@ struct Fixings {
 // parameter names). Nothing is changed when it throws.
 void ApplyFixings(const Fixings& f, CameraSide* problem);
 
+// The fixed-intrinsics masks ApplyFixings would leave (empty when none):
+// the same checks, for checking a command line against a camera side
+// without changing it.
+std::vector<uint16_t> FixedIntrinsicsAfter(const Fixings& f, const CameraSide& side);
+
 }  // namespace dba

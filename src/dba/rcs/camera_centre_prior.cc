@@ -3,11 +3,6 @@
 
 namespace dba {
 
-Vec3 CameraCentre(const double* pose) {
-  const Mat3 R = AngleAxisToRotation(Vec3(pose[0], pose[1], pose[2]));
-  return -R.transpose() * Vec3(pose[3], pose[4], pose[5]);
-}
-
 Vec3 CentrePriorResidual(const double* pose, const CameraCentrePrior& prior,
                          CentrePriorJacobian* J) {
   const Vec3 omega(pose[0], pose[1], pose[2]);

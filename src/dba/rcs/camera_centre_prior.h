@@ -17,7 +17,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 
-#include "dba/camera/rotation.h"
+#include "dba/camera/pose_similarity.h"
 
 namespace dba {
 
@@ -28,9 +28,6 @@ struct CameraCentrePrior {
 };
 
 using CentrePriorJacobian = Eigen::Matrix<double, 3, 6, Eigen::RowMajor>;  // ∂r/∂(ω, t)
-
-// C = -R(ω)ᵀ t of a pose (ω[3], t[3]).
-Vec3 CameraCentre(const double* pose);
 
 // r (above), and ∂r/∂(ω, t) when J is not null.
 Vec3 CentrePriorResidual(const double* pose, const CameraCentrePrior& prior,

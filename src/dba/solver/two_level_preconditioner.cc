@@ -12,6 +12,11 @@
 namespace dba {
 namespace {
 
+// Blocks of up to kMaxBlock unknowns (a 16-parameter intrinsic group; the
+// constructor checks), coarse blocks one more (the scale direction): the
+// size of Update's scratch.
+constexpr int kMaxBlock = 16;
+
 using Mat3 = Eigen::Matrix3d;
 using Panel = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>, 0,
                          Eigen::OuterStride<>>;
@@ -171,6 +176,13 @@ TwoLevelPreconditioner::TwoLevelPreconditioner(const BsmcMatrix& S, int aggregat
       jacobi_(S, num_threads),
       aggregate_(AggregateBlockRows(S, aggregate_size, BasisKinds(S, bases))),
       bases_(std::move(bases)) {
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) {
+    if (S.block_size(i) > kMaxBlock) {
+      throw std::invalid_argument("TwoLevelPreconditioner: a block of " +
+                                  std::to_string(S.block_size(i)) + " unknowns (at most " +
+                                  std::to_string(kMaxBlock) + ")");
+    }
+  }
   const int32_t num_aggregates =
       aggregate_.empty() ? 0 : *std::max_element(aggregate_.begin(), aggregate_.end()) + 1;
   SettleScaleColumns(aggregate_, num_aggregates, &bases_);
@@ -223,7 +235,6 @@ TwoLevelPreconditioner::TwoLevelPreconditioner(const BsmcMatrix& S, int aggregat
 
 void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
   DBA_DCHECK(!S.values_narrowed());
-  for (int32_t i = 0; i < S.num_block_rows(); ++i) DBA_DCHECK(S.block_size(i) <= 16);
   jacobi_.Update(S);
   const int threads = static_cast<int>(thread_rows_.size()) - 1;
 #pragma omp parallel num_threads(threads) if (threads > 1)
@@ -235,9 +246,6 @@ void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
     // columns are sorted, and an aggregate's cameras mostly neighbours) are
     // summed after the right half of the transform and take the left half
     // once: Σ_j N_iᵀ S_ij N_j = N_iᵀ (Σ_j S_ij N_j).
-    // Blocks of up to kMaxBlock unknowns (a 16-parameter intrinsic group),
-    // coarse blocks one more (the scale direction).
-    constexpr int kMaxBlock = 16;
     double right[kMaxBlock * (kMaxBlock + 1)], sum_right[kMaxBlock * (kMaxBlock + 1)],
         transformed[(kMaxBlock + 1) * (kMaxBlock + 1)];
     for (int32_t i = thread_rows_[t]; i < thread_rows_[t + 1]; ++i) {

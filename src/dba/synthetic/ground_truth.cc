@@ -1,6 +1,8 @@
 // Ground-truth errors; see ground_truth.h.
 #include "dba/synthetic/ground_truth.h"
 
+#include "dba/camera/pose_similarity.h"
+
 #include <Eigen/Geometry>
 #include <cmath>
 #include <stdexcept>
@@ -20,9 +22,7 @@ Eigen::Matrix3Xd Centres(const Problem& side, const std::vector<double>& cameras
   const int64_t n = side.num_images();
   Eigen::Matrix3Xd c(3, n);
   for (int64_t i = 0; i < n; ++i) {
-    const double* p = cameras.data() + side.camera_size() * i;
-    const Mat3 R = AngleAxisToRotation(Vec3(p[0], p[1], p[2]));
-    c.col(i) = -R.transpose() * Vec3(p[3], p[4], p[5]);  // C = -Rᵀ t
+    c.col(i) = CameraCentre(cameras.data() + side.camera_size() * i);
   }
   return c;
 }

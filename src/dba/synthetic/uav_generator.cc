@@ -1,5 +1,6 @@
 // Synthetic UAV surveys; see uav_generator.h.
 #include "dba/synthetic/uav_generator.h"
+#include "dba/camera/pose_similarity.h"
 #include "dba/io/atomic_output_file.h"
 
 #include <numbers>
@@ -251,9 +252,7 @@ void WriteGnssPriors(const UavSurveyOptions& o, const Problem& true_side) {
       "# dba generate: GNSS camera centres (world frame, metres): IMAGE X Y Z SIGMA_XY SIGMA_Z\n";
   char line[256];
   for (int64_t i = 0; i < true_side.num_images(); ++i) {
-    const double* pose = true_side.camera(i);  // C = -R(ω)ᵀ t
-    Vec3 c = -AngleAxisToRotation(Vec3(pose[0], pose[1], pose[2])).transpose() *
-             Vec3(pose[3], pose[4], pose[5]);
+    Vec3 c = CameraCentre(true_side.camera(i));
     const bool outlier = u01(rng) < o.gnss_outliers;
     if (outlier) {
       const Vec3 direction = Vec3(n01(rng), n01(rng), n01(rng)).normalized();
@@ -316,29 +315,20 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
     initial_side.cameras.swap(initial_cameras);
   }
   if (!o.priors_path.empty()) WriteGnssPriors(o, true_side);
-  // --unaligned: X' = s Q X + T for the initial points; each initial pose
-  // (ω, t) becomes (R Qᵀ, s t - R Qᵀ T), so every camera sees the same.
-  double s_unaligned = 1.0;
-  Mat3 Q = Mat3::Identity();
-  Vec3 T = Vec3::Zero();
+  // --unaligned: the initial cameras and points moved by a random
+  // similarity (camera/pose_similarity.h: every camera sees the same).
+  Similarity unaligned;
   if (o.unaligned) {
     std::mt19937_64 rng(Mix(o.seed ^ 0x616c69676eULL));
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    s_unaligned = std::exp2(u(rng));
+    unaligned.scale = std::exp2(u(rng));
     const Vec3 axis = Vec3(u(rng), u(rng), u(rng)).normalized();
-    Q = AngleAxisToRotation(3.0 * u(rng) * axis);
-    T = 1000.0 * Vec3(u(rng), u(rng), u(rng));
-    for (int64_t i = 0; i < l.images; ++i) {
-      double* pose = initial_side.camera(i);
-      const Mat3 R = AngleAxisToRotation(Vec3(pose[0], pose[1], pose[2])) * Q.transpose();
-      const Eigen::AngleAxisd aa(R);
-      const Vec3 omega = aa.angle() * aa.axis();
-      const Vec3 t = s_unaligned * Vec3(pose[3], pose[4], pose[5]) - R * T;
-      for (int k = 0; k < 3; ++k) pose[k] = omega[k], pose[3 + k] = t[k];
-    }
+    unaligned.rotation = AngleAxisToRotation(3.0 * u(rng) * axis);
+    unaligned.translation = 1000.0 * Vec3(u(rng), u(rng), u(rng));
+    for (int64_t i = 0; i < l.images; ++i) MovePose(unaligned, initial_side.camera(i));
   }
   const auto initial_point = [&](const double* X0, double* out) {
-    const Vec3 x = s_unaligned * (Q * Vec3(X0[0], X0[1], X0[2])) + T;
+    const Vec3 x = unaligned.Apply(Vec3(X0[0], X0[1], X0[2]));
     for (int k = 0; k < 3; ++k) out[k] = x[k];
   };
   const double zero[2] = {0.0, 0.0}, half = o.image_size / 2;
