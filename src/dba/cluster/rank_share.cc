@@ -17,6 +17,10 @@ RankShare ExtractShare(const Problem& full, std::span<const int32_t> point_group
   p.point_offsets.push_back(0);
   for (int64_t k = 0; k < full.num_points(); ++k) {
     if (point_group[k] != group) continue;
+    if (const PointPrior* prior = full.point_prior(k)) {
+      p.point_priors.push_back(*prior);
+      p.point_priors.back().point = p.num_points();
+    }
     s.global_point.push_back(k);
     p.points.insert(p.points.end(), full.point(k), full.point(k) + kPointSize);
     for (int64_t o = full.point_offsets[k]; o < full.point_offsets[k + 1]; ++o) {

@@ -1,5 +1,5 @@
 // One rank's share of a problem (docs/design.md §4): its points, their
-// observations and the cameras (and intrinsic groups) they touch, renumbered
+// observations and priors, and the cameras (and intrinsic groups) they touch, renumbered
 // locally in increasing global order, so that a local RCS block (i <= j) maps
 // to a global block (i' <= j').
 //

@@ -54,13 +54,21 @@ namespace {
 void Compact(const std::vector<uint8_t>& obs_kept, const std::vector<uint8_t>& point_kept,
              Problem* problem, OriginalIndices* original) {
   const int64_t num_points = problem->num_points();
+  std::vector<PointPrior>& priors = problem->point_priors;
   int64_t obs_out = 0, point_out = 0, end = 0;
+  size_t prior_in = 0, prior_out = 0;
   for (int64_t k = 0; k < num_points; ++k) {
     // point_offsets[k] may already hold the compacted value: the old one is
     // the previous end. point_offsets[k + 1] is still the old one.
     const int64_t begin = end;
     end = problem->point_offsets[k + 1];
+    const bool has_prior = prior_in < priors.size() && priors[prior_in].point == k;
+    if (has_prior) ++prior_in;
     if (!point_kept[k]) continue;
+    if (has_prior) {
+      priors[prior_out] = priors[prior_in - 1];
+      priors[prior_out++].point = point_out;
+    }
     for (int d = 0; d < 3; ++d) problem->points[3 * point_out + d] = problem->points[3 * k + d];
     if (original != nullptr) original->point[point_out] = original->point[k];
     for (int64_t o = begin; o < end; ++o) {
@@ -77,6 +85,7 @@ void Compact(const std::vector<uint8_t>& obs_kept, const std::vector<uint8_t>& p
   problem->point_offsets.resize(point_out + 1);
   problem->obs_camera.resize(obs_out);
   problem->obs_pixel.resize(2 * obs_out);
+  priors.resize(prior_out);
   if (original != nullptr) {
     original->point.resize(point_out);
     original->observation.resize(obs_out);
@@ -105,7 +114,9 @@ RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads, 
     if (min_angle > 0.0 && kept >= 2 && MaxTriangulationAngle(*problem, centres, k, keep.data()) < min_angle) {
       small_angle[k] = 1;
     }
-    point_kept[k] = kept >= 2 && !small_angle[k];
+    // A control point stays, whatever is left of its observations (its
+    // prior holds it).
+    point_kept[k] = (kept >= 2 && !small_angle[k]) || problem->point_prior(k) != nullptr;
   }
   RejectionRound round;
   round.points_dropped = num_points - std::count(point_kept.begin(), point_kept.end(), 1);

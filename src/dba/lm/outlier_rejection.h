@@ -4,7 +4,8 @@
 // small an angle (COLMAP's FilterPoints3DWithSmallTriangulationAngle: such a
 // point's depth is not determined, and a mismatch along its epipolar line
 // can put it anywhere on the rays), and keep track of where the remaining
-// observations and points came from.
+// observations and points came from. Control points (points with a prior)
+// lose outlying observations but are never dropped themselves.
 //
 // Thread safety: one caller per problem.
 #pragma once

@@ -21,10 +21,14 @@
 // the cameras they touch, renumbered locally. A single process is one rank
 // holding everything.
 //
+// Control points (ground control) are points with a prior on their
+// coordinates (PointPrior), held sparsely beside the points.
+//
 // Memory per observation: one 32-bit camera id and two doubles (20 bytes),
 // plus the 64-bit point offsets (8 bytes per point).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <type_traits>
@@ -138,6 +142,15 @@ struct CameraSide {
   }
 };
 
+// A prior on point `point`'s coordinates (a ground control point): the
+// residual r = w ∘ (X - position), w = 1/σ per axis, under the squared loss
+// (rcs/eliminate_point.h adds it to the point's own block).
+struct PointPrior {
+  int64_t point = 0;
+  double position[3] = {0.0, 0.0, 0.0};
+  double weight[3] = {0.0, 0.0, 0.0};
+};
+
 struct Problem : CameraSide {
   Problem() = default;
   // A problem with `side`'s cameras and no points yet.
@@ -151,6 +164,8 @@ struct Problem : CameraSide {
   // Image seeing each observation, and the observed pixel (x, y).
   std::vector<int32_t> obs_camera;
   std::vector<double> obs_pixel;
+  // Priors on points (control points), sorted by point, at most one each.
+  std::vector<PointPrior> point_priors;
 
   CameraSide& camera_side() { return *this; }
   const CameraSide& camera_side() const { return *this; }
@@ -163,18 +178,25 @@ struct Problem : CameraSide {
   double* point(int64_t k) { return points.data() + kPointSize * k; }
   const double* point(int64_t k) const { return points.data() + kPointSize * k; }
   const double* pixel(int64_t obs) const { return obs_pixel.data() + 2 * obs; }
+  // Point k's prior, or null.
+  const PointPrior* point_prior(int64_t k) const {
+    if (point_priors.empty()) return nullptr;
+    const auto it = std::lower_bound(point_priors.begin(), point_priors.end(), k,
+                                     [](const PointPrior& p, int64_t x) { return p.point < x; });
+    return it != point_priors.end() && it->point == k ? &*it : nullptr;
+  }
 
   // The camera side's arrays, then the points' and observations' (points,
-  // point_offsets, obs_camera, obs_pixel).
+  // point_offsets, obs_camera, obs_pixel, point_priors).
   template <class F>
   void ForEachArray(F&& f) {
     CameraSide::ForEachArray(f);
-    f(points), f(point_offsets), f(obs_camera), f(obs_pixel);
+    f(points), f(point_offsets), f(obs_camera), f(obs_pixel), f(point_priors);
   }
   template <class F>
   void ForEachArray(F&& f) const {
     CameraSide::ForEachArray(f);
-    f(points), f(point_offsets), f(obs_camera), f(obs_pixel);
+    f(points), f(point_offsets), f(obs_camera), f(obs_pixel), f(point_priors);
   }
   int64_t MemoryBytes() const { return ArrayBytes(*this); }
 };

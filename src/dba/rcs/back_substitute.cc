@@ -66,6 +66,7 @@ StepEvaluation BackSubstituteWith(const Problem& problem, const UnknownLayout& l
         }
         rhs.noalias() -= p.J_p[a].transpose() * p.r[a];
       }
+      if (p.has_prior) rhs -= p.prior_w.cwiseProduct(p.prior_r);
       const Vec3 dX = p.V_inv * rhs;
       const Vec3 X = Eigen::Map<const Vec3>(problem.point(k));
       const Vec3 X_new = X + dX;
@@ -73,6 +74,12 @@ StepEvaluation BackSubstituteWith(const Problem& problem, const UnknownLayout& l
       step_sq += dX.squaredNorm();
       x_sq += X.squaredNorm();
       model_cost += p.model_offset;
+      if (p.has_prior) {
+        const PointPrior& prior = *problem.point_prior(k);
+        model_cost += 0.5 * (p.prior_r + p.prior_w.cwiseProduct(dX)).squaredNorm();
+        candidate_cost += 0.5 * p.prior_w.cwiseProduct(X_new - Eigen::Map<const Vec3>(prior.position))
+                                    .squaredNorm();
+      }
       for (int a = 0; a < p.num_obs; ++a) {
         model_cost += 0.5 * (p.r[a] + p.J_p[a] * dX).squaredNorm();
         const int64_t obs = begin + a;

@@ -3,6 +3,7 @@
 //   δX_k = V_λ⁻¹ (-g_p - Σ_a Σ_e W_e,aᵀ δ_e)   (e: the observation's blocks)
 //   model residual  r_a + Σ_e J_e,a δ_e + J_p,a δX_k   (the linearized cost)
 //   candidate residual r_a(c_a + δc_a, X_k + δX_k)  (the true cost at the step)
+// and a control point's prior residual w ∘ (X - X₀) likewise.
 // With a robust loss, r and J are the corrected ones (rcs/robust_loss.h) and
 // the costs are ½ Σ ρ.
 // Jacobians are recomputed, not stored (docs/design.md §7.1).

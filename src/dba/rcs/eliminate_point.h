@@ -18,6 +18,10 @@
 // Back-substitution (eq. 5): δX = V_λ⁻¹ (-g_p - Σ_a Σ_e W_e,aᵀ δ_e), computed
 // as V_λ⁻¹ (-Σ_a J_p,aᵀ (r_a + Σ_e J_e,a δ_e)), which needs no W.
 //
+// A control point (problem.h, PointPrior) adds one more residual on X alone,
+// r₀ = w ∘ (X - X₀) with J₀ = diag(w): V += diag(w²), g_p += w ∘ r₀, and the
+// cost ½|r₀|². It touches no camera, so S and b change only through V.
+//
 // The intrinsics Jacobian keeps only the free parameters, packed into its
 // first columns (the rest zero), so fixed ones are not unknowns.
 //
@@ -118,7 +122,10 @@ struct PointSystem {
   // ½ Σ (ρ(|r_a|²) - |r̃_a|²): the model ½ |r̃ + J̃ δ|² plus this is the
   // robust model (0 for the squared loss).
   double model_offset = 0.0;
-  ResidualSums residuals;  // of the uncorrected residuals
+  ResidualSums residuals;  // of the uncorrected residuals (observations only)
+  // A control point's prior: r₀ = w ∘ (X - X₀) (its cost is in `cost`).
+  bool has_prior = false;
+  Vec3 prior_r, prior_w;
 };
 
 // Residuals, Jacobians, V, g_p and the cost of point k at the problem's

@@ -21,8 +21,17 @@ DenseNormalEquations BuildDenseNormalEquations(const Problem& problem,
   const int64_t nc = layout.num_unknowns();
   d.num_camera_params = static_cast<int>(nc);
   const int64_t cols = nc + 3 * np;
-  d.J = Eigen::MatrixXd::Zero(2 * no, cols);
-  d.r.resize(2 * no);
+  const int64_t num_priors = static_cast<int64_t>(problem.point_priors.size());
+  d.J = Eigen::MatrixXd::Zero(2 * no + 3 * num_priors, cols);
+  d.r.resize(2 * no + 3 * num_priors);
+  // Control points: 3 rows each after the observations', diag(w) on X.
+  for (int64_t x = 0; x < num_priors; ++x) {
+    const PointPrior& p = problem.point_priors[x];
+    for (int a = 0; a < 3; ++a) {
+      d.J(2 * no + 3 * x + a, nc + 3 * p.point + a) = p.weight[a];
+      d.r[2 * no + 3 * x + a] = p.weight[a] * (problem.point(p.point)[a] - p.position[a]);
+    }
+  }
   for (int64_t k = 0; k < np; ++k) {
     for (int64_t obs = problem.point_offsets[k]; obs < problem.point_offsets[k + 1]; ++obs) {
       const int32_t i = problem.obs_camera[obs];
@@ -55,9 +64,10 @@ DenseNormalEquations BuildDenseNormalEquations(const Problem& problem,
     }
   }
   // Weights per observation (identity for the squared loss).
-  Eigen::MatrixXd omega = Eigen::MatrixXd::Zero(2 * no, 2 * no);
-  Eigen::VectorXd weighted_r(2 * no);
-  d.cost = 0.0;
+  // The priors' rows under the squared loss (Ω = I).
+  Eigen::MatrixXd omega = Eigen::MatrixXd::Identity(d.r.size(), d.r.size());
+  Eigen::VectorXd weighted_r = d.r;
+  d.cost = 0.5 * d.r.tail(3 * num_priors).squaredNorm();
   for (int64_t a = 0; a < no; ++a) {
     const Vec2 r = d.r.segment<2>(2 * a);
     double rho[3];

@@ -14,7 +14,9 @@
 namespace dba::testing {
 
 struct DenseNormalEquations {
-  Eigen::MatrixXd J;        // 2 num_obs x (camera-side unknowns + 3 num_points)
+  // 2 num_obs + 3 num_point_priors rows (the control points' prior rows
+  // w ∘ (X - X₀) last) x (camera-side unknowns + 3 num_points)
+  Eigen::MatrixXd J;
   Eigen::VectorXd r;        // residuals
   Eigen::MatrixXd H;        // Jᵀ Ω J + λ D,  D = clamp(diag Jᵀ Ω J)
   Eigen::VectorXd g;        // Jᵀ Ω' r
