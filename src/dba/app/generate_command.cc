@@ -54,6 +54,11 @@ void PrintHelp(std::ostream& out) {
          "  --gnss-sigma XY,Z       their σ in metres (default " << d.gnss_sigma_xy << "," << d.gnss_sigma_z << ")\n"
          "  --gnss-outliers F       a fraction F of the images gets a gross error of 20 to\n"
          "                          50 m instead (marked '# outlier' in the file)\n"
+         "  --gcps FILE             also write ground control (dba solve --gcps): surveyed\n"
+         "                          ground points measured in the images that see them\n"
+         "  --control-points N      control points in it (default 0)\n"
+         "  --check-points M        check points in it (default 0)\n"
+         "  --gcp-sigma XY,Z        their survey σ in metres (default " << d.gcp_sigma_xy << "," << d.gcp_sigma_z << ")\n"
          "  --unaligned             start the survey in a random similarity frame (scale,\n"
          "                          rotation, shift), as a reconstruction before\n"
          "                          georeferencing; the truth stays in the world frame\n"
@@ -119,6 +124,14 @@ int GenerateMain(const std::vector<std::string>& args) {
         if (!(o.gnss_outliers >= 0 && o.gnss_outliers < 1)) {
           throw std::invalid_argument(a + ": must be in [0, 1)");
         }
+      } else if (a == "--gcps") {
+        o.gcps_path = value();
+      } else if (a == "--control-points") {
+        o.control_points = ParseIntegerArgument(a, value(), 0, 100000);
+      } else if (a == "--check-points") {
+        o.check_points = ParseIntegerArgument(a, value(), 0, 100000);
+      } else if (a == "--gcp-sigma") {
+        std::tie(o.gcp_sigma_xy, o.gcp_sigma_z) = ParseSigmaPair(a, value());
       } else if (a == "--unaligned") {
         o.unaligned = true;
       } else if (a == "--noise") {
@@ -141,6 +154,11 @@ int GenerateMain(const std::vector<std::string>& args) {
       }
     }
     if (output.empty()) throw std::invalid_argument("missing OUTPUT (see dba generate --help)");
+    if (o.gcps_path.empty() != (o.control_points + o.check_points == 0)) {
+      throw std::invalid_argument(o.gcps_path.empty()
+                                      ? "--control-points/--check-points: no --gcps FILE to write"
+                                      : "--gcps: give --control-points N and/or --check-points M");
+    }
     auto binary = [](const std::string& p) {
       return KindOfPath(p) == PathKind::kBinary;
     };

@@ -1,8 +1,5 @@
 // `dba solve`; see solve_command.h.
 #include "dba/app/solve_command.h"
-#include "dba/geo/local_frame.h"
-#include "dba/lm/prior_alignment.h"
-#include "dba/lm/prior_accuracy.h"
 
 #include <omp.h>
 #include <unistd.h>
@@ -146,9 +143,18 @@ void PrintSolveHelp(std::ostream& out) {
          "                             height, EPSG's axis order); the solve and its outputs\n"
          "                             are then in a local east-north-up frame at the priors'\n"
          "                             centre (origin and PROJ pipeline in the report)\n"
-         "  --accuracy-report FILE     with --camera-priors: the figures as a table, and\n"
-         "                             each prior's dx, dy, dz, squared Mahalanobis distance\n"
-         "                             and flag\n"
+         "  --gcps FILE                ground control and check points: per point a line\n"
+         "                             NAME X Y Z SIGMA_XY SIGMA_Z control|check, and per\n"
+         "                             measurement NAME IMAGE x y (the input's pixel\n"
+         "                             convention); control points are points of the solve\n"
+         "                             with a prior, check points are triangulated after it\n"
+         "                             and compared (docs/georeferencing.md)\n"
+         "  --gcp-crs CRS              the GCPs' CRS (default: --prior-crs); converted to\n"
+         "                             the same local frame, refused where PROJ has only a\n"
+         "                             ballpark height transformation (a missing geoid grid)\n"
+         "  --accuracy-report FILE     with --camera-priors or --gcps: the figures as a\n"
+         "                             table, and each prior's, control and check point's dx,\n"
+         "                             dy, dz, squared Mahalanobis distance and flag\n"
          "  --prior-sigma XY,Z         σ of the priors that give none (metres; σ_xy per\n"
          "                             horizontal axis)\n"
          "  --prior-loss NAME          the priors' robust loss, in units of σ (default\n"
@@ -304,22 +310,26 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
     } else if (a == "--reject-keep-loss") {
       o.reject_keep_loss = true;
     } else if (a == "--camera-priors") {
-      o.camera_priors_path = value();
+      o.geo.camera_priors_path = value();
     } else if (a == "--prior-sigma") {
       const auto [xy, z] = ParseSigmaPair(a, value());
-      o.prior_sigma = Eigen::Vector2d(xy, z);
+      o.geo.prior_sigma = Eigen::Vector2d(xy, z);
     } else if (a == "--accuracy-report") {
-      o.accuracy_report_path = value();
+      o.geo.accuracy_report_path = value();
     } else if (a == "--prior-crs") {
-      o.prior_crs = value();
+      o.geo.prior_crs = value();
+    } else if (a == "--gcps") {
+      o.geo.gcps_path = value();
+    } else if (a == "--gcp-crs") {
+      o.geo.gcp_crs = value();
     } else if (a == "--prior-loss") {
       const std::string& v = value();
-      if (!ParseLoss(v, &o.prior_loss.type)) {
+      if (!ParseLoss(v, &o.geo.prior_loss.type)) {
         throw std::invalid_argument(a + ": expected trivial, huber, soft_l1, cauchy, arctan or tukey, got '" + v + "'");
       }
     } else if (a == "--prior-loss-scale") {
-      o.prior_loss.scale = ParseNumberArgument(a, value());
-      if (!(o.prior_loss.scale > 0.0)) throw std::invalid_argument(a + ": must be > 0 (in units of σ)");
+      o.geo.prior_loss.scale = ParseNumberArgument(a, value());
+      if (!(o.geo.prior_loss.scale > 0.0)) throw std::invalid_argument(a + ": must be > 0 (in units of σ)");
     } else if (a == "--reject-outliers") {
       o.reject_outliers_px = ParseNumberArgument(a, value());
       if (!(o.reject_outliers_px > 0.0)) throw std::invalid_argument(a + ": must be > 0 (pixels)");
@@ -378,8 +388,15 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
   if (o.checkpoint_every_s > 0 && o.checkpoint_path.empty()) {
     throw std::invalid_argument("--checkpoint-every: no --checkpoint to write");
   }
-  if (!o.accuracy_report_path.empty() && o.camera_priors_path.empty()) {
-    throw std::invalid_argument("--accuracy-report needs --camera-priors FILE");
+  if (!o.geo.accuracy_report_path.empty() && !o.geo.any()) {
+    throw std::invalid_argument("--accuracy-report needs --camera-priors FILE or --gcps FILE");
+  }
+  if (!o.geo.gcp_crs.empty() && o.geo.gcps_path.empty()) {
+    throw std::invalid_argument("--gcp-crs: no --gcps FILE");
+  }
+  if (!o.resume_path.empty() && !o.geo.gcps_path.empty()) {
+    throw std::invalid_argument("--resume does not combine with --gcps yet (the checkpoint holds "
+                                "the control points among the points)");
   }
   if (o.truth_absolute && o.truth_path.empty()) {
     throw std::invalid_argument("--truth-absolute needs --truth FILE");
@@ -536,12 +553,14 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   report.loss = lm.loss;
   report.final_loss = lm.loss;
   Problem problem;
-  // Distributed runs on a binary file: every rank reads its own points.
-  const bool ranks_read_file = comm->size() > 1 && IsBinaryProblem(options.input);
+  // Distributed runs on a binary file: every rank reads its own points;
+  // not when georeferencing, which moves the whole block and adds control
+  // points before the solve (the main rank reads it all and hands it out).
+  const bool ranks_read_file =
+      comm->size() > 1 && IsBinaryProblem(options.input) && !options.geo.any();
   std::optional<Checkpoint> resumed;  // main rank
-  CameraPriors priors;                // main rank: --camera-priors
-  std::vector<std::string> image_names;  // main rank, with priors: each image's name
-  ImageNames colmap_names;               // main rank, with priors and a COLMAP input
+  Georeference geo;                   // main rank: --camera-priors, --gcps
+  ImageNames colmap_names;            // main rank, georeferencing a COLMAP input
   if (main) {
     Timer load_timer;
     CameraModel model = CameraModel::kBal;
@@ -557,7 +576,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       CheckedFixings(options.unknowns, ReadBinaryCameraSide(options.input));
     } else {
       problem = LoadSolveInput(options.input, options.unknowns,
-                               options.camera_priors_path.empty() ? nullptr : &colmap_names);
+                               options.geo.any() ? &colmap_names : nullptr);
       model = problem.model;
       report.num_cameras = problem.num_images();
       report.num_intrinsic_groups = problem.num_groups();
@@ -584,73 +603,13 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     }
     if (!options.report_path.empty()) CheckWritable("--report", options.report_path, false);
     if (!options.ply_path.empty()) CheckWritable("--ply", options.ply_path, false);
-    if (!options.accuracy_report_path.empty()) {
-      CheckWritable("--accuracy-report", options.accuracy_report_path, false);
+    if (!options.geo.accuracy_report_path.empty()) {
+      CheckWritable("--accuracy-report", options.geo.accuracy_report_path, false);
     }
     if (!options.checkpoint_path.empty()) CheckWritable("--checkpoint", options.checkpoint_path, false);
     if (!options.truth_path.empty()) CheckTruthFile(options.truth_path, report);
-    if (!options.camera_priors_path.empty()) {
-      // By image name for a COLMAP input (read with it), else by index.
-      priors = LoadCameraPriors(options.camera_priors_path, colmap_names, report.num_cameras,
-                                options.prior_sigma, options.prior_loss);
-      image_names = colmap_names.problem;
-      if (image_names.empty()) {
-        for (int64_t i = 0; i < report.num_cameras; ++i) image_names.push_back(std::to_string(i));
-      }
-      if (!options.prior_crs.empty()) {
-        // Through geocentric coordinates into east, north, up at their centre.
-        std::unique_ptr<CrsToGeocentric> crs;
-        try {
-          crs = std::make_unique<CrsToGeocentric>(options.prior_crs);
-        } catch (const std::invalid_argument& e) {
-          throw UsageError(std::string("--prior-crs: ") + e.what());
-        }
-        std::vector<Eigen::Vector3d> ecef;
-        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-        for (const CameraCentrePrior& p : priors.priors) {
-          try {
-            ecef.push_back(crs->Forward(p.centre));
-          } catch (const std::runtime_error& e) {
-            throw InputError(options.camera_priors_path, 0,
-                             "image " + image_names[p.image] + ": " + e.what());
-          }
-          mean += ecef.back() / static_cast<double>(priors.priors.size());
-        }
-        const LocalFrame frame = LocalFrame::At(mean);
-        for (size_t x = 0; x < ecef.size(); ++x) priors.priors[x].centre = frame.ToLocal(ecef[x]);
-        report.has_local_frame = true;
-        report.local_frame_origin = frame.origin_geodetic;
-        report.local_frame_pipeline = crs->Pipeline();
-        report.prior_crs = options.prior_crs;
-        report.prior_heights = crs->HeightKind();
-        char line[200];
-        std::snprintf(line, sizeof line,
-                      "local frame: east, north, up at latitude %.9f, longitude %.9f, "
-                      "ellipsoidal height %.3f m (WGS84)\n",
-                      frame.origin_geodetic.x(), frame.origin_geodetic.y(), frame.origin_geodetic.z());
-        out << line;
-      }
-      // Before LM, the block onto the priors (lm/prior_alignment.h).
-      if (ranks_read_file) {
-        out << "camera priors: " << priors.priors.size()
-            << "; not aligned before LM (the ranks read the .dba themselves)\n";
-      } else {
-        SimilarityFit fit;
-        try {
-          fit = AlignToPriors(priors, problem.cameras, problem.camera_size());
-        } catch (const std::invalid_argument& e) {
-          throw InputError(options.camera_priors_path, 0, e.what());
-        }
-        ApplySimilarity(fit, &problem, &problem.points);
-        char line[200];
-        std::snprintf(line, sizeof line,
-                      "camera priors: %zu; aligned onto them (scale %.6g, %lld inliers)%s\n",
-                      priors.priors.size(), fit.scale, static_cast<long long>(fit.inliers),
-                      fit.collinear ? "; the centres are collinear: the roll about their line "
-                                      "is left to the priors inside LM"
-                                    : "");
-        out << line;
-      }
+    if (options.geo.any()) {
+      geo = PrepareGeoreference(options.geo, colmap_names, &problem, &report, out);
     }
     report.load_seconds = load_timer.Seconds();
     out << "dba solve " << options.input << ": " << report.num_cameras
@@ -696,7 +655,12 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   report.reject_outliers_px = options.reject_outliers_px;
   if (options.reject_outliers_px > 0) {
     original = OriginalIndices::Identity(problem);
-    if (!options.truth_path.empty()) loaded_pixels = problem.obs_pixel;
+    // Without the control points' measurements (none held when the ranks
+    // read the file).
+    if (!options.truth_path.empty() && !ranks_read_file) {
+      loaded_pixels.assign(problem.obs_pixel.begin(),
+                           problem.obs_pixel.begin() + 2 * report.num_observations);
+    }
   }
   if (comm->size() == 1) {
     // After the symbolic phase, before S's values: the peak estimated, and
@@ -714,11 +678,11 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       }
       if (options.memory_check) CheckMemoryFits(report.memory_estimate, report.available_memory_bytes);
     };
-    report.solve.ba = BundleAdjust(lm, &problem, log, check_memory, &priors);
+    report.solve.ba = BundleAdjust(lm, &problem, log, check_memory, &geo.priors);
     if (options.reject_outliers_px > 0) {
       LmOptions resolve = lm;
       if (!options.reject_keep_loss) resolve.loss = RobustLoss();
-      RejectOutlierRounds({options.reject_outliers_px, options.min_triangulation_angle_deg}, resolve, log, priors, &problem, &original, &all_points,
+      RejectOutlierRounds({options.reject_outliers_px, options.min_triangulation_angle_deg}, resolve, log, geo.priors, &problem, &original, &all_points,
                           &report, out);
     }
   } else {
@@ -734,7 +698,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     distributed.reject_outliers = options.reject_outliers_px > 0;
     distributed.rejection = criteria;
     distributed.reject_keep_loss = options.reject_keep_loss;
-    distributed.priors = priors;
+    distributed.priors = geo.priors;
     DistributedHooks hooks;
     hooks.on_iteration = log;
     hooks.on_rejection_round = [&](int r, const RejectionRound& round) {
@@ -745,7 +709,8 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     report.solve = DistributedBundleAdjust(comm, lm, distributed,
                                            ranks_read_file ? options.input : std::string(),
                                            !options.output.empty() || !options.truth_path.empty() ||
-                                               !options.ply_path.empty(),
+                                               !options.ply_path.empty() ||
+                                               !options.geo.gcps_path.empty(),
                                            &problem, hooks);
     report.memory_estimate = report.solve.memory_estimate;
     if (main && distributed.reject_outliers) {
@@ -781,6 +746,17 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   }
   if (!main) return 0;
 
+  // Georeferencing: the control points (the last points) out again, then
+  // the block against the survey.
+  if (!geo.empty()) {
+    MeasureGeoreference(options.geo, geo, &problem, &report);
+    if (options.reject_outliers_px > 0) {
+      all_points.resize(kPointSize * report.num_points);
+      std::erase_if(original.point, [&](int64_t k) { return k >= report.num_points; });
+      std::erase_if(original.observation, [&](int64_t o) { return o >= report.num_observations; });
+    }
+  }
+
   // Against the truth first: a truth file that does not fit fails the run
   // before any output is written.
   if (!options.truth_path.empty()) {
@@ -801,24 +777,6 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
                                               problem.model, point_kept, pixels,
                                               options.truth_absolute);
     report.has_truth = true;
-  }
-  if (main && !priors.empty()) {
-    report.prior_accuracy =
-        MeasurePriorAccuracy(priors, problem.cameras, problem.camera_size(), image_names);
-    report.has_priors = true;
-    report.prior_loss = priors.loss;
-    PriorAccuracy& a = report.prior_accuracy;
-    const LmSummary& lm_summary = report.solve.ba.lm;
-    a.degrees_of_freedom = 2 * lm_summary.num_observations + 3 * a.count -
-                           (report.solve.ba.rcs.camera_unknowns + 3 * report.num_points);
-    if (a.degrees_of_freedom > 0) {
-      a.sigma0_squared = 2.0 * lm_summary.final_cost / static_cast<double>(a.degrees_of_freedom);
-    }
-    if (!options.accuracy_report_path.empty()) {
-      WriteFileAtomically(options.accuracy_report_path,
-                          PriorAccuracyTable(a, priors, problem.cameras, problem.camera_size(),
-                                             image_names));
-    }
   }
   Timer write_timer;
   if (comm->size() > 1) MaybeInjectFault(0, "write", 1);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "dba/app/georeference.h"
 #include "dba/app/solve_input.h"
 #include "dba/app/solve_report.h"
 #include "dba/cluster/communicator.h"
@@ -36,13 +37,7 @@ struct SolveCommandOptions {
   // The solves after a rejection round keep the robust loss (false: the
   // squared loss, the efficient estimator once the outliers are gone).
   bool reject_keep_loss = false;
-  // --camera-priors (io/camera_priors_file.h): GNSS camera centres, their
-  // default σ (xy, z; rows may give their own) and their loss, in σ units.
-  std::string camera_priors_path;
-  std::optional<Eigen::Vector2d> prior_sigma;
-  std::string prior_crs;  // empty: the priors are in a metric Cartesian frame
-  std::string accuracy_report_path;  // empty: none (needs camera priors)
-  RobustLoss prior_loss{LossType::kCauchy, 3.0};
+  GeoreferenceOptions geo;  // --camera-priors, --gcps and their CRSs
   // One process: refuse to start when the memory estimate exceeds what the
   // machine (or the cgroup) has available; false: --no-memory-check.
   bool memory_check = true;

@@ -1,5 +1,7 @@
 // dba solve's inputs and outputs; see solve_input.h.
 #include "dba/app/solve_input.h"
+
+#include "dba/io/ground_control_file.h"
 #include <unordered_map>
 #include "dba/io/text_tokens.h"
 #include "dba/io/camera_priors_file.h"
@@ -125,33 +127,38 @@ Fixings CheckedFixings(const UnknownsOptions& u, const CameraSide& side) {
   return f;
 }
 
+std::optional<int32_t> ResolveImage(const std::string& path, int64_t line, const std::string& image,
+                                    const ImageNames& names, int64_t num_images) {
+  if (!names.problem.empty()) {
+    if (names.index.empty()) {
+      for (size_t i = 0; i < names.problem.size(); ++i) {
+        names.index.emplace(names.problem[i], static_cast<int32_t>(i));
+      }
+    }
+    const auto it = names.index.find(image);
+    if (it != names.index.end()) return it->second;
+    if (names.others.contains(image)) return std::nullopt;  // not adjusted
+    throw InputError(path, line, "unknown image '" + image + "' (not in the COLMAP model)");
+  }
+  int64_t i = -1;
+  if (ParseInteger(image, &i) != NumberStatus::kOk || i < 0 || i >= num_images) {
+    throw InputError(path, line,
+                     "image '" + image + "': expected a 0-based camera index below " +
+                         std::to_string(num_images) + " (BAL and .dba problems have no names)");
+  }
+  return static_cast<int32_t>(i);
+}
+
 CameraPriors LoadCameraPriors(const std::string& path, const ImageNames& names,
                               int64_t num_images, const std::optional<Eigen::Vector2d>& default_sigma,
                               const RobustLoss& loss) {
-  std::unordered_map<std::string, int32_t> index_of_name;
-  for (size_t i = 0; i < names.problem.size(); ++i) {
-    index_of_name.emplace(names.problem[i], static_cast<int32_t>(i));
-  }
   CameraPriors priors;
   priors.loss = loss;
   for (const CameraPriorRow& row : ReadCameraPriorsFile(path)) {
     CameraCentrePrior p;
-    if (!names.problem.empty()) {
-      const auto it = index_of_name.find(row.image);
-      if (it == index_of_name.end()) {
-        if (names.others.contains(row.image)) continue;  // not adjusted
-        throw InputError(path, row.line, "unknown image '" + row.image + "' (not in the COLMAP model)");
-      }
-      p.image = it->second;
-    } else {
-      int64_t i = -1;
-      if (ParseInteger(row.image, &i) != NumberStatus::kOk || i < 0 || i >= num_images) {
-        throw InputError(path, row.line,
-                         "image '" + row.image + "': expected a 0-based camera index below " +
-                             std::to_string(num_images) + " (BAL and .dba problems have no names)");
-      }
-      p.image = static_cast<int32_t>(i);
-    }
+    const std::optional<int32_t> image = ResolveImage(path, row.line, row.image, names, num_images);
+    if (!image) continue;
+    p.image = *image;
     const std::optional<Eigen::Vector2d> sigma = row.sigma ? row.sigma : default_sigma;
     if (!sigma) {
       throw InputError(path, row.line, "no SIGMA_XY SIGMA_Z on the line and no --prior-sigma XY,Z");
@@ -163,6 +170,40 @@ CameraPriors LoadCameraPriors(const std::string& path, const ImageNames& names,
   return priors;
 }
 
+GroundControl LoadGroundControl(const std::string& path, const ImageNames& names,
+                                int64_t num_images) {
+  GroundControl gcps;
+  for (const GroundControlRow& row : ReadGroundControlFile(path)) {
+    GroundControlPoint p;
+    p.name = row.name;
+    p.position = row.xyz;
+    p.sigma = Vec3(row.sigma[0], row.sigma[0], row.sigma[1]);
+    p.control = row.control;
+    for (const GroundControlMeasurementRow& m : row.measurements) {
+      const std::optional<int32_t> image = ResolveImage(path, m.line, m.image, names, num_images);
+      if (!image) continue;
+      if (!names.size.empty()) {
+        const auto [w, h] = names.size[*image];
+        if (!(m.pixel.x() >= 0 && m.pixel.x() <= static_cast<double>(w) && m.pixel.y() >= 0 &&
+              m.pixel.y() <= static_cast<double>(h))) {
+          char where[160];
+          std::snprintf(where, sizeof where, "(%g, %g) is outside image '%s' (%llu x %llu pixels)",
+                        m.pixel.x(), m.pixel.y(), m.image.c_str(),
+                        static_cast<unsigned long long>(w), static_cast<unsigned long long>(h));
+          throw InputError(path, m.line, "measurement of '" + row.name + "': " + where);
+        }
+      }
+      p.measurements.push_back({*image, m.pixel});
+    }
+    if (p.measurements.size() < (p.control ? 1u : 2u)) {
+      throw InputError(path, row.line, "point '" + row.name + "' is measured in too few of the "
+                                       "adjusted images (" + std::to_string(p.measurements.size()) + ")");
+    }
+    gcps.points.push_back(std::move(p));
+  }
+  return gcps;
+}
+
 Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
                        ImageNames* names) {
   if (IsColmapInput(path)) {
@@ -170,8 +211,12 @@ Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
     if (names != nullptr) {
       for (const ColmapImage& im : in.model.images) names->others.insert(im.name);
       for (int64_t j : in.source.image_index) {
-        names->problem.push_back(in.model.images[j].name);
-        names->others.erase(in.model.images[j].name);
+        const ColmapImage& im = in.model.images[j];
+        names->problem.push_back(im.name);
+        names->others.erase(im.name);
+        for (const ColmapCamera& c : in.model.cameras) {
+          if (c.camera_id == im.camera_id) names->size.push_back({c.width, c.height});
+        }
       }
     }
     return std::move(in.source.problem);

@@ -11,10 +11,13 @@
 #include <string>
 #include <vector>
 
+#include <array>
+#include <unordered_map>
 #include <unordered_set>
 
 #include <Eigen/Core>
 
+#include "dba/lm/ground_control.h"
 #include "dba/lm/prior_workers.h"
 #include "dba/problem/fixings.h"
 #include "dba/io/colmap_model.h"
@@ -54,6 +57,10 @@ bool IsColmapInput(const std::string& path);
 struct ImageNames {
   std::vector<std::string> problem;
   std::unordered_set<std::string> others;
+  // Each problem image's width and height in pixels (its COLMAP camera's).
+  std::vector<std::array<uint64_t, 2>> size;
+  // problem's names -> index, built on first use.
+  mutable std::unordered_map<std::string, int32_t> index;
 };
 
 // Reads the input and marks the fixed parameters. Throws InputError for bad
@@ -71,6 +78,20 @@ Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
 Fixings CheckedFixings(const UnknownsOptions& unknowns, const CameraSide& side);
 // CheckedFixings, then marks them in `problem`.
 void ApplyFixings(const UnknownsOptions& unknowns, Problem* problem);
+
+// An image named in `path` at `line`: by name when names.problem is not
+// empty (a COLMAP input; nullopt for a name in names.others, an image of
+// the model without observations to adjust), else a 0-based index below
+// num_images. Throws InputError(path, line, ...) otherwise.
+std::optional<int32_t> ResolveImage(const std::string& path, int64_t line, const std::string& image,
+                                    const ImageNames& names, int64_t num_images);
+
+// --gcps (io/ground_control_file.h): the points with their measurements in
+// the problem's images (ResolveImage; measurements in images not adjusted
+// are left out); for a COLMAP input a measurement outside its image (the
+// only format with image sizes) is refused. The coordinates as read.
+GroundControl LoadGroundControl(const std::string& path, const ImageNames& names,
+                                int64_t num_images);
 
 // --camera-priors (io/camera_priors_file.h): the rows of `path` matched to
 // the problem's images, by name when names.problem is not empty (a COLMAP

@@ -145,20 +145,31 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
                   r.true_inliers ? 100.0 * r.true_inliers_dropped / r.true_inliers : 0.0);
     out << buf;
   }
-  if (r.has_priors) {
-    const PriorAccuracy& a = r.prior_accuracy;
-    std::snprintf(buf, sizeof buf,
-                  "  camera priors       %lld; C - prior (m): mean X %.4g Y %.4g Z %.4g, sd %.4g %.4g "
-                  "%.4g, RMS %.4g %.4g %.4g, 3D %.4g; CE90 %.4g, LE90 %.4g\n",
-                  static_cast<long long>(a.count), a.mean[0], a.mean[1], a.mean[2], a.sd[0],
-                  a.sd[1], a.sd[2], a.rms[0], a.rms[1], a.rms[2], a.rms_3d, a.ce90, a.le90);
-    out << buf;
-    std::string flagged;
-    for (size_t k = 0; k < a.flagged.size() && k < 10; ++k) flagged += " " + a.flagged[k];
-    if (a.flagged.size() > 10) flagged += " ...";
+  if (r.has_priors || r.has_ground_control) {
+    const AccuracyReport& a = r.accuracy;
+    // One line of figures per set.
+    auto figures = [&](const char* label, const AccuracyFigures& f, const char* what) {
+      std::snprintf(buf, sizeof buf,
+                    "  %-19s %lld; %s (m): mean X %.4g Y %.4g Z %.4g, sd %.4g %.4g "
+                    "%.4g, RMS %.4g %.4g %.4g, 3D %.4g; CE90 %.4g, LE90 %.4g\n",
+                    label, static_cast<long long>(f.count), what, f.mean[0], f.mean[1], f.mean[2],
+                    f.sd[0], f.sd[1], f.sd[2], f.rms[0], f.rms[1], f.rms[2], f.rms_3d, f.ce90,
+                    f.le90);
+      out << buf;
+    };
+    if (r.has_priors) figures("camera priors", a.gnss.figures, "C - prior");
+    if (r.has_ground_control) {
+      figures("control points", a.control.figures, "X - survey");
+      figures("check points", a.check.figures, "triangulated - survey");
+      if (!r.check_points_not_triangulated.empty()) {
+        out << "  not triangulated   ";
+        for (const std::string& n : r.check_points_not_triangulated) out << " " << n;
+        out << "\n";
+      }
+    }
     if (r.has_local_frame) {
       std::snprintf(buf, sizeof buf,
-                    "  local frame         ENU at %.9f, %.9f, %.3f m (WGS84 φ, λ, h); priors in %s "
+                    "  local frame         ENU at %.9f, %.9f, %.3f m (WGS84 φ, λ, h); in %s "
                     "(%s heights)\n",
                     r.local_frame_origin.x(), r.local_frame_origin.y(), r.local_frame_origin.z(),
                     r.prior_crs.c_str(), r.prior_heights.c_str());
@@ -167,9 +178,15 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
     std::snprintf(buf, sizeof buf, "  unit weight         σ0² %.4g (%lld degrees of freedom)\n",
                   a.sigma0_squared, static_cast<long long>(a.degrees_of_freedom));
     out << buf;
-    out << "  priors flagged      " << a.flagged.size()
-        << " (squared Mahalanobis distance > 16.27)" << (flagged.empty() ? "" : ":" + flagged)
-        << "\n";
+    auto flagged = [&](const char* label, const AccuracyFigures& f) {
+      std::string names;
+      for (size_t k = 0; k < f.flagged.size() && k < 10; ++k) names += " " + f.flagged[k];
+      if (f.flagged.size() > 10) names += " ...";
+      out << label << f.flagged.size() << " (squared Mahalanobis distance > 16.27)"
+          << (names.empty() ? "" : ":" + names) << "\n";
+    };
+    if (r.has_priors) flagged("  priors flagged      ", a.gnss.figures);
+    if (r.has_ground_control) flagged("  control flagged     ", a.control.figures);
   }
   if (r.has_truth && r.truth.absolute) {
     std::snprintf(buf, sizeof buf,
@@ -358,21 +375,37 @@ std::string SolveReportJson(const SolveReport& r) {
                           {"inliers", r.true_inliers},
                           {"inliers_dropped", r.true_inliers_dropped}};
   }
+  auto figures_json = [](const AccuracyFigures& f) {
+    return nlohmann::ordered_json{{"count", f.count}, {"mean", f.mean},     {"sd", f.sd},
+                          {"rms", f.rms},     {"rms_3d", f.rms_3d}, {"ce90", f.ce90},
+                          {"le90", f.le90},   {"flagged", f.flagged}};
+  };
+  const AccuracyReport& a = r.accuracy;
+  if (r.has_priors || r.has_ground_control) {
+    j["georeferencing"] = {{"sigma0_squared", a.sigma0_squared},
+                           {"degrees_of_freedom", a.degrees_of_freedom},
+                           {"crs", r.prior_crs},
+                           {"heights", r.prior_heights},
+                           {"local_frame",
+                            {{"origin_latitude", r.local_frame_origin.x()},
+                             {"origin_longitude", r.local_frame_origin.y()},
+                             {"origin_height", r.local_frame_origin.z()},
+                             {"proj_pipeline", r.local_frame_pipeline}}}};
+  }
   if (r.has_priors) {
-    const PriorAccuracy& a = r.prior_accuracy;
-    j["camera_priors"] = {{"count", a.count},     {"mean", a.mean},     {"sd", a.sd},
-                          {"rms", a.rms},         {"rms_3d", a.rms_3d}, {"ce90", a.ce90},
-                          {"le90", a.le90},       {"flagged", a.flagged},
-                          {"sigma0_squared", a.sigma0_squared},
-                          {"crs", r.prior_crs},
-                          {"heights", r.prior_heights},
-                          {"local_frame",
-                           {{"origin_latitude", r.local_frame_origin.x()},
-                            {"origin_longitude", r.local_frame_origin.y()},
-                            {"origin_height", r.local_frame_origin.z()},
-                            {"proj_pipeline", r.local_frame_pipeline}}},
-                          {"degrees_of_freedom", a.degrees_of_freedom},
-                          {"loss", {{"type", LossName(r.prior_loss.type)}, {"scale", r.prior_loss.scale}}}};
+    nlohmann::ordered_json p = figures_json(a.gnss.figures);
+    p["sigma0_squared"] = a.sigma0_squared;
+    p["degrees_of_freedom"] = a.degrees_of_freedom;
+    p["crs"] = r.prior_crs;
+    p["heights"] = r.prior_heights;
+    p["local_frame"] = j["georeferencing"]["local_frame"];
+    p["loss"] = {{"type", LossName(r.prior_loss.type)}, {"scale", r.prior_loss.scale}};
+    j["camera_priors"] = p;
+  }
+  if (r.has_ground_control) {
+    j["control_points"] = figures_json(a.control.figures);
+    j["check_points"] = figures_json(a.check.figures);
+    j["check_points"]["not_triangulated"] = r.check_points_not_triangulated;
   }
   if (r.has_truth) {
     j["ground_truth"] = {{"rms_to_noise_free_px", r.truth.rms_to_noise_free_px},

@@ -44,10 +44,12 @@ struct SolveReport {
   bool has_outlier_truth = false;
   int64_t true_outliers = 0, true_outliers_dropped = 0;
   int64_t true_inliers = 0, true_inliers_dropped = 0;
-  // --camera-priors: the adjusted centres against the priors.
+  // --camera-priors and --gcps: the adjusted block against the survey.
   bool has_priors = false;
-  PriorAccuracy prior_accuracy;
+  bool has_ground_control = false;
+  AccuracyReport accuracy;
   RobustLoss prior_loss;
+  std::vector<std::string> check_points_not_triangulated;
   // --prior-crs: the local east-north-up frame the solve ran in.
   bool has_local_frame = false;
   Eigen::Vector3d local_frame_origin = Eigen::Vector3d::Zero();  // φ, λ (deg), h (m)

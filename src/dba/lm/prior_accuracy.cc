@@ -1,8 +1,10 @@
-// Agreement of the cameras with their priors; see prior_accuracy.h.
+// Agreement of an adjusted block with its survey; see prior_accuracy.h.
 #include "dba/lm/prior_accuracy.h"
 
 #include <algorithm>
 #include <cmath>
+
+#include "dba/camera/pose_similarity.h"
 
 namespace dba {
 namespace {
@@ -15,26 +17,44 @@ double Quantile(std::vector<double> v, double q) {
   return v[k];
 }
 
+void AppendSet(const char* title, const AccuracyReport::Set& set, std::string* t) {
+  const AccuracyFigures& a = set.figures;
+  char line[400];
+  std::snprintf(line, sizeof line,
+                "#\n# %s: %lld, flagged %zu (squared Mahalanobis distance > %.2f); d (m)\n", title,
+                static_cast<long long>(a.count), a.flagged.size(), kPriorOutlierChi2);
+  *t += line;
+  *t += "# figure        X            Y            Z            3D\n";
+  std::snprintf(line, sizeof line, "# mean   %12.6f %12.6f %12.6f\n", a.mean[0], a.mean[1], a.mean[2]);
+  *t += line;
+  std::snprintf(line, sizeof line, "# sd     %12.6f %12.6f %12.6f\n", a.sd[0], a.sd[1], a.sd[2]);
+  *t += line;
+  std::snprintf(line, sizeof line, "# rms    %12.6f %12.6f %12.6f %12.6f\n", a.rms[0], a.rms[1],
+                a.rms[2], a.rms_3d);
+  *t += line;
+  std::snprintf(line, sizeof line, "# CE90 %.6f m, LE90 %.6f m\n", a.ce90, a.le90);
+  *t += line;
+  for (const PositionError& e : set.errors) {
+    const double m2 = e.Mahalanobis2();
+    std::snprintf(line, sizeof line, "%s %s %.6f %.6f %.6f %.4f %d\n", title, e.name.c_str(),
+                  e.d.x(), e.d.y(), e.d.z(), m2, m2 > kPriorOutlierChi2 ? 1 : 0);
+    *t += line;
+  }
+}
+
 }  // namespace
 
-PriorAccuracy MeasurePriorAccuracy(const CameraPriors& priors, const std::vector<double>& cameras,
-                                   int camera_size,
-                                   const std::vector<std::string>& image_names) {
-  PriorAccuracy a;
-  a.count = static_cast<int64_t>(priors.priors.size());
+AccuracyFigures MeasureAccuracy(const std::vector<PositionError>& errors) {
+  AccuracyFigures a;
+  a.count = static_cast<int64_t>(errors.size());
   if (a.count == 0) return a;
   std::array<double, 3> sum{}, sum_sq{};
   std::vector<double> horizontal, vertical;
-  for (const CameraCentrePrior& p : priors.priors) {
-    const Vec3 d = CameraCentre(cameras.data() + int64_t{camera_size} * p.image) - p.centre;
-    for (int k = 0; k < 3; ++k) sum[k] += d[k], sum_sq[k] += d[k] * d[k];
-    horizontal.push_back(std::hypot(d.x(), d.y()));
-    vertical.push_back(std::abs(d.z()));
-    if (d.cwiseQuotient(p.sigma).squaredNorm() > kPriorOutlierChi2) {
-      a.flagged.push_back(p.image < static_cast<int32_t>(image_names.size())
-                              ? image_names[p.image]
-                              : std::to_string(p.image));
-    }
+  for (const PositionError& e : errors) {
+    for (int k = 0; k < 3; ++k) sum[k] += e.d[k], sum_sq[k] += e.d[k] * e.d[k];
+    horizontal.push_back(std::hypot(e.d.x(), e.d.y()));
+    vertical.push_back(std::abs(e.d.z()));
+    if (e.Mahalanobis2() > kPriorOutlierChi2) a.flagged.push_back(e.name);
   }
   const double n = static_cast<double>(a.count);
   for (int k = 0; k < 3; ++k) {
@@ -48,37 +68,35 @@ PriorAccuracy MeasurePriorAccuracy(const CameraPriors& priors, const std::vector
   return a;
 }
 
-std::string PriorAccuracyTable(const PriorAccuracy& a, const CameraPriors& priors,
-                               const std::vector<double>& cameras, int camera_size,
-                               const std::vector<std::string>& image_names) {
-  std::string t;
-  char line[320];
-  t += "# dba accuracy report: camera centres C against their GNSS priors, d = C - prior (m)\n";
-  std::snprintf(line, sizeof line, "# priors %lld, flagged %zu (squared Mahalanobis distance > %.2f)\n",
-                static_cast<long long>(a.count), a.flagged.size(), kPriorOutlierChi2);
-  t += line;
-  t += "#\n# figure        X            Y            Z            3D\n";
-  std::snprintf(line, sizeof line, "# mean   %12.6f %12.6f %12.6f\n", a.mean[0], a.mean[1], a.mean[2]);
-  t += line;
-  std::snprintf(line, sizeof line, "# sd     %12.6f %12.6f %12.6f\n", a.sd[0], a.sd[1], a.sd[2]);
-  t += line;
-  std::snprintf(line, sizeof line, "# rms    %12.6f %12.6f %12.6f %12.6f\n", a.rms[0], a.rms[1],
-                a.rms[2], a.rms_3d);
-  t += line;
-  std::snprintf(line, sizeof line, "# CE90 %.6f m, LE90 %.6f m; sigma0^2 %.6g (%lld degrees of freedom)\n#\n",
-                a.ce90, a.le90, a.sigma0_squared, static_cast<long long>(a.degrees_of_freedom));
-  t += line;
-  t += "# image dx dy dz mahalanobis2 flagged\n";
+std::vector<PositionError> CameraPriorErrors(const CameraPriors& priors,
+                                             const std::vector<double>& cameras, int camera_size,
+                                             const std::vector<std::string>& image_names) {
+  std::vector<PositionError> errors;
   for (const CameraCentrePrior& p : priors.priors) {
-    const Vec3 d = CameraCentre(cameras.data() + int64_t{camera_size} * p.image) - p.centre;
-    const double m2 = d.cwiseQuotient(p.sigma).squaredNorm();
-    const std::string name = p.image < static_cast<int32_t>(image_names.size())
-                                 ? image_names[p.image]
-                                 : std::to_string(p.image);
-    std::snprintf(line, sizeof line, "%s %.6f %.6f %.6f %.4f %d\n", name.c_str(), d.x(), d.y(),
-                  d.z(), m2, m2 > kPriorOutlierChi2 ? 1 : 0);
-    t += line;
+    PositionError e;
+    e.name = p.image < static_cast<int32_t>(image_names.size()) ? image_names[p.image]
+                                                               : std::to_string(p.image);
+    e.d = CameraCentre(cameras.data() + int64_t{camera_size} * p.image) - p.centre;
+    e.sigma = p.sigma;
+    errors.push_back(std::move(e));
   }
+  return errors;
+}
+
+void AccuracyReport::Measure() {
+  for (Set* s : {&gnss, &control, &check}) s->figures = MeasureAccuracy(s->errors);
+}
+
+std::string AccuracyReportTable(const AccuracyReport& r) {
+  std::string t = "# dba accuracy report: adjusted minus surveyed positions, d (m), per set;\n"
+                  "# rows: SET NAME dx dy dz mahalanobis2 flagged\n";
+  char line[200];
+  std::snprintf(line, sizeof line, "# sigma0^2 %.6g (%lld degrees of freedom)\n", r.sigma0_squared,
+                static_cast<long long>(r.degrees_of_freedom));
+  t += line;
+  if (r.gnss.figures.count > 0) AppendSet("gnss", r.gnss, &t);
+  if (r.control.figures.count > 0) AppendSet("control", r.control, &t);
+  if (r.check.figures.count > 0) AppendSet("check", r.check, &t);
   return t;
 }
 

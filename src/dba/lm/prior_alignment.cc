@@ -28,14 +28,24 @@ SimilarityFit AlignToPriors(const CameraPriors& priors, const std::vector<double
     throw std::invalid_argument("the alignment onto the priors needs at least 3 priors, got " +
                                 std::to_string(n));
   }
-  Eigen::Matrix3Xd from(3, n), to(3, n);
-  Eigen::VectorXd sigma(n);
-  for (int64_t x = 0; x < n; ++x) {
-    const CameraCentrePrior& p = priors.priors[x];
-    from.col(x) = CameraCentre(cameras.data() + int64_t{camera_size} * p.image);
-    to.col(x) = p.centre;
-    sigma[x] = p.sigma.maxCoeff();
+  std::vector<Vec3> from, to;
+  std::vector<double> sigma;
+  for (const CameraCentrePrior& p : priors.priors) {
+    from.push_back(CameraCentre(cameras.data() + int64_t{camera_size} * p.image));
+    to.push_back(p.centre);
+    sigma.push_back(p.sigma.maxCoeff());
   }
+  return FitSimilarity(from, to, sigma);
+}
+
+SimilarityFit FitSimilarity(const std::vector<Vec3>& from_points, const std::vector<Vec3>& to_points,
+                            const std::vector<double>& sigma) {
+  const int64_t n = static_cast<int64_t>(from_points.size());
+  if (n < 3) {
+    throw std::invalid_argument("a similarity needs at least 3 points, got " + std::to_string(n));
+  }
+  Eigen::Matrix3Xd from(3, n), to(3, n);
+  for (int64_t x = 0; x < n; ++x) from.col(x) = from_points[x], to.col(x) = to_points[x];
   // Collinear centres: the spread's second direction against the first.
   const Vec3 mean = to.rowwise().mean();
   const Eigen::Matrix3d spread = (to.colwise() - mean) * (to.colwise() - mean).transpose();

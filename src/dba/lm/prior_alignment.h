@@ -29,6 +29,11 @@ struct SimilarityFit : Similarity {
 SimilarityFit AlignToPriors(const CameraPriors& priors, const std::vector<double>& cameras,
                             int camera_size);
 
+// The same from any points `from` onto `to` (σ per point: the inliers are
+// within 5σ); throws std::invalid_argument for fewer than 3.
+SimilarityFit FitSimilarity(const std::vector<Vec3>& from, const std::vector<Vec3>& to,
+                            const std::vector<double>& sigma);
+
 // Moves the problem's cameras and points by the similarity.
 void ApplySimilarity(const SimilarityFit& fit, CameraSide* side, std::vector<double>* points);
 

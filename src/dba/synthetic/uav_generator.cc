@@ -268,6 +268,43 @@ void WriteGnssPriors(const UavSurveyOptions& o, const Problem& true_side) {
   WriteFileAtomically(o.priors_path, text);
 }
 
+// The ground-control file of o.gcps_path (see the header); project(i, X,
+// &pixel) is the true projection, false outside image i.
+template <typename Project>
+void WriteGroundControl(const UavSurveyOptions& o, const Layout& l, Project project) {
+  std::mt19937_64 rng(Mix(o.seed ^ 0x67637073ULL));
+  std::normal_distribution<double> n01(0.0, 1.0);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::string text =
+      "# dba generate: ground control (world frame, metres)\n"
+      "# NAME X Y Z SIGMA_XY SIGMA_Z control|check, then its measurements NAME IMAGE x y\n";
+  char line[256];
+  for (int64_t q = 0; q < o.control_points + o.check_points; ++q) {
+    const bool control = q < o.control_points;
+    char name[32];
+    std::snprintf(name, sizeof name, "%s%03lld", control ? "GCP" : "CHK",
+                  static_cast<long long>(control ? q + 1 : q - o.control_points + 1));
+    const double x = l.x0 + (0.1 + 0.8 * u01(rng)) * (l.x1 - l.x0);
+    const double y = l.y0 + (0.1 + 0.8 * u01(rng)) * (l.y1 - l.y0);
+    const double X[3] = {x, y, Terrain(x, y)};
+    const Vec3 surveyed(X[0] + o.gcp_sigma_xy * n01(rng), X[1] + o.gcp_sigma_xy * n01(rng),
+                        X[2] + o.gcp_sigma_z * n01(rng));
+    std::snprintf(line, sizeof line, "%s %.6f %.6f %.6f %g %g %s # true %.6f %.6f %.6f\n", name,
+                  surveyed.x(), surveyed.y(), surveyed.z(), o.gcp_sigma_xy, o.gcp_sigma_z,
+                  control ? "control" : "check", X[0], X[1], X[2]);
+    text += line;
+    for (int64_t i = 0; i < l.images; ++i) {
+      Vec2 px;
+      if (!project(i, X, &px)) continue;
+      px += o.pixel_noise * Vec2(n01(rng), n01(rng));
+      std::snprintf(line, sizeof line, "%s %lld %.4f %.4f\n", name, static_cast<long long>(i),
+                    px.x(), px.y());
+      text += line;
+    }
+  }
+  WriteFileAtomically(o.gcps_path, text);
+}
+
 UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::string& path,
                                    const std::string& truth_path,
                                    const std::function<void(double)>& progress) {
@@ -342,6 +379,8 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
     *px = BalResidual(true_side.camera(i), X, zero);
     return std::abs(px->x()) < half && std::abs(px->y()) < half;
   };
+
+  if (!o.gcps_path.empty()) WriteGroundControl(o, l, project);
 
   auto half_progress = [&](double base) {
     return [&progress, base](double f) { if (progress) progress(base + 0.5 * f); };

@@ -78,6 +78,15 @@ struct UavSurveyOptions {
   std::string priors_path;
   double gnss_sigma_xy = 2.0, gnss_sigma_z = 4.0;
   double gnss_outliers = 0.0;
+  // Ground control (io/ground_control_file.h), written when gcps_path is
+  // set: control_points + check_points ground points spread uniformly over
+  // the inner 80% of the block, surveyed with Gaussian noise σ_xy, σ_z
+  // (each line ends in "# true X Y Z", the noise-free position), measured in
+  // every image that sees them with the observations' pixel noise, in the
+  // model's pixel convention.
+  std::string gcps_path;
+  int64_t control_points = 0, check_points = 0;
+  double gcp_sigma_xy = 0.02, gcp_sigma_z = 0.02;
   // The initial cameras and points in a random similarity frame (scale
   // 0.5 to 2, any rotation, a shift of up to 1 km), as a reconstruction is
   // before georeferencing; the truth stays in the world frame.

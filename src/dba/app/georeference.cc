@@ -1,0 +1,188 @@
+// Georeferencing a solve on the main rank; see georeference.h.
+#include "dba/app/georeference.h"
+
+#include <cstdio>
+#include <memory>
+#include <ostream>
+
+#include "dba/app/arguments.h"
+#include "dba/common/error.h"
+#include "dba/geo/local_frame.h"
+#include "dba/io/atomic_output_file.h"
+#include "dba/lm/prior_accuracy.h"
+#include "dba/lm/prior_alignment.h"
+
+namespace dba {
+namespace {
+
+std::unique_ptr<CrsToGeocentric> OpenCrs(const char* flag, const std::string& crs) {
+  try {
+    return std::make_unique<CrsToGeocentric>(crs);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string(flag) + ": " + e.what());
+  }
+}
+
+// Geocentric coordinates of `xyz` in `crs`; a failure names the file and
+// what the position belongs to.
+Eigen::Vector3d Geocentric(const CrsToGeocentric& crs, const Eigen::Vector3d& xyz,
+                           const std::string& path, const std::string& what) {
+  try {
+    return crs.Forward(xyz);
+  } catch (const std::runtime_error& e) {
+    throw InputError(path, 0, what + ": " + e.what());
+  }
+}
+
+// The priors and ground control from their CRSs into one local
+// east-north-up frame at the centre of them all.
+void ToLocalFrame(const GeoreferenceOptions& options, Georeference* geo, SolveReport* report,
+                  std::ostream& out) {
+  const std::string gcp_crs = options.gcp_crs.empty() ? options.prior_crs : options.gcp_crs;
+  if (!options.gcp_crs.empty() && !geo->priors.empty() && options.prior_crs.empty()) {
+    throw UsageError("--gcp-crs: the camera priors are in a Cartesian frame (no --prior-crs); give "
+                     "both in a CRS, or neither");
+  }
+  std::vector<Eigen::Vector3d> ecef;
+  std::unique_ptr<CrsToGeocentric> prior_crs, control_crs;
+  if (!geo->priors.empty() && !options.prior_crs.empty()) {
+    prior_crs = OpenCrs("--prior-crs", options.prior_crs);
+    for (const CameraCentrePrior& p : geo->priors.priors) {
+      ecef.push_back(Geocentric(*prior_crs, p.centre, options.camera_priors_path,
+                                "image " + geo->image_names[p.image]));
+    }
+  }
+  if (!geo->gcps.empty() && !gcp_crs.empty()) {
+    control_crs = OpenCrs(options.gcp_crs.empty() ? "--prior-crs" : "--gcp-crs", gcp_crs);
+    for (const GroundControlPoint& p : geo->gcps.points) {
+      ecef.push_back(Geocentric(*control_crs, p.position, options.gcps_path, "point " + p.name));
+    }
+  }
+  if (ecef.empty()) return;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& x : ecef) mean += x / static_cast<double>(ecef.size());
+  const LocalFrame frame = LocalFrame::At(mean);
+  size_t x = 0;
+  if (prior_crs) {
+    for (CameraCentrePrior& p : geo->priors.priors) p.centre = frame.ToLocal(ecef[x++]);
+  }
+  if (control_crs) {
+    for (GroundControlPoint& p : geo->gcps.points) p.position = frame.ToLocal(ecef[x++]);
+  }
+  const CrsToGeocentric& first = prior_crs ? *prior_crs : *control_crs;
+  report->has_local_frame = true;
+  report->local_frame_origin = frame.origin_geodetic;
+  report->local_frame_pipeline = first.Pipeline();
+  report->prior_crs = prior_crs ? options.prior_crs : gcp_crs;
+  report->prior_heights = first.HeightKind();
+  if (prior_crs && control_crs && gcp_crs != options.prior_crs) {
+    report->local_frame_pipeline += "; ground control: " + control_crs->Pipeline();
+    report->prior_crs += "; ground control in " + gcp_crs;
+    report->prior_heights += "; ground control: " + control_crs->HeightKind();
+  }
+  char line[200];
+  std::snprintf(line, sizeof line,
+                "local frame: east, north, up at latitude %.9f, longitude %.9f, "
+                "ellipsoidal height %.3f m (WGS84)\n",
+                frame.origin_geodetic.x(), frame.origin_geodetic.y(), frame.origin_geodetic.z());
+  out << line;
+}
+
+}  // namespace
+
+Georeference PrepareGeoreference(const GeoreferenceOptions& options, const ImageNames& names,
+                                 Problem* problem, SolveReport* report, std::ostream& out) {
+  Georeference geo;
+  const int64_t num_images = problem->num_images();
+  geo.image_names = names.problem;
+  if (geo.image_names.empty()) {
+    for (int64_t i = 0; i < num_images; ++i) geo.image_names.push_back(std::to_string(i));
+  }
+  if (!options.camera_priors_path.empty()) {
+    geo.priors = LoadCameraPriors(options.camera_priors_path, names, num_images,
+                                  options.prior_sigma, options.prior_loss);
+  }
+  if (!options.gcps_path.empty()) {
+    geo.gcps = LoadGroundControl(options.gcps_path, names, num_images);
+    if (geo.priors.empty() && geo.gcps.CountControl() == 0) {
+      throw InputError(options.gcps_path, 0,
+                       "no control points and no --camera-priors: nothing places the block "
+                       "(check points only measure it)");
+    }
+  }
+  ToLocalFrame(options, &geo, report, out);
+
+  // Before LM, the block onto the priors, or else onto the control points.
+  const int64_t control = geo.gcps.CountControl();
+  const bool on_priors = geo.priors.priors.size() >= 3 || control == 0;
+  SimilarityFit fit;
+  try {
+    fit = on_priors ? AlignToPriors(geo.priors, problem->cameras, problem->camera_size())
+                    : AlignToControlPoints(geo.gcps, TriangulateGroundControl(*problem, geo.gcps, true, false));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(on_priors ? options.camera_priors_path : options.gcps_path, 0, e.what());
+  }
+  ApplySimilarity(fit, problem, &problem->points);
+  char line[300];
+  if (!geo.priors.empty()) {
+    std::snprintf(line, sizeof line, "camera priors: %zu%s", geo.priors.priors.size(),
+                  on_priors ? "; aligned onto them" : "");
+    out << line;
+  }
+  if (!geo.gcps.empty()) {
+    std::snprintf(line, sizeof line, "%scontrol points: %lld, check points: %lld%s",
+                  geo.priors.empty() ? "" : "; ", static_cast<long long>(control),
+                  static_cast<long long>(geo.gcps.points.size() - control),
+                  on_priors ? "" : "; aligned onto the control points");
+    out << line;
+  }
+  std::snprintf(line, sizeof line, " (scale %.6g, %lld inliers)%s\n", fit.scale,
+                static_cast<long long>(fit.inliers),
+                fit.collinear ? "; the positions are collinear: the roll about their line "
+                                "is left to the priors inside LM"
+                              : "");
+  out << line;
+  AddControlPoints(geo.gcps, problem);
+  geo.control_points = control;
+  return geo;
+}
+
+void MeasureGeoreference(const GeoreferenceOptions& options, const Georeference& geo,
+                         Problem* problem, SolveReport* report) {
+  const std::vector<double> control = RemoveControlPoints(geo.control_points, problem);
+  AccuracyReport& a = report->accuracy;
+  a.gnss.errors = CameraPriorErrors(geo.priors, problem->cameras, problem->camera_size(),
+                                    geo.image_names);
+  const std::vector<Triangulation> checks = TriangulateGroundControl(*problem, geo.gcps, false, true);
+  size_t c = 0, k = 0;
+  for (const GroundControlPoint& p : geo.gcps.points) {
+    PositionError e;
+    e.name = p.name;
+    e.sigma = p.sigma;
+    if (p.control) {
+      e.d = Eigen::Map<const Vec3>(control.data() + 3 * c++) - p.position;
+      a.control.errors.push_back(e);
+    } else if (const Triangulation& t = checks[k++]; t.ok) {
+      e.d = t.X - p.position;
+      a.check.errors.push_back(e);
+    } else {
+      report->check_points_not_triangulated.push_back(p.name);
+    }
+  }
+  a.Measure();
+  const LmSummary& lm = report->solve.ba.lm;
+  a.degrees_of_freedom = 2 * lm.num_observations + 3 * (a.gnss.figures.count + geo.control_points) -
+                         (report->solve.ba.rcs.camera_unknowns +
+                          3 * (report->num_points + geo.control_points));
+  if (a.degrees_of_freedom > 0) {
+    a.sigma0_squared = 2.0 * lm.final_cost / static_cast<double>(a.degrees_of_freedom);
+  }
+  report->has_priors = !geo.priors.empty();
+  report->has_ground_control = !geo.gcps.empty();
+  report->prior_loss = geo.priors.loss;
+  if (!options.accuracy_report_path.empty()) {
+    WriteFileAtomically(options.accuracy_report_path, AccuracyReportTable(a));
+  }
+}
+
+}  // namespace dba

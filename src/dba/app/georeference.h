@@ -1,0 +1,61 @@
+// Georeferencing a solve (docs/georeferencing.md), on the main rank:
+// before it, GNSS camera priors and ground control read, brought into the
+// solve's frame (a local east-north-up frame through PROJ when they come in
+// a CRS), the block moved onto them by a robust similarity, the control
+// points appended to the problem; after it, the control points taken out
+// again, the check points triangulated, and the accuracy figures measured.
+//
+// Thread safety: one caller.
+#pragma once
+
+#include <Eigen/Core>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dba/app/solve_input.h"
+#include "dba/app/solve_report.h"
+#include "dba/lm/ground_control.h"
+#include "dba/lm/prior_workers.h"
+
+namespace dba {
+
+struct GeoreferenceOptions {
+  // --camera-priors (io/camera_priors_file.h): GNSS camera centres, their
+  // default σ (xy, z; rows may give their own) and their loss, in σ units.
+  std::string camera_priors_path;
+  std::optional<Eigen::Vector2d> prior_sigma;
+  std::string prior_crs;  // empty: a metric Cartesian frame
+  RobustLoss prior_loss{LossType::kCauchy, 3.0};
+  // --gcps (io/ground_control_file.h): control and check points.
+  std::string gcps_path;
+  std::string gcp_crs;  // empty: prior_crs
+  std::string accuracy_report_path;  // empty: none
+  bool any() const { return !camera_priors_path.empty() || !gcps_path.empty(); }
+};
+
+struct Georeference {
+  CameraPriors priors;
+  GroundControl gcps;
+  std::vector<std::string> image_names;  // how images are named in the report
+  int64_t control_points = 0;  // appended to the problem: its last points
+  bool empty() const { return priors.empty() && gcps.empty(); }
+};
+
+// Reads what `options` names against the problem's images (`names`: a
+// COLMAP input's), converts it into the solve's frame, aligns `problem`
+// onto the priors (or, without enough of them, the control points), then
+// appends the control points. Throws InputError (file, line) for bad input
+// and UsageError for a CRS PROJ cannot use.
+Georeference PrepareGeoreference(const GeoreferenceOptions& options, const ImageNames& names,
+                                 Problem* problem, SolveReport* report, std::ostream& out);
+
+// After the solve, with the adjusted cameras and points (the control points
+// still last): takes the control points out of `problem`, triangulates the
+// check points, and fills report->accuracy (σ0² from the solve's final
+// cost).
+void MeasureGeoreference(const GeoreferenceOptions& options, const Georeference& geo,
+                         Problem* problem, SolveReport* report);
+
+}  // namespace dba
