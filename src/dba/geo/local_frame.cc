@@ -82,6 +82,21 @@ Eigen::Vector3d CrsToGeocentric::Forward(const Eigen::Vector3d& xyz) const {
                              ") to geocentric coordinates (outside the CRS's area, or a grid "
                              "it needs is missing)");
   }
+  // A ballpark transformation takes geoid (or other) heights as
+  // ellipsoidal ones, tens of metres off: the classic georeferencing
+  // mistake, refused (PROJ picks it when the grid it needs is missing).
+  PJ* used = proj_trans_get_last_used_operation(static_cast<PJ*>(transform_));
+  const bool ballpark =
+      used != nullptr && proj_coordoperation_has_ballpark_transformation(
+                             static_cast<PJ_CONTEXT*>(context_), used) != 0;
+  if (used != nullptr) proj_destroy(used);
+  if (ballpark) {
+    throw std::runtime_error(
+        "PROJ has only a ballpark transformation to geocentric coordinates for this CRS (its "
+        "heights are not ellipsoidal and the grid to convert them is missing): they would be "
+        "taken as ellipsoidal heights, tens of metres off; install the grid (projsync, or "
+        "PROJ_NETWORK=ON) or give ellipsoidal heights (e.g. EPSG:4979)");
+  }
   return out;
 }
 

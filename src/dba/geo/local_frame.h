@@ -32,7 +32,9 @@ class CrsToGeocentric {
   CrsToGeocentric& operator=(const CrsToGeocentric&) = delete;
 
   // Throws std::runtime_error when PROJ cannot transform the point (outside
-  // the CRS's area, or a grid it needs is missing).
+  // the CRS's area, or a grid it needs is missing), or can only with a
+  // ballpark transformation (geoid heights without their grid would be
+  // taken as ellipsoidal ones).
   Eigen::Vector3d Forward(const Eigen::Vector3d& xyz) const;
   // The PROJ pipeline used (for the report).
   std::string Pipeline() const;

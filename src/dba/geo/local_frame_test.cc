@@ -55,6 +55,28 @@ TEST(LocalFrame, EastNorthUpAtTheOrigin) {
   EXPECT_LT((frame.ToLocal(frame.ToGeocentric(x)) - x).norm(), 1e-9);
 }
 
+// Geoid heights: converted through the geoid grid where PROJ has it
+// (EGM96, in Debian's proj-data; cs2cs -f "%.6f" EPSG:4326+5773 EPSG:4978),
+// refused where it would only have a ballpark transformation (EGM2008,
+// whose grid proj-data does not ship), which would take them as
+// ellipsoidal heights.
+TEST(LocalFrame, GeoidHeightsThroughTheirGridAndNeverBallpark) {
+  const CrsToGeocentric egm96("EPSG:4326+5773");
+  EXPECT_EQ(egm96.HeightKind(), "geoid/other");
+  const Eigen::Vector3d p(52.0, 5.0, 10.0);
+  const Eigen::Vector3d ecef = egm96.Forward(p);
+  EXPECT_LT((ecef - Eigen::Vector3d(3920019.516386, 342957.268484, 5002845.439474)).norm(), 1e-3);
+  EXPECT_GT((ecef - CrsToGeocentric("EPSG:4979").Forward(p)).norm(), 30.0);  // the undulation
+  const CrsToGeocentric egm2008("EPSG:4326+3855");
+  try {
+    egm2008.Forward(p);
+    ADD_FAILURE() << "a ballpark height transformation was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("only a ballpark transformation"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(LocalFrame, RefusesWhatPROJCannotParseAnd2dCrs) {
   try {
     CrsToGeocentric bad("EPSG:NOPE");
