@@ -5,6 +5,7 @@
 set -uo pipefail
 source "$(dirname "$0")/lib/check.sh"
 dba=$1
+root=${2:-$(dirname "$0")/..}
 
 "$dba" generate --help >"$tmp/help"; check "generate --help exits 0" test $? -eq 0
 for opt in --images --features --forward-overlap --side-overlap --cameras --model --camera-model \
@@ -188,6 +189,56 @@ head -4 "$tmp/g.priors" | awk '/^#/ { next } { print $1, $2, $3, $4 }' >"$tmp/th
 "$dba" solve "$tmp/g.dba" -q --camera-priors "$tmp/three.priors" --prior-sigma 2,4 --max-iterations 2 \
   >/dev/null 2>&1
 check "three priors without σ and --prior-sigma solve" test $? -eq 0
+
+# Ground control (a small version of bench/ground_control.sh): 10 control and
+# 20 check points (σ 2 cm) on the same kind of survey, with the GNSS priors.
+# Control points are points of the solve with a prior; check points are
+# triangulated after it and land within the reconstruction's own error of
+# their truth (at most 1.6x its RMS after the best similarity; the written
+# output keeps only the problem's own points).
+mkdir -p "$tmp/gc"
+"$dba" generate "$tmp/gc.dba" --model photo --images 300 --cameras 2 --seed 4 --unaligned \
+  --priors "$tmp/gc/p.txt" --gnss-sigma 2,4 --gnss-outliers 0.02 \
+  --gcps "$tmp/gc/g.txt" --control-points 10 --check-points 20 --truth "$tmp/gc.truth.dba" >/dev/null
+check "generate --gcps exits 0" test $? -eq 0
+check "it writes 10 control and 20 check points with their truth" test \
+  "$(grep -c ' control # true' "$tmp/gc/g.txt") $(grep -c ' check # true' "$tmp/gc/g.txt")" = "10 20"
+"$dba" solve "$tmp/gc.dba" -q --camera-priors "$tmp/gc/p.txt" --gcps "$tmp/gc/g.txt" \
+  -o "$tmp/gc.out.dba" --report "$tmp/gc/with.json" --accuracy-report "$tmp/gc/acc.txt" >"$tmp/gcout" 2>&1
+check "solve --camera-priors --gcps exits 0" test $? -eq 0
+check "the report has the control and check points, none flagged" json "$tmp/gc/with.json" \
+  "d['control_points']['count'] == 10 and d['check_points']['count'] == 20
+   and d['control_points']['flagged'] == [] and d['control_points']['rms_3d'] < 0.05
+   and d['check_points']['rms_3d'] < 0.5 and near(d['georeferencing']['sigma0_squared'], 1, 0.05)"
+check "--accuracy-report: a row per prior, control and check point" test \
+  "$(grep -c '^gnss ' "$tmp/gc/acc.txt") $(grep -c '^control ' "$tmp/gc/acc.txt") $(grep -c '^check ' "$tmp/gc/acc.txt")" = "300 10 20"
+"$dba" solve "$tmp/gc.out.dba" -q --max-iterations 1 --report "$tmp/gc/without.json" >/dev/null 2>&1
+check "the output holds the problem's points only" test \
+  "$(json_value "$tmp/gc/without.json" num_points)" = "$(json_value "$tmp/gc/with.json" num_points)"
+check "check points within 1.6x the reconstruction's own error of their truth" \
+  python3 -c "import sys; r = float(sys.argv[1].split('|')[5]); sys.exit(0 if 0 < r <= 1.6 else 1)" \
+  "$(python3 "$root/bench/check_point_ratio.py" "$tmp/gc" 300 4)"
+# Control points alone place the block: aligned onto them, then held by them.
+"$dba" solve "$tmp/gc.dba" -q --gcps "$tmp/gc/g.txt" --truth "$tmp/gc.truth.dba" --truth-absolute \
+  --report "$tmp/gc/only.json" >"$tmp/gcout" 2>&1
+check "--gcps alone aligns onto the control points" grep -q "aligned onto the control points (scale [0-9.]*, 10 inliers)" "$tmp/gcout"
+check "and lands the cameras within 0.5 m of the truth, with no similarity" json "$tmp/gc/only.json" \
+  "d['ground_truth']['absolute'] and d['ground_truth']['camera_centre_rms'] < 0.5"
+# Bad ground control: file and line, exit 1, nothing written.
+grep -v ' check ' "$tmp/gc/g.txt" | grep -v '^CHK' | sed 's/ control / check /' >"$tmp/gc/checkonly.txt"
+printf 'A 1 2 3 0.02 0.02 control\nA 400 10 10\n' >"$tmp/gc/range.txt"
+printf 'A 1 2 3 0.02 0.02 control\nB 4 10 10\n' >"$tmp/gc/undefined.txt"
+for bad in "range:2: image '400': expected a 0-based camera index below 300" \
+           "undefined:2: measurement of 'B', which no line" \
+           "checkonly: no control points and no --camera-priors"; do
+  name=${bad%%:*}
+  "$dba" solve "$tmp/gc.dba" -q --gcps "$tmp/gc/$name.txt" -o "$tmp/gc/never.dba" >"$tmp/gerr" 2>&1
+  check "bad ground control ($name) exits 1" test $? -eq 1
+  check "bad ground control ($name) names the file and line" grep -qF "$tmp/gc/$name.txt${bad#"$name"}" "$tmp/gerr"
+  check "bad ground control ($name) writes nothing" test ! -e "$tmp/gc/never.dba"
+done
+"$dba" solve "$tmp/gc.dba" -q --gcp-crs EPSG:4979 >"$tmp/gerr" 2>&1
+check "--gcp-crs without --gcps exits 2" test $? -eq 2
 
 # Mismatches: a robust loss finds them, --reject-outliers drops them, and the
 # solves after that use the squared loss (final_cost is then the plain

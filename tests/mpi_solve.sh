@@ -206,9 +206,9 @@ else
 fi
 
 # Camera priors: the main rank adds their terms to the global RCS. A BAL
-# text survey (rank 0 holds it, aligns it onto the priors and hands it out)
-# on 1 and 4 ranks, and a photogrammetric .dba read by the ranks (not
-# aligned first) on 2 and 4 ranks: the same optimum with defaults (1e-5).
+# text survey on 1 and 4 ranks and a photogrammetric .dba on 2 and 4 ranks
+# (georeferenced, rank 0 reads either, aligns it onto the priors and hands
+# it out): the same optimum with defaults (1e-5).
 "$dba" generate "$tmp/gnss.txt" --images 80 --seed 8 --priors "$tmp/gnss.priors" --gnss-outliers 0.05 >/dev/null
 "$dba" solve "$tmp/gnss.txt" -q --camera-priors "$tmp/gnss.priors" --report "$tmp/gnss1.json" >/dev/null 2>&1 \
   || fail "BAL with priors, one process"
@@ -225,6 +225,35 @@ if within "$(final_cost "$tmp/gnss1.json")" "$(final_cost "$tmp/gnss3.json")" 1e
   passes=$((passes + 1)); echo "ok   camera priors: BAL -np 1 and 4, photo .dba -np 2 and 4"
 else
   fail "camera priors: $(final_cost "$tmp/gnss3.json") vs $(final_cost "$tmp/gnss1.json"); $(final_cost "$tmp/gnssp3.json") vs $(final_cost "$tmp/gnssp2.json")"
+fi
+
+# Ground control: control points are points with a prior, in whichever
+# rank's share they fall; with GNSS priors too, on an unaligned survey, 1, 2
+# and 4 ranks reach the same optimum (1e-5) and the same check points; with
+# outlier rejection on 2 ranks, one process's rounds and optimum.
+"$dba" generate "$tmp/gcp.dba" --model photo --images 120 --cameras 2 --seed 9 --unaligned --outliers 0.02 \
+  --priors "$tmp/gcp.priors" --gcps "$tmp/gcp.txt" --control-points 6 --check-points 6 >/dev/null
+geo=(--camera-priors "$tmp/gcp.priors" --gcps "$tmp/gcp.txt")
+"$dba" solve "$tmp/gcp.dba" -q "${geo[@]}" --report "$tmp/gcp1.json" >/dev/null 2>&1 || fail "ground control, one process"
+"$dba" solve "$tmp/gcp.dba" -q "${geo[@]}" --loss cauchy --reject-outliers 4 --report "$tmp/gcpr1.json" >/dev/null 2>&1 \
+  || fail "ground control with rejection, one process"
+for n in 2 4; do
+  mpirun_n "$n" "$dba" solve "$tmp/gcp.dba" -q "${geo[@]}" --report "$tmp/gcp$n.json" >"$tmp/gcp.out" 2>&1 \
+    || { fail "ground control -np $n exited non-zero"; cat "$tmp/gcp.out" >&2; }
+done
+mpirun_n 2 "$dba" solve "$tmp/gcp.dba" -q "${geo[@]}" --loss cauchy --reject-outliers 4 --report "$tmp/gcpr2.json" \
+  >"$tmp/gcp.out" 2>&1 || { fail "ground control with rejection -np 2 exited non-zero"; cat "$tmp/gcp.out" >&2; }
+same_checks() {  # the check points' figures of two reports agree to 1 mm
+  json "$1" "d['check_points']['count'] == 6 and abs(d['check_points']['rms_3d'] - $(python3 -c "import json; print(json.load(open('$2'))['check_points']['rms_3d'])")) < 1e-3"
+}
+if within "$(final_cost "$tmp/gcp1.json")" "$(final_cost "$tmp/gcp2.json")" 1e-5 && \
+   within "$(final_cost "$tmp/gcp1.json")" "$(final_cost "$tmp/gcp4.json")" 1e-5 && \
+   within "$(final_cost "$tmp/gcpr1.json")" "$(final_cost "$tmp/gcpr2.json")" 1e-5 && \
+   same_checks "$tmp/gcp4.json" "$tmp/gcp1.json" && same_checks "$tmp/gcpr2.json" "$tmp/gcpr1.json" && \
+   json "$tmp/gcp4.json" "d['control_points']['count'] == 6 and d['num_points'] == $(json_value "$tmp/gcp1.json" num_points)"; then
+  passes=$((passes + 1)); echo "ok   ground control: -np 1, 2 and 4; with rejection -np 1 and 2"
+else
+  fail "ground control: $(final_cost "$tmp/gcp1.json"), $(final_cost "$tmp/gcp2.json"), $(final_cost "$tmp/gcp4.json"); rejection $(final_cost "$tmp/gcpr1.json") vs $(final_cost "$tmp/gcpr2.json")"
 fi
 
 # Outlier rejection, distributed: each rank drops from its own points what
