@@ -9,7 +9,8 @@ root=${2:-$(dirname "$0")/..}
 
 "$dba" generate --help >"$tmp/help"; check "generate --help exits 0" test $? -eq 0
 for opt in --images --features --forward-overlap --side-overlap --cameras --model --camera-model \
-           --field-of-view --noise --seed --truth; do
+           --field-of-view --noise --seed --truth --priors --gnss-sigma --gnss-outliers --unaligned \
+           --gcps --control-points --check-points --gcp-sigma; do
   check "help lists $opt" grep -qF -- "$opt" "$tmp/help"
 done
 "$dba" generate >/dev/null 2>&1; check "missing output exits 2" test $? -eq 2
@@ -162,6 +163,23 @@ check "and flags the same priors with the same σ0²" json "$tmp/g84.json" \
   "d['camera_priors']['flagged'] == $(python3 -c "import json; print(json.load(open('$tmp/g.json'))['camera_priors']['flagged'])")
    and near(d['camera_priors']['sigma0_squared'], $(python3 -c "import json; print(json.load(open('$tmp/g.json'))['camera_priors']['sigma0_squared'])"), 1e-3)
    and d['camera_priors']['crs'] == 'EPSG:4979' and 'cart' in d['camera_priors']['local_frame']['proj_pipeline']"
+# --output-crs: the camera centres back in WGS84, each near its prior
+# (within 15 m but for the gross errors), and nowhere without a CRS.
+"$dba" solve "$tmp/g.dba" -q --camera-priors "$tmp/g84.priors" --prior-crs EPSG:4979 \
+  --output-crs EPSG:4979 --camera-centres "$tmp/g84.centres" --ply "$tmp/g84.ply" >/dev/null 2>&1
+check "--output-crs EPSG:4979 exits 0" test $? -eq 0
+check "the camera centres are in latitude, longitude, height, near their priors" \
+  python3 - "$tmp/g84.centres" "$tmp/g84.priors" <<'PY'
+import math, sys
+c = {l.split()[0]: [float(x) for x in l.split()[1:4]] for l in open(sys.argv[1]) if not l.startswith("#")}
+p = {l.split()[0]: [float(x) for x in l.split()[1:4]] for l in open(sys.argv[2])}
+near = sum(1 for k in p if abs(c[k][0] - p[k][0]) * 111e3 < 15 and abs(c[k][1] - p[k][1]) * 76e3 < 15
+           and abs(c[k][2] - p[k][2]) < 15)
+sys.exit(0 if len(c) == 300 and near >= 0.95 * 300 else 1)
+PY
+"$dba" solve "$tmp/g.dba" -q --camera-priors "$tmp/g.priors" --output-crs EPSG:4979 >"$tmp/gerr" 2>&1
+check "--output-crs with priors in a Cartesian frame exits 2" test $? -eq 2
+check "and says why" grep -q -- "--output-crs: the solve is in a Cartesian frame of its own" "$tmp/gerr"
 "$dba" solve "$tmp/g.dba" -q --camera-priors "$tmp/g84.priors" --prior-crs EPSG:4326 >"$tmp/gerr" 2>&1
 check "a 2D CRS exits 2" test $? -eq 2
 check "and says why" grep -q -- "--prior-crs: the CRS 'EPSG:4326' has 2 axes: a 3D CRS is needed" "$tmp/gerr"

@@ -6,6 +6,7 @@
 #include <ostream>
 
 #include "dba/app/arguments.h"
+#include "dba/camera/pose_similarity.h"
 #include "dba/common/error.h"
 #include "dba/geo/local_frame.h"
 #include "dba/io/atomic_output_file.h"
@@ -69,6 +70,7 @@ void ToLocalFrame(const GeoreferenceOptions& options, Georeference* geo, SolveRe
   if (control_crs) {
     for (GroundControlPoint& p : geo->gcps.points) p.position = frame.ToLocal(ecef[x++]);
   }
+  geo->frame = frame;
   const CrsToGeocentric& first = prior_crs ? *prior_crs : *control_crs;
   report->has_local_frame = true;
   report->local_frame_origin = frame.origin_geodetic;
@@ -111,6 +113,13 @@ Georeference PrepareGeoreference(const GeoreferenceOptions& options, const Image
     }
   }
   ToLocalFrame(options, &geo, report, out);
+  if (!options.output_crs.empty()) {
+    if (!geo.frame) {
+      throw UsageError("--output-crs: the solve is in a Cartesian frame of its own; give the "
+                       "priors' or control points' CRS (--prior-crs, --gcp-crs)");
+    }
+    OpenCrs("--output-crs", options.output_crs);  // refused now, not after the solve
+  }
 
   // Before LM, the block onto the priors, or else onto the control points.
   const int64_t control = geo.gcps.CountControl();
@@ -145,6 +154,42 @@ Georeference PrepareGeoreference(const GeoreferenceOptions& options, const Image
   AddControlPoints(geo.gcps, problem);
   geo.control_points = control;
   return geo;
+}
+
+std::vector<double> InOutputCrs(const GeoreferenceOptions& options, const Georeference& geo,
+                                const std::vector<double>& xyz) {
+  if (options.output_crs.empty() || !geo.frame) return xyz;
+  const auto crs = OpenCrs("--output-crs", options.output_crs);
+  std::vector<double> out(xyz.size());
+  for (size_t k = 0; k + 2 < xyz.size(); k += 3) {
+    const Eigen::Vector3d p = crs->Inverse(geo.frame->ToGeocentric(Eigen::Vector3d(&xyz[k])));
+    for (int a = 0; a < 3; ++a) out[k + a] = p[a];
+  }
+  return out;
+}
+
+void WriteCameraCentres(const GeoreferenceOptions& options, const Georeference& geo,
+                        const CameraSide& side, const std::vector<std::string>& image_names) {
+  std::vector<double> centres;
+  for (int64_t i = 0; i < side.num_images(); ++i) {
+    const Vec3 c = CameraCentre(side.camera(i));
+    centres.insert(centres.end(), c.data(), c.data() + 3);
+  }
+  centres = InOutputCrs(options, geo, centres);
+  const bool crs = !options.output_crs.empty() && geo.frame;
+  std::string text = "# dba solve: camera centres C = -R^T t, IMAGE X Y Z, in " +
+                     (crs ? options.output_crs
+                          : std::string(geo.frame ? "the local east-north-up frame of the report"
+                                                  : "the solve's frame")) + "\n";
+  char line[320];
+  for (int64_t i = 0; i < side.num_images(); ++i) {
+    const std::string name = i < static_cast<int64_t>(image_names.size()) ? image_names[i]
+                                                                          : std::to_string(i);
+    std::snprintf(line, sizeof line, crs ? "%s %.10f %.10f %.6f\n" : "%s %.6f %.6f %.6f\n",
+                  name.c_str(), centres[3 * i], centres[3 * i + 1], centres[3 * i + 2]);
+    text += line;
+  }
+  WriteFileAtomically(options.camera_centres_path, text);
 }
 
 void MeasureGeoreference(const GeoreferenceOptions& options, const Georeference& geo,

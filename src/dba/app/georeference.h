@@ -16,6 +16,7 @@
 
 #include "dba/app/solve_input.h"
 #include "dba/app/solve_report.h"
+#include "dba/geo/local_frame.h"
 #include "dba/lm/ground_control.h"
 #include "dba/lm/prior_workers.h"
 
@@ -32,6 +33,10 @@ struct GeoreferenceOptions {
   std::string gcps_path;
   std::string gcp_crs;  // empty: prior_crs
   std::string accuracy_report_path;  // empty: none
+  // --output-crs: the point cloud and the camera centres converted from the
+  // local frame back into this CRS (needs --prior-crs or --gcp-crs).
+  std::string output_crs;
+  std::string camera_centres_path;  // --camera-centres: IMAGE X Y Z per image
   bool any() const { return !camera_priors_path.empty() || !gcps_path.empty(); }
 };
 
@@ -40,6 +45,7 @@ struct Georeference {
   GroundControl gcps;
   std::vector<std::string> image_names;  // how images are named in the report
   int64_t control_points = 0;  // appended to the problem: its last points
+  std::optional<LocalFrame> frame;  // the local ENU frame, when a CRS was given
   bool empty() const { return priors.empty() && gcps.empty(); }
 };
 
@@ -55,6 +61,16 @@ Georeference PrepareGeoreference(const GeoreferenceOptions& options, const Image
 // still last): takes the control points out of `problem`, triangulates the
 // check points, and fills report->accuracy (σ0² from the solve's final
 // cost).
+// `xyz` (3 per point, the solve's frame) in --output-crs, or as they are
+// without it. Throws std::runtime_error where PROJ cannot convert.
+std::vector<double> InOutputCrs(const GeoreferenceOptions& options, const Georeference& geo,
+                                const std::vector<double>& xyz);
+
+// --camera-centres: "IMAGE X Y Z" per image (C = -Rᵀt), in --output-crs or
+// the solve's frame, written atomically.
+void WriteCameraCentres(const GeoreferenceOptions& options, const Georeference& geo,
+                        const CameraSide& side, const std::vector<std::string>& image_names);
+
 void MeasureGeoreference(const GeoreferenceOptions& options, const Georeference& geo,
                          Problem* problem, SolveReport* report);
 

@@ -152,6 +152,10 @@ void PrintSolveHelp(std::ostream& out) {
          "  --gcp-crs CRS              the GCPs' CRS (default: --prior-crs); converted to\n"
          "                             the same local frame, refused where PROJ has only a\n"
          "                             ballpark height transformation (a missing geoid grid)\n"
+         "  --output-crs CRS           with a CRS given: --ply and --camera-centres in this\n"
+         "                             3D CRS (converted back from the local frame by PROJ);\n"
+         "                             the problem outputs stay in the local frame\n"
+         "  --camera-centres FILE      the adjusted camera centres, IMAGE X Y Z per line\n"
          "  --accuracy-report FILE     with --camera-priors or --gcps: the figures as a\n"
          "                             table, and each prior's, control and check point's dx,\n"
          "                             dy, dz, squared Mahalanobis distance and flag\n"
@@ -322,6 +326,10 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       o.geo.gcps_path = value();
     } else if (a == "--gcp-crs") {
       o.geo.gcp_crs = value();
+    } else if (a == "--output-crs") {
+      o.geo.output_crs = value();
+    } else if (a == "--camera-centres") {
+      o.geo.camera_centres_path = value();
     } else if (a == "--prior-loss") {
       const std::string& v = value();
       if (!ParseLoss(v, &o.geo.prior_loss.type)) {
@@ -390,6 +398,9 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
   }
   if (!o.geo.accuracy_report_path.empty() && !o.geo.any()) {
     throw std::invalid_argument("--accuracy-report needs --camera-priors FILE or --gcps FILE");
+  }
+  if (!o.geo.output_crs.empty() && !o.geo.any()) {
+    throw std::invalid_argument("--output-crs needs --camera-priors or --gcps in a CRS");
   }
   if (!o.geo.gcp_crs.empty() && o.geo.gcps_path.empty()) {
     throw std::invalid_argument("--gcp-crs: no --gcps FILE");
@@ -560,7 +571,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       comm->size() > 1 && IsBinaryProblem(options.input) && !options.geo.any();
   std::optional<Checkpoint> resumed;  // main rank
   Georeference geo;                   // main rank: --camera-priors, --gcps
-  ImageNames colmap_names;            // main rank, georeferencing a COLMAP input
+  ImageNames colmap_names;  // main rank, georeferencing or --camera-centres: a COLMAP input's
   if (main) {
     Timer load_timer;
     CameraModel model = CameraModel::kBal;
@@ -576,7 +587,9 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       CheckedFixings(options.unknowns, ReadBinaryCameraSide(options.input));
     } else {
       problem = LoadSolveInput(options.input, options.unknowns,
-                               options.geo.any() ? &colmap_names : nullptr);
+                               options.geo.any() || !options.geo.camera_centres_path.empty()
+                                   ? &colmap_names
+                                   : nullptr);
       model = problem.model;
       report.num_cameras = problem.num_images();
       report.num_intrinsic_groups = problem.num_groups();
@@ -607,6 +620,9 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       CheckWritable("--accuracy-report", options.geo.accuracy_report_path, false);
     }
     if (!options.checkpoint_path.empty()) CheckWritable("--checkpoint", options.checkpoint_path, false);
+    if (!options.geo.camera_centres_path.empty()) {
+      CheckWritable("--camera-centres", options.geo.camera_centres_path, false);
+    }
     if (!options.truth_path.empty()) CheckTruthFile(options.truth_path, report);
     if (options.geo.any()) {
       geo = PrepareGeoreference(options.geo, colmap_names, &problem, &report, out);
@@ -810,7 +826,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
         rgb.swap(left);
       }
     }
-    WritePointCloudPly(options.ply_path, problem.points, rgb);
+    WritePointCloudPly(options.ply_path, InOutputCrs(options.geo, geo, problem.points), rgb);
   }
   if (!options.output.empty()) {
     const OutputKind kind =
@@ -836,6 +852,10 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
       }
       WriteProblem(problem, options.output);
     }
+  }
+  if (!options.geo.camera_centres_path.empty()) {
+    // Named as the input names them (COLMAP), else by index.
+    WriteCameraCentres(options.geo, geo, problem, colmap_names.problem);
   }
   report.write_seconds = write_timer.Seconds();
   report.peak_memory_bytes = PeakResidentBytes();

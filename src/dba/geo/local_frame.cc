@@ -73,14 +73,23 @@ CrsToGeocentric::~CrsToGeocentric() {
 }
 
 Eigen::Vector3d CrsToGeocentric::Forward(const Eigen::Vector3d& xyz) const {
+  return Transform(xyz, true);
+}
+
+Eigen::Vector3d CrsToGeocentric::Inverse(const Eigen::Vector3d& ecef) const {
+  return Transform(ecef, false);
+}
+
+Eigen::Vector3d CrsToGeocentric::Transform(const Eigen::Vector3d& xyz, bool forward) const {
   PJ_COORD c = proj_coord(xyz.x(), xyz.y(), xyz.z(), 0.0);
-  const PJ_COORD r = proj_trans(static_cast<PJ*>(transform_), PJ_FWD, c);
+  const PJ_COORD r = proj_trans(static_cast<PJ*>(transform_), forward ? PJ_FWD : PJ_INV, c);
   const Eigen::Vector3d out(r.xyz.x, r.xyz.y, r.xyz.z);
   if (!out.allFinite() || std::abs(out.x()) == HUGE_VAL) {
     throw std::runtime_error("PROJ cannot transform (" + std::to_string(xyz.x()) + ", " +
                              std::to_string(xyz.y()) + ", " + std::to_string(xyz.z()) +
-                             ") to geocentric coordinates (outside the CRS's area, or a grid "
-                             "it needs is missing)");
+                             (forward ? ") to" : ") from") +
+                             " geocentric coordinates (outside the CRS's area, or a grid it "
+                             "needs is missing)");
   }
   // A ballpark transformation takes geoid (or other) heights as
   // ellipsoidal ones, tens of metres off: the classic georeferencing

@@ -36,12 +36,15 @@ class CrsToGeocentric {
   // ballpark transformation (geoid heights without their grid would be
   // taken as ellipsoidal ones).
   Eigen::Vector3d Forward(const Eigen::Vector3d& xyz) const;
+  // Geocentric coordinates back into the CRS (the same refusals).
+  Eigen::Vector3d Inverse(const Eigen::Vector3d& ecef) const;
   // The PROJ pipeline used (for the report).
   std::string Pipeline() const;
   // "ellipsoidal" or "geoid/other" heights, as PROJ names the vertical axis.
   std::string HeightKind() const { return height_kind_; }
 
  private:
+  Eigen::Vector3d Transform(const Eigen::Vector3d& xyz, bool forward) const;
   void* context_ = nullptr;
   void* transform_ = nullptr;
   std::string height_kind_;
