@@ -196,6 +196,26 @@ for l in lines[0::2]:
 sys.exit(0 if len(lines) // 2 == 6 and worst < 0.3 else 1)
 PY
 
+# With the example's ground control by image name: the control points hold
+# (σ 2/3 cm), the check point lands within 5 cm of its survey, the output
+# keeps the model's own points; a measurement outside its image (COLMAP
+# gives image sizes) is refused with file and line, nothing written.
+"$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q -o "$tmp/gcp_out" --colmap-format text \
+  --camera-priors "$root/examples/georeferencing/mithunnallana_6img.priors" \
+  --gcps "$root/examples/georeferencing/mithunnallana_6img.gcps" --report "$tmp/gcp.json" >"$tmp/out" 2>&1
+check "a COLMAP model with ground control by image name solves" test $? -eq 0
+check "the control points hold and the check point lands near its survey" json "$tmp/gcp.json" \
+  "d['control_points']['count'] == 3 and d['control_points']['rms_3d'] < 0.02
+   and d['check_points']['count'] == 1 and d['check_points']['rms_3d'] < 0.05"
+check "the output keeps the model's own points" test \
+  "$(grep -vc '^#' "$tmp/gcp_out/points3D.txt")" = "$(grep -vc '^#' "$colmap/mithunnallana_6img/sparse/0/points3D.txt")"
+sed 's/^GCP2 l-519.jpg .*/GCP2 l-519.jpg 5000 12/' "$root/examples/georeferencing/mithunnallana_6img.gcps" >"$tmp/outside.gcps"
+"$dba" solve "$colmap/mithunnallana_6img/sparse/0" -q -o "$tmp/never_out" \
+  --camera-priors "$root/examples/georeferencing/mithunnallana_6img.priors" --gcps "$tmp/outside.gcps" >"$tmp/out" 2>&1
+check "a measurement outside its image exits 1" test $? -eq 1
+check "and names the file, line and image" grep -qF "$tmp/outside.gcps:11: measurement of 'GCP2': (5000, 12) is outside image 'l-519.jpg'" "$tmp/out"
+check "and writes nothing" test ! -e "$tmp/never_out"
+
 # Hardening (issue "Nothing lost, nothing wrong"): arguments that do not fit
 # the input exit 2; a non-finite initial cost is refused with the observation;
 # every output path and the truth are checked before the solve, and nothing is
