@@ -16,14 +16,7 @@ std::vector<CameraPriorRow> ReadCameraPriorsFile(const std::string& path) {
   std::string_view view;
   while (in.ReadLine(&view)) {
     const int64_t line = in.line_number();
-    std::string text(view.substr(0, view.find('#')));
-    for (char& c : text) {
-      if (c == ',') c = ' ';
-    }
-    LineTokens t(text);
-    std::vector<std::string_view> fields;
-    std::string_view token;
-    while (t.Next(&token)) fields.push_back(token);
+    const std::vector<std::string> fields = CommentFreeFields(view);
     if (fields.empty()) continue;
     if (fields.size() != 4 && fields.size() != 6) {
       throw InputError(path, line,
@@ -35,18 +28,18 @@ std::vector<CameraPriorRow> ReadCameraPriorsFile(const std::string& path) {
     for (size_t k = 1; k < fields.size(); ++k) {
       if (ParseDouble(fields[k], &v[k - 1]) != NumberStatus::kOk) {
         throw InputError(path, line,
-                         std::string(kNames[k - 1]) + ": '" + std::string(fields[k]) +
+                         std::string(kNames[k - 1]) + ": '" + fields[k] +
                              "' is not a finite number");
       }
     }
     CameraPriorRow row;
-    row.image = std::string(fields[0]);
+    row.image = fields[0];
     row.xyz = Eigen::Vector3d(v[0], v[1], v[2]);
     row.line = line;
     if (fields.size() == 6) {
       if (!(v[3] > 0) || !(v[4] > 0)) {
-        throw InputError(path, line, "sigma must be > 0, got SIGMA_XY " + std::string(fields[4]) +
-                                         " and SIGMA_Z " + std::string(fields[5]));
+        throw InputError(path, line, "sigma must be > 0, got SIGMA_XY " + fields[4] +
+                                         " and SIGMA_Z " + fields[5]);
       }
       row.sigma = Eigen::Vector2d(v[3], v[4]);
     }

@@ -10,19 +10,6 @@
 namespace dba {
 namespace {
 
-// The fields of a line without its comment, commas read as blanks.
-std::vector<std::string> Fields(std::string_view view) {
-  std::string text(view.substr(0, view.find('#')));
-  for (char& c : text) {
-    if (c == ',') c = ' ';
-  }
-  LineTokens t(text);
-  std::vector<std::string> fields;
-  std::string_view token;
-  while (t.Next(&token)) fields.emplace_back(token);
-  return fields;
-}
-
 double Number(const std::string& path, int64_t line, const char* what, const std::string& field) {
   double v = 0.0;
   if (ParseDouble(field, &v) != NumberStatus::kOk) {
@@ -46,7 +33,7 @@ std::vector<GroundControlRow> ReadGroundControlFile(const std::string& path) {
   std::string_view view;
   while (in.ReadLine(&view)) {
     const int64_t line = in.line_number();
-    const std::vector<std::string> f = Fields(view);
+    const std::vector<std::string> f = CommentFreeFields(view);
     if (f.empty()) continue;
     if (f.size() == 4) {
       measurements.push_back({f[0], {f[1], {Number(path, line, "x", f[2]),

@@ -34,4 +34,16 @@ NumberStatus ParseDouble(std::string_view token, double* value) {
 NumberStatus ParseInteger(std::string_view token, int64_t* value) { return Parse(token, value); }
 NumberStatus ParseInteger(std::string_view token, uint64_t* value) { return Parse(token, value); }
 
+std::vector<std::string> CommentFreeFields(std::string_view line) {
+  std::string text(line.substr(0, line.find('#')));
+  for (char& c : text) {
+    if (c == ',') c = ' ';
+  }
+  LineTokens t(text);
+  std::vector<std::string> fields;
+  std::string_view token;
+  while (t.Next(&token)) fields.emplace_back(token);
+  return fields;
+}
+
 }  // namespace dba

@@ -6,7 +6,9 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace dba {
 
@@ -59,6 +61,10 @@ enum class NumberStatus { kOk, kNotANumber, kOutOfRange, kNotFinite };
 
 // The whole token as a double (finite), or why not.
 NumberStatus ParseDouble(std::string_view token, double* value);
+
+// The fields of a line of dba's own text inputs (camera priors, ground
+// control): the text before any '#', split at blanks and commas.
+std::vector<std::string> CommentFreeFields(std::string_view line);
 // The whole token as an integer of the type's range, or why not.
 NumberStatus ParseInteger(std::string_view token, int64_t* value);
 NumberStatus ParseInteger(std::string_view token, uint64_t* value);

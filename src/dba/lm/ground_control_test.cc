@@ -18,6 +18,7 @@ namespace {
 // Points 3, 17, 29 and 41 of the truth as surveyed points, measured where
 // the truth sees them with `sigma_px` of noise.
 GroundControl FromTruth(const Problem& truth, bool control, double sigma_px = 0.5) {
+  EXPECT_GT(truth.num_points(), 41);
   std::mt19937_64 rng(7);
   std::normal_distribution<double> noise(0.0, sigma_px);
   GroundControl g;
@@ -98,7 +99,7 @@ TEST(GroundControl, AlignmentRecoversTheSimilarityOfTheControlPoints) {
 TEST(GroundControl, ControlPointsAreAppendedWithTheirPriorsAndTakenOutAgain) {
   testing::SyntheticBalOptions o;
   o.num_cameras = 6;
-  o.num_points = 30;
+  o.num_points = 60;
   const testing::SyntheticProblem s = testing::MakeSyntheticBal(o);
   Problem p = s.problem;
   const Problem before = p;
