@@ -826,7 +826,11 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
         rgb.swap(left);
       }
     }
-    WritePointCloudPly(options.ply_path, InOutputCrs(options.geo, geo, problem.points), rgb);
+    if (options.geo.output_crs.empty()) {
+      WritePointCloudPly(options.ply_path, problem.points, rgb);
+    } else {
+      WritePointCloudPly(options.ply_path, InOutputCrs(options.geo, geo, problem.points), rgb);
+    }
   }
   if (!options.output.empty()) {
     const OutputKind kind =

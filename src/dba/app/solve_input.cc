@@ -1,10 +1,11 @@
 // dba solve's inputs and outputs; see solve_input.h.
 #include "dba/app/solve_input.h"
 
-#include "dba/io/ground_control_file.h"
 #include <unordered_map>
-#include "dba/io/text_tokens.h"
+
 #include "dba/io/camera_priors_file.h"
+#include "dba/io/ground_control_file.h"
+#include "dba/io/text_tokens.h"
 
 #include "dba/io/path_kind.h"
 #include "dba/app/arguments.h"
@@ -130,11 +131,6 @@ Fixings CheckedFixings(const UnknownsOptions& u, const CameraSide& side) {
 std::optional<int32_t> ResolveImage(const std::string& path, int64_t line, const std::string& image,
                                     const ImageNames& names, int64_t num_images) {
   if (!names.problem.empty()) {
-    if (names.index.empty()) {
-      for (size_t i = 0; i < names.problem.size(); ++i) {
-        names.index.emplace(names.problem[i], static_cast<int32_t>(i));
-      }
-    }
     const auto it = names.index.find(image);
     if (it != names.index.end()) return it->second;
     if (names.others.contains(image)) return std::nullopt;  // not adjusted
@@ -210,13 +206,14 @@ Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
     ColmapInput in = ReadColmapInput(path, unknowns);
     if (names != nullptr) {
       for (const ColmapImage& im : in.model.images) names->others.insert(im.name);
-      for (int64_t j : in.source.image_index) {
-        const ColmapImage& im = in.model.images[j];
+      const Problem& p = in.source.problem;
+      for (size_t i = 0; i < in.source.image_index.size(); ++i) {
+        const ColmapImage& im = in.model.images[in.source.image_index[i]];
         names->problem.push_back(im.name);
+        names->index.emplace(im.name, static_cast<int32_t>(i));
         names->others.erase(im.name);
-        for (const ColmapCamera& c : in.model.cameras) {
-          if (c.camera_id == im.camera_id) names->size.push_back({c.width, c.height});
-        }
+        const ColmapCamera& c = in.model.cameras[in.source.group_camera[p.camera_intrinsics[i]]];
+        names->size.push_back({c.width, c.height});
       }
     }
     return std::move(in.source.problem);

@@ -59,8 +59,7 @@ struct ImageNames {
   std::unordered_set<std::string> others;
   // Each problem image's width and height in pixels (its COLMAP camera's).
   std::vector<std::array<uint64_t, 2>> size;
-  // problem's names -> index, built on first use.
-  mutable std::unordered_map<std::string, int32_t> index;
+  std::unordered_map<std::string, int32_t> index;  // problem's names -> index
 };
 
 // Reads the input and marks the fixed parameters. Throws InputError for bad

@@ -26,7 +26,8 @@ double Cost(const CameraSide& side, const Measurements& m, const Vec3& X) {
 // Levenberg–Marquardt on X alone; the Jacobian by central differences.
 Triangulation Refine(const CameraSide& side, const Measurements& m, Vec3 X) {
   double cost = Cost(side, m, X), lambda = 1e-3;
-  for (int it = 0; it < 100 && std::isfinite(cost); ++it) {
+  bool converged = false;
+  for (int it = 0; it < 100 && !converged && std::isfinite(cost); ++it) {
     Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
     Vec3 g = Vec3::Zero();
     const double h = 1e-7 * (1.0 + X.norm());
@@ -43,21 +44,18 @@ Triangulation Refine(const CameraSide& side, const Measurements& m, Vec3 X) {
       H.noalias() += J.transpose() * J;
       g.noalias() += J.transpose() * r;
     }
-    bool stepped = false;
-    while (lambda < 1e12) {
+    // Raise λ until a step lowers the cost; none does: converged.
+    converged = true;
+    for (; lambda < 1e12; lambda *= 10) {
       Eigen::Matrix3d A = H;
       A.diagonal() += lambda * H.diagonal().cwiseMax(1e-12);
       const Vec3 step = A.ldlt().solve(-g);
       const double next = Cost(side, m, X + step);
-      if (std::isfinite(next) && next < cost) {
-        const bool small = step.norm() <= 1e-12 * (1.0 + X.norm()) || cost - next <= 1e-14 * cost;
-        X += step, cost = next, lambda = std::max(1e-12, lambda / 10), stepped = true;
-        if (small) it = 100;
-        break;
-      }
-      lambda *= 10;
+      if (!(std::isfinite(next) && next < cost)) continue;
+      converged = step.norm() <= 1e-12 * (1.0 + X.norm()) || cost - next <= 1e-14 * cost;
+      X += step, cost = next, lambda = std::max(1e-12, lambda / 10);
+      break;
     }
-    if (!stepped) break;
   }
   Triangulation t;
   t.X = X;
@@ -75,6 +73,10 @@ int64_t GroundControl::CountControl() const {
 std::vector<Triangulation> TriangulateGroundControl(const Problem& problem,
                                                     const GroundControl& gcps, bool which,
                                                     bool start_at_survey) {
+  if (std::none_of(gcps.points.begin(), gcps.points.end(),
+                   [&](const GroundControlPoint& p) { return p.control == which; })) {
+    return {};
+  }
   // The measurements by image: (point, measurement) pairs.
   std::vector<std::vector<std::pair<int, int>>> by_image(problem.num_images());
   std::vector<std::vector<double>> best_d(gcps.points.size());

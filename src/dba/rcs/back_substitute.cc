@@ -66,7 +66,8 @@ StepEvaluation BackSubstituteWith(const Problem& problem, const UnknownLayout& l
         }
         rhs.noalias() -= p.J_p[a].transpose() * p.r[a];
       }
-      if (p.has_prior) rhs -= p.prior_w.cwiseProduct(p.prior_r);
+      const Eigen::Map<const Vec3> prior_w(p.prior != nullptr ? p.prior->weight : nullptr);
+      if (p.prior != nullptr) rhs -= prior_w.cwiseProduct(p.prior_r);
       const Vec3 dX = p.V_inv * rhs;
       const Vec3 X = Eigen::Map<const Vec3>(problem.point(k));
       const Vec3 X_new = X + dX;
@@ -74,11 +75,10 @@ StepEvaluation BackSubstituteWith(const Problem& problem, const UnknownLayout& l
       step_sq += dX.squaredNorm();
       x_sq += X.squaredNorm();
       model_cost += p.model_offset;
-      if (p.has_prior) {
-        const PointPrior& prior = *problem.point_prior(k);
-        model_cost += 0.5 * (p.prior_r + p.prior_w.cwiseProduct(dX)).squaredNorm();
-        candidate_cost += 0.5 * p.prior_w.cwiseProduct(X_new - Eigen::Map<const Vec3>(prior.position))
-                                    .squaredNorm();
+      if (p.prior != nullptr) {
+        model_cost += 0.5 * (p.prior_r + prior_w.cwiseProduct(dX)).squaredNorm();
+        candidate_cost +=
+            0.5 * prior_w.cwiseProduct(X_new - Eigen::Map<const Vec3>(p.prior->position)).squaredNorm();
       }
       for (int a = 0; a < p.num_obs; ++a) {
         model_cost += 0.5 * (p.r[a] + p.J_p[a] * dX).squaredNorm();

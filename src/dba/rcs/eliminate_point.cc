@@ -87,14 +87,13 @@ void LinearizePoint(const Problem& problem, const UnknownLayout& layout,
     sys->V.noalias() += sys->J_p[a].transpose() * sys->J_p[a];
     sys->g_p.noalias() += sys->J_p[a].transpose() * sys->r[a];
   }
-  const PointPrior* prior = problem.point_prior(k);
-  sys->has_prior = prior != nullptr;
-  if (prior != nullptr) {
-    sys->prior_w = Eigen::Map<const Vec3>(prior->weight);
-    sys->prior_r = sys->prior_w.cwiseProduct(Eigen::Map<const Vec3>(X) -
-                                             Eigen::Map<const Vec3>(prior->position));
-    sys->V.diagonal() += sys->prior_w.cwiseAbs2();
-    sys->g_p += sys->prior_w.cwiseProduct(sys->prior_r);
+  sys->prior = problem.point_prior(k);
+  if (sys->prior != nullptr) {
+    const Eigen::Map<const Vec3> w(sys->prior->weight);
+    sys->prior_r = w.cwiseProduct(Eigen::Map<const Vec3>(X) -
+                                  Eigen::Map<const Vec3>(sys->prior->position));
+    sys->V.diagonal() += w.cwiseAbs2();
+    sys->g_p += w.cwiseProduct(sys->prior_r);
     sys->cost += 0.5 * sys->prior_r.squaredNorm();
   }
 }

@@ -123,9 +123,10 @@ struct PointSystem {
   // robust model (0 for the squared loss).
   double model_offset = 0.0;
   ResidualSums residuals;  // of the uncorrected residuals (observations only)
-  // A control point's prior: r₀ = w ∘ (X - X₀) (its cost is in `cost`).
-  bool has_prior = false;
-  Vec3 prior_r, prior_w;
+  // A control point's prior (null: none) and its residual r₀ = w ∘ (X - X₀)
+  // (its cost is in `cost`).
+  const PointPrior* prior = nullptr;
+  Vec3 prior_r;
 };
 
 // Residuals, Jacobians, V, g_p and the cost of point k at the problem's
