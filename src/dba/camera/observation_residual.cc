@@ -32,11 +32,12 @@ Vec2 ObservationResidual(const CameraSide& side, const double* cameras, Rotation
 
 NonFiniteResiduals FindNonFiniteResiduals(const Problem& problem, int keep) {
   NonFiniteResiduals bad;
+  RotationFrameCache frames;  // the trigonometry once per camera, not per observation
   for (int64_t k = 0; k < problem.num_points(); ++k) {
     for (int64_t o = problem.point_offsets[k]; o < problem.point_offsets[k + 1]; ++o) {
       const int32_t i = problem.obs_camera[o];
-      if (std::isfinite(ObservationResidual(problem, problem.cameras.data(), i, problem.point(k),
-                                            problem.pixel(o))
+      if (std::isfinite(ObservationResidual(problem, problem.cameras.data(), &frames, i,
+                                            problem.point(k), problem.pixel(o))
                             .squaredNorm())) {
         continue;
       }

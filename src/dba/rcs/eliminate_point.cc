@@ -15,8 +15,7 @@ void Resize(int m, PointSystem<Model>* sys) {
   sys->J_i.resize(m);
   sys->J_p.resize(m);
   sys->r.resize(m);
-  sys->W_c.resize(m);
-  sys->T_c.resize(m);
+  sys->K.resize(m);
   sys->W_i.resize(m);
 }
 
@@ -109,10 +108,8 @@ template <class Model>
 void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys) {
   InvertDampedV(lambda, bounds, sys);
   for (int a = 0; a < sys->num_obs; ++a) {
-    if (sys->camera_row[a] >= 0) {
-      sys->W_c[a].noalias() = sys->J_c[a].transpose() * sys->J_p[a];
-      sys->T_c[a].noalias() = sys->W_c[a] * sys->V_inv;
-    }
+    sys->K[a].noalias() = sys->J_p[a] * sys->V_inv;
+    if constexpr (Model::kIntrinsics == 0) continue;
     if (sys->intrinsics_row[a] >= 0) {
       sys->W_i[a].noalias() = sys->J_i[a].transpose() * sys->J_p[a];
     }

@@ -15,6 +15,12 @@
 // The point's sub-RCS (eq. 4) is the dense block over its blocks
 //   S_ef += [a == b] J_e,aᵀ J_f,b - T_e,a W_f,bᵀ
 // and its right-hand side contribution b_e += -J_e,aᵀ r_a + T_e,a g_p.
+// With K_a = J_p,a V_λ⁻¹ (2x3), T_e,a W_f,bᵀ = J_e,aᵀ K_a J_p,bᵀ J_f,b, so
+//   S_ef += J_e,aᵀ M_ab J_f,b,   M_ab = [a == b] I₂ - K_a J_p,bᵀ   (2x2)
+//   b_e  += -J_e,aᵀ (r_a - K_a g_p)
+// a rank-2 update per pair of observations (eq. 4 as the kernels compute it,
+// rcs/form_rcs.cc): no W or T per observation, and the own Gram term of a
+// diagonal block in the same pass.
 // Back-substitution (eq. 5): δX = V_λ⁻¹ (-g_p - Σ_a Σ_e W_e,aᵀ δ_e), computed
 // as V_λ⁻¹ (-Σ_a J_p,aᵀ (r_a + Σ_e J_e,a δ_e)), which needs no W.
 //
@@ -100,7 +106,6 @@ struct PointSystem {
   static constexpr int kI = Model::kIntrinsics > 0 ? Model::kIntrinsics : 2;
   using CameraJac = Eigen::Matrix<double, 2, kC, Eigen::RowMajor>;
   using IntrinsicsJac = Eigen::Matrix<double, 2, kI, Eigen::RowMajor>;
-  using CameraW = Eigen::Matrix<double, kC, 3>;
   using IntrinsicsW = Eigen::Matrix<double, kI, 3>;
 
   int num_obs = 0;
@@ -110,8 +115,8 @@ struct PointSystem {
   std::vector<IntrinsicsJac> J_i;       // free columns first, rest zero
   std::vector<PointJacobian> J_p;
   std::vector<Vec2> r;
-  std::vector<CameraW> W_c, T_c;        // W_c,a and W_c,a V_λ⁻¹
-  std::vector<IntrinsicsW> W_i;        // (T_i is formed per group, form_rcs.cc)
+  std::vector<PointJacobian> K;         // K_a = J_p,a V_λ⁻¹
+  std::vector<IntrinsicsW> W_i;         // W_i,a (T_i is formed per group, form_rcs.cc)
   Eigen::Matrix3d V;
   Eigen::Matrix3d V_inv;  // V_λ⁻¹
   // Rotation frames of the current cameras (a PointSystem lives for one
@@ -140,7 +145,7 @@ void LinearizePoint(const Problem& problem, const UnknownLayout& layout,
 template <class Model>
 void InvertDampedV(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys);
 
-// InvertDampedV, then W = J_eᵀ J_p and T_c = W_c V_λ⁻¹.
+// InvertDampedV, then K_a = J_p,a V_λ⁻¹ and W_i,a = J_i,aᵀ J_p,a.
 template <class Model>
 void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys);
 

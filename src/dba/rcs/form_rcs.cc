@@ -28,31 +28,22 @@ void AddLeftCols(double* block, int n, const M& m) {
   }
 }
 
-// block (kC x kC, row-major, in S) -= T Wᵀ for T, W kC x 3 (column-major):
-// the rank-3 update of eq. 4, 3 kC² flops. Row x is three axpys over W's
-// contiguous columns, so the compiler vectorizes it along the row; Eigen's
-// lazyProduct of the same expression compiled to scalar code (perf: 60% of
-// a 2,500-image survey's solve, all vmovsd/vfmadd231sd).
+// block (kC x kC, row-major, in S) += Aᵀ M B for A, B 2 x kC (row-major)
+// and M 2x2 (row-major): the rank-2 update J_c,aᵀ M_ab J_c,b of eq. 4
+// (eliminate_point.h), 2 kC² + 4 kC flops. Row x is two axpys over B's
+// contiguous rows, with coefficients (Aᵀ M)_x, so the compiler vectorizes it
+// along the row; Eigen's lazyProduct of such an expression compiled to
+// scalar code (perf: 60% of a 2,500-image survey's solve, all
+// vmovsd/vfmadd231sd).
 template <int kC>
-inline void SubtractRank3(double* __restrict block, const double* __restrict T,
-                          const double* __restrict W) {
+inline void AddRank2(double* __restrict block, const double* __restrict A,
+                     const double (&M)[4], const double* __restrict B) {
   for (int x = 0; x < kC; ++x) {
-    const double t0 = T[x], t1 = T[kC + x], t2 = T[2 * kC + x];
+    const double c0 = A[x] * M[0] + A[kC + x] * M[2];
+    const double c1 = A[x] * M[1] + A[kC + x] * M[3];
     double* __restrict row = block + x * kC;
 #pragma omp simd
-    for (int y = 0; y < kC; ++y) row[y] -= t0 * W[y] + t1 * W[kC + y] + t2 * W[2 * kC + y];
-  }
-}
-
-// block (kC x kC, row-major) += Jᵀ J for J 2 x kC (row-major): an
-// observation's own J_cᵀ J_c (Eigen sends this 9+9+2 product to its GEMM).
-template <int kC>
-inline void AddGram2(double* __restrict block, const double* __restrict J) {
-  for (int x = 0; x < kC; ++x) {
-    const double j0 = J[x], j1 = J[kC + x];
-    double* __restrict row = block + x * kC;
-#pragma omp simd
-    for (int y = 0; y < kC; ++y) row[y] += j0 * J[y] + j1 * J[kC + y];
+    for (int y = 0; y < kC; ++y) row[y] += c0 * B[y] + c1 * B[kC + y];
   }
 }
 
@@ -111,13 +102,13 @@ struct RcsTarget {
 
 // Adds point k's sub-RCS and rhs into the system, row by row under the row
 // locks. For observation a with camera row c_a, and the point's intrinsics
-// rows g with their sums (GroupSums):
-//   row c_a: S(c_a, c_b) -= T_c,a W_c,bᵀ for c_b >= c_a, plus J_c,aᵀ J_c,a
-//            on the diagonal; S(c_a, g) -= T_c,a (Σ_g W)ᵀ for every g, plus
-//            J_c,aᵀ J_i,a in (c_a, g_a);
+// rows g with their sums (GroupSums), K_a = J_p,a V_λ⁻¹:
+//   row c_a: S(c_a, c_b) += J_c,aᵀ M_ab J_c,b for c_b >= c_a, with
+//            M_ab = [a == b] I - K_a J_p,bᵀ (the own J_c,aᵀ J_c,a included);
+//            S(c_a, g) += J_c,aᵀ ([g == g_a] J_i,a - K_a (Σ_g W)ᵀ) for every g;
 //   row g:   S(g, h) -= (Σ_g W) V_λ⁻¹ (Σ_h W)ᵀ for h >= g, plus Σ_g J_iᵀ J_i.
 // A camera row repeated within the point (a camera seeing it twice) gets
-// both -T_a W_bᵀ and -T_b W_aᵀ on its diagonal block, as the dense product
+// both M_ab and M_ba terms on its diagonal block, as the dense product
 // does. Intrinsic rows come after camera rows, so every block written is in
 // the upper triangle.
 // Per-thread scratch of AddPointToRcs.
@@ -167,25 +158,35 @@ void AddPointToRcs(const PointSystem<Model>& p, AddScratch<Model>& scratch, cons
     if (ca < 0) continue;
     if (p.camera_row[order[same_row_begin]] != ca) same_row_begin = x;
     const Eigen::Matrix<double, kC, 1> g_c = p.J_c[a].transpose() * p.r[a];
+    const PointJacobian& K = p.K[a];
     t.Lock(ca);
     int64_t position = S.diagonal_block(ca);
     // Every b with cb >= ca; a camera seeing the point twice gets both
-    // -T_a W_bᵀ and -T_b W_aᵀ on its diagonal block.
+    // M_ab and M_ba on its diagonal block.
     for (int y = same_row_begin; y < p.num_obs; ++y) {
       const int b = order[y];
-      double* block = seek(&position, ca, p.camera_row[b]);
-      SubtractRank3<kC>(block, p.T_c[a].data(), p.W_c[b].data());
-      if (b == a) AddGram2<kC>(block, p.J_c[a].data());
+      const double* k0 = K.data();  // K's rows, and J_p,b's
+      const double* k1 = k0 + 3;
+      const double* q0 = p.J_p[b].data();
+      const double* q1 = q0 + 3;
+      const double diagonal = b == a ? 1.0 : 0.0;
+      const double M[4] = {diagonal - (k0[0] * q0[0] + k0[1] * q0[1] + k0[2] * q0[2]),
+                           -(k0[0] * q1[0] + k0[1] * q1[1] + k0[2] * q1[2]),
+                           -(k1[0] * q0[0] + k1[1] * q0[1] + k1[2] * q0[2]),
+                           diagonal - (k1[0] * q1[0] + k1[1] * q1[1] + k1[2] * q1[2])};
+      AddRank2<kC>(seek(&position, ca, p.camera_row[b]), p.J_c[a].data(), M, p.J_c[b].data());
     }
     if constexpr (Model::kIntrinsics > 0) {
       for (const auto& gs : groups) {
-        Eigen::Matrix<double, kC, kI> m = -p.T_c[a].lazyProduct(gs.W.transpose());
-        if (gs.row == p.intrinsics_row[a]) m.noalias() += p.J_c[a].transpose() * p.J_i[a];
+        typename PointSystem<Model>::IntrinsicsJac Z = -K * gs.W.transpose();
+        if (gs.row == p.intrinsics_row[a]) Z += p.J_i[a];
+        const Eigen::Matrix<double, kC, kI> m = p.J_c[a].transpose() * Z;
         AddLeftCols<kC>(seek(&position, ca, gs.row), S.block_size(gs.row), m);
       }
     }
     const int64_t o = S.scalar_offset(ca);
-    Eigen::Map<Eigen::Matrix<double, kC, 1>>(t.b + o) += -g_c + p.T_c[a] * p.g_p;
+    Eigen::Map<Eigen::Matrix<double, kC, 1>>(t.b + o) -=
+        p.J_c[a].transpose() * (p.r[a] - K * p.g_p);
     Eigen::Map<Eigen::Matrix<double, kC, 1>>(t.gradient + o) += g_c;
     Eigen::Map<Eigen::Matrix<double, kC, 1>>(t.jtj_diagonal + o) +=
         p.J_c[a].colwise().squaredNorm().transpose();
