@@ -28,6 +28,9 @@ class RotationFrameCache {
     }
     return frame_[slot];
   }
+  // Whether `camera`'s frame is still held (a later Get may have taken its
+  // slot).
+  bool Holds(int32_t camera) const { return camera_[camera & (kSlots - 1)] == camera; }
 
  private:
   static constexpr int kSlots = 256;

@@ -3,6 +3,10 @@
 
 #include <Eigen/LU>
 
+#include <algorithm>
+
+#include "dba/camera/bal_camera_lanes.h"
+
 namespace dba {
 namespace {
 
@@ -50,6 +54,39 @@ Vec2 Linearize(const Problem& problem, const UnknownLayout& layout, int64_t obs,
   }
 }
 
+// Residuals and Jacobians of a BAL point's m observations, four at a time
+// (camera/bal_camera_lanes.h); lanes past the last observation repeat it
+// into scratch.
+template <class Model>
+void LinearizeBalObservations(const Problem& problem, const UnknownLayout& layout, int64_t begin,
+                              int m, const double* X, PointSystem<Model>* sys) {
+  double pad_r[2], pad_J_c[18], pad_J_p[6];
+  RotationFrame own[4];  // when two cameras of the four share a cache slot
+  const RotationFrame* frame[4];
+  const double *camera[4], *pixel[4];
+  int32_t index[4];
+  double *r[4], *J_c[4], *J_p[4];
+  for (int a0 = 0; a0 < m; a0 += 4) {
+    for (int l = 0; l < 4; ++l) {
+      const int a = std::min(a0 + l, m - 1);
+      const int64_t obs = begin + a;
+      index[l] = problem.obs_camera[obs];
+      camera[l] = problem.camera(index[l]);
+      pixel[l] = problem.pixel(obs);
+      frame[l] = &sys->frames.Get(index[l], camera[l]);
+      const bool real = a0 + l < m;
+      if (real) sys->camera_row[a] = layout.camera_row(index[l]), sys->intrinsics_row[a] = -1;
+      r[l] = real ? sys->r[a].data() : pad_r;
+      J_c[l] = real ? sys->J_c[a].data() : pad_J_c;
+      J_p[l] = real ? sys->J_p[a].data() : pad_J_p;
+    }
+    for (int l = 0; l < 3; ++l) {
+      if (!sys->frames.Holds(index[l])) own[l] = MakeRotationFrame(camera[l]), frame[l] = &own[l];
+    }
+    BalResidualsAndJacobians(frame, camera, pixel, X, r, J_c, J_p);
+  }
+}
+
 }  // namespace
 
 template <class Model>
@@ -65,8 +102,9 @@ void LinearizePoint(const Problem& problem, const UnknownLayout& layout,
   sys->cost = 0.0;
   sys->model_offset = 0.0;
   sys->residuals = ResidualSums();
+  if constexpr (Model::kIntrinsics == 0) LinearizeBalObservations(problem, layout, begin, m, X, sys);
   for (int a = 0; a < m; ++a) {
-    sys->r[a] = Linearize(problem, layout, begin + a, X, a, sys);
+    if constexpr (Model::kIntrinsics > 0) sys->r[a] = Linearize(problem, layout, begin + a, X, a, sys);
     const double s = sys->r[a].squaredNorm();
     sys->residuals.Add(s, loss.IsInlier(s));
     if (loss.trivial()) {

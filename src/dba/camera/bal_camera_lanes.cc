@@ -1,0 +1,132 @@
+// The BAL kernel on four lanes; see bal_camera_lanes.h, and bal_camera.h for
+// the formulas (the scalar BalResidualAndJacobians computes the same values).
+#include "dba/camera/bal_camera_lanes.h"
+
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
+
+namespace dba {
+namespace {
+
+typedef double V __attribute__((vector_size(32)));
+
+// p[l][0..3] = a[l], b[l], c[l], d[l] for each lane l: a 4x4 transpose.
+inline void StoreTransposed(V a, V b, V c, V d, double* const p[4], int offset) {
+#if defined(__AVX__)
+  const __m256d ab_lo = _mm256_unpacklo_pd(a, b);  // a0 b0 a2 b2
+  const __m256d ab_hi = _mm256_unpackhi_pd(a, b);  // a1 b1 a3 b3
+  const __m256d cd_lo = _mm256_unpacklo_pd(c, d);
+  const __m256d cd_hi = _mm256_unpackhi_pd(c, d);
+  _mm256_storeu_pd(p[0] + offset, _mm256_permute2f128_pd(ab_lo, cd_lo, 0x20));
+  _mm256_storeu_pd(p[1] + offset, _mm256_permute2f128_pd(ab_hi, cd_hi, 0x20));
+  _mm256_storeu_pd(p[2] + offset, _mm256_permute2f128_pd(ab_lo, cd_lo, 0x31));
+  _mm256_storeu_pd(p[3] + offset, _mm256_permute2f128_pd(ab_hi, cd_hi, 0x31));
+#else
+  for (int l = 0; l < 4; ++l) {
+    p[l][offset] = a[l], p[l][offset + 1] = b[l], p[l][offset + 2] = c[l],
+    p[l][offset + 3] = d[l];
+  }
+#endif
+}
+
+// a[l], b[l], c[l], d[l] = p[l][offset..offset+3] for each lane l.
+inline void LoadTransposed(const double* const p[4], int offset, V* a, V* b, V* c, V* d) {
+#if defined(__AVX__)
+  const __m256d r0 = _mm256_loadu_pd(p[0] + offset), r1 = _mm256_loadu_pd(p[1] + offset);
+  const __m256d r2 = _mm256_loadu_pd(p[2] + offset), r3 = _mm256_loadu_pd(p[3] + offset);
+  const __m256d lo01 = _mm256_unpacklo_pd(r0, r1);  // p0[0] p1[0] p0[2] p1[2]
+  const __m256d hi01 = _mm256_unpackhi_pd(r0, r1);  // p0[1] p1[1] p0[3] p1[3]
+  const __m256d lo23 = _mm256_unpacklo_pd(r2, r3);
+  const __m256d hi23 = _mm256_unpackhi_pd(r2, r3);
+  *a = _mm256_permute2f128_pd(lo01, lo23, 0x20);
+  *b = _mm256_permute2f128_pd(hi01, hi23, 0x20);
+  *c = _mm256_permute2f128_pd(lo01, lo23, 0x31);
+  *d = _mm256_permute2f128_pd(hi01, hi23, 0x31);
+#else
+  for (int l = 0; l < 4; ++l) {
+    (*a)[l] = p[l][offset], (*b)[l] = p[l][offset + 1], (*c)[l] = p[l][offset + 2],
+    (*d)[l] = p[l][offset + 3];
+  }
+#endif
+}
+
+inline V Gather(const double* const p[4], int offset) {
+  return V{p[0][offset], p[1][offset], p[2][offset], p[3][offset]};
+}
+
+inline void StorePair(V a, V b, double* const p[4], int offset) {
+  for (int l = 0; l < 4; ++l) p[l][offset] = a[l], p[l][offset + 1] = b[l];
+}
+
+}  // namespace
+
+void BalResidualsAndJacobians(const RotationFrame* const frame[4], const double* const camera[4],
+                              const double* const pixel[4], const double* X, double* const r[4],
+                              double* const J_c[4], double* const J_p[4]) {
+  // A frame is R then J_l, each column-major (R(i, j) = R[i + 3 j]): 18
+  // doubles, read as four 4x4 transposes and two gathers.
+  static_assert(sizeof(RotationFrame) == 18 * sizeof(double));
+  const double* const fp[4] = {frame[0]->R.data(), frame[1]->R.data(), frame[2]->R.data(),
+                               frame[3]->R.data()};
+  V R[9], L[9];
+  LoadTransposed(fp, 0, &R[0], &R[1], &R[2], &R[3]);
+  LoadTransposed(fp, 4, &R[4], &R[5], &R[6], &R[7]);
+  LoadTransposed(fp, 8, &R[8], &L[0], &L[1], &L[2]);
+  LoadTransposed(fp, 12, &L[3], &L[4], &L[5], &L[6]);
+  L[7] = Gather(fp, 16), L[8] = Gather(fp, 17);
+  V t0, t1, t2, f, k1, k2;
+  LoadTransposed(camera, 3, &t0, &t1, &t2, &f);
+  LoadTransposed(camera, 5, &t2, &f, &k1, &k2);
+  const double X0 = X[0], X1 = X[1], X2 = X[2];
+  const V RX[3] = {R[0] * X0 + R[3] * X1 + R[6] * X2, R[1] * X0 + R[4] * X1 + R[7] * X2,
+                   R[2] * X0 + R[5] * X1 + R[8] * X2};
+  const V inv_z = 1.0 / (RX[2] + t2);
+  const V px = -(RX[0] + t0) * inv_z, py = -(RX[1] + t1) * inv_z;
+  const V r2 = px * px + py * py;
+  const V d = 1.0 + r2 * (k1 + k2 * r2);
+  StorePair(f * d * px - Gather(pixel, 0), f * d * py - Gather(pixel, 1), r, 0);
+
+  // ∂u/∂p = a I + c p pᵀ; row i of ∂u/∂P = -inv_z (q_i0, q_i1, q_i0 px + q_i1 py).
+  const V a = f * d, c = 2.0 * f * (k1 + 2.0 * k2 * r2);
+  const V q01 = c * px * py;
+  const V q[2][2] = {{a + c * px * px, q01}, {q01, a + c * py * py}};
+  V du_dP[2][3];
+  for (int i = 0; i < 2; ++i) {
+    du_dP[i][0] = -inv_z * q[i][0];
+    du_dP[i][1] = -inv_z * q[i][1];
+    du_dP[i][2] = -inv_z * (q[i][0] * px + q[i][1] * py);
+  }
+  V Jc[2][9];
+  const V p[2] = {px, py};
+  for (int i = 0; i < 2; ++i) {
+    const V* v = du_dP[i];
+    // Row i of -∂u/∂P [RX]ₓ is RX × (∂u/∂P)_i; then times J_l.
+    const V w[3] = {RX[1] * v[2] - RX[2] * v[1], RX[2] * v[0] - RX[0] * v[2],
+                    RX[0] * v[1] - RX[1] * v[0]};
+    for (int j = 0; j < 3; ++j) {
+      Jc[i][j] = w[0] * L[3 * j] + w[1] * L[3 * j + 1] + w[2] * L[3 * j + 2];
+      Jc[i][3 + j] = v[j];
+    }
+    Jc[i][6] = d * p[i];
+    Jc[i][7] = f * r2 * p[i];
+    Jc[i][8] = Jc[i][7] * r2;
+  }
+  // J_c row-major: values 0..8 row 0, 9..17 row 1.
+  const V* jc = &Jc[0][0];
+  StoreTransposed(jc[0], jc[1], jc[2], jc[3], J_c, 0);
+  StoreTransposed(jc[4], jc[5], jc[6], jc[7], J_c, 4);
+  StoreTransposed(jc[8], jc[9], jc[10], jc[11], J_c, 8);
+  StoreTransposed(jc[12], jc[13], jc[14], jc[15], J_c, 12);
+  StorePair(jc[16], jc[17], J_c, 16);
+  V Jp[2][3];
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      Jp[i][j] = du_dP[i][0] * R[3 * j] + du_dP[i][1] * R[3 * j + 1] + du_dP[i][2] * R[3 * j + 2];
+    }
+  }
+  StoreTransposed(Jp[0][0], Jp[0][1], Jp[0][2], Jp[1][0], J_p, 0);
+  StorePair(Jp[1][1], Jp[1][2], J_p, 4);
+}
+
+}  // namespace dba
