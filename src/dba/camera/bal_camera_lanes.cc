@@ -2,6 +2,8 @@
 // the formulas (the scalar BalResidualAndJacobians computes the same values).
 #include "dba/camera/bal_camera_lanes.h"
 
+#include <algorithm>
+
 #if defined(__AVX__)
 #include <immintrin.h>
 #endif
@@ -73,8 +75,6 @@ void BalResidualsAndJacobians(const RotationFrame* const frame[4], const double*
   LoadTransposed(fp, 0, &R[0], &R[1], &R[2], &R[3]);
   LoadTransposed(fp, 4, &R[4], &R[5], &R[6], &R[7]);
   LoadTransposed(fp, 8, &R[8], &L[0], &L[1], &L[2]);
-  LoadTransposed(fp, 12, &L[3], &L[4], &L[5], &L[6]);
-  L[7] = Gather(fp, 16), L[8] = Gather(fp, 17);
   V t0, t1, t2, f, k1, k2;
   LoadTransposed(camera, 3, &t0, &t1, &t2, &f);
   LoadTransposed(camera, 5, &t2, &f, &k1, &k2);
@@ -86,6 +86,9 @@ void BalResidualsAndJacobians(const RotationFrame* const frame[4], const double*
   const V r2 = px * px + py * py;
   const V d = 1.0 + r2 * (k1 + k2 * r2);
   StorePair(f * d * px - Gather(pixel, 0), f * d * py - Gather(pixel, 1), r, 0);
+  if (J_c == nullptr) return;  // residuals only
+  LoadTransposed(fp, 12, &L[3], &L[4], &L[5], &L[6]);
+  L[7] = Gather(fp, 16), L[8] = Gather(fp, 17);
 
   // ∂u/∂p = a I + c p pᵀ; row i of ∂u/∂P = -inv_z (q_i0, q_i1, q_i0 px + q_i1 py).
   const V a = f * d, c = 2.0 * f * (k1 + 2.0 * k2 * r2);
@@ -127,6 +130,36 @@ void BalResidualsAndJacobians(const RotationFrame* const frame[4], const double*
   }
   StoreTransposed(Jp[0][0], Jp[0][1], Jp[0][2], Jp[1][0], J_p, 0);
   StorePair(Jp[1][1], Jp[1][2], J_p, 4);
+}
+
+void BalPointResiduals(const int32_t* obs_camera, const double* obs_pixel, const double* cameras,
+                       RotationFrameCache* frames, int m, const double* X, Vec2* r,
+                       BalCameraJacobian* J_c, PointJacobian* J_p) {
+  double pad_r[2], pad_J_c[18], pad_J_p[6];
+  RotationFrame own[4];
+  const RotationFrame* frame[4];
+  const double *camera[4], *pixel[4];
+  double *rl[4], *J_cl[4], *J_pl[4];
+  for (int a0 = 0; a0 < m; a0 += 4) {
+    for (int l = 0; l < 4; ++l) {
+      const int a = std::min(a0 + l, m - 1);
+      camera[l] = cameras + 9 * int64_t{obs_camera[a]};
+      pixel[l] = obs_pixel + 2 * a;
+      frame[l] = &frames->Get(obs_camera[a], camera[l]);
+      const bool real = a0 + l < m;
+      rl[l] = real ? r[a].data() : pad_r;
+      if (J_c != nullptr) {
+        J_cl[l] = real ? J_c[a].data() : pad_J_c;
+        J_pl[l] = real ? J_p[a].data() : pad_J_p;
+      }
+    }
+    for (int l = 0; l < 3; ++l) {
+      const int32_t i = obs_camera[std::min(a0 + l, m - 1)];
+      if (!frames->Holds(i)) own[l] = MakeRotationFrame(camera[l]), frame[l] = &own[l];
+    }
+    BalResidualsAndJacobians(frame, camera, pixel, X, rl, J_c != nullptr ? J_cl : nullptr,
+                             J_c != nullptr ? J_pl : nullptr);
+  }
 }
 
 }  // namespace dba

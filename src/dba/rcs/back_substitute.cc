@@ -6,11 +6,32 @@
 
 #include <algorithm>
 
+#include "dba/camera/bal_camera_lanes.h"
 #include "dba/camera/observation_residual.h"
 #include "dba/common/progress.h"
 
 namespace dba {
 namespace {
+
+// |r_a|² of the observations begin..begin+m of one point X at the
+// candidate cameras, into squared[0..m); BAL four at a time.
+void CandidateSquaredResiduals(const Problem& problem, const std::vector<double>& cameras,
+                               RotationFrameCache* frames, int64_t begin, int m, const double* X,
+                               std::vector<Vec2>* scratch, double* squared) {
+  if (problem.model == CameraModel::kBal) {
+    if (static_cast<int>(scratch->size()) < m) scratch->resize(m);
+    BalPointResiduals(problem.obs_camera.data() + begin, problem.pixel(begin), cameras.data(),
+                      frames, m, X, scratch->data(), nullptr, nullptr);
+    for (int a = 0; a < m; ++a) squared[a] = (*scratch)[a].squaredNorm();
+    return;
+  }
+  for (int a = 0; a < m; ++a) {
+    const int64_t obs = begin + a;
+    squared[a] = ObservationResidual(problem, cameras.data(), frames, problem.obs_camera[obs], X,
+                                     problem.pixel(obs))
+                     .squaredNorm();
+  }
+}
 
 template <class Model>
 StepEvaluation BackSubstituteWith(const Problem& problem, const UnknownLayout& layout,
@@ -41,6 +62,8 @@ StepEvaluation BackSubstituteWith(const Problem& problem, const UnknownLayout& l
   {
     PointSystem<Model> p;
     RotationFrameCache candidate_frames;
+    std::vector<Vec2> candidate_r;
+    std::vector<double> candidate_squared;
     const bool first_thread = omp_get_thread_num() == 0;
     // Static: each thread always sums the same points, so the costs (and
     // with them every LM decision) are the same from run to run.
@@ -80,13 +103,14 @@ StepEvaluation BackSubstituteWith(const Problem& problem, const UnknownLayout& l
         candidate_cost +=
             0.5 * prior_w.cwiseProduct(X_new - Eigen::Map<const Vec3>(p.prior->position)).squaredNorm();
       }
+      if (static_cast<int>(candidate_squared.size()) < p.num_obs) {
+        candidate_squared.resize(p.num_obs);
+      }
+      CandidateSquaredResiduals(problem, candidate_cameras, &candidate_frames, begin, p.num_obs,
+                                X_new.data(), &candidate_r, candidate_squared.data());
       for (int a = 0; a < p.num_obs; ++a) {
         model_cost += 0.5 * (p.r[a] + p.J_p[a] * dX).squaredNorm();
-        const int64_t obs = begin + a;
-        const double s = ObservationResidual(problem, candidate_cameras.data(), &candidate_frames,
-                                             problem.obs_camera[obs], X_new.data(),
-                                             problem.pixel(obs))
-                             .squaredNorm();
+        const double s = candidate_squared[a];
         candidate_cost += 0.5 * loss.Rho(s);
         squared += s;
         if (loss.IsInlier(s)) inlier_squared += s, inliers += 1.0;

@@ -55,36 +55,15 @@ Vec2 Linearize(const Problem& problem, const UnknownLayout& layout, int64_t obs,
 }
 
 // Residuals and Jacobians of a BAL point's m observations, four at a time
-// (camera/bal_camera_lanes.h); lanes past the last observation repeat it
-// into scratch.
+// (camera/bal_camera_lanes.h).
 template <class Model>
 void LinearizeBalObservations(const Problem& problem, const UnknownLayout& layout, int64_t begin,
                               int m, const double* X, PointSystem<Model>* sys) {
-  double pad_r[2], pad_J_c[18], pad_J_p[6];
-  RotationFrame own[4];  // when two cameras of the four share a cache slot
-  const RotationFrame* frame[4];
-  const double *camera[4], *pixel[4];
-  int32_t index[4];
-  double *r[4], *J_c[4], *J_p[4];
-  for (int a0 = 0; a0 < m; a0 += 4) {
-    for (int l = 0; l < 4; ++l) {
-      const int a = std::min(a0 + l, m - 1);
-      const int64_t obs = begin + a;
-      index[l] = problem.obs_camera[obs];
-      camera[l] = problem.camera(index[l]);
-      pixel[l] = problem.pixel(obs);
-      frame[l] = &sys->frames.Get(index[l], camera[l]);
-      const bool real = a0 + l < m;
-      if (real) sys->camera_row[a] = layout.camera_row(index[l]), sys->intrinsics_row[a] = -1;
-      r[l] = real ? sys->r[a].data() : pad_r;
-      J_c[l] = real ? sys->J_c[a].data() : pad_J_c;
-      J_p[l] = real ? sys->J_p[a].data() : pad_J_p;
-    }
-    for (int l = 0; l < 3; ++l) {
-      if (!sys->frames.Holds(index[l])) own[l] = MakeRotationFrame(camera[l]), frame[l] = &own[l];
-    }
-    BalResidualsAndJacobians(frame, camera, pixel, X, r, J_c, J_p);
-  }
+  const int32_t* cameras = problem.obs_camera.data() + begin;
+  for (int a = 0; a < m; ++a) sys->camera_row[a] = layout.camera_row(cameras[a]);
+  std::fill_n(sys->intrinsics_row.begin(), m, -1);
+  BalPointResiduals(cameras, problem.pixel(begin), problem.cameras.data(), &sys->frames, m, X,
+                    sys->r.data(), sys->J_c.data(), sys->J_p.data());
 }
 
 }  // namespace
@@ -97,33 +76,41 @@ void LinearizePoint(const Problem& problem, const UnknownLayout& layout,
   sys->num_obs = m;
   Resize(m, sys);
   const double* X = problem.point(k);
-  sys->V.setZero();
-  sys->g_p.setZero();
-  sys->cost = 0.0;
-  sys->model_offset = 0.0;
-  sys->residuals = ResidualSums();
   if constexpr (Model::kIntrinsics == 0) LinearizeBalObservations(problem, layout, begin, m, X, sys);
+  // Sums in locals, stored once: sums through sys-> would go through memory
+  // on every observation (the stores to J may alias them as far as the
+  // compiler knows).
+  Eigen::Matrix3d V = Eigen::Matrix3d::Zero();
+  Vec3 g_p = Vec3::Zero();
+  double cost = 0.0, model_offset = 0.0;
+  ResidualSums residuals;
   for (int a = 0; a < m; ++a) {
     if constexpr (Model::kIntrinsics > 0) sys->r[a] = Linearize(problem, layout, begin + a, X, a, sys);
-    const double s = sys->r[a].squaredNorm();
-    sys->residuals.Add(s, loss.IsInlier(s));
+    Vec2 r = sys->r[a];
+    const double s = r.squaredNorm();
+    residuals.Add(s, loss.IsInlier(s));
     if (loss.trivial()) {
-      sys->cost += 0.5 * s;
+      cost += 0.5 * s;
     } else {
       double rho[3];
       loss.Evaluate(s, rho);
       const LossCorrection correction(s, rho);
-      const Vec2 r = sys->r[a];
       correction.CorrectJacobian(r, &sys->J_p[a]);
       if (sys->camera_row[a] >= 0) correction.CorrectJacobian(r, &sys->J_c[a]);
       if (sys->intrinsics_row[a] >= 0) correction.CorrectJacobian(r, &sys->J_i[a]);
-      sys->r[a] = correction.Residual(r);
-      sys->cost += 0.5 * rho[0];
-      sys->model_offset += 0.5 * (rho[0] - sys->r[a].squaredNorm());
+      r = sys->r[a] = correction.Residual(r);
+      cost += 0.5 * rho[0];
+      model_offset += 0.5 * (rho[0] - r.squaredNorm());
     }
-    sys->V.noalias() += sys->J_p[a].transpose() * sys->J_p[a];
-    sys->g_p.noalias() += sys->J_p[a].transpose() * sys->r[a];
+    const PointJacobian J_p = sys->J_p[a];
+    V.noalias() += J_p.transpose() * J_p;
+    g_p.noalias() += J_p.transpose() * r;
   }
+  sys->V = V;
+  sys->g_p = g_p;
+  sys->cost = cost;
+  sys->model_offset = model_offset;
+  sys->residuals = residuals;
   sys->prior = problem.point_prior(k);
   if (sys->prior != nullptr) {
     const Eigen::Map<const Vec3> w(sys->prior->weight);
