@@ -23,35 +23,29 @@ void Resize(int m, PointSystem<Model>* sys) {
   sys->W_i.resize(m);
 }
 
-// Residual and Jacobians of one observation; the intrinsics Jacobian packed
-// to the group's free parameters.
+// Residual and Jacobians of one observation in the photogrammetric model;
+// the intrinsics Jacobian packed to the group's free parameters.
 template <class Model>
-Vec2 Linearize(const Problem& problem, const UnknownLayout& layout, int64_t obs,
-               const double* X, int a, PointSystem<Model>* sys) {
+Vec2 LinearizePhotoObservation(const Problem& problem, const UnknownLayout& layout, int64_t obs,
+                               const double* X, int a, PointSystem<Model>* sys) {
   const int32_t i = problem.obs_camera[obs];
   sys->camera_row[a] = layout.camera_row(i);
-  if constexpr (Model::kIntrinsics == 0) {
-    sys->intrinsics_row[a] = -1;
-    return BalResidualAndJacobians(sys->frames.Get(i, problem.camera(i)), problem.camera(i), X,
-                                   problem.pixel(obs), &sys->J_c[a], &sys->J_p[a]);
-  } else {
-    const int32_t g = problem.camera_intrinsics[i];
-    const int32_t row = layout.intrinsics_row(g);
-    sys->intrinsics_row[a] = row;
-    IntrinsicsJacobian full;
-    const Vec2 r = PhotoResidualAndJacobians(
-        problem.group_model(g), sys->frames.Get(i, problem.camera(i)), problem.camera(i),
-        problem.intrinsics(g), X, problem.pixel(obs), &sys->J_c[a], row >= 0 ? &full : nullptr,
-        &sys->J_p[a]);
-    if (row >= 0) {
-      const auto& index = layout.intrinsics_free_index(g);
-      const int n = layout.block_size(row);
-      auto& J = sys->J_i[a];
-      for (int j = 0; j < n; ++j) J.col(j) = full.col(index[j]);
-      for (int j = n; j < Model::kIntrinsics; ++j) J.col(j).setZero();
-    }
-    return r;
+  const int32_t g = problem.camera_intrinsics[i];
+  const int32_t row = layout.intrinsics_row(g);
+  sys->intrinsics_row[a] = row;
+  IntrinsicsJacobian full;
+  const Vec2 r = PhotoResidualAndJacobians(
+      problem.group_model(g), sys->frames.Get(i, problem.camera(i)), problem.camera(i),
+      problem.intrinsics(g), X, problem.pixel(obs), &sys->J_c[a], row >= 0 ? &full : nullptr,
+      &sys->J_p[a]);
+  if (row >= 0) {
+    const auto& index = layout.intrinsics_free_index(g);
+    const int n = layout.block_size(row);
+    auto& J = sys->J_i[a];
+    for (int j = 0; j < n; ++j) J.col(j) = full.col(index[j]);
+    for (int j = n; j < Model::kIntrinsics; ++j) J.col(j).setZero();
   }
+  return r;
 }
 
 // Residuals and Jacobians of a BAL point's m observations, four at a time
@@ -85,7 +79,9 @@ void LinearizePoint(const Problem& problem, const UnknownLayout& layout,
   double cost = 0.0, model_offset = 0.0;
   ResidualSums residuals;
   for (int a = 0; a < m; ++a) {
-    if constexpr (Model::kIntrinsics > 0) sys->r[a] = Linearize(problem, layout, begin + a, X, a, sys);
+    if constexpr (Model::kIntrinsics > 0) {
+      sys->r[a] = LinearizePhotoObservation(problem, layout, begin + a, X, a, sys);
+    }
     Vec2 r = sys->r[a];
     const double s = r.squaredNorm();
     residuals.Add(s, loss.IsInlier(s));
