@@ -63,13 +63,18 @@ for solver in dense sparse pcg; do
   check "--linear-solver $solver solves FULL_OPENCV" json "$tmp/l_$solver.json" \
     "near(d['final_cost'], $(json_value "$tmp/l.json" final_cost), 1e-5)"
 done
-# The largest blocks (16 unknowns) through the two-level preconditioner.
+# The largest blocks (16 unknowns) through the two-level preconditioner,
+# with a tight linear solve (--eta 0): then PCG takes the dense solve's
+# steps and ends at its cost. (With the truncated-Newton stop this wide-angle
+# problem's LM tail ends wherever one small step falls below the function
+# tolerance: 4e-6 above the dense cost at 7c04a42, 4e-5 after the kernel
+# changes that followed, from rounding alone.)
 "$dba" generate "$tmp/r.dba" --model photo --camera-model RAD_TAN_THIN_PRISM_FISHEYE --field-of-view 120 \
   --images 60 --cameras 2 --seed 3 >/dev/null
 "$dba" solve "$tmp/r.dba" -q --linear-solver dense --report "$tmp/r_dense.json" >/dev/null 2>&1
-"$dba" solve "$tmp/r.dba" -q --linear-solver pcg --report "$tmp/r_pcg.json" >/dev/null 2>&1
+"$dba" solve "$tmp/r.dba" -q --linear-solver pcg --eta 0 --report "$tmp/r_pcg.json" >/dev/null 2>&1
 check "PCG solves 16-unknown intrinsic blocks as the dense solve does" json "$tmp/r_pcg.json" \
-  "d['camera_unknowns'] == 6 * 60 + 32 and near(d['final_cost'], $(json_value "$tmp/r_dense.json" final_cost), 1e-5)"
+  "d['camera_unknowns'] == 6 * 60 + 32 and d['linear_solver']['type'] == 'pcg' and near(d['final_cost'], $(json_value "$tmp/r_dense.json" final_cost), 1e-9)"
 "$dba" solve "$tmp/l.dba" -q --fix-intrinsics 1:k4,k5,k6 --fix-intrinsics p1,p2 --report "$tmp/lf.json" >/dev/null 2>&1
 check "fixing by name: 12 + 12 - 3 - 4 intrinsic unknowns" json "$tmp/lf.json" \
   'd["camera_unknowns"] == 6 * 60 + 17'

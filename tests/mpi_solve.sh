@@ -233,15 +233,18 @@ fi
 # outlier rejection on 2 ranks, one process's rounds and optimum.
 "$dba" generate "$tmp/gcp.dba" --model photo --images 120 --cameras 2 --seed 9 --unaligned --outliers 0.02 \
   --priors "$tmp/gcp.priors" --gcps "$tmp/gcp.txt" --control-points 6 --check-points 6 >/dev/null
-geo=(--camera-priors "$tmp/gcp.priors" --gcps "$tmp/gcp.txt")
+# Cauchy loss: with the squared loss the 2% mismatches keep this block from
+# converging in 100 iterations, and runs that end at the iteration limit
+# compare unconverged costs (1e-5 apart from rounding alone).
+geo=(--camera-priors "$tmp/gcp.priors" --gcps "$tmp/gcp.txt" --loss cauchy)
 "$dba" solve "$tmp/gcp.dba" -q "${geo[@]}" --report "$tmp/gcp1.json" >/dev/null 2>&1 || fail "ground control, one process"
-"$dba" solve "$tmp/gcp.dba" -q "${geo[@]}" --loss cauchy --reject-outliers 4 --report "$tmp/gcpr1.json" >/dev/null 2>&1 \
+"$dba" solve "$tmp/gcp.dba" -q "${geo[@]}" --reject-outliers 4 --report "$tmp/gcpr1.json" >/dev/null 2>&1 \
   || fail "ground control with rejection, one process"
 for n in 2 4; do
   mpirun_n "$n" "$dba" solve "$tmp/gcp.dba" -q "${geo[@]}" --report "$tmp/gcp$n.json" >"$tmp/gcp.out" 2>&1 \
     || { fail "ground control -np $n exited non-zero"; cat "$tmp/gcp.out" >&2; }
 done
-mpirun_n 2 "$dba" solve "$tmp/gcp.dba" -q "${geo[@]}" --loss cauchy --reject-outliers 4 --report "$tmp/gcpr2.json" \
+mpirun_n 2 "$dba" solve "$tmp/gcp.dba" -q "${geo[@]}" --reject-outliers 4 --report "$tmp/gcpr2.json" \
   >"$tmp/gcp.out" 2>&1 || { fail "ground control with rejection -np 2 exited non-zero"; cat "$tmp/gcp.out" >&2; }
 same_checks() {  # the check points' figures of two reports agree to 1 mm
   json "$1" "d['check_points']['count'] == 6 and abs(d['check_points']['rms_3d'] - $(python3 -c "import json; print(json.load(open('$2'))['check_points']['rms_3d'])")) < 1e-3"
