@@ -2,6 +2,8 @@
 // the formulas (the scalar BalResidualAndJacobians computes the same values).
 #include "dba/camera/bal_camera_lanes.h"
 
+#include "dba/camera/bal_kernel.h"
+
 #include <algorithm>
 
 #if defined(__AVX__)
@@ -78,43 +80,19 @@ void BalResidualsAndJacobians(const RotationFrame* const frame[4], const double*
   V t0, t1, t2, f, k1, k2;
   LoadTransposed(camera, 3, &t0, &t1, &t2, &f);
   LoadTransposed(camera, 5, &t2, &f, &k1, &k2);
-  const double X0 = X[0], X1 = X[1], X2 = X[2];
-  const V RX[3] = {R[0] * X0 + R[3] * X1 + R[6] * X2, R[1] * X0 + R[4] * X1 + R[7] * X2,
-                   R[2] * X0 + R[5] * X1 + R[8] * X2};
-  const V inv_z = 1.0 / (RX[2] + t2);
-  const V px = -(RX[0] + t0) * inv_z, py = -(RX[1] + t1) * inv_z;
-  const V r2 = px * px + py * py;
-  const V d = 1.0 + r2 * (k1 + k2 * r2);
-  StorePair(f * d * px - Gather(pixel, 0), f * d * py - Gather(pixel, 1), r, 0);
-  if (J_c == nullptr) return;  // residuals only
+  const V t[3] = {t0, t1, t2};
+  const V u[2] = {Gather(pixel, 0), Gather(pixel, 1)};
+  V res[2];
+  if (J_c == nullptr) {
+    BalKernel<V>(R, L, t, f, k1, k2, u, X, res, nullptr, nullptr);
+    StorePair(res[0], res[1], r, 0);
+    return;
+  }
   LoadTransposed(fp, 12, &L[3], &L[4], &L[5], &L[6]);
   L[7] = Gather(fp, 16), L[8] = Gather(fp, 17);
-
-  // ∂u/∂p = a I + c p pᵀ; row i of ∂u/∂P = -inv_z (q_i0, q_i1, q_i0 px + q_i1 py).
-  const V a = f * d, c = 2.0 * f * (k1 + 2.0 * k2 * r2);
-  const V q01 = c * px * py;
-  const V q[2][2] = {{a + c * px * px, q01}, {q01, a + c * py * py}};
-  V du_dP[2][3];
-  for (int i = 0; i < 2; ++i) {
-    du_dP[i][0] = -inv_z * q[i][0];
-    du_dP[i][1] = -inv_z * q[i][1];
-    du_dP[i][2] = -inv_z * (q[i][0] * px + q[i][1] * py);
-  }
-  V Jc[2][9];
-  const V p[2] = {px, py};
-  for (int i = 0; i < 2; ++i) {
-    const V* v = du_dP[i];
-    // Row i of -∂u/∂P [RX]ₓ is RX × (∂u/∂P)_i; then times J_l.
-    const V w[3] = {RX[1] * v[2] - RX[2] * v[1], RX[2] * v[0] - RX[0] * v[2],
-                    RX[0] * v[1] - RX[1] * v[0]};
-    for (int j = 0; j < 3; ++j) {
-      Jc[i][j] = w[0] * L[3 * j] + w[1] * L[3 * j + 1] + w[2] * L[3 * j + 2];
-      Jc[i][3 + j] = v[j];
-    }
-    Jc[i][6] = d * p[i];
-    Jc[i][7] = f * r2 * p[i];
-    Jc[i][8] = Jc[i][7] * r2;
-  }
+  V Jc[2][9], Jp[2][3];
+  BalKernel(R, L, t, f, k1, k2, u, X, res, Jc, Jp);
+  StorePair(res[0], res[1], r, 0);
   // J_c row-major: values 0..8 row 0, 9..17 row 1.
   const V* jc = &Jc[0][0];
   StoreTransposed(jc[0], jc[1], jc[2], jc[3], J_c, 0);
@@ -122,12 +100,6 @@ void BalResidualsAndJacobians(const RotationFrame* const frame[4], const double*
   StoreTransposed(jc[8], jc[9], jc[10], jc[11], J_c, 8);
   StoreTransposed(jc[12], jc[13], jc[14], jc[15], J_c, 12);
   StorePair(jc[16], jc[17], J_c, 16);
-  V Jp[2][3];
-  for (int i = 0; i < 2; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      Jp[i][j] = du_dP[i][0] * R[3 * j] + du_dP[i][1] * R[3 * j + 1] + du_dP[i][2] * R[3 * j + 2];
-    }
-  }
   StoreTransposed(Jp[0][0], Jp[0][1], Jp[0][2], Jp[1][0], J_p, 0);
   StorePair(Jp[1][1], Jp[1][2], J_p, 4);
 }
