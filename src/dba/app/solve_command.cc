@@ -210,6 +210,14 @@ void PrintSolveHelp(std::ostream& out) {
          "  --partition equal|cameras  how points are split over MPI ranks: 'equal' (the\n"
          "                             paper's equal counts) or 'cameras' (grouped by the\n"
          "                             cameras that see them; default)\n"
+         "  --rcs auto|gather|distributed\n"
+         "                             where the RCS lives with MPI: 'distributed' spreads\n"
+         "                             its rows over the ranks and runs PCG across them\n"
+         "                             (block-Jacobi preconditioner); 'gather' sums it on\n"
+         "                             rank 0, which solves alone (the paper's); auto\n"
+         "                             (default): distributed with more than one rank,\n"
+         "                             unless --linear-solver is dense or sparse or camera\n"
+         "                             priors are given\n"
          "  --main-rank auto|forms|coordinates\n"
          "                             whether rank 0 also forms a sub-RCS (auto: yes for\n"
          "                             up to 4 ranks)\n"
@@ -368,6 +376,13 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(a + ": " + e.what());
       }
+    } else if (a == "--rcs") {
+      const std::string& v = value();
+      using Rcs = DistributedOptions::Rcs;
+      if (v == "auto") o.distributed.rcs = Rcs::kAuto;
+      else if (v == "gather") o.distributed.rcs = Rcs::kGather;
+      else if (v == "distributed") o.distributed.rcs = Rcs::kDistributed;
+      else throw std::invalid_argument(a + ": expected auto, gather or distributed, got '" + v + "'");
     } else if (a == "--main-rank") {
       const std::string& v = value();
       using Role = DistributedOptions::MainRole;
@@ -411,6 +426,18 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
   }
   if (o.truth_absolute && o.truth_path.empty()) {
     throw std::invalid_argument("--truth-absolute needs --truth FILE");
+  }
+  if (o.distributed.rcs == DistributedOptions::Rcs::kDistributed) {
+    if (o.lm.linear_solver.type == LinearSolverType::kDense ||
+        o.lm.linear_solver.type == LinearSolverType::kSparse) {
+      throw std::invalid_argument(std::string("--rcs distributed solves by PCG; --linear-solver ") +
+                                  LinearSolverName(o.lm.linear_solver.type) +
+                                  " needs --rcs gather");
+    }
+    if (!o.geo.camera_priors_path.empty()) {
+      throw std::invalid_argument("--rcs distributed: camera priors are added to a gathered RCS "
+                                  "(use --rcs gather)");
+    }
   }
   return o;
 }

@@ -264,7 +264,8 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
     const double iters = std::max<size_t>(r.solve.per_iteration.size(), 1);
     out << "  communication (main rank, sent + received; waits for other ranks apart)\n";
     for (Traffic c : {Traffic::kDistribution, Traffic::kSubRcs, Traffic::kCameraUpdate,
-                      Traffic::kControl, Traffic::kResult}) {
+                      Traffic::kControl, Traffic::kResult, Traffic::kHalo,
+                      Traffic::kReduction}) {
       const int i = static_cast<int>(c);
       std::snprintf(buf, sizeof buf,
                     "    %-14s %12s %9.3f s  (waits %8.3f s)  per iteration %10s %8.4f s\n",

@@ -27,6 +27,8 @@ const char* TrafficName(Traffic t) {
     case Traffic::kCameraUpdate: return "camera_update";
     case Traffic::kControl: return "control";
     case Traffic::kResult: return "result";
+    case Traffic::kHalo: return "halo";
+    case Traffic::kReduction: return "reduction";
   }
   return "unknown";
 }
@@ -135,6 +137,68 @@ std::vector<double> Communicator::Gather(Traffic t, std::span<const double> loca
   // A few numbers per rank: the time is the wait for the slowest rank.
   stats_.wait_seconds[static_cast<int>(t)] += timer.Seconds();
   return all;
+}
+
+void Communicator::ExchangeBytes(Traffic t, const std::vector<ByteSpan>& send,
+                                 const std::vector<ByteSpan>& recv) {
+  if (!mpi_) return;
+  Timer timer;
+  std::vector<MPI_Request> requests;
+  auto post = [&](const ByteSpan& span, int peer, bool is_send) {
+    char* p = static_cast<char*>(span.data);
+    for (uint64_t left = span.bytes; left > 0;) {
+      const uint64_t n = std::min(left, kMaxChunkBytes);
+      requests.emplace_back();
+      if (is_send) {
+        MPI_Isend(p, static_cast<int>(n), MPI_BYTE, peer, kTag + 1, MPI_COMM_WORLD, &requests.back());
+      } else {
+        MPI_Irecv(p, static_cast<int>(n), MPI_BYTE, peer, kTag + 1, MPI_COMM_WORLD, &requests.back());
+      }
+      p += n;
+      left -= n;
+      stats_.bytes[static_cast<int>(t)] += static_cast<int64_t>(n);
+    }
+  };
+  for (int r = 0; r < size_; ++r) {
+    if (r == rank_) continue;
+    if (r < static_cast<int>(recv.size())) post(recv[r], r, false);
+    if (r < static_cast<int>(send.size())) post(send[r], r, true);
+  }
+  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  // Includes waiting for the peers to reach the exchange.
+  stats_.seconds[static_cast<int>(t)] += timer.Seconds();
+}
+
+void Communicator::Allreduce(Traffic t, void* data, int64_t count, bool is_double, bool max) {
+  if (!mpi_ || count == 0) return;
+  Timer timer;
+  constexpr int64_t bytes_each = 8;  // double or int64
+  char* p = static_cast<char*>(data);
+  const int64_t chunk = static_cast<int64_t>(kMaxChunkBytes / 8);
+  for (int64_t done = 0; done < count; done += chunk) {
+    const int n = static_cast<int>(std::min(chunk, count - done));
+    MPI_Allreduce(MPI_IN_PLACE, p + done * bytes_each, n, is_double ? MPI_DOUBLE : MPI_INT64_T,
+                  max ? MPI_MAX : MPI_SUM, MPI_COMM_WORLD);
+  }
+  // Sent and received once each, as a ring or tree would per rank.
+  stats_.bytes[static_cast<int>(t)] += 2 * count * bytes_each;
+  stats_.seconds[static_cast<int>(t)] += timer.Seconds();
+}
+
+void Communicator::AllreduceSum(Traffic t, std::span<double> values) {
+  Allreduce(t, values.data(), static_cast<int64_t>(values.size()), true, false);
+}
+
+void Communicator::AllreduceMax(Traffic t, std::span<double> values) {
+  Allreduce(t, values.data(), static_cast<int64_t>(values.size()), true, true);
+}
+
+void Communicator::AllreduceSum(Traffic t, std::span<int64_t> values) {
+  Allreduce(t, values.data(), static_cast<int64_t>(values.size()), false, false);
+}
+
+void Communicator::AllreduceMax(Traffic t, std::span<int64_t> values) {
+  Allreduce(t, values.data(), static_cast<int64_t>(values.size()), false, true);
 }
 
 void Communicator::Abort(const std::string& message) const {

@@ -17,8 +17,13 @@
 
 namespace dba {
 
-enum class Traffic { kDistribution, kSubRcs, kCameraUpdate, kControl, kResult };
-inline constexpr int kNumTraffic = 5;
+// kSubRcs: sub-RCSs to the main rank (gather) or to the owners of their rows
+// (reduce-scatter); kHalo: PCG's halo exchanges and their transposed returns;
+// kReduction: PCG's all-reduces and the coarse solve's gather and scatter.
+enum class Traffic {
+  kDistribution, kSubRcs, kCameraUpdate, kControl, kResult, kHalo, kReduction
+};
+inline constexpr int kNumTraffic = 7;
 const char* TrafficName(Traffic t);
 
 struct TrafficStats {
@@ -88,6 +93,26 @@ class Communicator {
   // Gathers `count` doubles from every rank at rank 0, in rank order.
   std::vector<double> Gather(Traffic t, std::span<const double> local);
 
+  // Every rank sends send[r] to rank r and receives recv[r] from rank r, all
+  // at once (non-blocking, chunked past 2^30 bytes); sizes agreed before (an
+  // empty span: nothing to or from that rank; a rank's own entry is
+  // ignored). The sparse all-to-all of the distributed RCS.
+  template <typename T>
+  void Exchange(Traffic t, const std::vector<std::span<const T>>& send,
+                const std::vector<std::span<T>>& recv) {
+    std::vector<ByteSpan> s(send.size()), r(recv.size());
+    for (size_t i = 0; i < send.size(); ++i) s[i] = {(void*)send[i].data(), send[i].size_bytes()};
+    for (size_t i = 0; i < recv.size(); ++i) r[i] = {recv[i].data(), recv[i].size_bytes()};
+    ExchangeBytes(t, s, r);
+  }
+  // In place: every rank's `values` summed elementwise (or maxed) over all
+  // ranks, the same sum on every rank.
+  void AllreduceSum(Traffic t, std::span<double> values);
+  void AllreduceMax(Traffic t, std::span<double> values);
+  // In place: int64 counts summed (maxed) over all ranks.
+  void AllreduceSum(Traffic t, std::span<int64_t> values);
+  void AllreduceMax(Traffic t, std::span<int64_t> values);
+
   // Ends the whole job: prints "dba: rank R: error: MESSAGE" and aborts every
   // rank with a non-zero status. Never returns.
   [[noreturn]] void Abort(const std::string& message) const;
@@ -98,6 +123,13 @@ class Communicator {
   void SendBytes(int dest, Traffic t, const void* data, uint64_t bytes);
   void RecvBytes(int source, Traffic t, void* data, uint64_t bytes);
   void BroadcastBytes(Traffic t, void* data, uint64_t bytes);
+  struct ByteSpan {
+    void* data = nullptr;
+    uint64_t bytes = 0;
+  };
+  void ExchangeBytes(Traffic t, const std::vector<ByteSpan>& send,
+                     const std::vector<ByteSpan>& recv);
+  void Allreduce(Traffic t, void* data, int64_t count, bool is_double, bool max);
 
   bool mpi_ = false;
   int rank_ = 0;

@@ -4,6 +4,8 @@
 #include "dba/common/memory.h"
 
 #include "dba/common/timer.h"
+#include <stdexcept>
+#include <string>
 #include "dba/io/binary_problem.h"
 
 namespace dba {
@@ -157,6 +159,27 @@ std::vector<int32_t> BinaryPointGroups(Communicator* comm, const std::string& pa
 
 }  // namespace
 
+RcsPlacement ChooseRcsPlacement(const DistributedOptions& options, const LmOptions& lm, int ranks) {
+  const LinearSolverType type = lm.linear_solver.type;
+  const bool pcg = type == LinearSolverType::kAuto || type == LinearSolverType::kPcg;
+  switch (options.rcs) {
+    case DistributedOptions::Rcs::kGather: return RcsPlacement::kGather;
+    case DistributedOptions::Rcs::kDistributed:
+      if (!pcg) {
+        throw std::invalid_argument(std::string("--rcs distributed solves by PCG; --linear-solver ") +
+                         LinearSolverName(type) + " needs --rcs gather");
+      }
+      if (!options.priors.empty()) {
+        throw std::invalid_argument("--rcs distributed: camera-centre priors are added to a gathered RCS; "
+                         "use --rcs gather");
+      }
+      return RcsPlacement::kDistributed;
+    case DistributedOptions::Rcs::kAuto: break;
+  }
+  return ranks > 1 && pcg && options.priors.empty() ? RcsPlacement::kDistributed
+                                                    : RcsPlacement::kGather;
+}
+
 DistributedSummary DistributedBundleAdjust(
     Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
     const std::string& binary_input, bool collect_points, Problem* problem,
@@ -177,6 +200,14 @@ DistributedSummary DistributedBundleAdjust(
   CheckpointFlags flags{checkpoints.writer != nullptr || checkpoints.resume != nullptr,
                         checkpoints.resume != nullptr};
   comm->Broadcast(Traffic::kControl, &flags);
+  int32_t placement = 0;
+  if (comm->is_main()) {
+    placement = static_cast<int32_t>(ChooseRcsPlacement(distributed, options, comm->size()));
+  }
+  comm->Broadcast(Traffic::kControl, &placement);
+  summary.rcs = static_cast<RcsPlacement>(placement);
+  // The linear solve's options, the same on every rank (distributed PCG).
+  const LinearSolverOptions linear = LinearSolverOptionsFor(options, 0);
 
   const bool from_file = !binary_input.empty();
   BinaryProblemHeader header;
@@ -205,7 +236,8 @@ DistributedSummary DistributedBundleAdjust(
       LocalPointWorkers workers(&share.problem, options.damping, options.num_threads, loss,
                                 EstimateAndCheck(comm, options, distributed, share.problem,
                                                  EstimateRole::kForms, &estimate));
-      const RankLoopEnd end = RunPointRank(comm, &share, &workers, estimate.total(), &rejection);
+      const RankLoopEnd end = RunPointRank(comm, &share, &workers, estimate.total(), &rejection,
+                                           summary.rcs, linear, options.damping);
       if (!end.rebuild) return summary;
       if (!end.keep_loss) loss = RobustLoss();
     }
@@ -281,11 +313,12 @@ DistributedSummary DistributedBundleAdjust(
     workers = std::make_unique<MpiPointWorkers>(
         comm, UnknownLayout(*problem), mine, own_workers.get(),
         EstimateAndCheck(comm, o, distributed, *problem, EstimateRole::kSolves,
-                         &summary.memory_estimate, groups, num_observations));
+                         &summary.memory_estimate, groups, num_observations),
+        summary.rcs, linear, o.damping);
   };
   make_workers(options);
   summary.ba.symbolic_seconds = symbolic.Seconds();
-  summary.ba.rcs = RcsFootprint::Of(workers->global().S);
+  summary.ba.rcs = workers->footprint();
 
   TrafficStats before = comm->stats();
   auto log = [&](const IterationSummary& it) {
@@ -338,7 +371,7 @@ DistributedSummary DistributedBundleAdjust(
           make_workers(resolve);
           BundleAdjustSummary next;
           next.symbolic_seconds = again.Seconds();
-          next.rcs = RcsFootprint::Of(workers->global().S);
+          next.rcs = workers->footprint();
           next.lm = solve(resolve);
           AppendSolve(next, &summary.ba);
         },

@@ -44,13 +44,22 @@ struct DistributedOptions {
   // Camera-centre priors (lm/prior_workers.h), global image numbering: the
   // main rank adds their terms to the global RCS.
   CameraPriors priors;
+  // Where the RCS lives (--rcs): auto spreads it over the ranks when there
+  // is more than one and the linear solve is PCG (auto or pcg) without
+  // camera priors (they are added to the gathered RCS); else gathers it.
+  enum class Rcs { kAuto, kGather, kDistributed } rcs = Rcs::kAuto;
 };
+
+// The placement `options` ask for on `ranks` ranks; throws std::invalid_argument when
+// kDistributed cannot be had (a factorization, camera priors).
+RcsPlacement ChooseRcsPlacement(const DistributedOptions& options, const LmOptions& lm, int ranks);
 
 struct DistributedSummary {
   BundleAdjustSummary ba;
   int ranks = 1;
   bool main_forms = true;
   PartitionScheme partition = PartitionScheme::kCameraLocality;
+  RcsPlacement rcs = RcsPlacement::kGather;
   std::vector<RankReport> rank_reports;     // main rank only
   TrafficStats traffic;                     // main rank's, whole solve
   std::vector<TrafficStats> per_iteration;  // main rank's, per LM iteration

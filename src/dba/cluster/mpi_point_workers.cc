@@ -14,7 +14,8 @@ namespace dba {
 namespace {
 
 enum class Op : int32_t {
-  kForm = 1, kStep = 2, kFinish = 3, kEnd = 4, kCollect = 5, kReject = 6, kRebuild = 7, kLeft = 8
+  kForm = 1, kStep = 2, kFinish = 3, kEnd = 4, kCollect = 5, kReject = 6, kRebuild = 7, kLeft = 8,
+  kSolve = 9
 };
 
 struct Command {
@@ -79,7 +80,72 @@ ShareLeft RecvLeft(Communicator* comm, int rank) {
   return left;
 }
 
+// Collective, distributed RCS: the global block sizes from the main rank,
+// this rank's sub-RCS rows in global numbering (the main rank maps every
+// rank's row entities), then the owners' parts (cluster/distributed_rcs.h).
+std::unique_ptr<DistributedRcs> BuildDistributedRcs(Communicator* comm, const UnknownLayout* global,
+                                                    const RankShare* share,
+                                                    const LocalPointWorkers* workers,
+                                                    const LinearSolverOptions& linear) {
+  const Traffic t = Traffic::kDistribution;
+  std::vector<int32_t> sizes;
+  if (comm->is_main()) sizes = global->block_sizes();
+  int64_t n = static_cast<int64_t>(sizes.size());
+  comm->Broadcast(t, &n);
+  sizes.resize(n);
+  comm->Broadcast(t, std::span<int32_t>(sizes));
+  std::vector<int64_t> entities;
+  if (workers != nullptr) {
+    entities = workers->system().layout.RowEntities(share->global_camera, share->global_intrinsics);
+  }
+  std::vector<int32_t> rows;
+  if (comm->is_main()) {
+    rows = global->RowsOfEntities(entities);
+    for (int r = 1; r < comm->size(); ++r) {
+      comm->SendVector(r, t, global->RowsOfEntities(comm->RecvVector<int64_t>(r, t)));
+    }
+  } else {
+    comm->SendVector(0, t, entities);
+    rows = comm->RecvVector<int32_t>(0, t);
+  }
+  return std::make_unique<DistributedRcs>(comm, std::move(sizes),
+                                          workers != nullptr ? &workers->system().S : nullptr,
+                                          std::move(rows), linear);
+}
+
+// Collective: the owners' parts of the RCS summed into one footprint (own
+// rows only; the halo's zero diagonal blocks are scratch).
+RcsFootprint OwnedFootprint(Communicator* comm, const DistributedRcs& d) {
+  const BsmcMatrix& S = d.own_matrix();
+  const int32_t n = d.num_own_rows();
+  const int64_t blocks = n > 0 ? S.row_end(n - 1) : 0;
+  int64_t csr_entries = 0;  // both triangles
+  for (int32_t i = 0; i < n; ++i) {
+    for (int64_t b = S.row_begin(i); b < S.row_end(i); ++b) {
+      const int64_t e = int64_t{S.block_size(i)} * S.block_size(S.block_col(b));
+      csr_entries += S.block_col(b) == i ? e : 2 * e;
+    }
+  }
+  const int64_t values = n > 0 ? S.value_offset(blocks) : 0;
+  int64_t f[6] = {n, blocks, S.scalar_offset(n),
+                  (n + 1) * 8 + blocks * 12 /* row starts, columns, value offsets */,
+                  values * 8, csr_entries * 12 + (S.scalar_offset(n) + 1) * 8};
+  comm->AllreduceSum(Traffic::kDistribution, f);
+  RcsFootprint fp;
+  fp.block_rows = f[0];
+  fp.blocks = f[1];
+  fp.camera_unknowns = f[2];
+  fp.bsmc_structure_bytes = f[3];
+  fp.bsmc_value_bytes = f[4];
+  fp.csr_bytes = f[5];
+  return fp;
+}
+
 }  // namespace
+
+const char* RcsPlacementName(RcsPlacement placement) {
+  return placement == RcsPlacement::kDistributed ? "distributed" : "gather";
+}
 
 void MaybeInjectFault(int rank, const char* step, int count) {
   const char* spec = std::getenv("DBA_INJECT_FAULT");
@@ -97,7 +163,7 @@ void MaybeInjectFault(int rank, const char* step, int count) {
 
 RankReport MakeRankReport(int rank, const RankShare& share,
                           const LocalPointWorkers* workers, const Communicator& comm,
-                          int64_t memory_estimate_bytes) {
+                          int64_t memory_estimate_bytes, const DistributedRcs* distributed) {
   RankReport r;
   r.memory_estimate_bytes = memory_estimate_bytes;
   r.rank = rank;
@@ -109,15 +175,76 @@ RankReport MakeRankReport(int rank, const RankShare& share,
     r.sub_rcs_blocks = S.num_blocks();
     r.sub_rcs_bytes = S.StructureBytes() + S.ValueBytes();
   }
+  if (distributed != nullptr) {
+    const BsmcMatrix& S = distributed->own_matrix();
+    const int32_t n = distributed->num_own_rows();
+    r.owned_rows = n;
+    r.owned_blocks = n > 0 ? S.row_end(n - 1) : 0;
+    r.owned_bytes = distributed->MemoryBytes();
+    r.halo_rows = S.num_block_rows() - n;
+  }
   r.peak_memory_bytes = PeakResidentBytes();
   r.traffic_bytes = comm.stats().total_bytes();
+  r.traffic = comm.stats();
   return r;
+}
+
+// The linear solve of a distributed RCS, on the main rank: every rank
+// joins it (SOLVE); δc comes back whole.
+class MpiPointWorkers::DistributedSolver : public DampedRcsSolver {
+ public:
+  explicit DistributedSolver(MpiPointWorkers* w) : w_(w) {}
+  LinearSolveSummary Solve(double lambda, const DampingBounds& bounds, RcsSystem* system,
+                           double* delta_c) override {
+    (void)bounds;  // every rank damps with its own (the same options)
+    (void)system;
+    BroadcastCommand(w_->comm_, {Op::kSolve, 0, lambda});
+    const LinearSolveSummary s = w_->distributed_->Solve(lambda, w_->bounds_);
+    std::vector<double> all;
+    w_->distributed_->SpreadStep(w_->own_ != nullptr ? &w_->own_delta_ : nullptr, &all);
+    std::copy(all.begin(), all.end(), delta_c);
+    return s;
+  }
+  int64_t MemoryBytes() const override { return w_->distributed_->MemoryBytes(); }
+
+ private:
+  MpiPointWorkers* w_;
+};
+
+MpiPointWorkers::~MpiPointWorkers() = default;
+
+std::unique_ptr<DampedRcsSolver> MpiPointWorkers::MakeDampedRcsSolver(
+    RcsSystem& system, const LinearSolverOptions& options, RcsSolverChoice* choice) {
+  if (placement_ == RcsPlacement::kGather) {
+    return PointWorkers::MakeDampedRcsSolver(system, options, choice);
+  }
+  if (choice != nullptr) {
+    *choice = RcsSolverChoice();
+    choice->type = LinearSolverType::kPcg;
+    choice->reason = "the RCS is spread over " + std::to_string(comm_->size()) +
+                     " ranks: PCG across them, block-Jacobi preconditioner";
+    choice->pcg_bytes = distributed_->MemoryBytes();
+  }
+  return std::make_unique<DistributedSolver>(this);
 }
 
 MpiPointWorkers::MpiPointWorkers(Communicator* comm, UnknownLayout layout,
                                  RankShare* own_share, LocalPointWorkers* own,
-                                 const std::function<void(const RcsSystem&)>& before_values)
-    : comm_(comm), own_share_(own_share), own_(own) {
+                                 const std::function<void(const RcsSystem&)>& before_values,
+                                 RcsPlacement placement, const LinearSolverOptions& linear,
+                                 const DampingBounds& bounds)
+    : comm_(comm), own_share_(own_share), own_(own), placement_(placement), bounds_(bounds) {
+  if (placement == RcsPlacement::kDistributed) {
+    distributed_ = BuildDistributedRcs(comm, &layout, own_share, own, linear);
+    footprint_ = OwnedFootprint(comm, *distributed_);
+    if (own != nullptr) {
+      maps_.resize(1);
+      maps_[0].global_row = layout.RowsOfEntities(own->system().layout.RowEntities(
+          own_share->global_camera, own_share->global_intrinsics));
+    }
+    global_.layout = std::move(layout);
+    return;
+  }
   // Every rank's sub-RCS pattern in global numbering; the global pattern is
   // their union (plus every diagonal block).
   std::vector<std::vector<uint64_t>> local_patterns(comm->size());
@@ -135,11 +262,25 @@ MpiPointWorkers::MpiPointWorkers(Communicator* comm, UnknownLayout layout,
       BuildGlobalRcs(std::move(layout), local_patterns, std::move(rows), before_values);
   global_ = std::move(global.system);
   maps_ = std::move(global.maps);
+  footprint_ = RcsFootprint::Of(global_.S);
 }
 
 RcsSystem& MpiPointWorkers::FormRcs(double lambda) {
   BroadcastCommand(comm_, {Op::kForm, 0, lambda});
   ++formations_;
+  if (distributed_ != nullptr) {
+    const RcsSystem* sub = nullptr;
+    if (own_ != nullptr) {
+      MaybeInjectFault(0, "form", formations_);
+      sub = &own_->FormRcs(lambda);
+    }
+    const RcsTotals totals = distributed_->Reduce(sub);
+    global_.cost = totals.cost;
+    global_.residuals = totals.residuals;
+    global_.camera_side_gradient.assign(1, totals.max_abs_gradient);
+    global_.max_abs_point_gradient = totals.max_abs_gradient;
+    return global_;
+  }
   ClearRcs(&global_);
   if (own_ != nullptr) {
     MaybeInjectFault(0, "form", formations_);
@@ -160,13 +301,15 @@ StepEvaluation MpiPointWorkers::EvaluateStep(double lambda,
   (void)candidate_cameras;  // ranks add δc to their own copies of the cameras
   BroadcastCommand(comm_, {Op::kStep, 0, lambda});
   MaybeInjectFault(0, "step", ++steps_);
-  for (int r = 1; r < comm_->size(); ++r) {
+  for (int r = 1; r < comm_->size() && distributed_ == nullptr; ++r) {
     const std::vector<double> local = LocalDelta(delta_c, global_.layout, maps_[r].global_row);
     comm_->Send(r, Traffic::kCameraUpdate, std::span<const double>(local));
   }
   std::vector<double> mine(kPackedEvaluation, 0.0);
   if (own_ != nullptr) {
-    const std::vector<double> local = LocalDelta(delta_c, global_.layout, maps_[0].global_row);
+    const std::vector<double> local = distributed_ != nullptr
+                                          ? own_delta_
+                                          : LocalDelta(delta_c, global_.layout, maps_[0].global_row);
     mine = Pack(own_->EvaluateStep(lambda, local, Plus(*own_, own_share_->problem.cameras, local)));
   }
   const std::vector<double> all = comm_->Gather(Traffic::kControl, mine);
@@ -254,17 +397,27 @@ std::vector<RankReport> MpiPointWorkers::Finish(std::vector<double>* points,
     comm_->Recv(r, Traffic::kResult, std::span<RankReport>(&reports[r], 1));
   }
   reports[0] = own_share_ != nullptr
-                   ? MakeRankReport(0, *own_share_, own_, *comm_, memory_estimate_bytes)
-                   : MakeRankReport(0, RankShare{}, nullptr, *comm_, memory_estimate_bytes);
+                   ? MakeRankReport(0, *own_share_, own_, *comm_, memory_estimate_bytes,
+                                    distributed_.get())
+                   : MakeRankReport(0, RankShare{}, nullptr, *comm_, memory_estimate_bytes,
+                                    distributed_.get());
   return reports;
 }
 
 RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* workers,
-                         int64_t memory_estimate_bytes, ShareRejection* rejection) {
-  comm->SendVector(0, Traffic::kDistribution, BlockPattern(workers->system().S));
-  comm->SendVector(0, Traffic::kDistribution,
-                   workers->system().layout.RowEntities(share->global_camera,
-                                                        share->global_intrinsics));
+                         int64_t memory_estimate_bytes, ShareRejection* rejection,
+                         RcsPlacement placement, const LinearSolverOptions& linear,
+                         const DampingBounds& bounds) {
+  std::unique_ptr<DistributedRcs> distributed;
+  if (placement == RcsPlacement::kDistributed) {
+    distributed = BuildDistributedRcs(comm, nullptr, share, workers, linear);
+    OwnedFootprint(comm, *distributed);
+  } else {
+    comm->SendVector(0, Traffic::kDistribution, BlockPattern(workers->system().S));
+    comm->SendVector(0, Traffic::kDistribution,
+                     workers->system().layout.RowEntities(share->global_camera,
+                                                          share->global_intrinsics));
+  }
   std::vector<double> message, delta(workers->system().layout.num_unknowns());
   int formations = 0, steps = 0, finishes = 0;
   double lambda = 0.0;
@@ -278,13 +431,22 @@ RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers
     switch (c.op) {
       case Op::kForm:
         MaybeInjectFault(comm->rank(), "form", ++formations);
+        if (distributed != nullptr) {
+          distributed->Reduce(&workers->FormRcs(c.lambda));
+          break;
+        }
         PackSubRcs(workers->FormRcs(c.lambda), &message);
         comm->Send(0, Traffic::kSubRcs, std::span<const double>(message));
+        break;
+      case Op::kSolve:
+        if (distributed == nullptr) throw std::runtime_error("SOLVE with the RCS gathered");
+        distributed->Solve(c.lambda, bounds);
+        distributed->SpreadStep(&delta, nullptr);
         break;
       case Op::kStep: {
         MaybeInjectFault(comm->rank(), "step", ++steps);
         lambda = c.lambda;
-        comm->Recv(0, Traffic::kCameraUpdate, std::span<double>(delta));
+        if (distributed == nullptr) comm->Recv(0, Traffic::kCameraUpdate, std::span<double>(delta));
         const StepEvaluation e = workers->EvaluateStep(
             lambda, delta, Plus(*workers, share->problem.cameras, delta));
         comm->Gather(Traffic::kControl, Pack(e));
@@ -310,8 +472,8 @@ RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers
       case Op::kEnd: {
         MaybeInjectFault(comm->rank(), "end", 1);
         if (c.accept != 0) send_points();  // the main rank wants the points
-        const RankReport report =
-            MakeRankReport(comm->rank(), *share, workers, *comm, memory_estimate_bytes);
+        const RankReport report = MakeRankReport(comm->rank(), *share, workers, *comm,
+                                                 memory_estimate_bytes, distributed.get());
         comm->Send(0, Traffic::kResult, std::span<const RankReport>(&report, 1));
         return {};
       }

@@ -1,13 +1,20 @@
 // PointWorkers spread over MPI ranks: the iteration protocol of docs/design.md §4.
 //
+// The RCS is gathered on the main rank (RcsPlacement::kGather, the paper's)
+// or spread over the ranks (kDistributed, cluster/distributed_rcs.h):
+//
 //   main rank (MpiPointWorkers)            every rank (RunPointRank, or the
 //                                          main rank's own share)
 //   FormRcs:   broadcast FORM(λ)      ─►   form sub-RCS (local ids) + rhs
-//              receive rank by rank   ◄─   packed values
+//     gather:  receive rank by rank   ◄─   packed values
 //              add into global BSMC (indexed add, one message at a time)
+//     distributed:                         reduce-scatter to the rows' owners
+//   Solve (distributed only): broadcast SOLVE(λ) ─► damp own rows, PCG
+//              across the ranks, δc of its rows from their owners; all of
+//              δc to the main rank
 //   EvaluateStep: broadcast STEP(λ),
-//              send δc of its rows    ─►   back-substitute, costs at the step
-//              gather partial sums    ◄─   4 numbers
+//              (gather) send δc of its rows ─► back-substitute, costs at the step
+//              gather partial sums    ◄─   7 numbers
 //   FinishStep: broadcast FINISH(accept) ─► keep or drop the candidate
 //   CollectPoints: broadcast COLLECT  ─►   (between iterations, checkpoints)
 //              receive rank by rank   ◄─   global ids, points
@@ -28,8 +35,10 @@
 
 #include "dba/cluster/aggregate_sub_rcs.h"
 #include "dba/cluster/communicator.h"
+#include "dba/cluster/distributed_rcs.h"
 #include "dba/cluster/rank_share.h"
 #include "dba/cluster/share_outliers.h"
+#include "dba/lm/bundle_adjust.h"
 #include "dba/lm/local_point_workers.h"
 
 namespace dba {
@@ -45,7 +54,18 @@ struct RankReport {
   int64_t peak_memory_bytes = 0;
   int64_t memory_estimate_bytes = 0;  // before its RCS's values (lm/memory_estimate.h)
   int64_t traffic_bytes = 0;
+  // Distributed RCS: the rows this rank owns, their stored blocks and bytes
+  // (structure and values), and its halo rows.
+  int64_t owned_rows = 0;
+  int64_t owned_blocks = 0;
+  int64_t owned_bytes = 0;
+  int64_t halo_rows = 0;
+  TrafficStats traffic;  // this rank's, whole solve
 };
+
+// Where the RCS lives: gathered on the main rank, or spread over the ranks.
+enum class RcsPlacement { kGather, kDistributed };
+const char* RcsPlacementName(RcsPlacement placement);
 
 // Fault injection for tests: DBA_INJECT_FAULT="RANK:STEP:N" makes rank RANK
 // throw at its N-th (1-based) protocol step STEP: read (its share of a .dba
@@ -62,11 +82,23 @@ class MpiPointWorkers : public PointWorkers {
   // be null) is the main rank's own share.
   // `before_values`: called with the global RCS's structure before its
   // values are allocated (RcsSystem::ForProblem).
+  // Distributed (`placement`): the ranks agree on the rows' owners and
+  // build their parts of the RCS and the PCG storage from `linear` and
+  // `bounds`; the main rank holds none of S.
   MpiPointWorkers(Communicator* comm, UnknownLayout layout, RankShare* own_share,
                   LocalPointWorkers* own,
-                  const std::function<void(const RcsSystem&)>& before_values = {});
+                  const std::function<void(const RcsSystem&)>& before_values = {},
+                  RcsPlacement placement = RcsPlacement::kGather,
+                  const LinearSolverOptions& linear = {}, const DampingBounds& bounds = {});
+  ~MpiPointWorkers() override;
 
+  // Gathered: the global system. Distributed: the layout, cost and residual
+  // sums of all ranks, camera_side_gradient one entry (‖g_c‖∞ over all
+  // ranks) and S empty.
   RcsSystem& FormRcs(double lambda) override;
+  std::unique_ptr<DampedRcsSolver> MakeDampedRcsSolver(RcsSystem& system,
+                                                       const LinearSolverOptions& options,
+                                                       RcsSolverChoice* choice) override;
   StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,
                               const std::vector<double>& candidate_cameras) override;
   void FinishStep(bool accept) override;
@@ -93,8 +125,12 @@ class MpiPointWorkers : public PointWorkers {
   std::vector<RankReport> Finish(std::vector<double>* points, int64_t memory_estimate_bytes = 0);
 
   const RcsSystem& global() const { return global_; }
+  RcsPlacement placement() const { return placement_; }
+  // The RCS's size: the global matrix's, or the owners' parts summed.
+  const RcsFootprint& footprint() const { return footprint_; }
 
  private:
+  class DistributedSolver;
   void ReceivePoints(std::vector<double>* points);
 
   Communicator* comm_;
@@ -105,6 +141,11 @@ class MpiPointWorkers : public PointWorkers {
   RcsSystem global_;
   std::vector<double> message_;
   int formations_ = 0;
+  RcsPlacement placement_ = RcsPlacement::kGather;
+  std::unique_ptr<DistributedRcs> distributed_;
+  DampingBounds bounds_;
+  std::vector<double> own_delta_;  // distributed: δc of the own share's rows
+  RcsFootprint footprint_;
 };
 
 // How a rank's loop ended: the solve is over, or (REBUILD) the share changed
@@ -119,12 +160,17 @@ struct RankLoopEnd {
 // its points and report) or asks for a REBUILD. Throws on failure (the
 // caller aborts the job). `memory_estimate_bytes` goes into its report;
 // `rejection`: the share's state across rejection rounds.
+// `placement`, `linear`, `bounds`: as the main rank's MpiPointWorkers.
 RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers* workers,
-                         int64_t memory_estimate_bytes, ShareRejection* rejection);
+                         int64_t memory_estimate_bytes, ShareRejection* rejection,
+                         RcsPlacement placement = RcsPlacement::kGather,
+                         const LinearSolverOptions& linear = {},
+                         const DampingBounds& bounds = {});
 
 // Report of this rank's share (peak memory read now).
 RankReport MakeRankReport(int rank, const RankShare& share,
                           const LocalPointWorkers* workers, const Communicator& comm,
-                          int64_t memory_estimate_bytes = 0);
+                          int64_t memory_estimate_bytes = 0,
+                          const DistributedRcs* distributed = nullptr);
 
 }  // namespace dba

@@ -148,9 +148,9 @@ class Minimizer {
   // numerically positive definite. Counts the iteration.
   bool SolveDampedRcs(IterationSummary* it) {
     Timer phase;
-    DampCameraBlocks(damping_.lambda(), options_.damping, sys_->camera_side_jtj_diagonal, &sys_->S);
     if (!linear_solver_) linear_solver_ = MakeLinearSolver();
-    const LinearSolveSummary solve = linear_solver_->Solve(sys_->S, sys_->b.data(), delta_c_.data());
+    const LinearSolveSummary solve =
+        linear_solver_->Solve(damping_.lambda(), options_.damping, sys_, delta_c_.data());
     it->linear_iterations = solve.iterations;
     it->linear_relative_residual = solve.relative_residual;
     it->linear_stop = solve.stop;
@@ -161,14 +161,15 @@ class Minimizer {
   }
 
   // The symbolic phase of the linear solve, once per solve.
-  std::unique_ptr<RcsSolver> MakeLinearSolver() {
+  std::unique_ptr<DampedRcsSolver> MakeLinearSolver() {
     LinearSolverOptions linear = LinearSolverOptionsFor(options_, num_observations_);
     if (linear.coarse_basis != CoarseBasis::kParameters &&
         linear.preconditioner == PreconditionerType::kTwoLevel) {
       linear.coarse_row_bases = RigidMotionBases(sys_->layout, cameras_->data(),
                                                  linear.coarse_basis == CoarseBasis::kSimilarity);
     }
-    std::unique_ptr<RcsSolver> solver = MakeRcsSolver(sys_->S, linear, &summary_.linear_solver);
+    std::unique_ptr<DampedRcsSolver> solver =
+        workers_->MakeDampedRcsSolver(*sys_, linear, &summary_.linear_solver);
     summary_.linear_solver_bytes = solver->MemoryBytes();
     return solver;
   }
@@ -242,7 +243,7 @@ class Minimizer {
   double cost_ = 0.0;       // at the current parameters
   ResidualSums residuals_;  // at the current parameters
   ResidualSums candidate_residuals_;
-  std::unique_ptr<RcsSolver> linear_solver_;
+  std::unique_ptr<DampedRcsSolver> linear_solver_;
   std::vector<double> delta_c_, candidate_;
 };
 

@@ -6,6 +6,8 @@
 // Lifecycle (the LM loop is the one caller; the test fake in
 // lm/lm_control_test.cc checks the order):
 //   construct   the symbolic phase: RCS structure, scratch sized once
+//   MakeDampedRcsSolver(system, options)  once, after the first FormRcs:
+//               the linear solve's symbolic phase, where S lives
 //   FormRcs(λ)  first call; then after every FinishStep that did not end the
 //               solve. Linearizes and eliminates every point at the current
 //               parameters (paper eq. 4) and returns the global RCS, its
@@ -28,6 +30,7 @@
 
 #include <vector>
 
+#include "dba/lm/damped_rcs_solver.h"
 #include "dba/rcs/back_substitute.h"
 #include "dba/rcs/form_rcs.h"
 
@@ -49,6 +52,14 @@ class PointWorkers {
 
   // Makes the candidate of the last EvaluateStep current (accept) or drops it.
   virtual void FinishStep(bool accept) = 0;
+
+  // The solver of (S + λ D_c) δc = b for the systems FormRcs returns
+  // (`system`: the first); `choice` gets what was chosen and why. By
+  // default the system holds all of S and is solved in place.
+  virtual std::unique_ptr<DampedRcsSolver> MakeDampedRcsSolver(
+      RcsSystem& system, const LinearSolverOptions& options, RcsSolverChoice* choice) {
+    return std::make_unique<LocalDampedRcsSolver>(system.S, options, choice);
+  }
 };
 
 }  // namespace dba

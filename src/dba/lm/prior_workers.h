@@ -47,6 +47,12 @@ class PriorWorkers : public PointWorkers {
   StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,
                               const std::vector<double>& candidate_cameras) override;
   void FinishStep(bool accept) override { points_->FinishStep(accept); }
+  // The points' solver: the priors are in the system FormRcs returned.
+  std::unique_ptr<DampedRcsSolver> MakeDampedRcsSolver(RcsSystem& system,
+                                                       const LinearSolverOptions& options,
+                                                       RcsSolverChoice* choice) override {
+    return points_->MakeDampedRcsSolver(system, options, choice);
+  }
 
  private:
   PointWorkers* points_;

@@ -358,8 +358,9 @@ void FormRcs(const Problem& problem, double lambda,
 
 void DampCameraBlocks(double lambda, const DampingBounds& bounds,
                       const std::vector<double>& camera_side_jtj_diagonal,
-                      BsmcMatrix* S) {
-  for (int32_t i = 0; i < S->num_block_rows(); ++i) {
+                      BsmcMatrix* S, int32_t num_block_rows) {
+  const int32_t n = num_block_rows < 0 ? S->num_block_rows() : num_block_rows;
+  for (int32_t i = 0; i < n; ++i) {
     const int c = S->block_size(i);
     double* block = S->block_values(S->diagonal_block(i));
     const double* diag = camera_side_jtj_diagonal.data() + S->scalar_offset(i);

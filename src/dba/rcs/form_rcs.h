@@ -68,9 +68,10 @@ void FormRcs(const Problem& problem, double lambda,
 int64_t FormationCopyBytes(int64_t values, int64_t rows, int num_threads);
 
 // S_ii += λ clamp(diag U_ii) on every diagonal block (the camera part of the
-// Marquardt damping λ D).
+// Marquardt damping λ D); `num_block_rows` >= 0: on the first rows only (a
+// rank's own rows of a distributed RCS).
 void DampCameraBlocks(double lambda, const DampingBounds& bounds,
                       const std::vector<double>& camera_side_jtj_diagonal,
-                      BsmcMatrix* S);
+                      BsmcMatrix* S, int32_t num_block_rows = -1);
 
 }  // namespace dba

@@ -10,10 +10,12 @@ namespace dba {
 
 using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-BlockJacobiPreconditioner::BlockJacobiPreconditioner(const BsmcMatrix& S,
-                                                     int num_threads)
-    : S_(S), num_threads_(num_threads) {
-  const int32_t n = S.num_block_rows();
+BlockJacobiPreconditioner::BlockJacobiPreconditioner(const BsmcMatrix& S, int num_threads,
+                                                     int32_t num_block_rows)
+    : S_(S),
+      num_threads_(num_threads),
+      n_(num_block_rows < 0 ? S.num_block_rows() : num_block_rows) {
+  const int32_t n = n_;
   offset_.resize(n + 1);
   offset_[0] = 0;
   for (int32_t i = 0; i < n; ++i) {
@@ -24,7 +26,7 @@ BlockJacobiPreconditioner::BlockJacobiPreconditioner(const BsmcMatrix& S,
 
 void BlockJacobiPreconditioner::Update(const BsmcMatrix& S) {
   DBA_DCHECK(!S.values_narrowed());
-  const int32_t n = S.num_block_rows();
+  const int32_t n = n_;
 #pragma omp parallel for num_threads(num_threads_) schedule(static) if (n > 256)
   for (int32_t i = 0; i < n; ++i) {
     const int c = S.block_size(i);
@@ -49,7 +51,7 @@ void BlockJacobiPreconditioner::Update(const BsmcMatrix& S) {
 }
 
 void BlockJacobiPreconditioner::Apply(const double* r, double* z) const {
-  const int32_t n = S_.num_block_rows();
+  const int32_t n = n_;
 #pragma omp parallel for num_threads(num_threads_) schedule(static) if (n > 256)
   for (int32_t i = 0; i < n; ++i) {
     const int c = S_.block_size(i);

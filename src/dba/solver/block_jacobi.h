@@ -14,8 +14,10 @@ namespace dba {
 class BlockJacobiPreconditioner : public Preconditioner {
  public:
   // Storage for the inverses of S's diagonal blocks (symbolic); S must
-  // outlive the preconditioner and keep its structure.
-  BlockJacobiPreconditioner(const BsmcMatrix& S, int num_threads);
+  // outlive the preconditioner and keep its structure. `num_block_rows`:
+  // only the first rows (a rank's own rows of a distributed RCS, the rest
+  // its halo); -1: all.
+  BlockJacobiPreconditioner(const BsmcMatrix& S, int num_threads, int32_t num_block_rows = -1);
 
   // Inverts every diagonal block of S (Cholesky; a block that is not positive
   // definite is inverted by LDLT with pivoting, or replaced by the inverse of
@@ -31,6 +33,7 @@ class BlockJacobiPreconditioner : public Preconditioner {
   std::vector<int64_t> offset_;  // start of block i's inverse
   std::vector<double> inverse_;
   int num_threads_;
+  int32_t n_;  // rows preconditioned
 };
 
 }  // namespace dba

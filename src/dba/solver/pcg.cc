@@ -56,9 +56,8 @@ void PcgScratch::Resize(int64_t n) {
   Sd.resize(n);
 }
 
-PcgSummary SolvePcg(const SymmetricMultiplier& S, const Preconditioner& M,
-                    const double* b, double* y, const PcgOptions& options,
-                    PcgScratch* scratch) {
+PcgSummary SolvePcg(const PcgOperator& S, const Preconditioner& M, const double* b, double* y,
+                    const PcgOptions& options, PcgScratch* scratch) {
   const int64_t n = S.num_rows();
   const int nt = options.num_threads;
   const bool par = n > kParallelBelow;
@@ -72,14 +71,16 @@ PcgSummary SolvePcg(const SymmetricMultiplier& S, const Preconditioner& M,
     y[i] = 0.0;
     r[i] = b[i];
   }
-  const double b_norm = std::sqrt(Dot(b, b, n, nt));
+  M.Apply(r, z);
+  for (int64_t i = 0; i < n; ++i) d[i] = z[i];
+  double start[2] = {Dot(b, b, n, nt), Dot(r, z, n, nt)};
+  S.SumOverRanks(start);
+  const double b_norm = std::sqrt(start[0]);
+  double rz = start[1];
   if (b_norm == 0.0) {
     summary.stop = PcgStop::kZeroRhs;
     return summary;
   }
-  M.Apply(r, z);
-  for (int64_t i = 0; i < n; ++i) d[i] = z[i];
-  double rz = Dot(r, z, n, nt);
   double r_norm = b_norm;
   double q_previous = 0.0;  // Q(0)
   summary.stop = PcgStop::kIterationLimit;
@@ -87,7 +88,8 @@ PcgSummary SolvePcg(const SymmetricMultiplier& S, const Preconditioner& M,
   for (int k = 1; k <= options.max_iterations; ++k) {
     progress.Report(0.0);
     S.Multiply(d, Sd);
-    const double dSd = Dot(d, Sd, n, nt);
+    double dSd = Dot(d, Sd, n, nt);
+    S.SumOverRanks(std::span<double>(&dSd, 1));
     if (!(dSd > 0.0) || !std::isfinite(dSd)) {
       summary.stop = PcgStop::kBreakdown;
       break;
@@ -104,30 +106,35 @@ PcgSummary SolvePcg(const SymmetricMultiplier& S, const Preconditioner& M,
       for (int64_t i = 0; i < n; ++i) r[i] = b[i] - Sd[i];
     }
     summary.iterations = k;
-    r_norm = std::sqrt(Dot(r, r, n, nt));
+    // The next direction's z before the tests, so that every sum of the
+    // iteration goes in one reduction.
+    M.Apply(r, z);
+    double rr = 0.0, yb = 0.0, yr = 0.0, rz_new = 0.0;
+#pragma omp parallel for num_threads(nt) reduction(+ : rr, yb, yr, rz_new) schedule(static) if (par)
+    for (int64_t i = 0; i < n; ++i) {
+      rr += r[i] * r[i];
+      yb += y[i] * b[i];
+      yr += y[i] * r[i];
+      rz_new += r[i] * z[i];
+    }
+    double sums[4] = {rr, yb, yr, rz_new};
+    S.SumOverRanks(sums);
+    r_norm = std::sqrt(sums[0]);
     if (r_norm <= options.relative_tolerance * b_norm) {
       summary.stop = PcgStop::kResidual;
       break;
     }
     if (options.eta > 0.0) {
       // Q(y) = ½ yᵀS y - bᵀy = -½ yᵀ(b + r).
-      double yb = 0.0, yr = 0.0;
-#pragma omp parallel for num_threads(nt) reduction(+ : yb, yr) schedule(static) if (par)
-      for (int64_t i = 0; i < n; ++i) {
-        yb += y[i] * b[i];
-        yr += y[i] * r[i];
-      }
-      const double q = -0.5 * (yb + yr);
+      const double q = -0.5 * (sums[1] + sums[2]);
       if (q < 0.0 && k >= options.min_iterations && k * (q - q_previous) / q < options.eta) {
         summary.stop = PcgStop::kQuadraticModel;
         break;
       }
       q_previous = q;
     }
-    M.Apply(r, z);
-    const double rz_new = Dot(r, z, n, nt);
-    const double beta = rz_new / rz;
-    rz = rz_new;
+    const double beta = sums[3] / rz;
+    rz = sums[3];
 #pragma omp parallel for num_threads(nt) schedule(static) if (par)
     for (int64_t i = 0; i < n; ++i) d[i] = z[i] + beta * d[i];
   }

@@ -18,9 +18,16 @@
 // drifts from b - S y in floating point; it is recomputed every
 // `residual_reset_period` iterations.
 //
+// Distributed (cluster/distributed_rcs.h), each rank holds a slice of the
+// vectors and S's rows: PcgOperator's product exchanges what it needs, and
+// the dot products of an iteration are summed over the ranks in two fused
+// reductions, one for dᵀSd and one for rᵀr, yᵀb, yᵀr and rᵀz (the
+// preconditioner is applied before the stopping tests for that).
+//
 // Thread safety: one solve at a time per scratch and multiplier.
 #pragma once
 
+#include <span>
 #include <string>
 #include <vector>
 
@@ -86,9 +93,35 @@ struct PcgScratch {
   void Resize(int64_t n);
 };
 
+// What PCG needs of S: y = S x over this rank's entries, and the sums of
+// partial dot products over the ranks that hold the other entries.
+class PcgOperator {
+ public:
+  virtual ~PcgOperator() = default;
+  virtual int64_t num_rows() const = 0;  // entries on this rank
+  virtual void Multiply(const double* x, double* y) const = 0;
+  // In place: each partial sum summed over the ranks (one reduction).
+  virtual void SumOverRanks(std::span<double> partial) const { (void)partial; }
+};
+
+// S in one process.
+class LocalPcgOperator : public PcgOperator {
+ public:
+  explicit LocalPcgOperator(const SymmetricMultiplier& S) : S_(S) {}
+  int64_t num_rows() const override { return S_.num_rows(); }
+  void Multiply(const double* x, double* y) const override { S_.Multiply(x, y); }
+
+ private:
+  const SymmetricMultiplier& S_;
+};
+
 // Solves S y = b starting from y = 0. y and b have S.num_rows() entries.
-PcgSummary SolvePcg(const SymmetricMultiplier& S, const Preconditioner& M,
-                    const double* b, double* y, const PcgOptions& options,
-                    PcgScratch* scratch);
+PcgSummary SolvePcg(const PcgOperator& S, const Preconditioner& M, const double* b, double* y,
+                    const PcgOptions& options, PcgScratch* scratch);
+inline PcgSummary SolvePcg(const SymmetricMultiplier& S, const Preconditioner& M,
+                           const double* b, double* y, const PcgOptions& options,
+                           PcgScratch* scratch) {
+  return SolvePcg(LocalPcgOperator(S), M, b, y, options, scratch);
+}
 
 }  // namespace dba

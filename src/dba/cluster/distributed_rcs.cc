@@ -1,0 +1,472 @@
+// The RCS spread over the ranks; see distributed_rcs.h.
+#include "dba/cluster/distributed_rcs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "dba/solver/pcg.h"
+
+namespace dba {
+namespace {
+
+// Every rank sends lists[q] to rank q and gets rank q's list for it (sizes
+// exchanged first). The own entry is passed through.
+template <typename T>
+std::vector<std::vector<T>> ExchangeLists(Communicator* comm, Traffic t,
+                                          const std::vector<std::vector<T>>& lists) {
+  const int n = comm->size();
+  std::vector<int64_t> send_count(n), recv_count(n);
+  for (int q = 0; q < n; ++q) send_count[q] = static_cast<int64_t>(lists[q].size());
+  std::vector<std::span<const int64_t>> sc(n);
+  std::vector<std::span<int64_t>> rc(n);
+  for (int q = 0; q < n; ++q) {
+    sc[q] = std::span<const int64_t>(&send_count[q], 1);
+    rc[q] = std::span<int64_t>(&recv_count[q], 1);
+  }
+  comm->Exchange(t, sc, rc);
+  std::vector<std::vector<T>> received(n);
+  std::vector<std::span<const T>> s(n);
+  std::vector<std::span<T>> r(n);
+  for (int q = 0; q < n; ++q) {
+    if (q == comm->rank()) {
+      received[q] = lists[q];
+      continue;
+    }
+    received[q].resize(recv_count[q]);
+    s[q] = std::span<const T>(lists[q]);
+    r[q] = std::span<T>(received[q]);
+  }
+  comm->Exchange(t, s, r);
+  return received;
+}
+
+// Scalars of the listed block rows of `m`'s layout, back to back.
+int64_t ScalarsOf(const BsmcMatrix& m, const std::vector<int32_t>& rows) {
+  int64_t n = 0;
+  for (int32_t i : rows) n += m.block_size(i);
+  return n;
+}
+
+// out[...] = v at the rows' scalar offsets (gather), or v at the offsets +=
+// in (scatter-add).
+double* GatherRows(const BsmcMatrix& m, const std::vector<int32_t>& rows, const double* v,
+                   double* out) {
+  for (int32_t i : rows) out = std::copy_n(v + m.scalar_offset(i), m.block_size(i), out);
+  return out;
+}
+const double* AddRows(const BsmcMatrix& m, const std::vector<int32_t>& rows, const double* in,
+                      double* v) {
+  for (int32_t i : rows) {
+    double* o = v + m.scalar_offset(i);
+    for (int d = 0; d < m.block_size(i); ++d) o[d] += *in++;
+  }
+  return in;
+}
+const double* SetRows(const BsmcMatrix& m, const std::vector<int32_t>& rows, const double* in,
+                      double* v) {
+  for (int32_t i : rows) {
+    std::copy_n(in, m.block_size(i), v + m.scalar_offset(i));
+    in += m.block_size(i);
+  }
+  return in;
+}
+
+}  // namespace
+
+// Who sends what to whom, fixed in the symbolic phase.
+struct DistributedRcs::Plan {
+  // Reduce-scatter: per destination, the sub-RCS blocks and rows sent there
+  // (in this order in the message); per source, the own blocks and rows its
+  // message adds into.
+  std::vector<std::vector<int64_t>> send_blocks, recv_blocks;
+  std::vector<std::vector<int32_t>> send_rows, recv_rows;
+  std::vector<int64_t> send_size, recv_size;  // doubles
+  // Halo: per rank, the own rows whose x it needs, and the halo rows it owns.
+  std::vector<std::vector<int32_t>> halo_send, halo_recv;
+  // SpreadStep: per rank, the own rows its points see, and the sub rows it
+  // owns.
+  std::vector<std::vector<int32_t>> step_send, step_recv;
+  // Main rank: each rank's own rows (global ids), for the whole δc.
+  std::vector<std::vector<int32_t>> own_rows_of;
+  // Product scratch per rank: halo values out and in.
+  std::vector<std::vector<double>> halo_out, halo_in;
+};
+
+class DistributedRcs::Operator : public PcgOperator {
+ public:
+  explicit Operator(const DistributedRcs* rcs) : rcs_(rcs) {}
+  int64_t num_rows() const override { return rcs_->S_.scalar_offset(rcs_->n_own_); }
+  void Multiply(const double* x, double* y) const override { rcs_->Multiply(x, y); }
+  void SumOverRanks(std::span<double> partial) const override {
+    rcs_->comm_->AllreduceSum(Traffic::kReduction, partial);
+  }
+
+ private:
+  const DistributedRcs* rcs_;
+};
+
+DistributedRcs::~DistributedRcs() = default;
+
+DistributedRcs::DistributedRcs(Communicator* comm, std::vector<int32_t> global_block_sizes,
+                               const BsmcMatrix* sub, std::vector<int32_t> sub_rows,
+                               const LinearSolverOptions& options)
+    : comm_(comm),
+      global_sizes_(std::move(global_block_sizes)),
+      sub_(sub),
+      sub_rows_(std::move(sub_rows)),
+      plan_(std::make_unique<Plan>()),
+      options_(options) {
+  const int ranks = comm->size(), me = comm->rank();
+  const int32_t n_global = static_cast<int32_t>(global_sizes_.size());
+  global_offset_.assign(n_global + 1, 0);
+  for (int32_t g = 0; g < n_global; ++g) global_offset_[g + 1] = global_offset_[g] + global_sizes_[g];
+
+  // Owners: the rank with the most values in the row, ties to the lowest.
+  {
+    std::vector<int64_t> key(n_global, 0);
+    if (sub_ != nullptr) {
+      for (int32_t i = 0; i < sub_->num_block_rows(); ++i) {
+        for (int64_t b = sub_->row_begin(i); b < sub_->row_end(i); ++b) {
+          key[sub_rows_[i]] += int64_t{sub_->block_size(i)} * sub_->block_size(sub_->block_col(b));
+        }
+      }
+    }
+    for (int64_t& k : key) k = k * ranks + (ranks - 1 - me);
+    comm->AllreduceMax(Traffic::kDistribution, key);
+    owner_.resize(n_global);
+    for (int32_t g = 0; g < n_global; ++g) {
+      owner_[g] = ranks - 1 - static_cast<int32_t>(key[g] % ranks);
+    }
+  }
+  Plan& plan = *plan_;
+  plan.own_rows_of.assign(ranks, {});
+  for (int32_t g = 0; g < n_global; ++g) plan.own_rows_of[owner_[g]].push_back(g);
+  const std::vector<int32_t>& own = plan.own_rows_of[me];
+  n_own_ = static_cast<int32_t>(own.size());
+  if (me != 0) {
+    for (int q = 0; q < ranks; ++q) {
+      if (q != me) std::vector<int32_t>().swap(plan.own_rows_of[q]);
+    }
+  }
+
+  // The sub-RCS's blocks and rows by destination, and their global ids.
+  plan.send_blocks.assign(ranks, {});
+  plan.send_rows.assign(ranks, {});
+  std::vector<std::vector<uint64_t>> send_pattern(ranks);
+  std::vector<std::vector<int32_t>> send_row_ids(ranks);
+  if (sub_ != nullptr) {
+    for (int32_t i = 0; i < sub_->num_block_rows(); ++i) {
+      const int q = owner_[sub_rows_[i]];
+      plan.send_rows[q].push_back(i);
+      send_row_ids[q].push_back(sub_rows_[i]);
+      for (int64_t b = sub_->row_begin(i); b < sub_->row_end(i); ++b) {
+        plan.send_blocks[q].push_back(b);
+        send_pattern[q].push_back(PackBlock(sub_rows_[i], sub_rows_[sub_->block_col(b)]));
+      }
+    }
+  }
+  const auto patterns = ExchangeLists(comm, Traffic::kDistribution, send_pattern);
+  const auto row_ids = ExchangeLists(comm, Traffic::kDistribution, send_row_ids);
+  std::vector<std::vector<uint64_t>>().swap(send_pattern);
+
+  // Local numbering: own rows, then the halo (columns of own blocks owned
+  // elsewhere), each in global order.
+  std::vector<int32_t> halo;
+  for (const auto& p : patterns) {
+    for (uint64_t blk : p) {
+      if (owner_[PackedCol(blk)] != me) halo.push_back(PackedCol(blk));
+    }
+  }
+  std::sort(halo.begin(), halo.end());
+  halo.erase(std::unique(halo.begin(), halo.end()), halo.end());
+  local_rows_ = own;
+  local_rows_.insert(local_rows_.end(), halo.begin(), halo.end());
+  std::vector<int32_t> local_of(n_global, -1);
+  std::vector<int32_t> sizes(local_rows_.size());
+  for (size_t l = 0; l < local_rows_.size(); ++l) {
+    local_of[local_rows_[l]] = static_cast<int32_t>(l);
+    sizes[l] = global_sizes_[local_rows_[l]];
+  }
+  std::vector<uint64_t> pattern;
+  for (int32_t l = 0; l < static_cast<int32_t>(local_rows_.size()); ++l) {
+    pattern.push_back(PackBlock(l, l));
+  }
+  for (const auto& p : patterns) {
+    for (uint64_t blk : p) {
+      pattern.push_back(PackBlock(local_of[PackedRow(blk)], local_of[PackedCol(blk)]));
+    }
+  }
+  std::sort(pattern.begin(), pattern.end());
+  pattern.erase(std::unique(pattern.begin(), pattern.end()), pattern.end());
+  S_ = BsmcMatrix::BuildFromPattern(std::move(sizes), pattern);
+  std::vector<uint64_t>().swap(pattern);
+  plan.recv_blocks.assign(ranks, {});
+  plan.recv_rows.assign(ranks, {});
+  plan.send_size.assign(ranks, 0);
+  plan.recv_size.assign(ranks, 0);
+  for (int p = 0; p < ranks; ++p) {
+    for (uint64_t blk : patterns[p]) {
+      const int64_t lb = S_.FindBlock(local_of[PackedRow(blk)], local_of[PackedCol(blk)]);
+      plan.recv_blocks[p].push_back(lb);
+      plan.recv_size[p] += S_.value_offset(lb + 1) - S_.value_offset(lb);
+    }
+    for (int32_t g : row_ids[p]) {
+      plan.recv_rows[p].push_back(local_of[g]);
+      plan.recv_size[p] += 3 * global_sizes_[g];
+    }
+    for (int64_t b : plan.send_blocks[p]) {
+      plan.send_size[p] += sub_->value_offset(b + 1) - sub_->value_offset(b);
+    }
+    for (int32_t i : plan.send_rows[p]) plan.send_size[p] += 3 * sub_->block_size(i);
+  }
+  const int64_t own_scalars = S_.scalar_offset(n_own_);
+  b_.assign(own_scalars, 0.0);
+  gradient_.assign(own_scalars, 0.0);
+  jtj_diagonal_.assign(own_scalars, 0.0);
+
+  // Halo: the halo rows by owner; each owner learns which of its rows to send.
+  std::vector<std::vector<int32_t>> wanted(ranks);
+  plan.halo_recv.assign(ranks, {});
+  for (size_t l = n_own_; l < local_rows_.size(); ++l) {
+    const int q = owner_[local_rows_[l]];
+    plan.halo_recv[q].push_back(static_cast<int32_t>(l));
+    wanted[q].push_back(local_rows_[l]);
+  }
+  const auto asked = ExchangeLists(comm, Traffic::kDistribution, wanted);
+  plan.halo_send.assign(ranks, {});
+  for (int q = 0; q < ranks; ++q) {
+    for (int32_t g : asked[q]) plan.halo_send[q].push_back(local_of[g]);
+  }
+  plan.halo_out.assign(ranks, {});
+  plan.halo_in.assign(ranks, {});
+  for (int q = 0; q < ranks; ++q) {
+    if (q == me) continue;
+    plan.halo_out[q].resize(std::max(ScalarsOf(S_, plan.halo_send[q]), ScalarsOf(S_, plan.halo_recv[q])));
+    plan.halo_in[q].resize(plan.halo_out[q].size());
+  }
+
+  // SpreadStep: the sub rows by owner; each owner learns which rows to send.
+  std::vector<std::vector<int32_t>> step_ids(ranks);
+  plan.step_recv.assign(ranks, {});
+  for (int32_t i = 0; sub_ != nullptr && i < sub_->num_block_rows(); ++i) {
+    const int q = owner_[sub_rows_[i]];
+    plan.step_recv[q].push_back(i);
+    step_ids[q].push_back(sub_rows_[i]);
+  }
+  const auto step_asked = ExchangeLists(comm, Traffic::kDistribution, step_ids);
+  plan.step_send.assign(ranks, {});
+  for (int q = 0; q < ranks; ++q) {
+    for (int32_t g : step_asked[q]) plan.step_send[q].push_back(local_of[g]);
+  }
+
+  // The solver's storage.
+  multiplier_ = std::make_unique<SymmetricMultiplier>(S_, options_.num_threads,
+                                                      options_.pcg.product_precision());
+  preconditioner_ =
+      std::make_unique<BlockJacobiPreconditioner>(S_, options_.num_threads, n_own_);
+  operator_ = std::make_unique<Operator>(this);
+  options_.pcg.num_threads = options_.num_threads;
+  scratch_.Resize(own_scalars);
+  delta_.assign(own_scalars, 0.0);
+  x_ext_.assign(S_.num_rows(), 0.0);
+  y_ext_.assign(S_.num_rows(), 0.0);
+}
+
+RcsTotals DistributedRcs::Reduce(const RcsSystem* sub) {
+  const int ranks = comm_->size(), me = comm_->rank();
+  const Plan& plan = *plan_;
+  // Messages to the other owners: the blocks' values, then b, g and diag(U)
+  // of each row.
+  std::vector<std::vector<double>> out(ranks), in(ranks);
+  std::vector<std::span<const double>> send(ranks);
+  std::vector<std::span<double>> recv(ranks);
+  for (int q = 0; q < ranks; ++q) {
+    if (q == me) continue;
+    if (sub != nullptr && plan.send_size[q] > 0) {
+      out[q].resize(plan.send_size[q]);
+      double* o = out[q].data();
+      for (int64_t b : plan.send_blocks[q]) {
+        o = std::copy(sub->S.values().data() + sub->S.value_offset(b),
+                      sub->S.values().data() + sub->S.value_offset(b + 1), o);
+      }
+      for (const std::vector<double>* v : {&sub->b, &sub->camera_side_gradient,
+                                           &sub->camera_side_jtj_diagonal}) {
+        o = GatherRows(sub->S, plan.send_rows[q], v->data(), o);
+      }
+      send[q] = std::span<const double>(out[q]);
+    }
+    in[q].resize(plan.recv_size[q]);
+    recv[q] = std::span<double>(in[q]);
+  }
+  comm_->Exchange(Traffic::kSubRcs, send, recv);
+  std::vector<std::vector<double>>().swap(out);
+
+  S_.SetZero();
+  std::fill(b_.begin(), b_.end(), 0.0);
+  std::fill(gradient_.begin(), gradient_.end(), 0.0);
+  std::fill(jtj_diagonal_.begin(), jtj_diagonal_.end(), 0.0);
+  // Summed in rank order, the own sub-system at its place.
+  auto add_block = [&](int64_t local_block, const double* v) {
+    double* o = S_.block_values(local_block);
+    const int64_t n = S_.value_offset(local_block + 1) - S_.value_offset(local_block);
+    for (int64_t k = 0; k < n; ++k) o[k] += v[k];
+    return v + n;
+  };
+  for (int p = 0; p < ranks; ++p) {
+    if (p == me) {
+      if (sub == nullptr) continue;
+      for (size_t k = 0; k < plan.send_blocks[me].size(); ++k) {
+        add_block(plan.recv_blocks[me][k], sub->S.block_values(plan.send_blocks[me][k]));
+      }
+      for (size_t k = 0; k < plan.send_rows[me].size(); ++k) {
+        const int32_t i = plan.send_rows[me][k], l = plan.recv_rows[me][k];
+        for (int d = 0; d < S_.block_size(l); ++d) {
+          b_[S_.scalar_offset(l) + d] += sub->b[sub->S.scalar_offset(i) + d];
+          gradient_[S_.scalar_offset(l) + d] += sub->camera_side_gradient[sub->S.scalar_offset(i) + d];
+          jtj_diagonal_[S_.scalar_offset(l) + d] +=
+              sub->camera_side_jtj_diagonal[sub->S.scalar_offset(i) + d];
+        }
+      }
+      continue;
+    }
+    const double* v = in[p].data();
+    for (int64_t lb : plan.recv_blocks[p]) v = add_block(lb, v);
+    for (std::vector<double>* vec : {&b_, &gradient_, &jtj_diagonal_}) {
+      v = AddRows(S_, plan.recv_rows[p], v, vec->data());
+    }
+    std::vector<double>().swap(in[p]);
+  }
+
+  double sums[4] = {0.0, 0.0, 0.0, 0.0};
+  double max_gradient = 0.0;
+  if (sub != nullptr) {
+    sums[0] = sub->cost;
+    sums[1] = sub->residuals.squared;
+    sums[2] = sub->residuals.inlier_squared;
+    sums[3] = sub->residuals.inliers;
+    max_gradient = sub->max_abs_point_gradient;
+  }
+  for (double g : gradient_) max_gradient = std::max(max_gradient, std::abs(g));
+  comm_->AllreduceSum(Traffic::kControl, sums);
+  comm_->AllreduceMax(Traffic::kControl, std::span<double>(&max_gradient, 1));
+  RcsTotals totals;
+  totals.cost = sums[0];
+  totals.residuals = {sums[1], sums[2], sums[3]};
+  totals.max_abs_gradient = max_gradient;
+  return totals;
+}
+
+void DistributedRcs::Multiply(const double* x, double* y) const {
+  const int ranks = comm_->size(), me = comm_->rank();
+  Plan& plan = *plan_;
+  const int64_t own_scalars = S_.scalar_offset(n_own_);
+  std::copy_n(x, own_scalars, x_ext_.data());
+  // The halo's x from its owners.
+  std::vector<std::span<const double>> send(ranks);
+  std::vector<std::span<double>> recv(ranks);
+  for (int q = 0; q < ranks; ++q) {
+    if (q == me) continue;
+    double* end = GatherRows(S_, plan.halo_send[q], x_ext_.data(), plan.halo_out[q].data());
+    send[q] = std::span<const double>(plan.halo_out[q].data(), end);
+    recv[q] = std::span<double>(plan.halo_in[q].data(), ScalarsOf(S_, plan.halo_recv[q]));
+  }
+  comm_->Exchange(Traffic::kHalo, send, recv);
+  for (int q = 0; q < ranks; ++q) {
+    if (q != me) SetRows(S_, plan.halo_recv[q], plan.halo_in[q].data(), x_ext_.data());
+  }
+  multiplier_->Multiply(x_ext_.data(), y_ext_.data());
+  // The halo rows' partial sums back to their owners.
+  for (int q = 0; q < ranks; ++q) {
+    if (q == me) continue;
+    double* end = GatherRows(S_, plan.halo_recv[q], y_ext_.data(), plan.halo_out[q].data());
+    send[q] = std::span<const double>(plan.halo_out[q].data(), end);
+    recv[q] = std::span<double>(plan.halo_in[q].data(), ScalarsOf(S_, plan.halo_send[q]));
+  }
+  comm_->Exchange(Traffic::kHalo, send, recv);
+  std::copy_n(y_ext_.data(), own_scalars, y);
+  for (int q = 0; q < ranks; ++q) {
+    if (q != me) AddRows(S_, plan.halo_send[q], plan.halo_in[q].data(), y);
+  }
+}
+
+LinearSolveSummary DistributedRcs::Solve(double lambda, const DampingBounds& bounds) {
+  DampCameraBlocks(lambda, bounds, jtj_diagonal_, &S_, n_own_);
+  preconditioner_->Update(S_);
+  if (multiplier_->precision() == ProductPrecision::kMixed) multiplier_->Narrow(&S_);
+  const PcgSummary pcg =
+      SolvePcg(*operator_, *preconditioner_, b_.data(), delta_.data(), options_.pcg, &scratch_);
+  LinearSolveSummary summary;
+  summary.iterations = pcg.iterations;
+  summary.relative_residual = pcg.relative_residual;
+  summary.stop = PcgStopName(pcg.stop);
+  return summary;
+}
+
+void DistributedRcs::SpreadStep(std::vector<double>* sub_delta, std::vector<double>* global_delta) {
+  const int ranks = comm_->size(), me = comm_->rank();
+  const Plan& plan = *plan_;
+  std::vector<std::vector<double>> out(ranks), in(ranks);
+  std::vector<std::span<const double>> send(ranks);
+  std::vector<std::span<double>> recv(ranks);
+  for (int q = 0; q < ranks; ++q) {
+    if (q == me) continue;
+    out[q].resize(ScalarsOf(S_, plan.step_send[q]));
+    GatherRows(S_, plan.step_send[q], delta_.data(), out[q].data());
+    send[q] = std::span<const double>(out[q]);
+    if (sub_ != nullptr) in[q].resize(ScalarsOf(*sub_, plan.step_recv[q]));
+    recv[q] = std::span<double>(in[q]);
+  }
+  comm_->Exchange(Traffic::kCameraUpdate, send, recv);
+  if (sub_ != nullptr && sub_delta != nullptr) {
+    sub_delta->assign(sub_->num_rows(), 0.0);
+    for (int q = 0; q < ranks; ++q) {
+      if (q == me) {
+        for (size_t k = 0; k < plan.step_recv[me].size(); ++k) {
+          const int32_t i = plan.step_recv[me][k], l = plan.step_send[me][k];
+          std::copy_n(delta_.data() + S_.scalar_offset(l), S_.block_size(l),
+                      sub_delta->data() + sub_->scalar_offset(i));
+        }
+      } else {
+        SetRows(*sub_, plan.step_recv[q], in[q].data(), sub_delta->data());
+      }
+    }
+  }
+  // The whole δc on the main rank.
+  for (int q = 0; q < ranks; ++q) {
+    send[q] = {};
+    recv[q] = {};
+  }
+  std::vector<std::vector<double>> all(ranks);
+  if (me != 0) {
+    send[0] = std::span<const double>(delta_);
+  } else {
+    for (int q = 1; q < ranks; ++q) {
+      int64_t n = 0;
+      for (int32_t g : plan.own_rows_of[q]) n += global_sizes_[g];
+      all[q].resize(n);
+      recv[q] = std::span<double>(all[q]);
+    }
+  }
+  comm_->Exchange(Traffic::kCameraUpdate, send, recv);
+  if (me == 0 && global_delta != nullptr) {
+    global_delta->assign(global_offset_.back(), 0.0);
+    for (int q = 0; q < ranks; ++q) {
+      const double* v = q == 0 ? delta_.data() : all[q].data();
+      for (int32_t g : plan.own_rows_of[q]) {
+        std::copy_n(v, global_sizes_[g], global_delta->data() + global_offset_[g]);
+        v += global_sizes_[g];
+      }
+    }
+  }
+}
+
+int64_t DistributedRcs::MemoryBytes() const {
+  int64_t halo = 0;
+  for (const auto& v : plan_->halo_out) halo += 2 * static_cast<int64_t>(v.size()) * 8;
+  return S_.ValueBytes() + S_.StructureBytes() + 8 * static_cast<int64_t>(b_.size()) * 4 +
+         4 * 8 * static_cast<int64_t>(scratch_.r.size()) + 2 * 8 * static_cast<int64_t>(x_ext_.size()) +
+         preconditioner_->MemoryBytes() + multiplier_->MemoryBytes() + halo;
+}
+
+}  // namespace dba
