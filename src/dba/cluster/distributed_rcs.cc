@@ -5,7 +5,9 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "dba/solver/block_jacobi.h"
 #include "dba/solver/pcg.h"
+#include "dba/solver/two_level_preconditioner.h"
 
 namespace dba {
 namespace {
@@ -72,6 +74,157 @@ const double* SetRows(const BsmcMatrix& m, const std::vector<int32_t>& rows, con
   return in;
 }
 
+// A row's coarse basis as 32 doubles (flags, A, B, C, D) and back.
+constexpr int kPackedBasis = 32;
+void PackBasis(const CoarseRowBasis& N, double* out) {
+  out[0] = N.rigid ? 1.0 : 0.0;
+  out[1] = N.scale ? 1.0 : 0.0;
+  std::copy_n(N.A.data(), 9, out + 2);
+  std::copy_n(N.B.data(), 9, out + 11);
+  std::copy_n(N.C.data(), 9, out + 20);
+  std::copy_n(N.D.data(), 3, out + 29);
+}
+CoarseRowBasis UnpackBasis(const double* in) {
+  CoarseRowBasis N;
+  N.rigid = in[0] != 0.0;
+  N.scale = in[1] != 0.0;
+  std::copy_n(in + 2, 9, N.A.data());
+  std::copy_n(in + 11, 9, N.B.data());
+  std::copy_n(in + 20, 9, N.C.data());
+  std::copy_n(in + 29, 3, N.D.data());
+  return N;
+}
+
+// The two-level preconditioner's coarse matrix R S Rᵀ summed on the main
+// rank from every rank's part (its own rows' blocks, in the global
+// aggregate numbering), factorized there; a solve gathers R r from the
+// ranks' aggregates and sends each rank its part of the solution.
+// Collective: every call on every rank at once (the preconditioner's Update
+// and Apply are, inside PCG). The symbolic phase is the first Factorize.
+class GatheredCoarseSolver : public CholeskySolver {
+ public:
+  // This rank's aggregates: [first, end) of the global numbering.
+  GatheredCoarseSolver(Communicator* comm, int32_t first, int32_t end)
+      : comm_(comm), first_(first), end_(end) {}
+
+  bool Factorize(const BsmcMatrix& part) override {
+    const int ranks = comm_->size(), me = comm_->rank();
+    if (range_.empty()) Analyse(part);
+    std::vector<std::span<const double>> send(ranks);
+    std::vector<std::span<double>> recv(ranks);
+    std::vector<std::vector<double>> in(ranks);
+    if (me != 0) {
+      send[0] = std::span<const double>(part.values());
+    } else {
+      for (int q = 1; q < ranks; ++q) {
+        in[q].resize(sizes_[q]);
+        recv[q] = std::span<double>(in[q]);
+      }
+    }
+    comm_->Exchange(Traffic::kReduction, send, recv);
+    int32_t ok = 0;
+    if (me == 0) {
+      coarse_.SetZero();
+      for (int q = 0; q < ranks; ++q) {
+        const double* v = q == 0 ? part.values().data() : in[q].data();
+        for (int64_t gb : map_[q]) {
+          double* o = coarse_.block_values(gb);
+          const int64_t n = coarse_.value_offset(gb + 1) - coarse_.value_offset(gb);
+          for (int64_t k = 0; k < n; ++k) o[k] += v[k];
+          v += n;
+        }
+      }
+      ok = solver_->Factorize(coarse_) ? 1 : 0;
+    }
+    comm_->Broadcast(Traffic::kReduction, &ok);
+    return ok != 0;
+  }
+
+  // b, x: the whole coarse vector; this rank's aggregates are read from b
+  // and written to x (may alias).
+  void SolveFactored(const double* b, double* x) override {
+    const int ranks = comm_->size(), me = comm_->rank();
+    std::vector<std::span<const double>> send(ranks);
+    std::vector<std::span<double>> recv(ranks);
+    if (me != 0) {
+      send[0] = std::span<const double>(b + range_[2 * me], b + range_[2 * me + 1]);
+      recv[0] = std::span<double>(x + range_[2 * me], x + range_[2 * me + 1]);
+      comm_->Exchange(Traffic::kReduction, send, {});
+      comm_->Exchange(Traffic::kReduction, {}, recv);
+      return;
+    }
+    std::fill(rc_.begin(), rc_.end(), 0.0);
+    for (int q = 0; q < ranks; ++q) {
+      recv[q] = std::span<double>(rc_.data() + range_[2 * q], rc_.data() + range_[2 * q + 1]);
+    }
+    std::copy(b + range_[0], b + range_[1], rc_.data() + range_[0]);
+    recv[0] = {};
+    comm_->Exchange(Traffic::kReduction, {}, recv);
+    solver_->SolveFactored(rc_.data(), rc_.data());
+    for (int q = 1; q < ranks; ++q) {
+      send[q] = std::span<const double>(rc_.data() + range_[2 * q], rc_.data() + range_[2 * q + 1]);
+    }
+    comm_->Exchange(Traffic::kReduction, send, {});
+    std::copy(rc_.data() + range_[0], rc_.data() + range_[1], x + range_[0]);
+  }
+
+  // The main rank's factorization is dense or sparse by the coarse size.
+  LinearSolverType type() const override { return LinearSolverType::kAuto; }
+  int64_t MemoryBytes() const override {
+    return solver_ ? solver_->MemoryBytes() + coarse_.ValueBytes() + coarse_.StructureBytes() : 0;
+  }
+
+ private:
+  // Every rank's coarse pattern and scalar range to the main rank, which
+  // builds the coarse matrix over their union and the maps.
+  void Analyse(const BsmcMatrix& part) {
+    const int ranks = comm_->size(), me = comm_->rank();
+    const int64_t mine[2] = {part.scalar_offset(first_), part.scalar_offset(end_)};
+    std::vector<int64_t> ranges(2 * ranks, 0);
+    std::copy_n(mine, 2, ranges.data() + 2 * me);
+    comm_->AllreduceSum(Traffic::kDistribution, ranges);
+    range_ = ranges;
+    std::vector<std::vector<uint64_t>> lists(ranks);
+    std::vector<uint64_t> pattern;
+    for (int32_t i = 0; i < part.num_block_rows(); ++i) {
+      for (int64_t b = part.row_begin(i); b < part.row_end(i); ++b) {
+        pattern.push_back(PackBlock(i, part.block_col(b)));
+      }
+    }
+    lists[0] = pattern;
+    const auto patterns = ExchangeLists(comm_, Traffic::kDistribution, lists);
+    if (me != 0) return;
+    std::vector<uint64_t> all;
+    for (int q = 0; q < ranks; ++q) all.insert(all.end(), patterns[q].begin(), patterns[q].end());
+    std::sort(all.begin(), all.end());
+    all.erase(std::unique(all.begin(), all.end()), all.end());
+    std::vector<int32_t> sizes(part.num_block_rows());
+    for (int32_t i = 0; i < part.num_block_rows(); ++i) sizes[i] = part.block_size(i);
+    coarse_ = BsmcMatrix::BuildFromPattern(std::move(sizes), all);
+    map_.assign(ranks, {});
+    sizes_.assign(ranks, 0);
+    for (int q = 0; q < ranks; ++q) {
+      for (uint64_t blk : patterns[q]) {
+        const int64_t gb = coarse_.FindBlock(PackedRow(blk), PackedCol(blk));
+        map_[q].push_back(gb);
+        sizes_[q] += coarse_.value_offset(gb + 1) - coarse_.value_offset(gb);
+      }
+    }
+    solver_ = MakeCholeskySolver(coarse_, 1024);
+    rc_.assign(coarse_.num_rows(), 0.0);
+  }
+
+  Communicator* comm_;
+  int32_t first_, end_;
+  std::vector<int64_t> range_;  // per rank: scalar begin, end of its aggregates
+  // Main rank only:
+  BsmcMatrix coarse_;
+  std::vector<std::vector<int64_t>> map_;  // per rank: its blocks' coarse blocks
+  std::vector<int64_t> sizes_;             // per rank: doubles of its part
+  std::unique_ptr<CholeskySolver> solver_;
+  std::vector<double> rc_;
+};
+
 }  // namespace
 
 // Who sends what to whom, fixed in the symbolic phase.
@@ -110,7 +263,8 @@ DistributedRcs::~DistributedRcs() = default;
 
 DistributedRcs::DistributedRcs(Communicator* comm, std::vector<int32_t> global_block_sizes,
                                const BsmcMatrix* sub, std::vector<int32_t> sub_rows,
-                               const LinearSolverOptions& options)
+                               const LinearSolverOptions& options,
+                               const std::vector<CoarseRowBasis>& global_bases)
     : comm_(comm),
       global_sizes_(std::move(global_block_sizes)),
       sub_(sub),
@@ -263,14 +417,101 @@ DistributedRcs::DistributedRcs(Communicator* comm, std::vector<int32_t> global_b
   // The solver's storage.
   multiplier_ = std::make_unique<SymmetricMultiplier>(S_, options_.num_threads,
                                                       options_.pcg.product_precision());
-  preconditioner_ =
-      std::make_unique<BlockJacobiPreconditioner>(S_, options_.num_threads, n_own_);
+  if (options_.preconditioner == PreconditionerType::kTwoLevel) {
+    BuildTwoLevel(global_bases);
+  } else {
+    preconditioner_ =
+        std::make_unique<BlockJacobiPreconditioner>(S_, options_.num_threads, n_own_);
+  }
   operator_ = std::make_unique<Operator>(this);
   options_.pcg.num_threads = options_.num_threads;
   scratch_.Resize(own_scalars);
   delta_.assign(own_scalars, 0.0);
   x_ext_.assign(S_.num_rows(), 0.0);
   y_ext_.assign(S_.num_rows(), 0.0);
+}
+
+// The two-level preconditioner on this rank's rows: the bases of its rows
+// (own and halo) from the main rank, aggregates of its own rows numbered
+// after the lower ranks', scale columns settled per aggregate, the halo
+// rows' aggregates and settled bases from their owners.
+void DistributedRcs::BuildTwoLevel(const std::vector<CoarseRowBasis>& global_bases) {
+  const int ranks = comm_->size(), me = comm_->rank();
+  const Plan& plan = *plan_;
+  const int32_t n_local = S_.num_block_rows();
+  int32_t with_bases = global_bases.empty() ? 0 : 1;
+  comm_->Broadcast(Traffic::kDistribution, &with_bases);
+  std::vector<CoarseRowBasis> bases;
+  if (with_bases != 0) {
+    std::vector<std::vector<int32_t>> lists(ranks);
+    lists[0] = local_rows_;
+    const auto asked = ExchangeLists(comm_, Traffic::kDistribution, lists);
+    std::vector<std::vector<double>> packed(ranks);
+    if (me == 0) {
+      for (int q = 0; q < ranks; ++q) {
+        packed[q].resize(asked[q].size() * kPackedBasis);
+        for (size_t k = 0; k < asked[q].size(); ++k) {
+          PackBasis(global_bases[asked[q][k]], packed[q].data() + k * kPackedBasis);
+        }
+      }
+    }
+    const auto got = ExchangeLists(comm_, Traffic::kDistribution, packed);
+    bases.resize(n_local);
+    for (int32_t l = 0; l < n_local; ++l) bases[l] = UnpackBasis(got[0].data() + l * kPackedBasis);
+  }
+  const std::vector<uint8_t> kind = BasisKinds(S_, bases);
+  std::vector<int32_t> aggregate =
+      AggregateBlockRows(S_, options_.coarse_aggregate_size, kind, n_own_);
+  const int32_t own_aggregates =
+      aggregate.empty() ? 0 : *std::max_element(aggregate.begin(), aggregate.end()) + 1;
+  if (!bases.empty()) {
+    std::vector<CoarseRowBasis> own(bases.begin(), bases.begin() + n_own_);
+    SettleScaleColumns(aggregate, own_aggregates, &own);
+    std::copy(own.begin(), own.end(), bases.begin());
+  }
+  std::vector<int64_t> counts(ranks, 0);
+  counts[me] = own_aggregates;
+  comm_->AllreduceSum(Traffic::kDistribution, counts);
+  int64_t first = 0, total = 0;
+  for (int q = 0; q < ranks; ++q) {
+    if (q < me) first += counts[q];
+    total += counts[q];
+  }
+  for (int32_t& a : aggregate) a += static_cast<int32_t>(first);
+  std::vector<int64_t> sizes(total, 0);
+  for (int32_t l = 0; l < n_own_; ++l) {
+    sizes[aggregate[l]] = S_.block_size(l) + (!bases.empty() && bases[l].scale ? 1 : 0);
+  }
+  comm_->AllreduceSum(Traffic::kDistribution, sizes);
+  // The halo rows' aggregates and bases from their owners.
+  std::vector<std::vector<double>> out(ranks);
+  const int stride = 1 + (bases.empty() ? 0 : kPackedBasis);
+  for (int q = 0; q < ranks; ++q) {
+    if (q == me) continue;
+    for (int32_t l : plan.halo_send[q]) {
+      out[q].push_back(aggregate[l]);
+      if (!bases.empty()) {
+        out[q].resize(out[q].size() + kPackedBasis);
+        PackBasis(bases[l], out[q].data() + out[q].size() - kPackedBasis);
+      }
+    }
+  }
+  const auto in = ExchangeLists(comm_, Traffic::kDistribution, out);
+  aggregate.resize(n_local, 0);
+  for (int q = 0; q < ranks; ++q) {
+    if (q == me) continue;
+    for (size_t k = 0; k < plan.halo_recv[q].size(); ++k) {
+      const int32_t l = plan.halo_recv[q][k];
+      const double* v = in[q].data() + k * stride;
+      aggregate[l] = static_cast<int32_t>(v[0]);
+      if (!bases.empty()) bases[l] = UnpackBasis(v + 1);
+    }
+  }
+  preconditioner_ = std::make_unique<TwoLevelPreconditioner>(
+      S_, options_.num_threads, n_own_, std::move(aggregate),
+      std::vector<int32_t>(sizes.begin(), sizes.end()), std::move(bases),
+      std::make_unique<GatheredCoarseSolver>(comm_, static_cast<int32_t>(first),
+                                             static_cast<int32_t>(first + own_aggregates)));
 }
 
 RcsTotals DistributedRcs::Reduce(const RcsSystem* sub) {

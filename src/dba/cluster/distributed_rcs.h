@@ -13,8 +13,12 @@
 //              columns its rows touch from their owners (the halo), applies
 //              its blocks both ways over its rows and the halo, and returns
 //              the halo's transposed partial sums to their owners. Dot
-//              products: two fused all-reduces per iteration. Block-Jacobi
-//              preconditioner on each rank's own rows.
+//              products: two fused all-reduces per iteration. The
+//              preconditioner: block-Jacobi on each rank's own rows, plus (two-
+//              level, the default) a coarse correction over aggregates of a
+//              rank's own rows, the coarse matrix summed and factorized on
+//              the main rank, R r gathered there and the coarse solution
+//              sent back once per PCG iteration.
 //   SpreadStep every rank receives δc for the rows its points see from
 //              their owners; the main rank all of δc (for the LM decisions).
 //
@@ -35,7 +39,8 @@
 #include "dba/bsmc/symmetric_multiply.h"
 #include "dba/cluster/communicator.h"
 #include "dba/rcs/form_rcs.h"
-#include "dba/solver/block_jacobi.h"
+#include "dba/solver/coarse_row_basis.h"
+#include "dba/solver/preconditioner.h"
 #include "dba/solver/rcs_solver.h"
 
 namespace dba {
@@ -53,10 +58,13 @@ class DistributedRcs {
   // Collective symbolic phase. `global_block_sizes`: every global row's
   // size (the same on every rank); `sub`: this rank's sub-RCS structure, or
   // null for a rank without points; `sub_rows`: the global row of each of
-  // its rows. `options`: the linear solve's (PCG, threads).
+  // its rows. `options`: the linear solve's (PCG, preconditioner,
+  // threads). `global_bases` (main rank; empty: identity): the two-level
+  // preconditioner's basis of every global row.
   DistributedRcs(Communicator* comm, std::vector<int32_t> global_block_sizes,
                  const BsmcMatrix* sub, std::vector<int32_t> sub_rows,
-                 const LinearSolverOptions& options);
+                 const LinearSolverOptions& options,
+                 const std::vector<CoarseRowBasis>& global_bases = {});
   ~DistributedRcs();
 
   // Collective: the owners' rows from every rank's sub-system (null: a rank
@@ -82,6 +90,7 @@ class DistributedRcs {
   class Operator;
   struct Plan;
   void Multiply(const double* x, double* y) const;
+  void BuildTwoLevel(const std::vector<CoarseRowBasis>& global_bases);
 
   Communicator* comm_;
   std::vector<int32_t> global_sizes_;
@@ -96,7 +105,7 @@ class DistributedRcs {
   std::unique_ptr<Plan> plan_;
   LinearSolverOptions options_;
   std::unique_ptr<SymmetricMultiplier> multiplier_;
-  std::unique_ptr<BlockJacobiPreconditioner> preconditioner_;
+  std::unique_ptr<Preconditioner> preconditioner_;
   std::unique_ptr<Operator> operator_;
   PcgScratch scratch_;
   std::vector<double> delta_;             // own rows' δc

@@ -314,7 +314,7 @@ DistributedSummary DistributedBundleAdjust(
         comm, UnknownLayout(*problem), mine, own_workers.get(),
         EstimateAndCheck(comm, o, distributed, *problem, EstimateRole::kSolves,
                          &summary.memory_estimate, groups, num_observations),
-        summary.rcs, linear, o.damping);
+        summary.rcs, linear, o.damping, problem->cameras.data());
   };
   make_workers(options);
   summary.ba.symbolic_seconds = symbolic.Seconds();

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "dba/common/memory.h"
+#include "dba/rcs/rigid_motion_basis.h"
 
 namespace dba {
 namespace {
@@ -86,7 +87,8 @@ ShareLeft RecvLeft(Communicator* comm, int rank) {
 std::unique_ptr<DistributedRcs> BuildDistributedRcs(Communicator* comm, const UnknownLayout* global,
                                                     const RankShare* share,
                                                     const LocalPointWorkers* workers,
-                                                    const LinearSolverOptions& linear) {
+                                                    const LinearSolverOptions& linear,
+                                                    const double* cameras) {
   const Traffic t = Traffic::kDistribution;
   std::vector<int32_t> sizes;
   if (comm->is_main()) sizes = global->block_sizes();
@@ -108,9 +110,15 @@ std::unique_ptr<DistributedRcs> BuildDistributedRcs(Communicator* comm, const Un
     comm->SendVector(0, t, entities);
     rows = comm->RecvVector<int32_t>(0, t);
   }
+  // The two-level preconditioner's bases, at the current cameras.
+  std::vector<CoarseRowBasis> bases;
+  if (comm->is_main() && linear.preconditioner == PreconditionerType::kTwoLevel &&
+      linear.coarse_basis != CoarseBasis::kParameters) {
+    bases = RigidMotionBases(*global, cameras, linear.coarse_basis == CoarseBasis::kSimilarity);
+  }
   return std::make_unique<DistributedRcs>(comm, std::move(sizes),
                                           workers != nullptr ? &workers->system().S : nullptr,
-                                          std::move(rows), linear);
+                                          std::move(rows), linear, bases);
 }
 
 // Collective: the owners' parts of the RCS summed into one footprint (own
@@ -222,7 +230,8 @@ std::unique_ptr<DampedRcsSolver> MpiPointWorkers::MakeDampedRcsSolver(
     *choice = RcsSolverChoice();
     choice->type = LinearSolverType::kPcg;
     choice->reason = "the RCS is spread over " + std::to_string(comm_->size()) +
-                     " ranks: PCG across them, block-Jacobi preconditioner";
+                     " ranks: PCG across them, " + PreconditionerName(options.preconditioner) +
+                     " preconditioner";
     choice->pcg_bytes = distributed_->MemoryBytes();
   }
   return std::make_unique<DistributedSolver>(this);
@@ -232,10 +241,10 @@ MpiPointWorkers::MpiPointWorkers(Communicator* comm, UnknownLayout layout,
                                  RankShare* own_share, LocalPointWorkers* own,
                                  const std::function<void(const RcsSystem&)>& before_values,
                                  RcsPlacement placement, const LinearSolverOptions& linear,
-                                 const DampingBounds& bounds)
+                                 const DampingBounds& bounds, const double* cameras)
     : comm_(comm), own_share_(own_share), own_(own), placement_(placement), bounds_(bounds) {
   if (placement == RcsPlacement::kDistributed) {
-    distributed_ = BuildDistributedRcs(comm, &layout, own_share, own, linear);
+    distributed_ = BuildDistributedRcs(comm, &layout, own_share, own, linear, cameras);
     footprint_ = OwnedFootprint(comm, *distributed_);
     if (own != nullptr) {
       maps_.resize(1);
@@ -410,7 +419,7 @@ RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers
                          const DampingBounds& bounds) {
   std::unique_ptr<DistributedRcs> distributed;
   if (placement == RcsPlacement::kDistributed) {
-    distributed = BuildDistributedRcs(comm, nullptr, share, workers, linear);
+    distributed = BuildDistributedRcs(comm, nullptr, share, workers, linear, nullptr);
     OwnedFootprint(comm, *distributed);
   } else {
     comm->SendVector(0, Traffic::kDistribution, BlockPattern(workers->system().S));

@@ -84,12 +84,14 @@ class MpiPointWorkers : public PointWorkers {
   // values are allocated (RcsSystem::ForProblem).
   // Distributed (`placement`): the ranks agree on the rows' owners and
   // build their parts of the RCS and the PCG storage from `linear` and
-  // `bounds`; the main rank holds none of S.
+  // `bounds`; the main rank holds none of S. `cameras` (distributed, two-
+  // level preconditioner): the camera-side parameters, for its bases.
   MpiPointWorkers(Communicator* comm, UnknownLayout layout, RankShare* own_share,
                   LocalPointWorkers* own,
                   const std::function<void(const RcsSystem&)>& before_values = {},
                   RcsPlacement placement = RcsPlacement::kGather,
-                  const LinearSolverOptions& linear = {}, const DampingBounds& bounds = {});
+                  const LinearSolverOptions& linear = {}, const DampingBounds& bounds = {},
+                  const double* cameras = nullptr);
   ~MpiPointWorkers() override;
 
   // Gathered: the global system. Distributed: the layout, cost and residual

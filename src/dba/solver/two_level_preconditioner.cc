@@ -65,15 +65,15 @@ void LeftTransform(const CoarseRowBasis& Ni, const double* sn, int r, int cc, do
 }  // namespace
 
 std::vector<int32_t> AggregateBlockRows(const BsmcMatrix& S, int target,
-                                        const std::vector<uint8_t>& kind) {
+                                        const std::vector<uint8_t>& kind, int32_t num_block_rows) {
   auto same_kind = [&](int32_t i, int32_t j) {
     return S.block_size(i) == S.block_size(j) && (kind.empty() || kind[i] == kind[j]);
   };
-  const int32_t n = S.num_block_rows();
+  const int32_t n = num_block_rows < 0 ? S.num_block_rows() : num_block_rows;
   // Both directions of the block graph (S stores the upper triangle).
   std::vector<int64_t> begin(n + 1, 0);
   for (int32_t i = 0; i < n; ++i) {
-    for (int64_t b = S.row_begin(i) + 1; b < S.row_end(i); ++b) {
+    for (int64_t b = S.row_begin(i) + 1; b < S.row_end(i) && S.block_col(b) < n; ++b) {
       ++begin[i + 1];
       ++begin[S.block_col(b) + 1];
     }
@@ -82,7 +82,7 @@ std::vector<int32_t> AggregateBlockRows(const BsmcMatrix& S, int target,
   std::vector<int32_t> neighbour(begin[n]);
   std::vector<int64_t> fill(begin.begin(), begin.end() - 1);
   for (int32_t i = 0; i < n; ++i) {
-    for (int64_t b = S.row_begin(i) + 1; b < S.row_end(i); ++b) {
+    for (int64_t b = S.row_begin(i) + 1; b < S.row_end(i) && S.block_col(b) < n; ++b) {
       const int32_t j = S.block_col(b);
       neighbour[fill[i]++] = j;
       neighbour[fill[j]++] = i;
@@ -115,7 +115,7 @@ std::vector<int32_t> AggregateBlockRows(const BsmcMatrix& S, int target,
 
 // Each row's kind of basis (identity 0, rigid 1, rigid with scale 3): rows
 // of one aggregate share it.
-static std::vector<uint8_t> BasisKinds(const BsmcMatrix& S, const std::vector<CoarseRowBasis>& bases) {
+std::vector<uint8_t> BasisKinds(const BsmcMatrix& S, const std::vector<CoarseRowBasis>& bases) {
   if (bases.empty()) return {};
   if (static_cast<int32_t>(bases.size()) != S.num_block_rows()) {
     throw std::invalid_argument("TwoLevelPreconditioner: one basis per block row expected");
@@ -144,7 +144,7 @@ static std::vector<uint8_t> BasisKinds(const BsmcMatrix& S, const std::vector<Co
 // common translation is added), but D no longer carries the distance to the
 // scene's centre, which the coarse Cholesky would have to cancel (a
 // 10,000-image survey with tracks of ~4: 3,748 PCG iterations against 682).
-static void SettleScaleColumns(const std::vector<int32_t>& aggregate, int32_t num_aggregates,
+void SettleScaleColumns(const std::vector<int32_t>& aggregate, int32_t num_aggregates,
                         std::vector<CoarseRowBasis>* bases) {
   if (bases->empty()) return;
   std::vector<int32_t> members(num_aggregates, 0);
@@ -173,9 +173,40 @@ static void SettleScaleColumns(const std::vector<int32_t>& aggregate, int32_t nu
 TwoLevelPreconditioner::TwoLevelPreconditioner(const BsmcMatrix& S, int aggregate_size,
                                                int num_threads, std::vector<CoarseRowBasis> bases)
     : S_(S),
+      n_(S.num_block_rows()),
       jacobi_(S, num_threads),
       aggregate_(AggregateBlockRows(S, aggregate_size, BasisKinds(S, bases))),
       bases_(std::move(bases)) {
+  const int32_t num_aggregates =
+      aggregate_.empty() ? 0 : *std::max_element(aggregate_.begin(), aggregate_.end()) + 1;
+  SettleScaleColumns(aggregate_, num_aggregates, &bases_);
+  std::vector<int32_t> sizes(num_aggregates, 0);
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) sizes[aggregate_[i]] = CoarseSize(i);
+  BuildCoarse(std::move(sizes), num_threads);
+  // Dense up to 1,024 coarse unknowns, sparse above: the coarse matrix only
+  // couples neighbouring aggregates, and its dense factor is read twice per
+  // PCG iteration. Measured (bench/README.md): 400 unknowns (u2k) dense
+  // 0.25 s against sparse 0.36 s of linear solve; 1,560 (s10k) dense 1.47 s
+  // against sparse 1.28 s.
+  coarse_solver_ = MakeCholeskySolver(coarse_, 1024);
+}
+
+TwoLevelPreconditioner::TwoLevelPreconditioner(const BsmcMatrix& S, int num_threads,
+                                               int32_t num_own_rows, std::vector<int32_t> aggregate,
+                                               std::vector<int32_t> coarse_sizes,
+                                               std::vector<CoarseRowBasis> bases,
+                                               std::unique_ptr<CholeskySolver> coarse_solver)
+    : S_(S),
+      n_(num_own_rows),
+      jacobi_(S, num_threads, num_own_rows),
+      aggregate_(std::move(aggregate)),
+      bases_(std::move(bases)),
+      coarse_solver_(std::move(coarse_solver)) {
+  BuildCoarse(std::move(coarse_sizes), num_threads);
+}
+
+void TwoLevelPreconditioner::BuildCoarse(std::vector<int32_t> sizes, int num_threads) {
+  const BsmcMatrix& S = S_;
   for (int32_t i = 0; i < S.num_block_rows(); ++i) {
     if (S.block_size(i) > kMaxBlock) {
       throw std::invalid_argument("TwoLevelPreconditioner: a block of " +
@@ -183,16 +214,14 @@ TwoLevelPreconditioner::TwoLevelPreconditioner(const BsmcMatrix& S, int aggregat
                                   std::to_string(kMaxBlock) + ")");
     }
   }
-  const int32_t num_aggregates =
-      aggregate_.empty() ? 0 : *std::max_element(aggregate_.begin(), aggregate_.end()) + 1;
-  SettleScaleColumns(aggregate_, num_aggregates, &bases_);
-  std::vector<int32_t> sizes(num_aggregates, 0);
-  for (int32_t i = 0; i < S.num_block_rows(); ++i) sizes[aggregate_[i]] = CoarseSize(i);
-  // Coarse pattern: every S block (i, j) lands in (A_i, A_j), upper.
+  const int32_t num_aggregates = static_cast<int32_t>(sizes.size());
+  // Coarse pattern: every S block (i, j) of the rows preconditioned lands in
+  // (A_i, A_j), upper.
+  const int64_t blocks = n_ > 0 ? S.row_end(n_ - 1) : 0;
   std::vector<uint64_t> pattern;
-  pattern.reserve(S.num_blocks() + num_aggregates);
+  pattern.reserve(blocks + num_aggregates);
   for (int32_t a = 0; a < num_aggregates; ++a) pattern.push_back(PackBlock(a, a));
-  for (int32_t i = 0; i < S.num_block_rows(); ++i) {
+  for (int32_t i = 0; i < n_; ++i) {
     for (int64_t b = S.row_begin(i); b < S.row_end(i); ++b) {
       const int32_t ai = aggregate_[i], aj = aggregate_[S.block_col(b)];
       pattern.push_back(PackBlock(std::min(ai, aj), std::max(ai, aj)));
@@ -201,10 +230,10 @@ TwoLevelPreconditioner::TwoLevelPreconditioner(const BsmcMatrix& S, int aggregat
   std::sort(pattern.begin(), pattern.end());
   pattern.erase(std::unique(pattern.begin(), pattern.end()), pattern.end());
   coarse_ = BsmcMatrix::BuildFromPattern(std::move(sizes), pattern);
-  coarse_block_.resize(S.num_blocks());
-  transposed_.resize(S.num_blocks());
-  mirrored_.resize(S.num_blocks());
-  for (int32_t i = 0; i < S.num_block_rows(); ++i) {
+  coarse_block_.resize(blocks);
+  transposed_.resize(blocks);
+  mirrored_.resize(blocks);
+  for (int32_t i = 0; i < n_; ++i) {
     for (int64_t b = S.row_begin(i); b < S.row_end(i); ++b) {
       const int32_t j = S.block_col(b);
       const int32_t ai = aggregate_[i], aj = aggregate_[j];
@@ -217,19 +246,13 @@ TwoLevelPreconditioner::TwoLevelPreconditioner(const BsmcMatrix& S, int aggregat
   // Update's rows split into contiguous ranges of about equal block counts,
   // one per thread (a thread per at least 16K blocks).
   const int threads = static_cast<int>(
-      std::clamp<int64_t>(S.num_blocks() / (int64_t{1} << 14), 1, std::max(num_threads, 1)));
-  thread_rows_.assign(threads + 1, S.num_block_rows());
+      std::clamp<int64_t>(blocks / (int64_t{1} << 14), 1, std::max(num_threads, 1)));
+  thread_rows_.assign(threads + 1, n_);
   thread_rows_[0] = 0;
-  for (int32_t i = 0, t = 1; i < S.num_block_rows() && t < threads; ++i) {
-    if (S.row_end(i) * threads >= S.num_blocks() * t) thread_rows_[t++] = i + 1;
+  for (int32_t i = 0, t = 1; i < n_ && t < threads; ++i) {
+    if (S.row_end(i) * threads >= blocks * t) thread_rows_[t++] = i + 1;
   }
   partial_.assign(threads - 1, std::vector<double>(coarse_.num_values()));
-  // Dense up to 1,024 coarse unknowns, sparse above: the coarse matrix only
-  // couples neighbouring aggregates, and its dense factor is read twice per
-  // PCG iteration. Measured (bench/README.md): 400 unknowns (u2k) dense
-  // 0.25 s against sparse 0.36 s of linear solve; 1,560 (s10k) dense 1.47 s
-  // against sparse 1.28 s.
-  coarse_solver_ = MakeCholeskySolver(coarse_, 1024);
   rc_.resize(coarse_.num_rows());
 }
 
@@ -293,7 +316,7 @@ void TwoLevelPreconditioner::Apply(const double* r, double* z) const {
   jacobi_.Apply(r, z);
   if (!coarse_ok_) return;  // block-Jacobi alone
   std::fill(rc_.begin(), rc_.end(), 0.0);
-  const int32_t n = S_.num_block_rows();
+  const int32_t n = n_;
   // rc = R r: each row's N_iᵀ r_i summed into its aggregate.
   for (int32_t i = 0; i < n; ++i) {
     const double* ri = r + S_.scalar_offset(i);

@@ -20,10 +20,11 @@
 // quarter fewer PCG iterations than the identity on the 10,000-image
 // surveys of bench/README.md.
 //
-// Distributed (the RCS spread over ranks): every rank would sum its rows'
-// contribution to R S Rᵀ (aggregates cut along the rank's rows), one reduce
-// brings the small coarse matrix to every rank (or to the main one, which
-// broadcasts the coarse solution), and B⁻¹ is rank-local.
+// Distributed (the RCS spread over ranks, cluster/distributed_rcs.h): each
+// rank aggregates its own rows (aggregates do not cross ranks) and sums its
+// rows' part of R S Rᵀ in the global aggregate numbering; the coarse solver
+// it is given sums the ranks' parts and solves on one rank. B⁻¹ is
+// rank-local.
 //
 // Thread safety: Apply is const but uses scratch: one Apply at a time.
 #pragma once
@@ -41,8 +42,19 @@ namespace dba {
 // Aggregates of S's block rows: aggregate[i] for each block row, grouping
 // rows of equal size (and equal `kind[i]`, when given) connected in S's
 // block graph, about `target` rows each.
+// `num_block_rows` >= 0: the first rows only, joined by the blocks among
+// them (a rank's own rows).
 std::vector<int32_t> AggregateBlockRows(const BsmcMatrix& S, int target,
-                                        const std::vector<uint8_t>& kind = {});
+                                        const std::vector<uint8_t>& kind = {},
+                                        int32_t num_block_rows = -1);
+
+// The two-level space's per-row bases as the preconditioner uses them:
+// checked against S (one per row of `kind`), and the scale columns settled
+// (see the .cc) over `aggregate` (one per row). Throws std::invalid_argument
+// on a basis that does not fit its row.
+std::vector<uint8_t> BasisKinds(const BsmcMatrix& S, const std::vector<CoarseRowBasis>& bases);
+void SettleScaleColumns(const std::vector<int32_t>& aggregate, int32_t num_aggregates,
+                        std::vector<CoarseRowBasis>* bases);
 
 class TwoLevelPreconditioner : public Preconditioner {
  public:
@@ -51,6 +63,17 @@ class TwoLevelPreconditioner : public Preconditioner {
   // `bases`: one per block row of S; empty: identity for all.
   TwoLevelPreconditioner(const BsmcMatrix& S, int aggregate_size, int num_threads,
                          std::vector<CoarseRowBasis> bases = {});
+  // A rank's part: S's first `num_own_rows` rows are preconditioned (the
+  // rest is halo); `aggregate` gives every row of S its aggregate in the
+  // global numbering, `coarse_sizes` every aggregate's coarse size, `bases`
+  // every row's basis, settled (empty: identity). `coarse_solver` factorizes
+  // and solves the coarse matrix from this rank's part of it (the sum over
+  // the ranks is its business); its SolveFactored gets and returns the
+  // whole coarse vector, of which this rank's aggregates are read.
+  TwoLevelPreconditioner(const BsmcMatrix& S, int num_threads, int32_t num_own_rows,
+                         std::vector<int32_t> aggregate, std::vector<int32_t> coarse_sizes,
+                         std::vector<CoarseRowBasis> bases,
+                         std::unique_ptr<CholeskySolver> coarse_solver);
   void Update(const BsmcMatrix& S) override;
   void Apply(const double* r, double* z) const override;
   int64_t MemoryBytes() const override;
@@ -74,8 +97,11 @@ class TwoLevelPreconditioner : public Preconditioner {
   int CoarseSize(int32_t i) const {
     return S_.block_size(i) + (!bases_.empty() && bases_[i].scale ? 1 : 0);
   }
+  // The coarse pattern, its map from S's blocks, the threads' row split.
+  void BuildCoarse(std::vector<int32_t> coarse_sizes, int num_threads);
 
   const BsmcMatrix& S_;
+  int32_t n_;  // rows preconditioned (a rank's own)
   BlockJacobiPreconditioner jacobi_;
   std::vector<int32_t> aggregate_;      // block row -> aggregate
   BsmcMatrix coarse_;
