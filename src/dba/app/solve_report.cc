@@ -250,7 +250,9 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
     const TrafficStats& t = r.solve.traffic;
     out << "  ranks               " << r.solve.ranks << " ("
         << PartitionSchemeName(r.solve.partition) << " partition, main rank "
-        << (r.solve.main_forms ? "forms a sub-RCS" : "coordinates only") << ")\n";
+        << (r.solve.main_forms ? "forms a sub-RCS" : "coordinates only") << ", RCS "
+        << (r.solve.rcs == RcsPlacement::kDistributed ? "spread over the ranks" : "gathered on rank 0")
+        << ")\n";
     for (const RankReport& k : r.solve.rank_reports) {
       std::snprintf(buf, sizeof buf,
                     "    rank %-3d  %10ld points %11ld observations %7ld cameras  "
@@ -260,6 +262,20 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
                     Bytes(k.sub_rcs_bytes).c_str(), Bytes(k.peak_memory_bytes).c_str(),
                     Bytes(k.memory_estimate_bytes).c_str());
       out << buf;
+      if (r.solve.rcs == RcsPlacement::kDistributed) {
+        const TrafficStats& kt = k.traffic;
+        auto at = [&](Traffic c) { return static_cast<int>(c); };
+        std::snprintf(buf, sizeof buf,
+                      "              owns %ld RCS rows, %ld blocks, %s with its solve (halo %ld "
+                      "rows); reduce-scatter %s %.3f s, halo %s %.3f s, reductions %s %.3f s\n",
+                      static_cast<long>(k.owned_rows), static_cast<long>(k.owned_blocks),
+                      Bytes(k.owned_bytes).c_str(), static_cast<long>(k.halo_rows),
+                      Bytes(kt.bytes[at(Traffic::kSubRcs)]).c_str(), kt.seconds[at(Traffic::kSubRcs)],
+                      Bytes(kt.bytes[at(Traffic::kHalo)]).c_str(), kt.seconds[at(Traffic::kHalo)],
+                      Bytes(kt.bytes[at(Traffic::kReduction)]).c_str(),
+                      kt.seconds[at(Traffic::kReduction)]);
+        out << buf;
+      }
     }
     const double iters = std::max<size_t>(r.solve.per_iteration.size(), 1);
     out << "  communication (main rank, sent + received; waits for other ranks apart)\n";
@@ -439,6 +455,7 @@ std::string SolveReportJson(const SolveReport& r) {
   if (r.solve.ranks > 1) {
     nlohmann::ordered_json d;
     d["partition"] = PartitionSchemeName(r.solve.partition);
+    d["rcs"] = RcsPlacementName(r.solve.rcs);
     d["main_rank_forms_sub_rcs"] = r.solve.main_forms;
     nlohmann::ordered_json ranks = nlohmann::ordered_json::array();
     for (const RankReport& k : r.solve.rank_reports) {
@@ -450,7 +467,17 @@ std::string SolveReportJson(const SolveReport& r) {
                        {"sub_rcs_bytes", k.sub_rcs_bytes},
                        {"peak_memory_bytes", k.peak_memory_bytes},
                        {"memory_estimate_bytes", k.memory_estimate_bytes},
-                       {"traffic_bytes", k.traffic_bytes}});
+                       {"traffic_bytes", k.traffic_bytes},
+                       {"owned_rows", k.owned_rows},
+                       {"owned_blocks", k.owned_blocks},
+                       {"owned_bytes", k.owned_bytes},
+                       {"halo_rows", k.halo_rows},
+                       {"communication", TrafficJson(k.traffic)}});
+      if (k.rank > 0 && k.rank < static_cast<int>(r.solve.rank_per_iteration.size())) {
+        nlohmann::ordered_json per = nlohmann::ordered_json::array();
+        for (const TrafficStats& t : r.solve.rank_per_iteration[k.rank]) per.push_back(TrafficJson(t));
+        ranks.back()["communication_per_formation"] = per;
+      }
     }
     d["ranks"] = ranks;
     d["communication"] = TrafficJson(r.solve.traffic);

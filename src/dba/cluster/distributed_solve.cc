@@ -380,8 +380,12 @@ DistributedSummary DistributedBundleAdjust(
         });
     summary.kept = MergeLeft(workers->CollectLeft(&own_rejection), num_points);
   }
+  // Distributed, the main rank's estimate is its own share's (it holds no
+  // global RCS).
+  if (summary.rcs == RcsPlacement::kDistributed) summary.memory_estimate = own_estimate;
   summary.rank_reports = workers->Finish(collect_points ? &problem->points : nullptr,
-                                        summary.memory_estimate.total());
+                                        summary.memory_estimate.total(),
+                                        &summary.rank_per_iteration);
   summary.traffic = comm->stats();
   return summary;
 }

@@ -63,6 +63,8 @@ struct DistributedSummary {
   std::vector<RankReport> rank_reports;     // main rank only
   TrafficStats traffic;                     // main rank's, whole solve
   std::vector<TrafficStats> per_iteration;  // main rank's, per LM iteration
+  // The other ranks', per formation (rank_per_iteration[r], r >= 1).
+  std::vector<std::vector<TrafficStats>> rank_per_iteration;
   double distribution_seconds = 0.0;        // partition + sending the shares
   // The main rank's estimate before the global RCS's values (its own
   // share's sub-RCS, if it forms, already held); total 0: not estimated.

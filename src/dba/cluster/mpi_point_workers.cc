@@ -213,7 +213,11 @@ class MpiPointWorkers::DistributedSolver : public DampedRcsSolver {
     std::copy(all.begin(), all.end(), delta_c);
     return s;
   }
-  int64_t MemoryBytes() const override { return w_->distributed_->MemoryBytes(); }
+  // The main rank's, beyond its rows of the RCS.
+  int64_t MemoryBytes() const override {
+    const BsmcMatrix& S = w_->distributed_->own_matrix();
+    return w_->distributed_->MemoryBytes() - S.ValueBytes() - S.StructureBytes();
+  }
 
  private:
   MpiPointWorkers* w_;
@@ -395,15 +399,29 @@ std::vector<ShareLeft> MpiPointWorkers::CollectLeft(const ShareRejection* own_st
   return left;
 }
 
-std::vector<RankReport> MpiPointWorkers::Finish(std::vector<double>* points,
-                                                int64_t memory_estimate_bytes) {
+std::vector<RankReport> MpiPointWorkers::Finish(
+    std::vector<double>* points, int64_t memory_estimate_bytes,
+    std::vector<std::vector<TrafficStats>>* per_iteration) {
   const bool collect = points != nullptr;
   BroadcastCommand(comm_, {Op::kEnd, collect ? 1 : 0, 0.0});
   MaybeInjectFault(0, "end", 1);
   if (collect) ReceivePoints(points);
   std::vector<RankReport> reports(comm_->size());
+  if (per_iteration != nullptr) per_iteration->assign(comm_->size(), {});
   for (int r = 1; r < comm_->size(); ++r) {
     comm_->Recv(r, Traffic::kResult, std::span<RankReport>(&reports[r], 1));
+    std::vector<TrafficStats> marks = comm_->RecvVector<TrafficStats>(r, Traffic::kResult);
+    marks.push_back(reports[r].traffic);
+    if (per_iteration == nullptr) continue;
+    for (size_t k = 1; k < marks.size(); ++k) {
+      TrafficStats d;
+      for (int t = 0; t < kNumTraffic; ++t) {
+        d.bytes[t] = marks[k].bytes[t] - marks[k - 1].bytes[t];
+        d.seconds[t] = marks[k].seconds[t] - marks[k - 1].seconds[t];
+        d.wait_seconds[t] = marks[k].wait_seconds[t] - marks[k - 1].wait_seconds[t];
+      }
+      (*per_iteration)[r].push_back(d);
+    }
   }
   reports[0] = own_share_ != nullptr
                    ? MakeRankReport(0, *own_share_, own_, *comm_, memory_estimate_bytes,
@@ -430,6 +448,7 @@ RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers
   std::vector<double> message, delta(workers->system().layout.num_unknowns());
   int formations = 0, steps = 0, finishes = 0;
   double lambda = 0.0;
+  std::vector<TrafficStats> marks;  // the traffic at each FORM
   auto send_points = [&] {
     comm->SendVector(0, Traffic::kResult, share->global_point);
     comm->SendVector(0, Traffic::kResult, share->problem.points);
@@ -439,6 +458,7 @@ RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers
     comm->Broadcast(Traffic::kControl, &c);
     switch (c.op) {
       case Op::kForm:
+        marks.push_back(comm->stats());
         MaybeInjectFault(comm->rank(), "form", ++formations);
         if (distributed != nullptr) {
           distributed->Reduce(&workers->FormRcs(c.lambda));
@@ -484,6 +504,7 @@ RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers
         const RankReport report = MakeRankReport(comm->rank(), *share, workers, *comm,
                                                  memory_estimate_bytes, distributed.get());
         comm->Send(0, Traffic::kResult, std::span<const RankReport>(&report, 1));
+        comm->SendVector(0, Traffic::kResult, marks);
         return {};
       }
       default:

@@ -124,7 +124,11 @@ class MpiPointWorkers : public PointWorkers {
   // Ends the other ranks' loops and collects their reports; with `points`
   // non-null also their final points (global numbering; resized to hold all).
   // `memory_estimate_bytes`: the main rank's, for its report.
-  std::vector<RankReport> Finish(std::vector<double>* points, int64_t memory_estimate_bytes = 0);
+  // `per_iteration` (optional): each rank's traffic per formation (from one
+  // FORM to the next, the last to the end), rank by rank; the main rank's
+  // entry is left empty (its caller counts its own per LM iteration).
+  std::vector<RankReport> Finish(std::vector<double>* points, int64_t memory_estimate_bytes = 0,
+                                 std::vector<std::vector<TrafficStats>>* per_iteration = nullptr);
 
   const RcsSystem& global() const { return global_; }
   RcsPlacement placement() const { return placement_; }
