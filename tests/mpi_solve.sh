@@ -6,7 +6,10 @@
 # intrinsics, fixed images and intrinsics) and a generated photogrammetric
 # .dba read by the ranks themselves. These compare the distributed
 # arithmetic, so they run with an explicitly exact linear solve (the dense
-# factorization): with inexact PCG steps runs differ by up to 1e-5. Then a
+# factorization, which gathers the RCS on rank 0): with inexact PCG steps
+# runs differ by up to 1e-5. The RCS spread over the ranks (the default with
+# PCG) is checked against one process with a tight PCG solve (1e-9) and
+# with the defaults (1e-5), BAL and photogrammetric with fixings. Then a
 # failing rank (injected fault) and bad input must end the whole job quickly
 # with a clear message, a non-zero status and no output file.
 # Usage: mpi_solve.sh PATH_TO_DBA PROJECT_ROOT
@@ -46,6 +49,69 @@ for problem in "$root"/../shared/data/bal/*.bz2; do
     done
   done
 done
+
+# The RCS spread over the ranks (--rcs distributed, the default with more
+# than one rank): reduce-scatter to the rows' owners, PCG across the ranks
+# with the distributed two-level preconditioner. With a tight PCG solve the
+# final cost matches one process's tight PCG solve to 1e-9 (1 to 4 ranks,
+# both partitions, the main rank forming or not); with the defaults, to 1e-5.
+pcg_tight=(--linear-solver pcg --eta 0 --pcg-tolerance 1e-12)
+problem=$root/../shared/data/bal/problem-49-7776-pre.txt.bz2
+"$dba" solve "$problem" -q "${pcg_tight[@]}" --report "$tmp/dist_single.json" >/dev/null
+"$dba" solve "$problem" -q --report "$tmp/dist_single_defaults.json" >/dev/null
+check_distributed() {  # LABEL SINGLE_JSON REL NP ARGS...
+  local label=$1 single=$2 rel=$3 n=$4; shift 4
+  if ! mpirun_n "$n" "$dba" solve "$@" -q --report "$tmp/dist.json" </dev/null >"$tmp/dist.out" 2>&1; then
+    fail "$label exited non-zero"; cat "$tmp/dist.out" >&2; return
+  fi
+  if ! grep -q "\"rcs\": \"${expect_rcs:-distributed}\"" "$tmp/dist.json" && [ "$n" -gt 1 ]; then
+    fail "$label: the RCS was not ${expect_rcs:-distributed}"; return
+  fi
+  if awk -v a="$(final_cost "$single")" -v b="$(final_cost "$tmp/dist.json")" -v r="$rel" \
+       'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= r * a) }'; then
+    passes=$((passes + 1)); echo "ok   $label: $(final_cost "$tmp/dist.json") (single $(final_cost "$single"))"
+  else
+    fail "$label: final cost $(final_cost "$tmp/dist.json"), single process $(final_cost "$single")"
+  fi
+}
+for n in 1 2 3 4; do
+  for partition in equal cameras; do
+    check_distributed "distributed RCS, BAL 49, tight, -np $n --partition $partition" \
+      "$tmp/dist_single.json" 1e-9 "$n" "$problem" "${pcg_tight[@]}" --rcs distributed --partition "$partition"
+  done
+done
+for n in 2 4; do
+  check_distributed "distributed RCS, BAL 49, defaults, -np $n" "$tmp/dist_single_defaults.json" 1e-5 "$n" "$problem"
+done
+check_distributed "distributed RCS, BAL 49, tight, -np 3, main rank coordinates only" \
+  "$tmp/dist_single.json" 1e-9 3 "$problem" "${pcg_tight[@]}" --main-rank coordinates
+check_distributed "distributed RCS, BAL 49, tight, -np 3, block-Jacobi" \
+  "$tmp/dist_single.json" 1e-9 3 "$problem" "${pcg_tight[@]}" --preconditioner jacobi
+# The photogrammetric model, with fixed images and intrinsics.
+statue=$root/../shared/data/colmap/statue_of_liberty_small_txt/sparse/0
+statue_fix=(--fix-intrinsics cx,cy --fix-images 1,7)
+"$dba" solve "$statue" -q "${pcg_tight[@]}" "${statue_fix[@]}" --report "$tmp/statue1.json" </dev/null >/dev/null 2>&1 \
+  || fail "statue single process"
+"$dba" solve "$statue" -q "${statue_fix[@]}" --report "$tmp/statue1d.json" </dev/null >/dev/null 2>&1 \
+  || fail "statue single process, defaults"
+for n in 2 3; do
+  for partition in equal cameras; do
+    check_distributed "distributed RCS, COLMAP statue, fixed parameters, tight, -np $n --partition $partition" \
+      "$tmp/statue1.json" 1e-9 "$n" "$statue" "${pcg_tight[@]}" "${statue_fix[@]}" --partition "$partition"
+  done
+  check_distributed "distributed RCS, COLMAP statue, fixed parameters, defaults, -np $n" \
+    "$tmp/statue1d.json" 1e-5 "$n" "$statue" "${statue_fix[@]}"
+done
+# The gathered RCS on request, and the combinations the distributed one refuses.
+expect_rcs=gather check_distributed "gathered RCS on request, BAL 49, tight, -np 2" \
+  "$tmp/dist_single.json" 1e-9 2 "$problem" "${pcg_tight[@]}" --rcs gather
+"$dba" solve "$problem" -q --rcs distributed --linear-solver dense >"$tmp/refuse.out" 2>&1
+status=$?
+if [ "$status" -eq 2 ] && grep -q "needs --rcs gather" "$tmp/refuse.out"; then
+  passes=$((passes + 1))
+else
+  fail "--rcs distributed --linear-solver dense: status $status, $(cat "$tmp/refuse.out")"
+fi
 
 # From a binary file every rank reads its own points: same result.
 problem=$root/../shared/data/bal/problem-49-7776-pre.txt.bz2

@@ -52,6 +52,12 @@ class BsmcMatrix {
   static BsmcMatrix BuildStructure(std::vector<int32_t> block_sizes,
                                    std::span<const uint64_t> sorted_blocks);
   void AllocateValues();
+  // Frees the values (the structure stays); AllocateValues brings them back,
+  // zero.
+  void ReleaseValues() {
+    std::vector<double>().swap(values_);
+    values_narrowed_ = false;
+  }
   bool has_values() const { return static_cast<int64_t>(values_.size()) == num_values(); }
 
   int32_t num_block_rows() const {

@@ -353,7 +353,7 @@ DistributedRcs::DistributedRcs(Communicator* comm, std::vector<int32_t> global_b
   }
   std::sort(pattern.begin(), pattern.end());
   pattern.erase(std::unique(pattern.begin(), pattern.end()), pattern.end());
-  S_ = BsmcMatrix::BuildFromPattern(std::move(sizes), pattern);
+  S_ = BsmcMatrix::BuildStructure(std::move(sizes), pattern);
   std::vector<uint64_t>().swap(pattern);
   plan.recv_blocks.assign(ranks, {});
   plan.recv_rows.assign(ranks, {});
@@ -543,7 +543,11 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub) {
   comm_->Exchange(Traffic::kSubRcs, send, recv);
   std::vector<std::vector<double>>().swap(out);
 
-  S_.SetZero();
+  if (S_.has_values()) {
+    S_.SetZero();
+  } else {
+    S_.AllocateValues();
+  }
   std::fill(b_.begin(), b_.end(), 0.0);
   std::fill(gradient_.begin(), gradient_.end(), 0.0);
   std::fill(jtj_diagonal_.begin(), jtj_diagonal_.end(), 0.0);
@@ -637,6 +641,8 @@ LinearSolveSummary DistributedRcs::Solve(double lambda, const DampingBounds& bou
   if (multiplier_->precision() == ProductPrecision::kMixed) multiplier_->Narrow(&S_);
   const PcgSummary pcg =
       SolvePcg(*operator_, *preconditioner_, b_.data(), delta_.data(), options_.pcg, &scratch_);
+  // S's values are not read again before the next Reduce refills them.
+  S_.ReleaseValues();
   LinearSolveSummary summary;
   summary.iterations = pcg.iterations;
   summary.relative_residual = pcg.relative_residual;

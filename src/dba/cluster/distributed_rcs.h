@@ -19,6 +19,10 @@
 //              rank's own rows, the coarse matrix summed and factorized on
 //              the main rank, R r gathered there and the coarse solution
 //              sent back once per PCG iteration.
+//              Between a Solve and the next Reduce the own rows' values
+//              are freed (the ranks' sub-RCSs too, after Reduce): a rank
+//              holds both only while they are summed: through PCG its
+//              rows of S and not its sub-RCS.
 //   SpreadStep every rank receives δc for the rows its points see from
 //              their owners; the main rank all of δc (for the LM decisions).
 //

@@ -288,6 +288,7 @@ RcsSystem& MpiPointWorkers::FormRcs(double lambda) {
       sub = &own_->FormRcs(lambda);
     }
     const RcsTotals totals = distributed_->Reduce(sub);
+    if (own_ != nullptr) own_->ReleaseRcsValues();  // summed into the owners' rows
     global_.cost = totals.cost;
     global_.residuals = totals.residuals;
     global_.camera_side_gradient.assign(1, totals.max_abs_gradient);
@@ -462,6 +463,7 @@ RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers
         MaybeInjectFault(comm->rank(), "form", ++formations);
         if (distributed != nullptr) {
           distributed->Reduce(&workers->FormRcs(c.lambda));
+          workers->ReleaseRcsValues();  // summed into the owners' rows
           break;
         }
         PackSubRcs(workers->FormRcs(c.lambda), &message);

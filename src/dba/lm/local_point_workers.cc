@@ -14,6 +14,7 @@ LocalPointWorkers::LocalPointWorkers(Problem* problem,
       system_(RcsSystem::ForProblem(*problem, before_values)) {}
 
 RcsSystem& LocalPointWorkers::FormRcs(double lambda) {
+  if (!system_.S.has_values()) system_.AllocateValues();
   dba::FormRcs(*problem_, lambda, bounds_, num_threads_, &system_, loss_);
   return system_;
 }
@@ -24,6 +25,14 @@ StepEvaluation LocalPointWorkers::EvaluateStep(
   candidate_cameras_ = candidate_cameras;
   return BackSubstitute(*problem_, system_.layout, lambda, bounds_, delta_c, candidate_cameras,
                         num_threads_, &candidate_points_, loss_);
+}
+
+void LocalPointWorkers::ReleaseRcsValues() {
+  system_.S.ReleaseValues();
+  for (std::vector<double>* v :
+       {&system_.b, &system_.camera_side_gradient, &system_.camera_side_jtj_diagonal}) {
+    std::vector<double>().swap(*v);
+  }
 }
 
 void LocalPointWorkers::FinishStep(bool accept) {

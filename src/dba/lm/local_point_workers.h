@@ -25,6 +25,9 @@ class LocalPointWorkers : public PointWorkers {
   void FinishStep(bool accept) override;
 
   const RcsSystem& system() const { return system_; }
+  // Frees the RCS's values until the next FormRcs (a rank whose sub-RCS has
+  // gone to its rows' owners).
+  void ReleaseRcsValues();
   int num_threads() const { return num_threads_; }
 
  private:
