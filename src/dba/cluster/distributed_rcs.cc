@@ -113,8 +113,13 @@ class GatheredCoarseSolver : public CholeskySolver {
     std::vector<std::span<const double>> send(ranks);
     std::vector<std::span<double>> recv(ranks);
     std::vector<std::vector<double>> in(ranks);
+    std::vector<double> mine;  // the blocks this rank writes, packed
+    for (int64_t b : blocks_) {
+      mine.insert(mine.end(), part.values().data() + part.value_offset(b),
+                  part.values().data() + part.value_offset(b + 1));
+    }
     if (me != 0) {
-      send[0] = std::span<const double>(part.values());
+      send[0] = std::span<const double>(mine);
     } else {
       for (int q = 1; q < ranks; ++q) {
         in[q].resize(sizes_[q]);
@@ -126,7 +131,7 @@ class GatheredCoarseSolver : public CholeskySolver {
     if (me == 0) {
       coarse_.SetZero();
       for (int q = 0; q < ranks; ++q) {
-        const double* v = q == 0 ? part.values().data() : in[q].data();
+        const double* v = q == 0 ? mine.data() : in[q].data();
         for (int64_t gb : map_[q]) {
           double* o = coarse_.block_values(gb);
           const int64_t n = coarse_.value_offset(gb + 1) - coarse_.value_offset(gb);
@@ -185,11 +190,19 @@ class GatheredCoarseSolver : public CholeskySolver {
     comm_->AllreduceSum(Traffic::kDistribution, ranges);
     range_ = ranges;
     std::vector<std::vector<uint64_t>> lists(ranks);
+    // The blocks this rank's rows write: its aggregates' diagonal blocks and
+    // the off-diagonal ones (the other diagonal blocks are BSMC's, zero).
     std::vector<uint64_t> pattern;
     for (int32_t i = 0; i < part.num_block_rows(); ++i) {
       for (int64_t b = part.row_begin(i); b < part.row_end(i); ++b) {
+        if (part.block_col(b) == i && (i < first_ || i >= end_)) continue;
+        blocks_.push_back(b);
         pattern.push_back(PackBlock(i, part.block_col(b)));
       }
+    }
+    // Every aggregate's diagonal block on the main rank, written or not.
+    if (me == 0) {
+      for (int32_t i = 0; i < part.num_block_rows(); ++i) pattern.push_back(PackBlock(i, i));
     }
     lists[0] = pattern;
     const auto patterns = ExchangeLists(comm_, Traffic::kDistribution, lists);
@@ -204,7 +217,10 @@ class GatheredCoarseSolver : public CholeskySolver {
     map_.assign(ranks, {});
     sizes_.assign(ranks, 0);
     for (int q = 0; q < ranks; ++q) {
-      for (uint64_t blk : patterns[q]) {
+      // The main rank's own list ends with every diagonal block, not sent.
+      const size_t sent = q == 0 ? blocks_.size() : patterns[q].size();
+      for (size_t k = 0; k < sent; ++k) {
+        const uint64_t blk = patterns[q][k];
         const int64_t gb = coarse_.FindBlock(PackedRow(blk), PackedCol(blk));
         map_[q].push_back(gb);
         sizes_[q] += coarse_.value_offset(gb + 1) - coarse_.value_offset(gb);
@@ -217,6 +233,7 @@ class GatheredCoarseSolver : public CholeskySolver {
   Communicator* comm_;
   int32_t first_, end_;
   std::vector<int64_t> range_;  // per rank: scalar begin, end of its aggregates
+  std::vector<int64_t> blocks_;  // this rank's blocks that it writes
   // Main rank only:
   BsmcMatrix coarse_;
   std::vector<std::vector<int64_t>> map_;  // per rank: its blocks' coarse blocks
