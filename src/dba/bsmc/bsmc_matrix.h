@@ -118,6 +118,9 @@ class BsmcMatrix {
   // values in place: they are not S's doubles until SetZero.
   bool values_narrowed() const { return values_narrowed_; }
   void MarkValuesNarrowed() { values_narrowed_ = true; }
+  // The values read zero again (their pages given back to the system), so
+  // no longer narrowed.
+  void MarkValuesZero() { values_narrowed_ = false; }
 
   // Bytes of the structure (block sizes, offsets, column ids) and of the
   // values, as held (docs/design.md §2, paper eq. 9).

@@ -5,12 +5,16 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "dba/common/memory.h"
 #include "dba/solver/block_jacobi.h"
 #include "dba/solver/pcg.h"
 #include "dba/solver/two_level_preconditioner.h"
 
 namespace dba {
 namespace {
+
+// Values of a sub-RCS summed before their pages go back (16 MiB).
+constexpr int64_t kReturnChunk = int64_t{1} << 21;
 
 // Every rank sends lists[q] to rank q and gets rank q's list for it (sizes
 // exchanged first). The own entry is passed through.
@@ -370,7 +374,8 @@ DistributedRcs::DistributedRcs(Communicator* comm, std::vector<int32_t> global_b
   }
   std::sort(pattern.begin(), pattern.end());
   pattern.erase(std::unique(pattern.begin(), pattern.end()), pattern.end());
-  S_ = BsmcMatrix::BuildStructure(std::move(sizes), pattern);
+  S_ = BsmcMatrix::BuildFromPattern(std::move(sizes), pattern);
+  ZeroAndReturnPages(S_.values().data(), S_.num_values());  // zero until the sums land
   std::vector<uint64_t>().swap(pattern);
   plan.recv_blocks.assign(ranks, {});
   plan.recv_rows.assign(ranks, {});
@@ -560,11 +565,9 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub) {
   comm_->Exchange(Traffic::kSubRcs, send, recv);
   std::vector<std::vector<double>>().swap(out);
 
-  if (S_.has_values()) {
-    S_.SetZero();
-  } else {
-    S_.AllocateValues();
-  }
+  // S's values read zero: their pages were given back after the last Solve
+  // (or never touched), and take memory again as the sums land.
+  S_.MarkValuesZero();
   std::fill(b_.begin(), b_.end(), 0.0);
   std::fill(gradient_.begin(), gradient_.end(), 0.0);
   std::fill(jtj_diagonal_.begin(), jtj_diagonal_.end(), 0.0);
@@ -578,8 +581,19 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub) {
   for (int p = 0; p < ranks; ++p) {
     if (p == me) {
       if (sub == nullptr) continue;
+      // The sub-RCS's pages go back to the system as they are summed (its
+      // other owners' blocks are in their messages already): it shrinks
+      // while the own rows fill.
+      const double* sub_values = sub->S.values().data();
+      int64_t returned = 0;  // values of the sub-RCS given back
       for (size_t k = 0; k < plan.send_blocks[me].size(); ++k) {
-        add_block(plan.recv_blocks[me][k], sub->S.block_values(plan.send_blocks[me][k]));
+        const int64_t b = plan.send_blocks[me][k];
+        add_block(plan.recv_blocks[me][k], sub->S.block_values(b));
+        if (sub->S.value_offset(b + 1) - returned >= kReturnChunk) {
+          ReturnPages(const_cast<double*>(sub_values) + returned,
+                      (sub->S.value_offset(b + 1) - returned) * 8);
+          returned = sub->S.value_offset(b + 1);
+        }
       }
       for (size_t k = 0; k < plan.send_rows[me].size(); ++k) {
         const int32_t i = plan.send_rows[me][k], l = plan.recv_rows[me][k];
@@ -659,7 +673,7 @@ LinearSolveSummary DistributedRcs::Solve(double lambda, const DampingBounds& bou
   const PcgSummary pcg =
       SolvePcg(*operator_, *preconditioner_, b_.data(), delta_.data(), options_.pcg, &scratch_);
   // S's values are not read again before the next Reduce refills them.
-  S_.ReleaseValues();
+  ZeroAndReturnPages(S_.values().data(), S_.num_values());
   LinearSolveSummary summary;
   summary.iterations = pcg.iterations;
   summary.relative_residual = pcg.relative_residual;

@@ -1,6 +1,9 @@
 // Resident memory from /proc/self/status; see memory.h.
 #include "dba/common/memory.h"
 
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstring>
 #include <algorithm>
@@ -71,6 +74,23 @@ int64_t AvailableMemoryBytes() {
   // (other members of the group are not counted).
   const int64_t room = limit - CurrentResidentBytes();
   return machine == 0 ? room : std::min(machine, room);
+}
+
+void ReturnPages(void* data, int64_t bytes) {
+  static const uintptr_t page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
+  const uintptr_t begin = (reinterpret_cast<uintptr_t>(data) + page - 1) / page * page;
+  const uintptr_t end = (reinterpret_cast<uintptr_t>(data) + static_cast<uintptr_t>(bytes)) / page * page;
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
+}
+
+void ZeroAndReturnPages(double* data, int64_t count) {
+  static const int64_t page = sysconf(_SC_PAGESIZE) / static_cast<int64_t>(sizeof(double));
+  const int64_t misalign = static_cast<int64_t>(reinterpret_cast<uintptr_t>(data) % (page * 8)) / 8;
+  const int64_t head = std::min(count, misalign == 0 ? 0 : page - misalign);
+  const int64_t tail = (count - head) % page;
+  std::fill(data, data + head, 0.0);
+  std::fill(data + count - tail, data + count, 0.0);
+  ReturnPages(data + head, (count - head - tail) * 8);
 }
 
 }  // namespace dba

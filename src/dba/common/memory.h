@@ -14,4 +14,13 @@ int64_t CurrentResidentBytes();
 // where a cgroup (v2) limit leaves less room; 0 if unknown.
 int64_t AvailableMemoryBytes();
 
+// Gives the whole pages inside [data, data + bytes) back to the system
+// (madvise MADV_DONTNEED): they read as zero afterwards and take memory
+// again only when written. For arrays whose contents are no longer needed,
+// or are zero anyway.
+void ReturnPages(void* data, int64_t bytes);
+// [data, data + count) set to zero: the whole pages given back, the partial
+// ones at the ends written.
+void ZeroAndReturnPages(double* data, int64_t count);
+
 }  // namespace dba
