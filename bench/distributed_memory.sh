@@ -6,7 +6,8 @@
 # median rank. Minutes per survey on 2 cores (ranks share the cores: times
 # are not speeds). Not part of CI.
 #
-# Usage: bench/distributed_memory.sh DBA PROBLEM.dba OUT_DIR [dba solve options...]
+# Usage: [RANKS="2 4 8"] [PLACEMENTS="distributed gather"] \
+#        bench/distributed_memory.sh DBA PROBLEM.dba OUT_DIR [dba solve options...]
 # e.g.   bench/distributed_memory.sh build/dba s100k.dba /tmp/dm --max-iterations 3
 set -euo pipefail
 dba=$1; problem=$2; out=$3; shift 3
@@ -17,8 +18,8 @@ run() {  # ranks placement
     "$dba" solve "$problem" -q --rcs "$2" --report "$out/$2-$1.json" "${extra[@]}" >"$out/$2-$1.log" 2>&1
 }
 "$dba" solve "$problem" -q --report "$out/single.json" "${extra[@]}" >"$out/single.log" 2>&1
-for n in 2 4 8; do
-  for placement in distributed gather; do run "$n" "$placement"; done
+for n in ${RANKS:-2 4 8}; do
+  for placement in ${PLACEMENTS:-distributed gather}; do run "$n" "$placement"; done
 done
 python3 - "$out" <<'PY'
 import json, statistics, sys, os

@@ -8,10 +8,27 @@
 #include "dba/common/memory.h"
 #include "dba/solver/block_jacobi.h"
 #include "dba/solver/pcg.h"
+#include "dba/solver/pcg_rcs_solver.h"
 #include "dba/solver/two_level_preconditioner.h"
 
 namespace dba {
 namespace {
+
+// One exchange's buffers: per rank, what goes out and what comes in, and
+// the spans Communicator::Exchange takes.
+struct Messages {
+  explicit Messages(int ranks) : out(ranks), in(ranks), send(ranks), recv(ranks) {}
+  // Buffers of these sizes for rank q (0: nothing to or from it).
+  void Size(int q, int64_t out_size, int64_t in_size) {
+    out[q].resize(out_size);
+    in[q].resize(in_size);
+    send[q] = std::span<const double>(out[q]);
+    recv[q] = std::span<double>(in[q]);
+  }
+  std::vector<std::vector<double>> out, in;
+  std::vector<std::span<const double>> send;
+  std::vector<std::span<double>> recv;
+};
 
 // Values of a sub-RCS summed before their pages go back (16 MiB).
 constexpr int64_t kReturnChunk = int64_t{1} << 21;
@@ -541,14 +558,12 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub) {
   const Plan& plan = *plan_;
   // Messages to the other owners: the blocks' values, then b, g and diag(U)
   // of each row.
-  std::vector<std::vector<double>> out(ranks), in(ranks);
-  std::vector<std::span<const double>> send(ranks);
-  std::vector<std::span<double>> recv(ranks);
+  Messages m(ranks);
   for (int q = 0; q < ranks; ++q) {
     if (q == me) continue;
-    if (sub != nullptr && plan.send_size[q] > 0) {
-      out[q].resize(plan.send_size[q]);
-      double* o = out[q].data();
+    m.Size(q, sub != nullptr ? plan.send_size[q] : 0, plan.recv_size[q]);
+    if (sub != nullptr) {
+      double* o = m.out[q].data();
       for (int64_t b : plan.send_blocks[q]) {
         o = std::copy(sub->S.values().data() + sub->S.value_offset(b),
                       sub->S.values().data() + sub->S.value_offset(b + 1), o);
@@ -557,13 +572,10 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub) {
                                            &sub->camera_side_jtj_diagonal}) {
         o = GatherRows(sub->S, plan.send_rows[q], v->data(), o);
       }
-      send[q] = std::span<const double>(out[q]);
     }
-    in[q].resize(plan.recv_size[q]);
-    recv[q] = std::span<double>(in[q]);
   }
-  comm_->Exchange(Traffic::kSubRcs, send, recv);
-  std::vector<std::vector<double>>().swap(out);
+  comm_->Exchange(Traffic::kSubRcs, m.send, m.recv);
+  std::vector<std::vector<double>>().swap(m.out);
 
   // S's values read zero: their pages were given back after the last Solve
   // (or never touched), and take memory again as the sums land.
@@ -606,12 +618,12 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub) {
       }
       continue;
     }
-    const double* v = in[p].data();
+    const double* v = m.in[p].data();
     for (int64_t lb : plan.recv_blocks[p]) v = add_block(lb, v);
     for (std::vector<double>* vec : {&b_, &gradient_, &jtj_diagonal_}) {
       v = AddRows(S_, plan.recv_rows[p], v, vec->data());
     }
-    std::vector<double>().swap(in[p]);
+    std::vector<double>().swap(m.in[p]);
   }
 
   double sums[4] = {0.0, 0.0, 0.0, 0.0};
@@ -674,28 +686,20 @@ LinearSolveSummary DistributedRcs::Solve(double lambda, const DampingBounds& bou
       SolvePcg(*operator_, *preconditioner_, b_.data(), delta_.data(), options_.pcg, &scratch_);
   // S's values are not read again before the next Reduce refills them.
   ZeroAndReturnPages(S_.values().data(), S_.num_values());
-  LinearSolveSummary summary;
-  summary.iterations = pcg.iterations;
-  summary.relative_residual = pcg.relative_residual;
-  summary.stop = PcgStopName(pcg.stop);
-  return summary;
+  return ToLinearSolveSummary(pcg);
 }
 
 void DistributedRcs::SpreadStep(std::vector<double>* sub_delta, std::vector<double>* global_delta) {
   const int ranks = comm_->size(), me = comm_->rank();
   const Plan& plan = *plan_;
-  std::vector<std::vector<double>> out(ranks), in(ranks);
-  std::vector<std::span<const double>> send(ranks);
-  std::vector<std::span<double>> recv(ranks);
+  Messages m(ranks);
   for (int q = 0; q < ranks; ++q) {
     if (q == me) continue;
-    out[q].resize(ScalarsOf(S_, plan.step_send[q]));
-    GatherRows(S_, plan.step_send[q], delta_.data(), out[q].data());
-    send[q] = std::span<const double>(out[q]);
-    if (sub_ != nullptr) in[q].resize(ScalarsOf(*sub_, plan.step_recv[q]));
-    recv[q] = std::span<double>(in[q]);
+    m.Size(q, ScalarsOf(S_, plan.step_send[q]),
+           sub_ != nullptr ? ScalarsOf(*sub_, plan.step_recv[q]) : 0);
+    GatherRows(S_, plan.step_send[q], delta_.data(), m.out[q].data());
   }
-  comm_->Exchange(Traffic::kCameraUpdate, send, recv);
+  comm_->Exchange(Traffic::kCameraUpdate, m.send, m.recv);
   if (sub_ != nullptr && sub_delta != nullptr) {
     sub_delta->assign(sub_->num_rows(), 0.0);
     for (int q = 0; q < ranks; ++q) {
@@ -706,31 +710,27 @@ void DistributedRcs::SpreadStep(std::vector<double>* sub_delta, std::vector<doub
                       sub_delta->data() + sub_->scalar_offset(i));
         }
       } else {
-        SetRows(*sub_, plan.step_recv[q], in[q].data(), sub_delta->data());
+        SetRows(*sub_, plan.step_recv[q], m.in[q].data(), sub_delta->data());
       }
     }
   }
   // The whole δc on the main rank.
-  for (int q = 0; q < ranks; ++q) {
-    send[q] = {};
-    recv[q] = {};
-  }
-  std::vector<std::vector<double>> all(ranks);
+  Messages whole(ranks);
   if (me != 0) {
-    send[0] = std::span<const double>(delta_);
+    whole.Size(0, static_cast<int64_t>(delta_.size()), 0);
+    std::copy(delta_.begin(), delta_.end(), whole.out[0].begin());
   } else {
     for (int q = 1; q < ranks; ++q) {
       int64_t n = 0;
       for (int32_t g : plan.own_rows_of[q]) n += global_sizes_[g];
-      all[q].resize(n);
-      recv[q] = std::span<double>(all[q]);
+      whole.Size(q, 0, n);
     }
   }
-  comm_->Exchange(Traffic::kCameraUpdate, send, recv);
+  comm_->Exchange(Traffic::kCameraUpdate, whole.send, whole.recv);
   if (me == 0 && global_delta != nullptr) {
     global_delta->assign(global_offset_.back(), 0.0);
     for (int q = 0; q < ranks; ++q) {
-      const double* v = q == 0 ? delta_.data() : all[q].data();
+      const double* v = q == 0 ? delta_.data() : whole.in[q].data();
       for (int32_t g : plan.own_rows_of[q]) {
         std::copy_n(v, global_sizes_[g], global_delta->data() + global_offset_[g]);
         v += global_sizes_[g];

@@ -45,7 +45,10 @@ LinearSolveSummary PcgRcsSolver::Solve(BsmcMatrix& S, const double* b, double* x
   }
   preconditioner_->Update(S);
   if (multiplier_.precision() == ProductPrecision::kMixed) multiplier_.Narrow(&S);
-  const PcgSummary pcg = SolvePcg(multiplier_, *preconditioner_, b, x, options_, &scratch_);
+  return ToLinearSolveSummary(SolvePcg(multiplier_, *preconditioner_, b, x, options_, &scratch_));
+}
+
+LinearSolveSummary ToLinearSolveSummary(const PcgSummary& pcg) {
   LinearSolveSummary summary;
   summary.iterations = pcg.iterations;
   summary.relative_residual = pcg.relative_residual;

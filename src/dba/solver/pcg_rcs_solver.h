@@ -30,6 +30,9 @@ class PcgRcsSolver : public RcsSolver {
   PcgScratch scratch_;
 };
 
+// PCG's summary as the RCS solvers report it.
+LinearSolveSummary ToLinearSolveSummary(const PcgSummary& pcg);
+
 // Bytes of the PCG path for S: S itself, the preconditioner, the vectors,
 // and for a mixed-precision product the diagonal blocks in double.
 int64_t PcgPathBytes(const BsmcMatrix& S, ProductPrecision precision);
