@@ -263,6 +263,41 @@ class GatheredCoarseSolver : public CholeskySolver {
   std::vector<double> rc_;
 };
 
+// The owners as chosen, unless that piles the RCS on a few ranks (the
+// equal partition, or few cameras that every rank sees): past 1.25x the
+// mean load (values of the rows, summed over the ranks' sub-RCSs), the rows
+// go in contiguous ranges of equal load to the ranks with points instead.
+void BalanceOwners(Communicator* comm, bool has_points, std::vector<int64_t> weight,
+                   std::vector<int32_t>* owner) {
+  const int ranks = comm->size();
+  const int32_t n = static_cast<int32_t>(owner->size());
+  for (int32_t g = 0; g < n; ++g) weight[g] += 1;  // a row nobody sees still counts
+  comm->AllreduceSum(Traffic::kDistribution, weight);
+  std::vector<int64_t> forms(ranks, 0);
+  forms[comm->rank()] = has_points ? 1 : 0;
+  comm->AllreduceSum(Traffic::kDistribution, forms);
+  std::vector<int64_t> load(ranks, 0);
+  int64_t total = 0;
+  for (int32_t g = 0; g < n; ++g) {
+    load[(*owner)[g]] += weight[g];
+    total += weight[g];
+  }
+  std::vector<int> forming;
+  for (int q = 0; q < ranks; ++q) {
+    if (forms[q] != 0) forming.push_back(q);
+  }
+  if (forming.empty()) forming.push_back(0);
+  const double mean = static_cast<double>(total) / static_cast<double>(forming.size());
+  if (*std::max_element(load.begin(), load.end()) <= 1.25 * mean) return;
+  int64_t sum = 0;
+  for (int32_t g = 0; g < n; ++g) {
+    const size_t k = std::min(forming.size() - 1,
+                              static_cast<size_t>(static_cast<double>(sum) / mean));
+    (*owner)[g] = forming[k];
+    sum += weight[g];
+  }
+}
+
 }  // namespace
 
 // Who sends what to whom, fixed in the symbolic phase.
@@ -316,20 +351,22 @@ DistributedRcs::DistributedRcs(Communicator* comm, std::vector<int32_t> global_b
 
   // Owners: the rank with the most values in the row, ties to the lowest.
   {
-    std::vector<int64_t> key(n_global, 0);
+    std::vector<int64_t> weight(n_global, 0);
     if (sub_ != nullptr) {
       for (int32_t i = 0; i < sub_->num_block_rows(); ++i) {
         for (int64_t b = sub_->row_begin(i); b < sub_->row_end(i); ++b) {
-          key[sub_rows_[i]] += int64_t{sub_->block_size(i)} * sub_->block_size(sub_->block_col(b));
+          weight[sub_rows_[i]] += int64_t{sub_->block_size(i)} * sub_->block_size(sub_->block_col(b));
         }
       }
     }
-    for (int64_t& k : key) k = k * ranks + (ranks - 1 - me);
+    std::vector<int64_t> key(n_global);
+    for (int32_t g = 0; g < n_global; ++g) key[g] = weight[g] * ranks + (ranks - 1 - me);
     comm->AllreduceMax(Traffic::kDistribution, key);
     owner_.resize(n_global);
     for (int32_t g = 0; g < n_global; ++g) {
       owner_[g] = ranks - 1 - static_cast<int32_t>(key[g] % ranks);
     }
+    BalanceOwners(comm, sub_ != nullptr, std::move(weight), &owner_);
   }
   Plan& plan = *plan_;
   plan.own_rows_of.assign(ranks, {});
