@@ -430,6 +430,7 @@ DistributedRcs::DistributedRcs(Communicator* comm, std::vector<int32_t> global_b
   pattern.erase(std::unique(pattern.begin(), pattern.end()), pattern.end());
   S_ = BsmcMatrix::BuildFromPattern(std::move(sizes), pattern);
   ZeroAndReturnPages(S_.values().data(), S_.num_values());  // zero until the sums land
+  values_zero_ = true;
   std::vector<uint64_t>().swap(pattern);
   plan.recv_blocks.assign(ranks, {});
   plan.recv_rows.assign(ranks, {});
@@ -542,7 +543,11 @@ void DistributedRcs::BuildTwoLevel(const std::vector<CoarseRowBasis>& global_bas
       aggregate.empty() ? 0 : *std::max_element(aggregate.begin(), aggregate.end()) + 1;
   if (!bases.empty()) {
     std::vector<CoarseRowBasis> own(bases.begin(), bases.begin() + n_own_);
-    SettleScaleColumns(aggregate, own_aggregates, &own);
+    // The "fewer than two scaled aggregates" rule counts all ranks'.
+    const int64_t mine = ScaledAggregates(aggregate, own_aggregates, own);
+    std::vector<int64_t> scaled(1, mine);
+    comm_->AllreduceSum(Traffic::kDistribution, scaled);
+    SettleScaleColumns(aggregate, own_aggregates, &own, scaled[0] - mine);
     std::copy(own.begin(), own.end(), bases.begin());
   }
   std::vector<int64_t> counts(ranks, 0);
@@ -614,9 +619,14 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub) {
   comm_->Exchange(Traffic::kSubRcs, m.send, m.recv);
   std::vector<std::vector<double>>().swap(m.out);
 
-  // S's values read zero: their pages were given back after the last Solve
-  // (or never touched), and take memory again as the sums land.
-  S_.MarkValuesZero();
+  // S's values read zero when their pages were given back after the last
+  // Solve (or at construction): they take memory again as the sums land.
+  if (values_zero_) {
+    S_.MarkValuesZero();
+  } else {
+    S_.SetZero();
+  }
+  values_zero_ = false;
   std::fill(b_.begin(), b_.end(), 0.0);
   std::fill(gradient_.begin(), gradient_.end(), 0.0);
   std::fill(jtj_diagonal_.begin(), jtj_diagonal_.end(), 0.0);
@@ -723,6 +733,7 @@ LinearSolveSummary DistributedRcs::Solve(double lambda, const DampingBounds& bou
       SolvePcg(*operator_, *preconditioner_, b_.data(), delta_.data(), options_.pcg, &scratch_);
   // S's values are not read again before the next Reduce refills them.
   ZeroAndReturnPages(S_.values().data(), S_.num_values());
+  values_zero_ = true;
   return ToLinearSolveSummary(pcg);
 }
 

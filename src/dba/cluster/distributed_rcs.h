@@ -113,6 +113,7 @@ class DistributedRcs {
   std::unique_ptr<Operator> operator_;
   PcgScratch scratch_;
   std::vector<double> delta_;             // own rows' δc
+  bool values_zero_ = false;              // S's pages given back since the last Reduce
   mutable std::vector<double> x_ext_, y_ext_;  // product scratch, own + halo
 };
 

@@ -76,11 +76,18 @@ int64_t AvailableMemoryBytes() {
   return machine == 0 ? room : std::min(machine, room);
 }
 
-void ReturnPages(void* data, int64_t bytes) {
+bool ReturnPages(void* data, int64_t bytes) {
+#ifdef __linux__
   static const uintptr_t page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
   const uintptr_t begin = (reinterpret_cast<uintptr_t>(data) + page - 1) / page * page;
   const uintptr_t end = (reinterpret_cast<uintptr_t>(data) + static_cast<uintptr_t>(bytes)) / page * page;
-  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
+  if (end <= begin) return true;
+  return madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED) == 0;
+#else
+  (void)data;
+  (void)bytes;
+  return false;
+#endif
 }
 
 void ZeroAndReturnPages(double* data, int64_t count) {
@@ -90,7 +97,11 @@ void ZeroAndReturnPages(double* data, int64_t count) {
   const int64_t tail = (count - head) % page;
   std::fill(data, data + head, 0.0);
   std::fill(data + count - tail, data + count, 0.0);
-  ReturnPages(data + head, (count - head - tail) * 8);
+  // Locked memory (mlockall) or huge-page heaps refuse MADV_DONTNEED: then
+  // the zeros are written.
+  if (!ReturnPages(data + head, (count - head - tail) * 8)) {
+    std::fill(data + head, data + count - tail, 0.0);
+  }
 }
 
 }  // namespace dba

@@ -16,11 +16,12 @@ int64_t AvailableMemoryBytes();
 
 // Gives the whole pages inside [data, data + bytes) back to the system
 // (madvise MADV_DONTNEED): they read as zero afterwards and take memory
-// again only when written. For arrays whose contents are no longer needed,
-// or are zero anyway.
-void ReturnPages(void* data, int64_t bytes);
+// again only when written. For arrays whose contents are no longer needed.
+// False when the system refused (locked memory, huge-page heaps, not
+// Linux): the pages then keep their contents.
+bool ReturnPages(void* data, int64_t bytes);
 // [data, data + count) set to zero: the whole pages given back, the partial
-// ones at the ends written.
+// ones at the ends written (all written where pages cannot be given back).
 void ZeroAndReturnPages(double* data, int64_t count);
 
 }  // namespace dba

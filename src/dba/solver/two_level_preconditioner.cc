@@ -144,20 +144,29 @@ std::vector<uint8_t> BasisKinds(const BsmcMatrix& S, const std::vector<CoarseRow
 // common translation is added), but D no longer carries the distance to the
 // scene's centre, which the coarse Cholesky would have to cancel (a
 // 10,000-image survey with tracks of ~4: 3,748 PCG iterations against 682).
-void SettleScaleColumns(const std::vector<int32_t>& aggregate, int32_t num_aggregates,
-                        std::vector<CoarseRowBasis>* bases) {
-  if (bases->empty()) return;
+int64_t ScaledAggregates(const std::vector<int32_t>& aggregate, int32_t num_aggregates,
+                         const std::vector<CoarseRowBasis>& bases) {
+  if (bases.empty()) return 0;
   std::vector<int32_t> members(num_aggregates, 0);
   for (int32_t a : aggregate) ++members[a];
   std::vector<uint8_t> scaled(num_aggregates, 0);
-  for (size_t i = 0; i < bases->size(); ++i) {
-    CoarseRowBasis& N = (*bases)[i];
-    if (members[aggregate[i]] == 1) N.scale = false;
-    if (N.scale) scaled[aggregate[i]] = 1;
+  for (size_t i = 0; i < bases.size(); ++i) {
+    if (bases[i].scale && members[aggregate[i]] > 1) scaled[aggregate[i]] = 1;
   }
-  if (std::count(scaled.begin(), scaled.end(), 1) < 2) {
+  return std::count(scaled.begin(), scaled.end(), 1);
+}
+
+void SettleScaleColumns(const std::vector<int32_t>& aggregate, int32_t num_aggregates,
+                        std::vector<CoarseRowBasis>* bases, int64_t scaled_elsewhere) {
+  if (bases->empty()) return;
+  std::vector<int32_t> members(num_aggregates, 0);
+  for (int32_t a : aggregate) ++members[a];
+  if (ScaledAggregates(aggregate, num_aggregates, *bases) + scaled_elsewhere < 2) {
     for (CoarseRowBasis& N : *bases) N.scale = false;
     return;
+  }
+  for (size_t i = 0; i < bases->size(); ++i) {
+    if (members[aggregate[i]] == 1) (*bases)[i].scale = false;
   }
   std::vector<Eigen::Vector3d> centre(num_aggregates, Eigen::Vector3d::Zero());
   for (size_t i = 0; i < bases->size(); ++i) {

@@ -53,8 +53,13 @@ std::vector<int32_t> AggregateBlockRows(const BsmcMatrix& S, int target,
 // (see the .cc) over `aggregate` (one per row). Throws std::invalid_argument
 // on a basis that does not fit its row.
 std::vector<uint8_t> BasisKinds(const BsmcMatrix& S, const std::vector<CoarseRowBasis>& bases);
+// `scaled_elsewhere`: scaled aggregates of other ranks (they count toward
+// the two a coarse space with scale needs).
 void SettleScaleColumns(const std::vector<int32_t>& aggregate, int32_t num_aggregates,
-                        std::vector<CoarseRowBasis>* bases);
+                        std::vector<CoarseRowBasis>* bases, int64_t scaled_elsewhere = 0);
+// Aggregates of more than one row with a scale column among them.
+int64_t ScaledAggregates(const std::vector<int32_t>& aggregate, int32_t num_aggregates,
+                         const std::vector<CoarseRowBasis>& bases);
 
 class TwoLevelPreconditioner : public Preconditioner {
  public:
