@@ -541,7 +541,7 @@ void DistributedRcs::BuildTwoLevel(const std::vector<CoarseRowBasis>& global_bas
       AggregateBlockRows(S_, options_.coarse_aggregate_size, kind, n_own_);
   const int32_t own_aggregates =
       aggregate.empty() ? 0 : *std::max_element(aggregate.begin(), aggregate.end()) + 1;
-  if (!bases.empty()) {
+  if (with_bases != 0) {  // on every rank, even one without rows: collective
     std::vector<CoarseRowBasis> own(bases.begin(), bases.begin() + n_own_);
     // The "fewer than two scaled aggregates" rule counts all ranks'.
     const int64_t mine = ScaledAggregates(aggregate, own_aggregates, own);
