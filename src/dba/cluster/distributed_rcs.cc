@@ -315,8 +315,12 @@ struct DistributedRcs::Plan {
   std::vector<std::vector<int32_t>> step_send, step_recv;
   // Main rank: each rank's own rows (global ids), for the whole δc.
   std::vector<std::vector<int32_t>> own_rows_of;
-  // Product scratch per rank: halo values out and in.
+  // Product scratch per rank: halo values out and in, their sizes (the
+  // scalars of halo_send and halo_recv) and the spans of an exchange.
   std::vector<std::vector<double>> halo_out, halo_in;
+  std::vector<int64_t> halo_send_scalars, halo_recv_scalars;
+  std::vector<std::span<const double>> halo_send_span;
+  std::vector<std::span<double>> halo_recv_span;
 };
 
 class DistributedRcs::Operator : public PcgOperator {
@@ -471,9 +475,15 @@ DistributedRcs::DistributedRcs(Communicator* comm, std::vector<int32_t> global_b
   }
   plan.halo_out.assign(ranks, {});
   plan.halo_in.assign(ranks, {});
+  plan.halo_send_scalars.assign(ranks, 0);
+  plan.halo_recv_scalars.assign(ranks, 0);
+  plan.halo_send_span.assign(ranks, {});
+  plan.halo_recv_span.assign(ranks, {});
   for (int q = 0; q < ranks; ++q) {
     if (q == me) continue;
-    plan.halo_out[q].resize(std::max(ScalarsOf(S_, plan.halo_send[q]), ScalarsOf(S_, plan.halo_recv[q])));
+    plan.halo_send_scalars[q] = ScalarsOf(S_, plan.halo_send[q]);
+    plan.halo_recv_scalars[q] = ScalarsOf(S_, plan.halo_recv[q]);
+    plan.halo_out[q].resize(std::max(plan.halo_send_scalars[q], plan.halo_recv_scalars[q]));
     plan.halo_in[q].resize(plan.halo_out[q].size());
   }
 
@@ -654,13 +664,15 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub) {
           returned = sub->S.value_offset(b + 1);
         }
       }
-      for (size_t k = 0; k < plan.send_rows[me].size(); ++k) {
-        const int32_t i = plan.send_rows[me][k], l = plan.recv_rows[me][k];
-        for (int d = 0; d < S_.block_size(l); ++d) {
-          b_[S_.scalar_offset(l) + d] += sub->b[sub->S.scalar_offset(i) + d];
-          gradient_[S_.scalar_offset(l) + d] += sub->camera_side_gradient[sub->S.scalar_offset(i) + d];
-          jtj_diagonal_[S_.scalar_offset(l) + d] +=
-              sub->camera_side_jtj_diagonal[sub->S.scalar_offset(i) + d];
+      const std::vector<double>* from[3] = {&sub->b, &sub->camera_side_gradient,
+                                            &sub->camera_side_jtj_diagonal};
+      std::vector<double>* to[3] = {&b_, &gradient_, &jtj_diagonal_};
+      for (int v = 0; v < 3; ++v) {
+        for (size_t k = 0; k < plan.send_rows[me].size(); ++k) {
+          const double* in = from[v]->data() + sub->S.scalar_offset(plan.send_rows[me][k]);
+          const int32_t l = plan.recv_rows[me][k];
+          double* out = to[v]->data() + S_.scalar_offset(l);
+          for (int d = 0; d < S_.block_size(l); ++d) out[d] += in[d];
         }
       }
       continue;
@@ -692,35 +704,35 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub) {
   return totals;
 }
 
-void DistributedRcs::Multiply(const double* x, double* y) const {
-  const int ranks = comm_->size(), me = comm_->rank();
+// One halo exchange: to each rank the values of `from` at `out_rows[q]`;
+// from each rank `in_scalars[q]` values into plan.halo_in[q].
+void DistributedRcs::ExchangeHalo(const std::vector<std::vector<int32_t>>& out_rows,
+                                  const std::vector<int64_t>& in_scalars, const double* from) const {
   Plan& plan = *plan_;
+  for (int q = 0; q < comm_->size(); ++q) {
+    if (q == comm_->rank()) continue;
+    double* end = GatherRows(S_, out_rows[q], from, plan.halo_out[q].data());
+    plan.halo_send_span[q] = std::span<const double>(plan.halo_out[q].data(), end);
+    plan.halo_recv_span[q] = std::span<double>(plan.halo_in[q].data(), in_scalars[q]);
+  }
+  comm_->Exchange(Traffic::kHalo, plan.halo_send_span, plan.halo_recv_span);
+}
+
+void DistributedRcs::Multiply(const double* x, double* y) const {
+  const int me = comm_->rank();
+  const Plan& plan = *plan_;
   const int64_t own_scalars = S_.scalar_offset(n_own_);
   std::copy_n(x, own_scalars, x_ext_.data());
   // The halo's x from its owners.
-  std::vector<std::span<const double>> send(ranks);
-  std::vector<std::span<double>> recv(ranks);
-  for (int q = 0; q < ranks; ++q) {
-    if (q == me) continue;
-    double* end = GatherRows(S_, plan.halo_send[q], x_ext_.data(), plan.halo_out[q].data());
-    send[q] = std::span<const double>(plan.halo_out[q].data(), end);
-    recv[q] = std::span<double>(plan.halo_in[q].data(), ScalarsOf(S_, plan.halo_recv[q]));
-  }
-  comm_->Exchange(Traffic::kHalo, send, recv);
-  for (int q = 0; q < ranks; ++q) {
+  ExchangeHalo(plan.halo_send, plan.halo_recv_scalars, x_ext_.data());
+  for (int q = 0; q < comm_->size(); ++q) {
     if (q != me) SetRows(S_, plan.halo_recv[q], plan.halo_in[q].data(), x_ext_.data());
   }
   multiplier_->Multiply(x_ext_.data(), y_ext_.data());
   // The halo rows' partial sums back to their owners.
-  for (int q = 0; q < ranks; ++q) {
-    if (q == me) continue;
-    double* end = GatherRows(S_, plan.halo_recv[q], y_ext_.data(), plan.halo_out[q].data());
-    send[q] = std::span<const double>(plan.halo_out[q].data(), end);
-    recv[q] = std::span<double>(plan.halo_in[q].data(), ScalarsOf(S_, plan.halo_send[q]));
-  }
-  comm_->Exchange(Traffic::kHalo, send, recv);
+  ExchangeHalo(plan.halo_recv, plan.halo_send_scalars, y_ext_.data());
   std::copy_n(y_ext_.data(), own_scalars, y);
-  for (int q = 0; q < ranks; ++q) {
+  for (int q = 0; q < comm_->size(); ++q) {
     if (q != me) AddRows(S_, plan.halo_send[q], plan.halo_in[q].data(), y);
   }
 }

@@ -94,6 +94,8 @@ class DistributedRcs {
   class Operator;
   struct Plan;
   void Multiply(const double* x, double* y) const;
+  void ExchangeHalo(const std::vector<std::vector<int32_t>>& out_rows,
+                    const std::vector<int64_t>& in_scalars, const double* from) const;
   void BuildTwoLevel(const std::vector<CoarseRowBasis>& global_bases);
 
   Communicator* comm_;
