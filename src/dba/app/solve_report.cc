@@ -371,6 +371,7 @@ std::string SolveReportJson(const SolveReport& r) {
                                {"rcs_bytes", e.rcs},
                                {"formation_bytes", e.formation},
                                {"lm_bytes", e.lm},
+                               {"candidate_points_bytes", e.candidate},
                                {"linear_solver_bytes", e.linear_solver},
                                {"linear_solver", LinearSolverName(e.solver)},
                                {"available_bytes", r.available_memory_bytes}};

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "dba/common/memory.h"
+
 namespace dba {
 
 BsmcMatrix BsmcMatrix::BuildFromPattern(std::vector<int32_t> block_sizes,
@@ -14,7 +16,10 @@ BsmcMatrix BsmcMatrix::BuildFromPattern(std::vector<int32_t> block_sizes,
   return m;
 }
 
-void BsmcMatrix::AllocateValues() { values_.assign(value_offset_.back(), 0.0); }
+void BsmcMatrix::AllocateValues() {
+  values_.assign(value_offset_.back(), 0.0);
+  values_zero_ = false;
+}
 
 BsmcMatrix BsmcMatrix::BuildStructure(std::vector<int32_t> block_sizes,
                                       std::span<const uint64_t> sorted_blocks) {
@@ -70,8 +75,15 @@ int32_t BsmcMatrix::BlockRow(int64_t b) const {
 }
 
 void BsmcMatrix::SetZero() {
-  std::fill(values_.begin(), values_.end(), 0.0);
+  if (!values_zero_) std::fill(values_.begin(), values_.end(), 0.0);
   values_narrowed_ = false;
+  values_zero_ = false;
+}
+
+void BsmcMatrix::ZeroValuesAndReturnPages() {
+  ZeroAndReturnPages(values_.data(), static_cast<int64_t>(values_.size()));
+  values_narrowed_ = false;
+  values_zero_ = true;
 }
 
 int64_t BsmcMatrix::StructureBytes() const {

@@ -57,6 +57,7 @@ class BsmcMatrix {
   void ReleaseValues() {
     std::vector<double>().swap(values_);
     values_narrowed_ = false;
+    values_zero_ = false;
   }
   bool has_values() const { return static_cast<int64_t>(values_.size()) == num_values(); }
 
@@ -113,14 +114,21 @@ class BsmcMatrix {
 
   std::vector<double>& values() { return values_; }
   const std::vector<double>& values() const { return values_; }
+  // Before the values are summed (a formation): nothing to write when they
+  // were given back since (ZeroValuesAndReturnPages).
   void SetZero();
+  // The values are not needed until the next SetZero (a rank's own rows
+  // between a distributed solve and the next reduce-scatter): their pages go
+  // back to the system, and they read zero, taking memory again only as they
+  // are written. Writers of the values start with SetZero.
+  void ZeroValuesAndReturnPages();
   // A mixed-precision product (bsmc/symmetric_multiply.h) narrowed the
   // values in place: they are not S's doubles until SetZero.
   bool values_narrowed() const { return values_narrowed_; }
-  void MarkValuesNarrowed() { values_narrowed_ = true; }
-  // The values read zero again (their pages given back to the system), so
-  // no longer narrowed.
-  void MarkValuesZero() { values_narrowed_ = false; }
+  void MarkValuesNarrowed() {
+    values_narrowed_ = true;
+    values_zero_ = false;
+  }
 
   // Bytes of the structure (block sizes, offsets, column ids) and of the
   // values, as held (docs/design.md §2, paper eq. 9).
@@ -140,6 +148,7 @@ class BsmcMatrix {
   std::vector<int64_t> value_offset_{0};
   std::vector<double> values_;
   bool values_narrowed_ = false;
+  bool values_zero_ = false;  // given back since the last SetZero
 };
 
 }  // namespace dba

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <climits>
 #include <set>
 
@@ -110,6 +111,31 @@ TEST(BsmcMatrix, StructureAloneSizesItsValues) {
   const BsmcMatrix full = BsmcMatrix::BuildFromPattern(sizes, pattern);
   EXPECT_EQ(m.values(), full.values());
   EXPECT_EQ(m.StructureBytes(), full.StructureBytes());
+}
+
+// Values given back between solves read zero, a SetZero after them writes
+// nothing and leaves them zero, and they take values again as written.
+TEST(BsmcMatrix, ValuesGivenBackReadZeroUntilWritten) {
+  std::vector<uint64_t> blocks;
+  for (int32_t i = 0; i < 300; ++i) {
+    blocks.push_back(PackBlock(i, i));
+    if (i + 1 < 300) blocks.push_back(PackBlock(i, i + 1));
+  }
+  BsmcMatrix m = BsmcMatrix::BuildFromPattern(std::vector<int32_t>(300, 9), blocks);
+  ASSERT_GT(m.ValueBytes(), 16 * 4096);  // whole pages inside
+  for (int round = 0; round < 2; ++round) {
+    m.SetZero();
+    for (double& v : m.values()) EXPECT_EQ(v, 0.0);
+    std::fill(m.values().begin(), m.values().end(), 1.5 + round);
+    m.ZeroValuesAndReturnPages();
+    for (double& v : m.values()) ASSERT_EQ(v, 0.0) << "round " << round;
+    EXPECT_FALSE(m.values_narrowed());
+  }
+  // A SetZero with values written since (no pages given back) zeroes them.
+  m.SetZero();
+  m.values()[7] = 3.0;
+  m.SetZero();
+  EXPECT_EQ(m.values()[7], 0.0);
 }
 
 TEST(BsmcMatrix, RefusesBadPatterns) {

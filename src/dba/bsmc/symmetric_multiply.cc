@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "dba/bsmc/block_shape.h"
+#include "dba/common/memory.h"
 
 namespace dba {
 namespace {
@@ -300,6 +301,10 @@ void SymmetricMultiplier::Narrow(BsmcMatrix* S) {
     }
   }
   S->MarkValuesNarrowed();
+}
+
+void SymmetricMultiplier::ReturnDiagonalPages() {
+  ReturnPages(diagonal_.data(), static_cast<int64_t>(diagonal_.size() * sizeof(double)));
 }
 
 void SymmetricMultiplier::Multiply(const double* x, double* y) const {

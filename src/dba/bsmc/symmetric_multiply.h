@@ -48,6 +48,10 @@ class SymmetricMultiplier {
   // Multiply. S's values are not valid afterwards, until SetZero.
   void Narrow(BsmcMatrix* S);
 
+  // kMixed: the diagonal copy's pages back to the system until the next
+  // Narrow (between solves).
+  void ReturnDiagonalPages();
+
   // y = S x; x and y have matrix.num_rows() entries and must not alias.
   void Multiply(const double* x, double* y) const;
 

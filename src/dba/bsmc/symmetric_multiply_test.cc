@@ -92,9 +92,13 @@ void ExpectMixedMatchesNarrowedDense(BsmcMatrix m, int threads) {
   const Eigen::VectorXd expected = narrowed * x;
   SymmetricMultiplier multiplier(m, threads, ProductPrecision::kMixed);
   const std::vector<double> formed = m.values();
-  // Twice: the second time after S is re-formed (zeroed, filled again).
+  // Twice: the second time after S is re-formed (zeroed, filled again),
+  // with the pages of S and of the diagonal copy given back in between (as
+  // between LM iterations; Narrow gives back the values' rear half itself).
   for (int round = 0; round < 2; ++round) {
     if (round == 1) {
+      multiplier.ReturnDiagonalPages();
+      m.ZeroValuesAndReturnPages();
       m.SetZero();
       EXPECT_FALSE(m.values_narrowed());
       m.values() = formed;

@@ -433,8 +433,7 @@ DistributedRcs::DistributedRcs(Communicator* comm, std::vector<int32_t> global_b
   std::sort(pattern.begin(), pattern.end());
   pattern.erase(std::unique(pattern.begin(), pattern.end()), pattern.end());
   S_ = BsmcMatrix::BuildFromPattern(std::move(sizes), pattern);
-  ZeroAndReturnPages(S_.values().data(), S_.num_values());  // zero until the sums land
-  values_zero_ = true;
+  S_.ZeroValuesAndReturnPages();  // zero until the sums land
   std::vector<uint64_t>().swap(pattern);
   plan.recv_blocks.assign(ranks, {});
   plan.recv_rows.assign(ranks, {});
@@ -631,12 +630,7 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub) {
 
   // S's values read zero when their pages were given back after the last
   // Solve (or at construction): they take memory again as the sums land.
-  if (values_zero_) {
-    S_.MarkValuesZero();
-  } else {
-    S_.SetZero();
-  }
-  values_zero_ = false;
+  S_.SetZero();
   std::fill(b_.begin(), b_.end(), 0.0);
   std::fill(gradient_.begin(), gradient_.end(), 0.0);
   std::fill(jtj_diagonal_.begin(), jtj_diagonal_.end(), 0.0);
@@ -743,9 +737,10 @@ LinearSolveSummary DistributedRcs::Solve(double lambda, const DampingBounds& bou
   if (multiplier_->precision() == ProductPrecision::kMixed) multiplier_->Narrow(&S_);
   const PcgSummary pcg =
       SolvePcg(*operator_, *preconditioner_, b_.data(), delta_.data(), options_.pcg, &scratch_);
-  // S's values are not read again before the next Reduce refills them.
-  ZeroAndReturnPages(S_.values().data(), S_.num_values());
-  values_zero_ = true;
+  // S's values and the solve's own storage are not read again before the
+  // next Reduce refills them.
+  S_.ZeroValuesAndReturnPages();
+  ReturnSolvePages(preconditioner_.get(), multiplier_.get(), &scratch_);
   return ToLinearSolveSummary(pcg);
 }
 

@@ -84,6 +84,8 @@ class DistributedRcs {
   // the global layout.
   void SpreadStep(std::vector<double>* sub_delta, std::vector<double>* global_delta);
 
+  // The least λ the solve is reliable at (solver/pcg.h, MinLambda).
+  double min_lambda() const { return MinLambda(options_.pcg.product_precision()); }
   int32_t num_own_rows() const { return n_own_; }
   const BsmcMatrix& own_matrix() const { return S_; }
   // Bytes this rank holds for its rows (S's structure and values, vectors,
@@ -115,7 +117,6 @@ class DistributedRcs {
   std::unique_ptr<Operator> operator_;
   PcgScratch scratch_;
   std::vector<double> delta_;             // own rows' δc
-  bool values_zero_ = false;              // S's pages given back since the last Reduce
   mutable std::vector<double> x_ext_, y_ext_;  // product scratch, own + halo
 };
 

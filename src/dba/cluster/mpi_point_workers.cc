@@ -218,6 +218,7 @@ class MpiPointWorkers::DistributedSolver : public DampedRcsSolver {
     const BsmcMatrix& S = w_->distributed_->own_matrix();
     return w_->distributed_->MemoryBytes() - S.ValueBytes() - S.StructureBytes();
   }
+  double min_lambda() const override { return w_->distributed_->min_lambda(); }
 
  private:
   MpiPointWorkers* w_;

@@ -31,6 +31,8 @@ class DampedRcsSolver {
                                    RcsSystem* system, double* delta_c) = 0;
   // Bytes held beyond the RCS itself.
   virtual int64_t MemoryBytes() const = 0;
+  // The least λ its solves are reliable at (RcsSolver::min_lambda).
+  virtual double min_lambda() const = 0;
 };
 
 class LocalDampedRcsSolver : public DampedRcsSolver {
@@ -46,6 +48,7 @@ class LocalDampedRcsSolver : public DampedRcsSolver {
     return solver_->Solve(system->S, system->b.data(), delta_c);
   }
   int64_t MemoryBytes() const override { return solver_->MemoryBytes(); }
+  double min_lambda() const override { return solver_->min_lambda(); }
 
  private:
   std::unique_ptr<RcsSolver> solver_;

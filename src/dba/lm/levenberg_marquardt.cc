@@ -171,6 +171,7 @@ class Minimizer {
     std::unique_ptr<DampedRcsSolver> solver =
         workers_->MakeDampedRcsSolver(*sys_, linear, &summary_.linear_solver);
     summary_.linear_solver_bytes = solver->MemoryBytes();
+    damping_.SetFloor(solver->min_lambda());
     return solver;
   }
 

@@ -1,6 +1,8 @@
 // Single-process PointWorkers; see local_point_workers.h.
 #include "dba/lm/local_point_workers.h"
 
+#include "dba/common/memory.h"
+
 namespace dba {
 
 LocalPointWorkers::LocalPointWorkers(Problem* problem,
@@ -36,9 +38,14 @@ void LocalPointWorkers::ReleaseRcsValues() {
 }
 
 void LocalPointWorkers::FinishStep(bool accept) {
-  if (!accept) return;
-  problem_->cameras.swap(candidate_cameras_);
-  problem_->points.swap(candidate_points_);
+  if (accept) {
+    problem_->cameras.swap(candidate_cameras_);
+    problem_->points.swap(candidate_points_);
+  }
+  // The next back-substitution rewrites every candidate point: until then
+  // (the next formation and solve) their pages are the system's.
+  ReturnPages(candidate_points_.data(),
+              static_cast<int64_t>(candidate_points_.size() * sizeof(double)));
 }
 
 }  // namespace dba

@@ -23,6 +23,7 @@ std::string FormatBytes(int64_t bytes) {
 std::string MemoryEstimate::Describe() const {
   return FormatBytes(total()) + " (process " + FormatBytes(resident) + ", RCS " + FormatBytes(rcs) +
          ", formation copies " + FormatBytes(formation) + ", LM vectors " + FormatBytes(lm) +
+         (candidate > 0 ? ", candidate points " + FormatBytes(candidate) : std::string()) +
          (messages > 0 ? ", messages " + FormatBytes(messages) : std::string()) +
          (linear_solver > 0 ? ", " + std::string(LinearSolverName(solver)) + " solver " +
                                   FormatBytes(linear_solver)
@@ -51,10 +52,10 @@ MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& stru
   if (role != EstimateRole::kSolves) {
     e.formation = FormationCopyBytes(S.num_values(), rows, options.num_threads);
   }
-  // The LM's cameras and candidate, the workers' candidate; the candidate
-  // points (where the points are); δc.
-  const int64_t points = role == EstimateRole::kSolves ? 0 : static_cast<int64_t>(problem.points.size());
-  e.lm = (3 * static_cast<int64_t>(problem.cameras.size()) + points + rows) * 8;
+  // The LM's cameras and candidate, the workers' candidate, δc; the
+  // candidate points (where the points are).
+  e.lm = (3 * static_cast<int64_t>(problem.cameras.size()) + rows) * 8;
+  if (role != EstimateRole::kSolves) e.candidate = static_cast<int64_t>(problem.points.size()) * 8;
   if (role == EstimateRole::kForms) {
     e.messages = e.rcs + 5 * 8;  // values, b, gradient, diagonal, 5 scalars
     return e;
@@ -75,6 +76,7 @@ MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& stru
       // Preconditioner, vectors, the diagonal copy: the PCG path less S.
       e.linear_solver = PcgPathBytes(S, linear.pcg.product_precision()) - S.ValueBytes() -
                         S.StructureBytes();
+      e.solver_between_solves_returned = true;
       break;
   }
   return e;

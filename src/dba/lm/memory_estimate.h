@@ -7,7 +7,8 @@
 //                  b, gradient, diagonal (3 doubles per camera-side unknown)
 //   formation      the threads' private copies of the RCS, where the RCS is
 //                  small enough for them (rcs/form_rcs.cc)
-//   lm             the candidate cameras (three copies) and points, δc
+//   lm             the candidate cameras (three copies), δc
+//   candidate      the candidate points
 //   linear_solver  beyond S: what auto (or the chosen solver) holds: PCG's
 //                  preconditioner, vectors and diagonal copy; a dense
 //                  factor n² doubles; a sparse factor: 2x the block estimate
@@ -15,12 +16,19 @@
 //                  CSC copy of S: 1.8x and 2.25x measured, bench/README.md;
 //                  0 without CHOLMOD: not estimated)
 //
-// The peak is the larger of that sum and the peak so far (loading, e.g.
+// Not all of it is held at once: the candidate points from a
+// back-substitution to the step's end, PCG's storage during its solve
+// (their pages go back to the system in between: LocalPointWorkers::
+// FinishStep, ReturnSolvePages); a factorization keeps its factor. The
+// growth is the largest of the three phases, formation, solve and
+// back-substitution, over what all hold. The
+// peak is the larger of that and the peak so far (loading, e.g.
 // decompressing a BAL file, can pass what the solve holds).
 //
 // Thread safety: pure.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 
@@ -36,14 +44,24 @@ struct MemoryEstimate {
   int64_t rcs = 0;
   int64_t formation = 0;
   int64_t lm = 0;
+  int64_t candidate = 0;
   int64_t linear_solver = 0;
+  // The linear solver's storage is given back between solves (PCG).
+  bool solver_between_solves_returned = false;
   // Distributed: the packed sub-RCS a rank sends each formation, or the
   // main rank's send and receive buffers.
   int64_t messages = 0;
   LinearSolverType solver = LinearSolverType::kPcg;
 
-  // What the solve adds to the process.
-  int64_t growth() const { return rcs + formation + lm + linear_solver + messages; }
+  // What the solve adds to the process: its largest phase.
+  int64_t growth() const {
+    const int64_t kept = solver_between_solves_returned ? 0 : linear_solver;
+    const int64_t formation_phase = rcs + formation + kept;
+    const int64_t solve_phase = rcs + linear_solver;
+    const int64_t back_substitution_phase = rcs + candidate + kept;
+    return lm + messages +
+           std::max({formation_phase, solve_phase, back_substitution_phase});
+  }
   int64_t total() const {
     const int64_t solve = resident + growth();
     return solve > peak_so_far ? solve : peak_so_far;

@@ -43,8 +43,11 @@ TEST(MemoryEstimate, PartsMatchWhatTheSolveAllocates) {
   EXPECT_EQ(e.linear_solver, n * n * 8);
   // A small RCS: two threads form it in private copies.
   EXPECT_EQ(e.formation, (s.rcs.bsmc_value_bytes + 3 * n * 8));
-  EXPECT_EQ(e.lm, (3 * static_cast<int64_t>(problem.cameras.size()) +
-                   static_cast<int64_t>(problem.points.size()) + n) * 8);
+  EXPECT_EQ(e.lm, (3 * static_cast<int64_t>(problem.cameras.size()) + n) * 8);
+  EXPECT_EQ(e.candidate, static_cast<int64_t>(problem.points.size()) * 8);
+  // A factorization keeps its factor: the formation phase, with the private
+  // copies, is the largest.
+  EXPECT_FALSE(e.solver_between_solves_returned);
   EXPECT_EQ(e.total(), e.resident + e.rcs + e.formation + e.lm + e.linear_solver);
   // PCG by option: the PCG path less S, above the block-Jacobi inverse.
   options.linear_solver.type = LinearSolverType::kPcg;
@@ -56,6 +59,10 @@ TEST(MemoryEstimate, PartsMatchWhatTheSolveAllocates) {
   EXPECT_EQ(e.solver, LinearSolverType::kPcg);
   EXPECT_EQ(e.formation, 0);
   EXPECT_GE(e.linear_solver, 12 * 81 * 8);
+  // PCG gives its storage back between solves, and the candidate points go
+  // back after each step: S is held with one or the other, not both.
+  EXPECT_TRUE(e.solver_between_solves_returned);
+  EXPECT_EQ(e.growth(), e.lm + e.rcs + std::max(e.linear_solver, e.candidate));
 }
 
 TEST(MemoryEstimate, CheckRefusesWhatDoesNotFit) {

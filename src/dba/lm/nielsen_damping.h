@@ -7,7 +7,9 @@
 //   rejected step:                    λ ← λ · ν,                         ν ← 2ν
 //
 // A good step (ρ near 1) shrinks λ by up to 3, a poor accepted one grows it
-// by up to 2; rejections grow it ever faster.
+// by up to 2; rejections grow it ever faster. λ never falls below a floor
+// that the linear solver may set (DampedRcsSolver::min_lambda: a
+// mixed-precision PCG's), 0 by default.
 // Thread safety: a value.
 #pragma once
 
@@ -21,10 +23,12 @@ class NielsenDamping {
 
   double lambda() const { return lambda_; }
   double nu() const { return nu_; }
+  // From the next accepted step on, λ stays at or above `floor`.
+  void SetFloor(double floor) { floor_ = floor; }
 
   void StepAccepted(double gain_ratio) {
     const double r = 2.0 * gain_ratio - 1.0;
-    lambda_ *= std::max(1.0 / 3.0, 1.0 - r * r * r);
+    lambda_ = std::max(floor_, lambda_ * std::max(1.0 / 3.0, 1.0 - r * r * r));
     nu_ = 2.0;
   }
   void StepRejected() {
@@ -35,6 +39,7 @@ class NielsenDamping {
  private:
   double lambda_;
   double nu_ = 2.0;
+  double floor_ = 0.0;
 };
 
 }  // namespace dba

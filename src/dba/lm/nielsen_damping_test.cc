@@ -33,5 +33,17 @@ TEST(NielsenDamping, RejectionsDoubleNuAndAnAcceptanceResetsIt) {
   EXPECT_DOUBLE_EQ(d.lambda(), 128.0);
 }
 
+TEST(NielsenDamping, AcceptedStepsStopAtTheFloor) {
+  NielsenDamping d(1e-7);
+  d.SetFloor(4e-8);
+  EXPECT_DOUBLE_EQ(d.lambda(), 1e-7);  // the floor acts from the next update
+  d.StepAccepted(1.0);
+  EXPECT_DOUBLE_EQ(d.lambda(), 4e-8);  // not 1e-7 / 3
+  d.StepAccepted(1.0);
+  EXPECT_DOUBLE_EQ(d.lambda(), 4e-8);
+  d.StepRejected();
+  EXPECT_DOUBLE_EQ(d.lambda(), 8e-8);
+}
+
 }  // namespace
 }  // namespace dba

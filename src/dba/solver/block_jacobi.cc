@@ -1,6 +1,7 @@
 // Block-Jacobi preconditioner (paper eq. 7); see block_jacobi.h.
 #include "dba/bsmc/block_shape.h"
 #include "dba/common/check.h"
+#include "dba/common/memory.h"
 #include "dba/solver/block_jacobi.h"
 
 #include <Eigen/Cholesky>
@@ -22,6 +23,10 @@ BlockJacobiPreconditioner::BlockJacobiPreconditioner(const BsmcMatrix& S, int nu
     offset_[i + 1] = offset_[i] + int64_t{S.block_size(i)} * S.block_size(i);
   }
   inverse_.resize(offset_[n]);
+}
+
+void BlockJacobiPreconditioner::ReturnNumericPages() {
+  ReturnPages(inverse_.data(), static_cast<int64_t>(inverse_.size() * sizeof(double)));
 }
 
 void BlockJacobiPreconditioner::Update(const BsmcMatrix& S) {

@@ -24,6 +24,7 @@ class BlockJacobiPreconditioner : public Preconditioner {
   // its diagonal if that fails too).
   void Update(const BsmcMatrix& S) override;
   void Apply(const double* r, double* z) const override;
+  void ReturnNumericPages() override;
   int64_t MemoryBytes() const override {
     return static_cast<int64_t>(inverse_.capacity() * sizeof(double));
   }

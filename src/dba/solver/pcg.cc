@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "dba/common/memory.h"
 #include "dba/common/progress.h"
 
 namespace dba {
@@ -47,6 +48,12 @@ bool ParsePcgPrecision(const std::string& name, PcgPrecision* precision) {
     }
   }
   return false;
+}
+
+void PcgScratch::ReturnPages() {
+  for (std::vector<double>* v : {&r, &z, &d, &Sd}) {
+    dba::ReturnPages(v->data(), static_cast<int64_t>(v->size() * sizeof(double)));
+  }
 }
 
 void PcgScratch::Resize(int64_t n) {

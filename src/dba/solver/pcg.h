@@ -45,6 +45,19 @@ const char* PcgPrecisionName(PcgPrecision precision);
 // "auto", "mixed", "double"; false if `name` is none of them.
 bool ParsePcgPrecision(const std::string& name, PcgPrecision* precision);
 
+// The least LM damping a mixed-precision product stands: float's unit
+// roundoff, 2⁻²⁴ ≈ 6e-8. S's off-diagonal values are rounded by up to that
+// much relative; S_λ's smallest eigenvalues, relative to its diagonal, are
+// about λ on the weak modes (a nadir survey's f against flying height, per
+// image). With λ below the rounding, the narrowed S_λ need not be positive
+// definite: measured on the 1M-image survey, PCG broke down at λ = 1.0e-8,
+// 9.8e-9, 6.7e-9 and 6.5e-9 with steps 10³ to 10¹⁴ times the cost, four
+// wasted LM iterations (bench/README.md, "LM tail").
+constexpr double kMixedPrecisionMinLambda = 0x1p-24;
+inline double MinLambda(ProductPrecision precision) {
+  return precision == ProductPrecision::kMixed ? kMixedPrecisionMinLambda : 0.0;
+}
+
 struct PcgOptions {
   // Nash-Sofer stop; 0 turns it off (the residual test alone decides).
   // 0.1 by measurement (bench/README.md, "Linear solvers"), as Ceres.
@@ -91,6 +104,8 @@ struct PcgSummary {
 struct PcgScratch {
   std::vector<double> r, z, d, Sd;
   void Resize(int64_t n);
+  // Their pages back to the system between solves (each solve rewrites them).
+  void ReturnPages();
 };
 
 // What PCG needs of S: y = S x over this rank's entries, and the sums of

@@ -45,7 +45,16 @@ LinearSolveSummary PcgRcsSolver::Solve(BsmcMatrix& S, const double* b, double* x
   }
   preconditioner_->Update(S);
   if (multiplier_.precision() == ProductPrecision::kMixed) multiplier_.Narrow(&S);
-  return ToLinearSolveSummary(SolvePcg(multiplier_, *preconditioner_, b, x, options_, &scratch_));
+  const PcgSummary pcg = SolvePcg(multiplier_, *preconditioner_, b, x, options_, &scratch_);
+  ReturnSolvePages(preconditioner_.get(), &multiplier_, &scratch_);
+  return ToLinearSolveSummary(pcg);
+}
+
+void ReturnSolvePages(Preconditioner* preconditioner, SymmetricMultiplier* multiplier,
+                      PcgScratch* scratch) {
+  preconditioner->ReturnNumericPages();
+  multiplier->ReturnDiagonalPages();
+  scratch->ReturnPages();
 }
 
 LinearSolveSummary ToLinearSolveSummary(const PcgSummary& pcg) {

@@ -22,6 +22,7 @@ class PcgRcsSolver : public RcsSolver {
   LinearSolveSummary Solve(BsmcMatrix& S, const double* b, double* x) override;
   LinearSolverType type() const override { return LinearSolverType::kPcg; }
   int64_t MemoryBytes() const override;
+  double min_lambda() const override { return MinLambda(multiplier_.precision()); }
 
  private:
   PcgOptions options_;
@@ -29,6 +30,13 @@ class PcgRcsSolver : public RcsSolver {
   std::unique_ptr<Preconditioner> preconditioner_;
   PcgScratch scratch_;
 };
+
+// After a solve: the storage a PCG solve computes afresh each time (the
+// preconditioner's values, a mixed product's diagonal copy, the vectors)
+// goes back to the system until the next solve, so that it is not held
+// while the next RCS is formed.
+void ReturnSolvePages(Preconditioner* preconditioner, SymmetricMultiplier* multiplier,
+                      PcgScratch* scratch);
 
 // PCG's summary as the RCS solvers report it.
 LinearSolveSummary ToLinearSolveSummary(const PcgSummary& pcg);

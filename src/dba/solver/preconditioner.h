@@ -21,6 +21,9 @@ class Preconditioner {
   // z = M⁻¹ r.
   virtual void Apply(const double* r, double* z) const = 0;
   virtual int64_t MemoryBytes() const = 0;
+  // Between solves (the LM loop forms the next RCS meanwhile): the pages of
+  // what Update computes go back to the system until the next Update.
+  virtual void ReturnNumericPages() {}
 };
 
 }  // namespace dba

@@ -101,6 +101,9 @@ class RcsSolver {
   virtual LinearSolverType type() const = 0;
   // Bytes held by the solver beyond S (factor, copies, vectors).
   virtual int64_t MemoryBytes() const = 0;
+  // The least damping λ at which its solves are reliable: 0, except for a
+  // mixed-precision PCG (solver/pcg.h, kMixedPrecisionMinLambda).
+  virtual double min_lambda() const { return 0.0; }
 };
 
 // A direct solver: Solve = Factorize, then SolveFactored. The split lets a

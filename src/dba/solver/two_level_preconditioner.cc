@@ -1,6 +1,7 @@
 // Two-level additive preconditioner M⁻¹ = B⁻¹ + Rᵀ (R S Rᵀ)⁻¹ R; see
 // two_level_preconditioner.h.
 #include "dba/common/check.h"
+#include "dba/common/memory.h"
 #include "dba/solver/two_level_preconditioner.h"
 
 #include <omp.h>
@@ -357,6 +358,12 @@ void TwoLevelPreconditioner::Apply(const double* r, double* z) const {
     }
     for (; d < S_.block_size(i); ++d) zi[d] += ca[d];
   }
+}
+
+void TwoLevelPreconditioner::ReturnNumericPages() {
+  jacobi_.ReturnNumericPages();
+  ReturnPages(coarse_.values().data(), coarse_.ValueBytes());  // Update rewrites them
+  for (std::vector<double>& p : partial_) ReturnPages(p.data(), static_cast<int64_t>(p.size() * sizeof(double)));
 }
 
 int64_t TwoLevelPreconditioner::MemoryBytes() const {

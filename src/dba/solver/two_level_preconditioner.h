@@ -82,6 +82,7 @@ class TwoLevelPreconditioner : public Preconditioner {
   void Update(const BsmcMatrix& S) override;
   void Apply(const double* r, double* z) const override;
   int64_t MemoryBytes() const override;
+  void ReturnNumericPages() override;
 
   int32_t num_aggregates() const { return coarse_.num_block_rows(); }
   // The coarse matrix R S Rᵀ as last updated (for tests).
