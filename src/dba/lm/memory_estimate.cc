@@ -76,7 +76,6 @@ MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& stru
       // Preconditioner, vectors, the diagonal copy: the PCG path less S.
       e.linear_solver = PcgPathBytes(S, linear.pcg.product_precision()) - S.ValueBytes() -
                         S.StructureBytes();
-      e.solver_between_solves_returned = true;
       break;
   }
   return e;

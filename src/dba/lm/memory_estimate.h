@@ -46,16 +46,19 @@ struct MemoryEstimate {
   int64_t lm = 0;
   int64_t candidate = 0;
   int64_t linear_solver = 0;
-  // The linear solver's storage is given back between solves (PCG).
-  bool solver_between_solves_returned = false;
   // Distributed: the packed sub-RCS a rank sends each formation, or the
   // main rank's send and receive buffers.
   int64_t messages = 0;
   LinearSolverType solver = LinearSolverType::kPcg;
 
+  // PCG gives its storage back between solves (ReturnSolvePages); a
+  // factorization keeps its factor.
+  bool solver_between_solves_returned() const {
+    return solver != LinearSolverType::kDense && solver != LinearSolverType::kSparse;
+  }
   // What the solve adds to the process: its largest phase.
   int64_t growth() const {
-    const int64_t kept = solver_between_solves_returned ? 0 : linear_solver;
+    const int64_t kept = solver_between_solves_returned() ? 0 : linear_solver;
     const int64_t formation_phase = rcs + formation + kept;
     const int64_t solve_phase = rcs + linear_solver;
     const int64_t back_substitution_phase = rcs + candidate + kept;

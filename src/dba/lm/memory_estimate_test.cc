@@ -47,7 +47,7 @@ TEST(MemoryEstimate, PartsMatchWhatTheSolveAllocates) {
   EXPECT_EQ(e.candidate, static_cast<int64_t>(problem.points.size()) * 8);
   // A factorization keeps its factor: the formation phase, with the private
   // copies, is the largest.
-  EXPECT_FALSE(e.solver_between_solves_returned);
+  EXPECT_FALSE(e.solver_between_solves_returned());
   EXPECT_EQ(e.total(), e.resident + e.rcs + e.formation + e.lm + e.linear_solver);
   // PCG by option: the PCG path less S, above the block-Jacobi inverse.
   options.linear_solver.type = LinearSolverType::kPcg;
@@ -61,7 +61,7 @@ TEST(MemoryEstimate, PartsMatchWhatTheSolveAllocates) {
   EXPECT_GE(e.linear_solver, 12 * 81 * 8);
   // PCG gives its storage back between solves, and the candidate points go
   // back after each step: S is held with one or the other, not both.
-  EXPECT_TRUE(e.solver_between_solves_returned);
+  EXPECT_TRUE(e.solver_between_solves_returned());
   EXPECT_EQ(e.growth(), e.lm + e.rcs + std::max(e.linear_solver, e.candidate));
 }
 
