@@ -59,8 +59,21 @@ inline V Gather(const double* const p[4], int offset) {
   return V{p[0][offset], p[1][offset], p[2][offset], p[3][offset]};
 }
 
+// p[l][offset], p[l][offset + 1] = a[l], b[l]: one 16-byte store per lane,
+// so that a reader loading the pair as one vector (a Vec2, a row of J_p)
+// gets it forwarded from the store; two 8-byte stores cannot be, and that
+// stall was most of the caller's time.
 inline void StorePair(V a, V b, double* const p[4], int offset) {
+#if defined(__AVX__)
+  const __m256d lo = _mm256_unpacklo_pd(a, b);  // a0 b0 a2 b2
+  const __m256d hi = _mm256_unpackhi_pd(a, b);  // a1 b1 a3 b3
+  _mm_storeu_pd(p[0] + offset, _mm256_castpd256_pd128(lo));
+  _mm_storeu_pd(p[1] + offset, _mm256_castpd256_pd128(hi));
+  _mm_storeu_pd(p[2] + offset, _mm256_extractf128_pd(lo, 1));
+  _mm_storeu_pd(p[3] + offset, _mm256_extractf128_pd(hi, 1));
+#else
   for (int l = 0; l < 4; ++l) p[l][offset] = a[l], p[l][offset + 1] = b[l];
+#endif
 }
 
 }  // namespace

@@ -70,40 +70,56 @@ void LinearizePoint(const Problem& problem, const UnknownLayout& layout,
   sys->num_obs = m;
   Resize(m, sys);
   const double* X = problem.point(k);
-  if constexpr (Model::kIntrinsics == 0) LinearizeBalObservations(problem, layout, begin, m, X, sys);
-  // Sums in locals, stored once: sums through sys-> would go through memory
-  // on every observation (the stores to J may alias them as far as the
-  // compiler knows).
-  Eigen::Matrix3d V = Eigen::Matrix3d::Zero();
-  Vec3 g_p = Vec3::Zero();
-  double cost = 0.0, model_offset = 0.0;
-  ResidualSums residuals;
-  for (int a = 0; a < m; ++a) {
-    if constexpr (Model::kIntrinsics > 0) {
+  if constexpr (Model::kIntrinsics == 0) {
+    LinearizeBalObservations(problem, layout, begin, m, X, sys);
+  } else {
+    for (int a = 0; a < m; ++a) {
       sys->r[a] = LinearizePhotoObservation(problem, layout, begin + a, X, a, sys);
     }
-    Vec2 r = sys->r[a];
-    const double s = r.squaredNorm();
-    residuals.Add(s, loss.IsInlier(s));
-    if (loss.trivial()) {
-      cost += 0.5 * s;
-    } else {
+  }
+  // Costs first (correcting r and J for a robust loss), then V and g_p from
+  // the corrected values in a loop of their own: together, the sums did
+  // not fit the registers and went through the stack in mixed widths.
+  double cost = 0.0, model_offset = 0.0;
+  ResidualSums residuals;
+  if (loss.trivial()) {
+    for (int a = 0; a < m; ++a) residuals.squared += sys->r[a].squaredNorm();
+    residuals.inlier_squared = residuals.squared;
+    residuals.inliers = m;
+    cost = 0.5 * residuals.squared;
+  } else {
+    for (int a = 0; a < m; ++a) {
+      const double s = sys->r[a].squaredNorm();
+      residuals.Add(s, loss.IsInlier(s));
       double rho[3];
       loss.Evaluate(s, rho);
       const LossCorrection correction(s, rho);
+      const Vec2 r = sys->r[a];
       correction.CorrectJacobian(r, &sys->J_p[a]);
       if (sys->camera_row[a] >= 0) correction.CorrectJacobian(r, &sys->J_c[a]);
       if (sys->intrinsics_row[a] >= 0) correction.CorrectJacobian(r, &sys->J_i[a]);
-      r = sys->r[a] = correction.Residual(r);
+      sys->r[a] = correction.Residual(r);
       cost += 0.5 * rho[0];
-      model_offset += 0.5 * (rho[0] - r.squaredNorm());
+      model_offset += 0.5 * (rho[0] - sys->r[a].squaredNorm());
     }
-    const PointJacobian J_p = sys->J_p[a];
-    V.noalias() += J_p.transpose() * J_p;
-    g_p.noalias() += J_p.transpose() * r;
   }
-  sys->V = V;
-  sys->g_p = g_p;
+  // V = Σ J_pᵀ J_p (lower triangle, mirrored), g_p = Σ J_pᵀ r, in locals.
+  double v00 = 0, v10 = 0, v11 = 0, v20 = 0, v21 = 0, v22 = 0, g0 = 0, g1 = 0, g2 = 0;
+  for (int a = 0; a < m; ++a) {
+    const double* J = sys->J_p[a].data();  // row-major 2x3
+    const double r0 = sys->r[a][0], r1 = sys->r[a][1];
+    v00 += J[0] * J[0] + J[3] * J[3];
+    v10 += J[1] * J[0] + J[4] * J[3];
+    v11 += J[1] * J[1] + J[4] * J[4];
+    v20 += J[2] * J[0] + J[5] * J[3];
+    v21 += J[2] * J[1] + J[5] * J[4];
+    v22 += J[2] * J[2] + J[5] * J[5];
+    g0 += J[0] * r0 + J[3] * r1;
+    g1 += J[1] * r0 + J[4] * r1;
+    g2 += J[2] * r0 + J[5] * r1;
+  }
+  sys->V << v00, v10, v20, v10, v11, v21, v20, v21, v22;
+  sys->g_p = Vec3(g0, g1, g2);
   sys->cost = cost;
   sys->model_offset = model_offset;
   sys->residuals = residuals;
