@@ -30,20 +30,27 @@ void AddLeftCols(double* block, int n, const M& m) {
 
 // block (kC x kC, row-major, in S) += Aᵀ M B for A, B 2 x kC (row-major)
 // and M 2x2 (row-major): the rank-2 update J_c,aᵀ M_ab J_c,b of eq. 4
-// (eliminate_point.h), 2 kC² + 4 kC flops. Row x is two axpys over B's
-// contiguous rows, with coefficients (Aᵀ M)_x, so the compiler vectorizes it
-// along the row; Eigen's lazyProduct of such an expression compiled to
-// scalar code (perf: 60% of a 2,500-image survey's solve, all
-// vmovsd/vfmadd231sd).
+// (eliminate_point.h), 2 kC² + 4 kC flops. N = M B first (4 kC flops), then
+// row x is two fused multiply-adds over N's contiguous rows with A's column
+// x as coefficients, read straight from memory as broadcasts: no
+// arithmetic between a row's coefficients and its update. (Forming the
+// coefficients (Aᵀ M)_x per row instead cost 4 scalar flops and two
+// register shuffles per row; Eigen's lazyProduct of the expression compiled
+// to scalar code, 60% of a 2,500-image survey's solve.)
 template <int kC>
 inline void AddRank2(double* __restrict block, const double* __restrict A,
                      const double (&M)[4], const double* __restrict B) {
+  double N[2 * kC];
+#pragma omp simd
+  for (int y = 0; y < kC; ++y) {
+    N[y] = M[0] * B[y] + M[1] * B[kC + y];
+    N[kC + y] = M[2] * B[y] + M[3] * B[kC + y];
+  }
   for (int x = 0; x < kC; ++x) {
-    const double c0 = A[x] * M[0] + A[kC + x] * M[2];
-    const double c1 = A[x] * M[1] + A[kC + x] * M[3];
+    const double a0 = A[x], a1 = A[kC + x];
     double* __restrict row = block + x * kC;
 #pragma omp simd
-    for (int y = 0; y < kC; ++y) row[y] += c0 * B[y] + c1 * B[kC + y];
+    for (int y = 0; y < kC; ++y) row[y] = (row[y] + a0 * N[y]) + a1 * N[kC + y];
   }
 }
 
