@@ -4,6 +4,10 @@
 #include "dba/common/memory.h"
 #include "dba/solver/block_jacobi.h"
 
+#include <omp.h>
+
+#include <algorithm>
+
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
@@ -55,10 +59,9 @@ void BlockJacobiPreconditioner::Update(const BsmcMatrix& S) {
   }
 }
 
-void BlockJacobiPreconditioner::Apply(const double* r, double* z) const {
-  const int32_t n = n_;
-#pragma omp parallel for num_threads(num_threads_) schedule(static) if (n > 256)
-  for (int32_t i = 0; i < n; ++i) {
+void BlockJacobiPreconditioner::ApplyRows(const double* r, double* z, int32_t begin,
+                                          int32_t end) const {
+  for (int32_t i = begin; i < end; ++i) {
     const int c = S_.block_size(i);
     const int64_t o = S_.scalar_offset(i);
     WithSquareBlockSize(c, [&]<int N>() {
@@ -68,6 +71,17 @@ void BlockJacobiPreconditioner::Apply(const double* r, double* z) const {
           Eigen::Map<const Mat>(inverse_.data() + offset_[i], c, c)
               .lazyProduct(Eigen::Map<const Vec>(r + o, c));
     });
+  }
+}
+
+void BlockJacobiPreconditioner::Apply(const double* r, double* z) const {
+  const int32_t n = n_;
+  const int threads = n > 256 ? std::max(num_threads_, 1) : 1;
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    ApplyRows(r, z, static_cast<int32_t>(int64_t{n} * t / nt),
+              static_cast<int32_t>(int64_t{n} * (t + 1) / nt));
   }
 }
 

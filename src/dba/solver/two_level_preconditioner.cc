@@ -264,6 +264,17 @@ void TwoLevelPreconditioner::BuildCoarse(std::vector<int32_t> sizes, int num_thr
   }
   partial_.assign(threads - 1, std::vector<double>(coarse_.num_values()));
   rc_.resize(coarse_.num_rows());
+  // Apply's R: the rows preconditioned, grouped by aggregate, in increasing
+  // order within each.
+  aggregate_row_begin_.assign(num_aggregates + 1, 0);
+  for (int32_t i = 0; i < n_; ++i) ++aggregate_row_begin_[aggregate_[i] + 1];
+  for (int32_t a = 0; a < num_aggregates; ++a) {
+    aggregate_row_begin_[a + 1] += aggregate_row_begin_[a];
+  }
+  aggregate_rows_.resize(n_);
+  std::vector<int32_t> next(aggregate_row_begin_.begin(), aggregate_row_begin_.end() - 1);
+  for (int32_t i = 0; i < n_; ++i) aggregate_rows_[next[aggregate_[i]]++] = i;
+  num_threads_ = std::max(num_threads, 1);
 }
 
 void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
@@ -322,41 +333,69 @@ void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
   coarse_ok_ = coarse_solver_->Factorize(coarse_);
 }
 
+// z = B⁻¹ r + Rᵀ (R S Rᵀ)⁻¹ R r. The two terms are independent: thread 0
+// solves the coarse system (serial: CHOLMOD's triangular solves, and on
+// more than one rank the coarse solver's messages, which FUNNELED MPI allows
+// the main thread) while the others apply block-Jacobi. R r is summed
+// aggregate by aggregate (each aggregate's rows in increasing order) and
+// Rᵀ applied row by row, both over all threads; the result does not depend
+// on the number of threads.
 void TwoLevelPreconditioner::Apply(const double* r, double* z) const {
-  jacobi_.Apply(r, z);
-  if (!coarse_ok_) return;  // block-Jacobi alone
-  std::fill(rc_.begin(), rc_.end(), 0.0);
-  const int32_t n = n_;
-  // rc = R r: each row's N_iᵀ r_i summed into its aggregate.
-  for (int32_t i = 0; i < n; ++i) {
-    const double* ri = r + S_.scalar_offset(i);
-    double* ra = rc_.data() + coarse_.scalar_offset(aggregate_[i]);
-    int d = 0;
-    if (!bases_.empty() && bases_[i].rigid) {
-      const CoarseRowBasis& N = bases_[i];
-      const Eigen::Map<const Eigen::Vector3d> r_w(ri), r_t(ri + 3);
-      Eigen::Map<Eigen::Vector3d>(ra).noalias() += N.B.transpose() * r_t;
-      Eigen::Map<Eigen::Vector3d>(ra + 3).noalias() += N.A.transpose() * r_w + N.C.transpose() * r_t;
-      if (N.scale) ra[S_.block_size(i)] += N.D.dot(r_t);
-      d = 6;
-    }
-    for (; d < S_.block_size(i); ++d) ra[d] += ri[d];
+  if (!coarse_ok_) {  // block-Jacobi alone
+    jacobi_.Apply(r, z);
+    return;
   }
-  coarse_solver_->SolveFactored(rc_.data(), rc_.data());
-  // z += Rᵀ rc: each row's N_i times its aggregate's coarse solution.
-  for (int32_t i = 0; i < n; ++i) {
-    double* zi = z + S_.scalar_offset(i);
-    const double* ca = rc_.data() + coarse_.scalar_offset(aggregate_[i]);
-    int d = 0;
-    if (!bases_.empty() && bases_[i].rigid) {
-      const CoarseRowBasis& N = bases_[i];
-      const Eigen::Map<const Eigen::Vector3d> c_translation(ca), c_rotation(ca + 3);
-      Eigen::Map<Eigen::Vector3d>(zi).noalias() += N.A * c_rotation;
-      Eigen::Map<Eigen::Vector3d>(zi + 3).noalias() += N.B * c_translation + N.C * c_rotation;
-      if (N.scale) Eigen::Map<Eigen::Vector3d>(zi + 3) += N.D * ca[S_.block_size(i)];
-      d = 6;
+  std::fill(rc_.begin(), rc_.end(), 0.0);
+  const int32_t num_aggregates = coarse_.num_block_rows();
+  const int32_t n = n_;
+  const int threads = n > 256 ? num_threads_ : 1;
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    // rc = R r: each row's N_iᵀ r_i summed into its aggregate.
+#pragma omp for schedule(static)
+    for (int32_t a = 0; a < num_aggregates; ++a) {
+      double* ra = rc_.data() + coarse_.scalar_offset(a);
+      for (int32_t x = aggregate_row_begin_[a]; x < aggregate_row_begin_[a + 1]; ++x) {
+        const int32_t i = aggregate_rows_[x];
+        const double* ri = r + S_.scalar_offset(i);
+        int d = 0;
+        if (!bases_.empty() && bases_[i].rigid) {
+          const CoarseRowBasis& N = bases_[i];
+          const Eigen::Map<const Eigen::Vector3d> r_w(ri), r_t(ri + 3);
+          Eigen::Map<Eigen::Vector3d>(ra).noalias() += N.B.transpose() * r_t;
+          Eigen::Map<Eigen::Vector3d>(ra + 3).noalias() +=
+              N.A.transpose() * r_w + N.C.transpose() * r_t;
+          if (N.scale) ra[S_.block_size(i)] += N.D.dot(r_t);
+          d = 6;
+        }
+        for (; d < S_.block_size(i); ++d) ra[d] += ri[d];
+      }
     }
-    for (; d < S_.block_size(i); ++d) zi[d] += ca[d];
+    const int t = omp_get_thread_num(), team = omp_get_num_threads();
+    if (t == 0) coarse_solver_->SolveFactored(rc_.data(), rc_.data());
+    // z = B⁻¹ r: rows split over threads 1.. (all of them on a single thread).
+    const int workers = std::max(team - 1, 1), w = team == 1 ? 0 : t - 1;
+    if (w >= 0) {
+      jacobi_.ApplyRows(r, z, static_cast<int32_t>(int64_t{n} * w / workers),
+                        static_cast<int32_t>(int64_t{n} * (w + 1) / workers));
+    }
+#pragma omp barrier
+    // z += Rᵀ rc: each row's N_i times its aggregate's coarse solution.
+#pragma omp for schedule(static)
+    for (int32_t i = 0; i < n; ++i) {
+      double* zi = z + S_.scalar_offset(i);
+      const double* ca = rc_.data() + coarse_.scalar_offset(aggregate_[i]);
+      int d = 0;
+      if (!bases_.empty() && bases_[i].rigid) {
+        const CoarseRowBasis& N = bases_[i];
+        const Eigen::Map<const Eigen::Vector3d> c_translation(ca), c_rotation(ca + 3);
+        Eigen::Map<Eigen::Vector3d>(zi).noalias() += N.A * c_rotation;
+        Eigen::Map<Eigen::Vector3d>(zi + 3).noalias() += N.B * c_translation + N.C * c_rotation;
+        if (N.scale) Eigen::Map<Eigen::Vector3d>(zi + 3) += N.D * ca[S_.block_size(i)];
+        d = 6;
+      }
+      for (; d < S_.block_size(i); ++d) zi[d] += ca[d];
+    }
   }
 }
 
@@ -369,7 +408,8 @@ void TwoLevelPreconditioner::ReturnNumericPages() {
 int64_t TwoLevelPreconditioner::MemoryBytes() const {
   return jacobi_.MemoryBytes() + coarse_.ValueBytes() + coarse_.StructureBytes() +
          coarse_solver_->MemoryBytes() + static_cast<int64_t>(coarse_block_.size()) * 10 +
-         static_cast<int64_t>(aggregate_.size()) * 4 +
+         static_cast<int64_t>(aggregate_.size() + aggregate_rows_.size() +
+                              aggregate_row_begin_.size()) * 4 +
          static_cast<int64_t>(bases_.size() * sizeof(CoarseRowBasis)) +
          static_cast<int64_t>(partial_.size()) * coarse_.num_values() * 8;
 }

@@ -117,6 +117,9 @@ class TwoLevelPreconditioner : public Preconditioner {
   std::vector<CoarseRowBasis> bases_;   // empty: identity
   std::vector<int32_t> thread_rows_;    // Update: thread t sums rows [t], [t + 1]
   std::vector<std::vector<double>> partial_;  // Update: threads 1.. sum here
+  std::vector<int32_t> aggregate_row_begin_;  // Apply: aggregate a's rows are
+  std::vector<int32_t> aggregate_rows_;       //   [begin[a], begin[a + 1]) of these
+  int num_threads_ = 1;
   std::unique_ptr<CholeskySolver> coarse_solver_;
   bool coarse_ok_ = false;
   mutable std::vector<double> rc_;      // R r, then the coarse solution
