@@ -1,8 +1,6 @@
 // Per-point linearization and elimination; see eliminate_point.h.
 #include "dba/rcs/eliminate_point.h"
 
-#include <Eigen/LU>
-
 #include <algorithm>
 
 #include "dba/camera/bal_camera_lanes.h"
@@ -134,18 +132,42 @@ void LinearizePoint(const Problem& problem, const UnknownLayout& layout,
   }
 }
 
+// V_λ⁻¹ of the symmetric V_λ = V + λ clamp(diag V) by cofactors, in
+// scalars: Eigen's 3x3 inverse stored V_λ to the stack element by element
+// and read it back as vectors (failed store forwards, most of its time).
 template <class Model>
 void InvertDampedV(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys) {
-  Eigen::Matrix3d V_damped = sys->V;
-  for (int d = 0; d < 3; ++d) V_damped(d, d) += lambda * bounds.Clamp(sys->V(d, d));
-  sys->V_inv = V_damped.inverse();
+  const Eigen::Matrix3d& V = sys->V;
+  const double v00 = V(0, 0) + lambda * bounds.Clamp(V(0, 0));
+  const double v11 = V(1, 1) + lambda * bounds.Clamp(V(1, 1));
+  const double v22 = V(2, 2) + lambda * bounds.Clamp(V(2, 2));
+  const double v10 = V(1, 0), v20 = V(2, 0), v21 = V(2, 1);
+  const double c00 = v11 * v22 - v21 * v21, c10 = v20 * v21 - v10 * v22,
+               c20 = v10 * v21 - v11 * v20;
+  const double inv_det = 1.0 / (v00 * c00 + v10 * c10 + v20 * c20);
+  const double i00 = c00 * inv_det, i10 = c10 * inv_det, i20 = c20 * inv_det;
+  const double i11 = (v00 * v22 - v20 * v20) * inv_det;
+  const double i21 = (v10 * v20 - v00 * v21) * inv_det;
+  const double i22 = (v00 * v11 - v10 * v10) * inv_det;
+  sys->V_inv << i00, i10, i20, i10, i11, i21, i20, i21, i22;
 }
 
 template <class Model>
 void EliminatePoint(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys) {
   InvertDampedV(lambda, bounds, sys);
+  const Eigen::Matrix3d& Vi = sys->V_inv;  // symmetric
+  const double i00 = Vi(0, 0), i10 = Vi(1, 0), i20 = Vi(2, 0), i11 = Vi(1, 1), i21 = Vi(2, 1),
+               i22 = Vi(2, 2);
   for (int a = 0; a < sys->num_obs; ++a) {
-    sys->K[a].noalias() = sys->J_p[a] * sys->V_inv;
+    // K_a = J_p,a V_λ⁻¹, row by row, in scalars (as V above).
+    const double* J = sys->J_p[a].data();  // row-major 2x3
+    double* K = sys->K[a].data();
+    for (int row = 0; row < 2; ++row) {
+      const double j0 = J[3 * row], j1 = J[3 * row + 1], j2 = J[3 * row + 2];
+      K[3 * row] = j0 * i00 + j1 * i10 + j2 * i20;
+      K[3 * row + 1] = j0 * i10 + j1 * i11 + j2 * i21;
+      K[3 * row + 2] = j0 * i20 + j1 * i21 + j2 * i22;
+    }
     if constexpr (Model::kIntrinsics == 0) continue;
     if (sys->intrinsics_row[a] >= 0) {
       sys->W_i[a].noalias() = sys->J_i[a].transpose() * sys->J_p[a];
