@@ -26,7 +26,6 @@ class BlockJacobiPreconditioner : public Preconditioner {
   void Apply(const double* r, double* z) const override;
   // z_i = S_ii⁻¹ r_i for block rows begin..end-1 only, on the calling thread.
   void ApplyRows(const double* r, double* z, int32_t begin, int32_t end) const;
-  int32_t num_rows() const { return n_; }
   void ReturnNumericPages() override;
   int64_t MemoryBytes() const override {
     return static_cast<int64_t>(inverse_.capacity() * sizeof(double));

@@ -7,6 +7,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <exception>
 #include <stdexcept>
 #include <string>
 
@@ -349,6 +350,7 @@ void TwoLevelPreconditioner::Apply(const double* r, double* z) const {
   const int32_t num_aggregates = coarse_.num_block_rows();
   const int32_t n = n_;
   const int threads = n > 256 ? num_threads_ : 1;
+  std::exception_ptr failure;
 #pragma omp parallel num_threads(threads) if (threads > 1)
   {
     // rc = R r: each row's N_iᵀ r_i summed into its aggregate.
@@ -372,7 +374,15 @@ void TwoLevelPreconditioner::Apply(const double* r, double* z) const {
       }
     }
     const int t = omp_get_thread_num(), team = omp_get_num_threads();
-    if (t == 0) coarse_solver_->SolveFactored(rc_.data(), rc_.data());
+    if (t == 0) {
+      // An exception may not leave the parallel region: kept, and rethrown
+      // after it (a failed solve, a lost rank).
+      try {
+        coarse_solver_->SolveFactored(rc_.data(), rc_.data());
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    }
     // z = B⁻¹ r: rows split over threads 1.. (all of them on a single thread).
     const int workers = std::max(team - 1, 1), w = team == 1 ? 0 : t - 1;
     if (w >= 0) {
@@ -397,6 +407,7 @@ void TwoLevelPreconditioner::Apply(const double* r, double* z) const {
       for (; d < S_.block_size(i); ++d) zi[d] += ca[d];
     }
   }
+  if (failure) std::rethrow_exception(failure);
 }
 
 void TwoLevelPreconditioner::ReturnNumericPages() {

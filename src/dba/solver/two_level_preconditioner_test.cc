@@ -7,7 +7,9 @@
 #include <Eigen/Cholesky>
 #include <cstdlib>
 #include <map>
+#include <memory>
 #include <set>
+#include <stdexcept>
 
 #include "dba/solver/pcg.h"
 #include "dba/testing/dense_reference.h"
@@ -165,6 +167,53 @@ TEST(TwoLevelPreconditioner, ScaleNeedsTwoAggregates) {
   const TwoLevelPreconditioner several(S, 4, 1, bases);
   EXPECT_TRUE(std::any_of(several.bases().begin(), several.bases().end(),
                           [](const CoarseRowBasis& N) { return N.scale; }));
+}
+
+// Above 256 rows the coarse solve runs beside block-Jacobi and R, Rᵀ are
+// split over the threads: the same z as on one thread, to the last bit.
+TEST(TwoLevelPreconditioner, ApplyIsTheSameOnAnyNumberOfThreads) {
+  const BsmcMatrix S = Spd(400, 3, 11);
+  const std::vector<CoarseRowBasis> bases = RandomRigidBases(S, 11);
+  const Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(S.num_rows(), -1.0, 3.0);
+  Eigen::VectorXd one(S.num_rows());
+  for (int threads : {1, 2, 3}) {
+    TwoLevelPreconditioner M(S, 6, threads, bases);
+    M.Update(S);
+    Eigen::VectorXd z = Eigen::VectorXd::Constant(S.num_rows(), 7.0);
+    M.Apply(r.data(), z.data());
+    if (threads == 1) {
+      one = z;
+      EXPECT_GT(z.norm(), 0.0);
+      continue;
+    }
+    EXPECT_EQ((z - one).cwiseAbs().maxCoeff(), 0.0) << threads << " threads";
+  }
+}
+
+// A coarse solver that fails (as one whose rank was lost does).
+class FailingCoarseSolver : public CholeskySolver {
+ public:
+  bool Factorize(const BsmcMatrix&) override { return true; }
+  void SolveFactored(const double*, double*) override {
+    throw std::runtime_error("coarse solve failed");
+  }
+  LinearSolverType type() const override { return LinearSolverType::kAuto; }
+  int64_t MemoryBytes() const override { return 0; }
+};
+
+// The coarse solve runs inside a parallel region; its exception still
+// reaches Apply's caller instead of ending the process.
+TEST(TwoLevelPreconditioner, CoarseSolveFailureReachesTheCaller) {
+  const BsmcMatrix S = Spd(300, 3, 5);
+  const TwoLevelPreconditioner whole(S, 6, 1);
+  std::vector<int32_t> sizes(whole.num_aggregates());
+  for (int32_t a = 0; a < whole.num_aggregates(); ++a) sizes[a] = whole.coarse().block_size(a);
+  TwoLevelPreconditioner M(S, 2, S.num_block_rows(), whole.aggregate(), sizes, {},
+                           std::make_unique<FailingCoarseSolver>());
+  M.Update(S);
+  const Eigen::VectorXd r = Eigen::VectorXd::Ones(S.num_rows());
+  Eigen::VectorXd z(S.num_rows());
+  EXPECT_THROW(M.Apply(r.data(), z.data()), std::runtime_error);
 }
 
 TEST(TwoLevelPreconditioner, PcgConvergesWithIt) {
