@@ -275,6 +275,13 @@ void TwoLevelPreconditioner::BuildCoarse(std::vector<int32_t> sizes, int num_thr
   aggregate_rows_.resize(n_);
   std::vector<int32_t> next(aggregate_row_begin_.begin(), aggregate_row_begin_.end() - 1);
   for (int32_t i = 0; i < n_; ++i) aggregate_rows_[next[aggregate_[i]]++] = i;
+  // Those with rows here (on a rank, its own: a contiguous part of the
+  // global numbering, which a static split of all aggregates would give to
+  // one thread).
+  own_aggregates_.clear();
+  for (int32_t a = 0; a < num_aggregates; ++a) {
+    if (aggregate_row_begin_[a + 1] > aggregate_row_begin_[a]) own_aggregates_.push_back(a);
+  }
   num_threads_ = std::max(num_threads, 1);
 }
 
@@ -347,7 +354,7 @@ void TwoLevelPreconditioner::Apply(const double* r, double* z) const {
     return;
   }
   std::fill(rc_.begin(), rc_.end(), 0.0);
-  const int32_t num_aggregates = coarse_.num_block_rows();
+  const int32_t num_own = static_cast<int32_t>(own_aggregates_.size());
   const int32_t n = n_;
   const int threads = n > 256 ? num_threads_ : 1;
   std::exception_ptr failure;
@@ -355,7 +362,8 @@ void TwoLevelPreconditioner::Apply(const double* r, double* z) const {
   {
     // rc = R r: each row's N_iᵀ r_i summed into its aggregate.
 #pragma omp for schedule(static)
-    for (int32_t a = 0; a < num_aggregates; ++a) {
+    for (int32_t k = 0; k < num_own; ++k) {
+      const int32_t a = own_aggregates_[k];
       double* ra = rc_.data() + coarse_.scalar_offset(a);
       for (int32_t x = aggregate_row_begin_[a]; x < aggregate_row_begin_[a + 1]; ++x) {
         const int32_t i = aggregate_rows_[x];
@@ -420,7 +428,7 @@ int64_t TwoLevelPreconditioner::MemoryBytes() const {
   return jacobi_.MemoryBytes() + coarse_.ValueBytes() + coarse_.StructureBytes() +
          coarse_solver_->MemoryBytes() + static_cast<int64_t>(coarse_block_.size()) * 10 +
          static_cast<int64_t>(aggregate_.size() + aggregate_rows_.size() +
-                              aggregate_row_begin_.size()) * 4 +
+                              aggregate_row_begin_.size() + own_aggregates_.size()) * 4 +
          static_cast<int64_t>(bases_.size() * sizeof(CoarseRowBasis)) +
          static_cast<int64_t>(partial_.size()) * coarse_.num_values() * 8;
 }

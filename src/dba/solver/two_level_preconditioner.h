@@ -119,6 +119,7 @@ class TwoLevelPreconditioner : public Preconditioner {
   std::vector<std::vector<double>> partial_;  // Update: threads 1.. sum here
   std::vector<int32_t> aggregate_row_begin_;  // Apply: aggregate a's rows are
   std::vector<int32_t> aggregate_rows_;       //   [begin[a], begin[a + 1]) of these
+  std::vector<int32_t> own_aggregates_;       // Apply: the aggregates with rows here
   int num_threads_ = 1;
   std::unique_ptr<CholeskySolver> coarse_solver_;
   bool coarse_ok_ = false;
