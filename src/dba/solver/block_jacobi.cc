@@ -59,8 +59,10 @@ void BlockJacobiPreconditioner::Update(const BsmcMatrix& S) {
   }
 }
 
-void BlockJacobiPreconditioner::ApplyRows(const double* r, double* z, int32_t begin,
-                                          int32_t end) const {
+void BlockJacobiPreconditioner::ApplyShare(const double* r, double* z, int part,
+                                           int parts) const {
+  const int32_t begin = static_cast<int32_t>(int64_t{n_} * part / parts);
+  const int32_t end = static_cast<int32_t>(int64_t{n_} * (part + 1) / parts);
   for (int32_t i = begin; i < end; ++i) {
     const int c = S_.block_size(i);
     const int64_t o = S_.scalar_offset(i);
@@ -75,14 +77,9 @@ void BlockJacobiPreconditioner::ApplyRows(const double* r, double* z, int32_t be
 }
 
 void BlockJacobiPreconditioner::Apply(const double* r, double* z) const {
-  const int32_t n = n_;
-  const int threads = n > 256 ? std::max(num_threads_, 1) : 1;
+  const int threads = n_ > 256 ? std::max(num_threads_, 1) : 1;
 #pragma omp parallel num_threads(threads) if (threads > 1)
-  {
-    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
-    ApplyRows(r, z, static_cast<int32_t>(int64_t{n} * t / nt),
-              static_cast<int32_t>(int64_t{n} * (t + 1) / nt));
-  }
+  ApplyShare(r, z, omp_get_thread_num(), omp_get_num_threads());
 }
 
 }  // namespace dba

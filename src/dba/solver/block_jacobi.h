@@ -24,8 +24,9 @@ class BlockJacobiPreconditioner : public Preconditioner {
   // its diagonal if that fails too).
   void Update(const BsmcMatrix& S) override;
   void Apply(const double* r, double* z) const override;
-  // z_i = S_ii⁻¹ r_i for block rows begin..end-1 only, on the calling thread.
-  void ApplyRows(const double* r, double* z, int32_t begin, int32_t end) const;
+  // z_i = S_ii⁻¹ r_i for share `part` of `parts` equal shares of the rows
+  // only, on the calling thread.
+  void ApplyShare(const double* r, double* z, int part, int parts) const;
   void ReturnNumericPages() override;
   int64_t MemoryBytes() const override {
     return static_cast<int64_t>(inverse_.capacity() * sizeof(double));

@@ -393,10 +393,7 @@ void TwoLevelPreconditioner::Apply(const double* r, double* z) const {
     }
     // z = B⁻¹ r: rows split over threads 1.. (all of them on a single thread).
     const int workers = std::max(team - 1, 1), w = team == 1 ? 0 : t - 1;
-    if (w >= 0) {
-      jacobi_.ApplyRows(r, z, static_cast<int32_t>(int64_t{n} * w / workers),
-                        static_cast<int32_t>(int64_t{n} * (w + 1) / workers));
-    }
+    if (w >= 0) jacobi_.ApplyShare(r, z, w, workers);
 #pragma omp barrier
     // z += Rᵀ rc: each row's N_i times its aggregate's coarse solution.
 #pragma omp for schedule(static)
