@@ -627,7 +627,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     if (!options.resume_path.empty()) {
       resumed = ReadCheckpoint(options.resume_path);
       // Spread over the ranks, the problem is checked against it there.
-      if (!ranks_read_file) ApplyCheckpoint(*resumed, options.resume_path, &problem);
+      if (!ranks_read_file) ApplyCheckpoint(std::move(*resumed), options.resume_path, &problem);
       lm.initial_lambda = resumed->lambda;
       lm.iterations_done = static_cast<int>(resumed->iterations);
       lm.accepted_done = static_cast<int>(resumed->accepted);

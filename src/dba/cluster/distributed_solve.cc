@@ -6,6 +6,7 @@
 #include "dba/common/timer.h"
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include "dba/io/binary_problem.h"
 
 namespace dba {
@@ -268,7 +269,8 @@ DistributedSummary DistributedBundleAdjust(
     }
     if (flags.resume) {
       ResumeShares(comm, checkpoints.resume, mine, first_rank);
-      problem->cameras = checkpoints.resume->cameras;
+      problem->cameras = std::exchange(checkpoints.resume->cameras, {});
+      checkpoints.resume->points = {};  // handed out to the ranks
     }
     if (mine != nullptr) KeepTouchedCameras(mine);
     if (collect_points) problem->points.resize(kPointSize * header.num_points);

@@ -82,8 +82,9 @@ struct DistributedCheckpoints {
   CheckpointWriter* writer = nullptr;
   // A binary input read by the ranks: the checkpoint to start from, checked
   // against the problem the ranks read (fingerprint), then handed out. (With
-  // the whole problem on the main rank, the caller applies it before.)
-  const Checkpoint* resume = nullptr;
+  // the whole problem on the main rank, the caller applies it before.) Its
+  // parameters are released once handed out.
+  Checkpoint* resume = nullptr;
   std::string resume_path;  // for the message when it does not fit
 };
 

@@ -142,11 +142,11 @@ void CheckCheckpointFits(const Checkpoint& c, const std::string& path, uint64_t 
   }
 }
 
-void ApplyCheckpoint(const Checkpoint& c, const std::string& path, Problem* problem) {
+void ApplyCheckpoint(Checkpoint&& c, const std::string& path, Problem* problem) {
   CheckCheckpointFits(c, path, ProblemFingerprint(*problem), problem->cameras.size(),
                       problem->points.size());
-  problem->cameras = c.cameras;
-  problem->points = c.points;
+  problem->cameras = std::exchange(c.cameras, {});
+  problem->points = std::exchange(c.points, {});
 }
 
 namespace {

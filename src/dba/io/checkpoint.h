@@ -51,8 +51,9 @@ Checkpoint ReadCheckpoint(const std::string& path);
 // input: another fingerprint, or other numbers of parameters.
 void CheckCheckpointFits(const Checkpoint& checkpoint, const std::string& path,
                          uint64_t fingerprint, size_t camera_values, size_t point_values);
-// Puts the checkpoint's parameters into `problem` (after CheckCheckpointFits).
-void ApplyCheckpoint(const Checkpoint& checkpoint, const std::string& path, Problem* problem);
+// Moves the checkpoint's parameters into `problem` (after CheckCheckpointFits):
+// the solve holds them once, not twice (2 GB at a million images).
+void ApplyCheckpoint(Checkpoint&& checkpoint, const std::string& path, Problem* problem);
 
 // A solve's checkpoints: after accepted LM iterations, at most one per
 // `every_s` seconds (0: after each). The caller asks Due after every

@@ -35,7 +35,7 @@ TEST(Checkpoint, RoundTripsAndFitsOnlyItsInput) {
   c.points = problem.points;
   for (double& v : c.cameras) v += 0.125;
   WriteCheckpoint(path, c);
-  const Checkpoint r = ReadCheckpoint(path);
+  Checkpoint r = ReadCheckpoint(path);
   EXPECT_EQ(r.fingerprint, c.fingerprint);
   EXPECT_EQ(r.iterations, 7);
   EXPECT_EQ(r.accepted, 5);
@@ -43,8 +43,13 @@ TEST(Checkpoint, RoundTripsAndFitsOnlyItsInput) {
   EXPECT_EQ(r.cost, 12.25);
   EXPECT_EQ(r.cameras, c.cameras);
   EXPECT_EQ(r.points, c.points);
-  ApplyCheckpoint(r, path, &problem);
+  const Checkpoint read = r;
+  ApplyCheckpoint(std::move(r), path, &problem);
   EXPECT_EQ(problem.cameras, c.cameras);
+  EXPECT_EQ(problem.points, c.points);
+  // Moved, not copied: a resumed solve holds its parameters once.
+  EXPECT_TRUE(r.cameras.empty());
+  EXPECT_TRUE(r.points.empty());
 
   // The fingerprint ignores the parameters and sees the observations and
   // the fixings.
@@ -52,11 +57,11 @@ TEST(Checkpoint, RoundTripsAndFitsOnlyItsInput) {
   Problem moved = SmallProblem();
   moved.obs_pixel[3] += 1e-9;
   EXPECT_NE(ProblemFingerprint(moved), c.fingerprint);
-  EXPECT_THROW(ApplyCheckpoint(r, path, &moved), InputError);
+  EXPECT_THROW(ApplyCheckpoint(Checkpoint(read), path, &moved), InputError);
   Problem fixed = SmallProblem();
   fixed.fixed_cameras.assign(fixed.num_images(), 0);
   fixed.fixed_cameras[1] = 1;
-  EXPECT_THROW(ApplyCheckpoint(r, path, &fixed), InputError);
+  EXPECT_THROW(ApplyCheckpoint(Checkpoint(read), path, &fixed), InputError);
 }
 
 TEST(Checkpoint, DamagedFilesAreRefusedByName) {
