@@ -83,6 +83,23 @@ done
 for n in 2 4; do
   check_distributed "distributed RCS, BAL 49, defaults, -np $n" "$tmp/dist_single_defaults.json" 1e-5 "$n" "$problem"
 done
+# Auto's mixed product drops its damping floor on every rank (the SOLVE
+# command's flag): started under the floor, as a resumed solve may be, from
+# 8 iterations into BAL 49, the product is double from LM iteration 1 and
+# the ranks reach one process's optimum (1e-5).
+"$dba" solve "$problem" -q --max-iterations 8 -o "$tmp/p49_8.txt" >/dev/null
+below_floor=(--linear-solver pcg --initial-lambda 1e-8)
+"$dba" solve "$tmp/p49_8.txt" -q "${below_floor[@]}" --report "$tmp/floor1.json" >/dev/null
+for n in 2 3; do
+  check_distributed "distributed RCS, BAL 49, damping floor dropped, -np $n" "$tmp/floor1.json" 1e-5 \
+    "$n" "$tmp/p49_8.txt" "${below_floor[@]}"
+  if grep -q '"pcg_double_from_iteration": 1,' "$tmp/dist.json" &&
+     grep -q '"pcg_double_from_iteration": 1,' "$tmp/floor1.json"; then
+    passes=$((passes + 1)); echo "ok   damping floor dropped from LM iteration 1, -np $n and one process"
+  else
+    fail "damping floor, -np $n: $(grep -o '"pcg_double_from_iteration": [0-9]*' "$tmp/dist.json" "$tmp/floor1.json")"
+  fi
+done
 check_distributed "distributed RCS, BAL 49, tight, -np 3, main rank coordinates only" \
   "$tmp/dist_single.json" 1e-9 3 "$problem" "${pcg_tight[@]}" --main-rank coordinates
 check_distributed "distributed RCS, BAL 49, tight, -np 3, block-Jacobi" \

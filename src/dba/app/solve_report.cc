@@ -96,7 +96,12 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
       << " accepted, " << lm.total_linear_iterations << " PCG iterations)\n";
   out << "  linear solver       " << LinearSolverName(lm.linear_solver.type) << " ("
       << lm.linear_solver.reason << "); holds " << Bytes(lm.linear_solver_bytes)
-      << " beyond the RCS\n";
+      << " beyond the RCS";
+  if (lm.pcg_double_from_iteration > 0) {
+    out << "; product in double from LM iteration " << lm.pcg_double_from_iteration
+        << " (damping at float's floor)";
+  }
+  out << "\n";
   out << "  termination         " << TerminationReasonName(lm.termination) << ": "
       << lm.termination_message << "\n";
   std::snprintf(buf, sizeof buf,
@@ -338,6 +343,7 @@ std::string SolveReportJson(const SolveReport& r) {
   j["linear_solver"] = {{"type", LinearSolverName(lm.linear_solver.type)},
                         {"reason", lm.linear_solver.reason},
                         {"bytes", lm.linear_solver_bytes},
+                        {"pcg_double_from_iteration", lm.pcg_double_from_iteration},
                         {"pcg_path_bytes", lm.linear_solver.pcg_bytes},
                         {"factor_budget_bytes", lm.linear_solver.budget_bytes},
                         {"dense_factor_bytes", lm.linear_solver.dense_bytes},

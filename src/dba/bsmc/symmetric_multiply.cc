@@ -303,6 +303,13 @@ void SymmetricMultiplier::Narrow(BsmcMatrix* S) {
   S->MarkValuesNarrowed();
 }
 
+void SymmetricMultiplier::UseDoublePrecision() {
+  precision_ = ProductPrecision::kDouble;
+  diagonal_ = {};
+  diagonal_offset_ = {};
+  round_ = {};
+}
+
 void SymmetricMultiplier::ReturnDiagonalPages() {
   ReturnPages(diagonal_.data(), static_cast<int64_t>(diagonal_.size() * sizeof(double)));
 }

@@ -52,6 +52,11 @@ class SymmetricMultiplier {
   // Narrow (between solves).
   void ReturnDiagonalPages();
 
+  // From now on a double product (kDouble, no Narrow): for solves at a
+  // damping below float's rounding (solver/pcg.h, MinLambda). Between
+  // solves; narrowed values are to be re-formed before the next Multiply.
+  void UseDoublePrecision();
+
   // y = S x; x and y have matrix.num_rows() entries and must not alias.
   void Multiply(const double* x, double* y) const;
 

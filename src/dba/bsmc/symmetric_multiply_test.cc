@@ -133,6 +133,32 @@ TEST(SymmetricMultiply, MixedPrecisionMatchesTheNarrowedMatrix) {
   ExpectMixedMatchesNarrowedDense(testing::MakeRandomBsmc(o), 2);
 }
 
+// Turned to double between solves (the damping floor dropped), the product
+// is the double multiplier's, bit for bit, and Narrow is refused.
+TEST(SymmetricMultiply, MixedTurnedDoubleIsTheDoubleProduct) {
+  testing::RandomBsmcOptions o;
+  o.block_rows = 200;
+  o.sizes = {9};
+  o.band = 20;
+  BsmcMatrix m = testing::MakeRandomBsmc(o);
+  const std::vector<double> formed = m.values();
+  const Eigen::VectorXd x = RandomVector(m.num_rows(), 7);
+  SymmetricMultiplier mixed(m, 2, ProductPrecision::kMixed);
+  mixed.Narrow(&m);
+  mixed.UseDoublePrecision();  // after a solve, before S is re-formed
+  EXPECT_EQ(mixed.precision(), ProductPrecision::kDouble);
+  std::vector<double> x0(m.num_rows(), 1.0), y0(m.num_rows());
+  EXPECT_THROW(mixed.Multiply(x0.data(), y0.data()), std::logic_error);  // floats
+  m.SetZero();
+  m.values() = formed;
+  EXPECT_THROW(mixed.Narrow(&m), std::logic_error);
+  Eigen::VectorXd y(m.num_rows()), expected(m.num_rows());
+  mixed.Multiply(x.data(), y.data());
+  SymmetricMultiplier(m, 2, ProductPrecision::kDouble).Multiply(x.data(), expected.data());
+  EXPECT_EQ(y, expected);
+  EXPECT_LT((y - testing::DenseFromBsmc(m) * x).norm(), 1e-12 * y.norm());
+}
+
 TEST(SymmetricMultiply, MixedProductRefusesValuesNotNarrowed) {
   testing::RandomBsmcOptions o;
   o.block_rows = 10;

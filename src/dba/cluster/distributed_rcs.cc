@@ -731,6 +731,12 @@ void DistributedRcs::Multiply(const double* x, double* y) const {
   }
 }
 
+bool DistributedRcs::DropDampingFloor() {
+  if (!DropsFloorByWidening(options_.pcg.precision, multiplier_->precision())) return false;
+  multiplier_->UseDoublePrecision();
+  return true;
+}
+
 LinearSolveSummary DistributedRcs::Solve(double lambda, const DampingBounds& bounds) {
   DampCameraBlocks(lambda, bounds, jtj_diagonal_, &S_, n_own_);
   preconditioner_->Update(S_);

@@ -85,7 +85,9 @@ class DistributedRcs {
   void SpreadStep(std::vector<double>* sub_delta, std::vector<double>* global_delta);
 
   // The least λ the solve is reliable at (solver/pcg.h, MinLambda).
-  double min_lambda() const { return MinLambda(options_.pcg.product_precision()); }
+  double min_lambda() const { return MinLambda(multiplier_->precision()); }
+  // Every rank, between solves: RcsSolver::DropDampingFloor.
+  bool DropDampingFloor();
   int32_t num_own_rows() const { return n_own_; }
   const BsmcMatrix& own_matrix() const { return S_; }
   // Bytes this rank holds for its rows (S's structure and values, vectors,

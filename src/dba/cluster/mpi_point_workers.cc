@@ -21,7 +21,8 @@ enum class Op : int32_t {
 
 struct Command {
   Op op;
-  int32_t accept;  // FINISH: accept; END: send points; REBUILD: keep the loss
+  int32_t accept;  // FINISH: accept; END: send points; REBUILD: keep the loss;
+                   // SOLVE: drop the damping floor first
   double lambda;   // FORM, STEP: λ; REJECT: the largest error kept (px)
   double value = 0.0;  // REJECT: the smallest triangulation angle kept (deg)
 };
@@ -206,7 +207,10 @@ class MpiPointWorkers::DistributedSolver : public DampedRcsSolver {
                            double* delta_c) override {
     (void)bounds;  // every rank damps with its own (the same options)
     (void)system;
-    BroadcastCommand(w_->comm_, {Op::kSolve, 0, lambda});
+    // SOLVE's flag: every rank's product turns to double first.
+    BroadcastCommand(w_->comm_, {Op::kSolve, drop_floor_ ? 1 : 0, lambda});
+    if (drop_floor_) w_->distributed_->DropDampingFloor();
+    drop_floor_ = false;
     const LinearSolveSummary s = w_->distributed_->Solve(lambda, w_->bounds_);
     std::vector<double> all;
     w_->distributed_->SpreadStep(w_->own_ != nullptr ? &w_->own_delta_ : nullptr, &all);
@@ -218,10 +222,19 @@ class MpiPointWorkers::DistributedSolver : public DampedRcsSolver {
     const BsmcMatrix& S = w_->distributed_->own_matrix();
     return w_->distributed_->MemoryBytes() - S.ValueBytes() - S.StructureBytes();
   }
-  double min_lambda() const override { return w_->distributed_->min_lambda(); }
+  double min_lambda() const override {
+    return drop_floor_ ? 0.0 : w_->distributed_->min_lambda();
+  }
+  // Taken by every rank at the next SOLVE.
+  bool DropDampingFloor() override {
+    if (w_->distributed_->min_lambda() == 0.0) return false;
+    drop_floor_ = true;
+    return true;
+  }
 
  private:
   MpiPointWorkers* w_;
+  bool drop_floor_ = false;
 };
 
 MpiPointWorkers::~MpiPointWorkers() = default;
@@ -472,6 +485,7 @@ RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers
         break;
       case Op::kSolve:
         if (distributed == nullptr) throw std::runtime_error("SOLVE with the RCS gathered");
+        if (c.accept == 1) distributed->DropDampingFloor();
         distributed->Solve(c.lambda, bounds);
         distributed->SpreadStep(&delta, nullptr);
         break;

@@ -42,6 +42,9 @@ void AppendSolve(const BundleAdjustSummary& next, BundleAdjustSummary* total) {
     it.iteration += t.iterations;
     t.history.push_back(it);
   }
+  if (t.pcg_double_from_iteration == 0 && n.pcg_double_from_iteration > 0) {
+    t.pcg_double_from_iteration = t.iterations + n.pcg_double_from_iteration;
+  }
   t.iterations += n.iterations;
   t.accepted_iterations += n.accepted_iterations;
   t.total_linear_iterations += n.total_linear_iterations;

@@ -33,6 +33,8 @@ class DampedRcsSolver {
   virtual int64_t MemoryBytes() const = 0;
   // The least λ its solves are reliable at (RcsSolver::min_lambda).
   virtual double min_lambda() const = 0;
+  // RcsSolver::DropDampingFloor, for the solves to come.
+  virtual bool DropDampingFloor() = 0;
 };
 
 class LocalDampedRcsSolver : public DampedRcsSolver {
@@ -49,6 +51,7 @@ class LocalDampedRcsSolver : public DampedRcsSolver {
   }
   int64_t MemoryBytes() const override { return solver_->MemoryBytes(); }
   double min_lambda() const override { return solver_->min_lambda(); }
+  bool DropDampingFloor() override { return solver_->DropDampingFloor(); }
 
  private:
   std::unique_ptr<RcsSolver> solver_;

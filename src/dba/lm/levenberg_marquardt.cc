@@ -172,7 +172,17 @@ class Minimizer {
         workers_->MakeDampedRcsSolver(*sys_, linear, &summary_.linear_solver);
     summary_.linear_solver_bytes = solver->MemoryBytes();
     damping_.SetFloor(solver->min_lambda());
+    // A resumed solve whose λ is under the floor had dropped it before.
+    if (damping_.lambda() < solver->min_lambda()) DropDampingFloor(solver.get());
     return solver;
+  }
+
+  // The damping floor of a mixed-precision product (solver/pcg.h) gone for
+  // the rest of the solve, if the solver can drop it.
+  void DropDampingFloor(DampedRcsSolver* solver) {
+    if (!solver->DropDampingFloor()) return;
+    damping_.SetFloor(solver->min_lambda());
+    summary_.pcg_double_from_iteration = summary_.iterations + 1;
   }
 
   // Back-substitutes the points, evaluates the candidate's cost against the
@@ -210,6 +220,9 @@ class Minimizer {
     cameras_->swap(candidate_);
     ++summary_.accepted_iterations;
     damping_.StepAccepted(it.gain_ratio);
+    // A good step that the floor kept from lowering λ: the model holds at a
+    // smaller damping than float's rounding of S allows.
+    if (damping_.held_by_floor()) DropDampingFloor(linear_solver_.get());
     const bool converged = cost_ - it.candidate_cost <= options_.function_tolerance * cost_;
     if (converged) {
       Terminate(TerminationReason::kFunctionTolerance, "relative cost decrease below tolerance");

@@ -98,6 +98,9 @@ struct LmSummary {
   int total_linear_iterations = 0;
   RcsSolverChoice linear_solver;  // which solver, and why
   int64_t linear_solver_bytes = 0;
+  // The LM iteration from which PCG's product was in double, the damping
+  // floor dropped (RcsSolver::DropDampingFloor); 0: never.
+  int pcg_double_from_iteration = 0;
   TerminationReason termination = TerminationReason::kMaxIterations;
   std::string termination_message;
   PhaseTimes times;

@@ -306,6 +306,54 @@ TEST(LmControl, LambdaAndNuFollowNielsensUpdate) {
   EXPECT_NEAR(run.summary.final_cost, 46.0, 1e-12);
 }
 
+// A mixed-precision PCG's damping floor (solver/pcg.h): a good step that it
+// holds up turns auto's product to double, and λ goes below the floor from
+// the next step on; an explicit mixed product keeps the floor.
+TEST(LmControl, TheDampingFloorIsDroppedWhenItHoldsAGoodStep) {
+  for (PcgPrecision precision : {PcgPrecision::kAuto, PcgPrecision::kMixed}) {
+    LmRun run;
+    ScriptedWorkers w(100.0, {Rho(1.0), Rho(1.0), Rho(1.0), Rising(), Rho(1.0)}, &run.cameras);
+    LmOptions options = Options();
+    options.initial_lambda = 1e-7;
+    options.max_iterations = 5;
+    options.linear_solver.type = LinearSolverType::kPcg;
+    options.linear_solver.pcg.precision = precision;
+    Solve(options, &w, &run);
+    ExpectConsistent(w, run);
+    const double floor = kMixedPrecisionMinLambda;
+    const std::vector<double> got = Lambdas(run.summary);
+    ASSERT_EQ(got.size(), 5u);
+    EXPECT_EQ(got[0], 1e-7);
+    EXPECT_EQ(got[1], floor);  // 1e-7 / 3 held up, in either case
+    if (precision == PcgPrecision::kAuto) {
+      EXPECT_EQ(run.summary.pcg_double_from_iteration, 2);
+      EXPECT_NEAR(got[2], floor / 3, 1e-20);
+      EXPECT_NEAR(got[3], floor / 9, 1e-20);
+      EXPECT_NEAR(got[4], 2 * floor / 9, 1e-20);  // rejected: ·2, no floor any more
+    } else {
+      EXPECT_EQ(run.summary.pcg_double_from_iteration, 0);
+      EXPECT_EQ(got[2], floor);
+      EXPECT_EQ(got[3], floor);
+      EXPECT_EQ(got[4], 2 * floor);
+    }
+  }
+}
+
+// A resumed solve (io/checkpoint.h) whose λ is below the floor had dropped
+// it: the product is double from its first step, and λ stays where it was.
+TEST(LmControl, AResumedLambdaBelowTheFloorStartsWithoutIt) {
+  LmRun run;
+  ScriptedWorkers w(100.0, {Rho(1.0), Rho(1.0)}, &run.cameras);
+  LmOptions options = Options();
+  options.initial_lambda = 1e-8;
+  options.max_iterations = 2;
+  options.linear_solver.type = LinearSolverType::kPcg;
+  Solve(options, &w, &run);
+  ExpectConsistent(w, run);
+  EXPECT_EQ(run.summary.pcg_double_from_iteration, 1);
+  EXPECT_EQ(Lambdas(run.summary), (std::vector<double>{1e-8, 1e-8 / 3}));
+}
+
 TEST(LmControl, RejectedStepsDropTheCandidateAndKeepTheCameras) {
   LmRun run;
   ScriptedWorkers w(50.0, {Rising(), Rising(), Rising(), Rho(0.5)}, &run.cameras);

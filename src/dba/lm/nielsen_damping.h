@@ -28,9 +28,13 @@ class NielsenDamping {
 
   void StepAccepted(double gain_ratio) {
     const double r = 2.0 * gain_ratio - 1.0;
-    lambda_ = std::max(floor_, lambda_ * std::max(1.0 / 3.0, 1.0 - r * r * r));
+    const double wanted = lambda_ * std::max(1.0 / 3.0, 1.0 - r * r * r);
+    held_by_floor_ = wanted < floor_;
+    lambda_ = std::max(floor_, wanted);
     nu_ = 2.0;
   }
+  // Whether the last accepted step would have taken λ below the floor.
+  bool held_by_floor() const { return held_by_floor_; }
   void StepRejected() {
     lambda_ *= nu_;
     nu_ *= 2.0;
@@ -40,6 +44,7 @@ class NielsenDamping {
   double lambda_;
   double nu_ = 2.0;
   double floor_ = 0.0;
+  bool held_by_floor_ = false;
 };
 
 }  // namespace dba

@@ -45,5 +45,23 @@ TEST(NielsenDamping, AcceptedStepsStopAtTheFloor) {
   EXPECT_DOUBLE_EQ(d.lambda(), 8e-8);
 }
 
+// The floor holding λ up is what turns a mixed product to double (the LM
+// loop, RcsSolver::DropDampingFloor): only a good step it clamped counts.
+TEST(NielsenDamping, SaysWhenTheFloorHeldLambdaUp) {
+  NielsenDamping d(1e-7);
+  d.SetFloor(4e-8);
+  d.StepAccepted(1.0);  // 1e-7 / 3 wanted: below the floor
+  EXPECT_TRUE(d.held_by_floor());
+  d.StepRejected();     // 8e-8
+  d.StepAccepted(0.5);  // unchanged: 8e-8, above the floor
+  EXPECT_FALSE(d.held_by_floor());
+  d.StepAccepted(0.9);  // 8e-8 * (1 - 0.8³) = 3.9e-8 < 4e-8
+  EXPECT_TRUE(d.held_by_floor());
+  d.SetFloor(0.0);
+  d.StepAccepted(1.0);
+  EXPECT_FALSE(d.held_by_floor());
+  EXPECT_DOUBLE_EQ(d.lambda(), 4e-8 / 3.0);
+}
+
 }  // namespace
 }  // namespace dba

@@ -39,7 +39,9 @@ namespace dba {
 // The precision of S in PCG's product (bsmc/symmetric_multiply.h): auto is
 // mixed (off-diagonal blocks in float, half the bytes of the product) while
 // the η stop is on, which never sees float's rounding of S (6e-8 relative
-// per value, far inside η), and double for a tight solve (η = 0).
+// per value, far inside η), until LM's damping reaches the floor that
+// rounding sets (MinLambda) and would go lower: double from then on
+// (RcsSolver::DropDampingFloor). Double for a tight solve (η = 0).
 enum class PcgPrecision { kAuto, kMixed, kDouble };
 const char* PcgPrecisionName(PcgPrecision precision);
 // "auto", "mixed", "double"; false if `name` is none of them.
@@ -56,6 +58,16 @@ bool ParsePcgPrecision(const std::string& name, PcgPrecision* precision);
 constexpr double kMixedPrecisionMinLambda = 0x1p-24;
 inline double MinLambda(ProductPrecision precision) {
   return precision == ProductPrecision::kMixed ? kMixedPrecisionMinLambda : 0.0;
+}
+// Whether a product of `current` precision, chosen as `requested`, turns to
+// double when LM's damping reaches the floor and its steps would lower it
+// further (RcsSolver::DropDampingFloor): only kAuto's mixed product does.
+// Measured on the 1M-image survey (bench/README.md, "LM tail at 1M"): from
+// LM iteration 20, where λ had sat at the floor since iteration 11 with
+// gain ratios of 0.93-0.97, six iterations with a double product lowered
+// the cost 1.6x as much as six with the floor.
+inline bool DropsFloorByWidening(PcgPrecision requested, ProductPrecision current) {
+  return requested == PcgPrecision::kAuto && current == ProductPrecision::kMixed;
 }
 
 struct PcgOptions {

@@ -104,6 +104,10 @@ class RcsSolver {
   // The least damping λ at which its solves are reliable: 0, except for a
   // mixed-precision PCG (solver/pcg.h, kMixedPrecisionMinLambda).
   virtual double min_lambda() const { return 0.0; }
+  // Lowers min_lambda to 0 for the solves to come, when it can: a PCG whose
+  // product is mixed by PcgPrecision::kAuto turns to a double product
+  // (twice the bytes per product). True if it did.
+  virtual bool DropDampingFloor() { return false; }
 };
 
 // A direct solver: Solve = Factorize, then SolveFactored. The split lets a

@@ -83,6 +83,48 @@ INSTANTIATE_TEST_SUITE_P(Solvers, EachSolver,
                            return std::string(LinearSolverName(info.param));
                          });
 
+// Only auto's mixed product drops its damping floor (turning to double);
+// an explicit precision and the factorizations have none to drop or keep
+// it. Solves after the drop are the double product's (to the last bits: the
+// vectors' alignment changes the order of the dot products' sums).
+TEST(PcgSolver, OnlyAutosMixedProductDropsTheDampingFloor) {
+  const BsmcMatrix formed = Spd(60, 0.15, 4, 11);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(formed.num_rows(), -1.0, 2.0);
+  auto make = [&](PcgPrecision precision, BsmcMatrix* S) {
+    LinearSolverOptions options;
+    options.type = LinearSolverType::kPcg;
+    options.pcg.precision = precision;
+    options.pcg.relative_tolerance = 1e-13;
+    options.pcg.eta = 1e-30;  // on (auto is mixed), but never the stop
+    return MakeRcsSolver(*S, options);
+  };
+  BsmcMatrix S_double = formed;
+  Eigen::VectorXd x_double(formed.num_rows());
+  ASSERT_TRUE(make(PcgPrecision::kDouble, &S_double)->Solve(S_double, b.data(), x_double.data()).ok);
+  for (PcgPrecision precision : {PcgPrecision::kAuto, PcgPrecision::kMixed, PcgPrecision::kDouble}) {
+    BsmcMatrix S = formed;
+    std::unique_ptr<RcsSolver> solver = make(precision, &S);
+    const bool mixed = precision != PcgPrecision::kDouble;
+    EXPECT_EQ(solver->min_lambda(), mixed ? kMixedPrecisionMinLambda : 0.0);
+    Eigen::VectorXd x(S.num_rows());
+    ASSERT_TRUE(solver->Solve(S, b.data(), x.data()).ok);
+    auto agrees = [&] { return (x - x_double).norm() < 1e-12 * x_double.norm(); };
+    EXPECT_EQ(agrees(), !mixed) << PcgPrecisionName(precision);
+    S.SetZero();  // re-formed, as between LM iterations
+    S.values() = formed.values();
+    EXPECT_EQ(solver->DropDampingFloor(), precision == PcgPrecision::kAuto);
+    EXPECT_EQ(solver->min_lambda(), precision == PcgPrecision::kMixed ? kMixedPrecisionMinLambda : 0.0);
+    EXPECT_FALSE(solver->DropDampingFloor());  // once
+    ASSERT_TRUE(solver->Solve(S, b.data(), x.data()).ok);
+    EXPECT_EQ(agrees(), precision != PcgPrecision::kMixed) << PcgPrecisionName(precision);
+    EXPECT_LT((x - x_double).norm(), 1e-5 * x_double.norm());
+  }
+  BsmcMatrix S = formed;
+  LinearSolverOptions options;
+  options.type = LinearSolverType::kSparse;
+  EXPECT_FALSE(MakeRcsSolver(S, options)->DropDampingFloor());
+}
+
 TEST(AutoSolver, SmallSystemIsFactorizedDensely) {
   const BsmcMatrix S = Spd(30, 0.8, 0, 3);
   RcsSolverChoice choice;
