@@ -100,6 +100,14 @@ for n in 2 3; do
     fail "damping floor, -np $n: $(grep -o '"pcg_double_from_iteration": [0-9]*' "$tmp/dist.json" "$tmp/floor1.json")"
   fi
 done
+# An explicit --pcg-precision mixed keeps its floor, on the ranks too.
+if mpirun_n 2 "$dba" solve "$tmp/p49_8.txt" -q "${below_floor[@]}" --pcg-precision mixed --max-iterations 3 \
+     --report "$tmp/mixed.json" >"$tmp/mixed.out" 2>&1 &&
+   grep -q '"pcg_double_from_iteration": 0,' "$tmp/mixed.json"; then
+  passes=$((passes + 1)); echo "ok   --pcg-precision mixed keeps the damping floor, -np 2"
+else
+  fail "--pcg-precision mixed, -np 2: $(grep -o '"pcg_double_from_iteration": [0-9]*' "$tmp/mixed.json")"; cat "$tmp/mixed.out" >&2
+fi
 check_distributed "distributed RCS, BAL 49, tight, -np 3, main rank coordinates only" \
   "$tmp/dist_single.json" 1e-9 3 "$problem" "${pcg_tight[@]}" --main-rank coordinates
 check_distributed "distributed RCS, BAL 49, tight, -np 3, block-Jacobi" \

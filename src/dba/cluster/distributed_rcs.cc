@@ -732,7 +732,7 @@ void DistributedRcs::Multiply(const double* x, double* y) const {
 }
 
 bool DistributedRcs::DropDampingFloor() {
-  if (!DropsFloorByWidening(options_.pcg.precision, multiplier_->precision())) return false;
+  if (!can_drop_damping_floor()) return false;
   multiplier_->UseDoublePrecision();
   return true;
 }

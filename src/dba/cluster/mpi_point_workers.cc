@@ -227,7 +227,7 @@ class MpiPointWorkers::DistributedSolver : public DampedRcsSolver {
   }
   // Taken by every rank at the next SOLVE.
   bool DropDampingFloor() override {
-    if (w_->distributed_->min_lambda() == 0.0) return false;
+    if (drop_floor_ || !w_->distributed_->can_drop_damping_floor()) return false;
     drop_floor_ = true;
     return true;
   }
