@@ -149,6 +149,10 @@ class Minimizer {
   bool SolveDampedRcs(IterationSummary* it) {
     Timer phase;
     if (!linear_solver_) linear_solver_ = MakeLinearSolver();
+    // The first solve without the floor names its iteration in the report.
+    if (floor_dropped_ && summary_.pcg_double_from_iteration == 0) {
+      summary_.pcg_double_from_iteration = summary_.iterations + 1;
+    }
     const LinearSolveSummary solve =
         linear_solver_->Solve(damping_.lambda(), options_.damping, sys_, delta_c_.data());
     it->linear_iterations = solve.iterations;
@@ -172,8 +176,9 @@ class Minimizer {
         workers_->MakeDampedRcsSolver(*sys_, linear, &summary_.linear_solver);
     summary_.linear_solver_bytes = solver->MemoryBytes();
     damping_.SetFloor(solver->min_lambda());
-    // A resumed solve whose λ is under the floor had dropped it before.
-    if (damping_.lambda() < solver->min_lambda()) DropDampingFloor(solver.get());
+    // A resumed solve whose λ is at or under the floor had dropped it
+    // before (the floor holds λ up exactly at it only to drop it).
+    if (damping_.lambda() <= solver->min_lambda()) DropDampingFloor(solver.get());
     return solver;
   }
 
@@ -182,7 +187,7 @@ class Minimizer {
   void DropDampingFloor(DampedRcsSolver* solver) {
     if (!solver->DropDampingFloor()) return;
     damping_.SetFloor(solver->min_lambda());
-    summary_.pcg_double_from_iteration = summary_.iterations + 1;
+    floor_dropped_ = true;
   }
 
   // Back-substitutes the points, evaluates the candidate's cost against the
@@ -258,6 +263,7 @@ class Minimizer {
   ResidualSums residuals_;  // at the current parameters
   ResidualSums candidate_residuals_;
   std::unique_ptr<DampedRcsSolver> linear_solver_;
+  bool floor_dropped_ = false;  // DampedRcsSolver::DropDampingFloor said yes
   std::vector<double> delta_c_, candidate_;
 };
 

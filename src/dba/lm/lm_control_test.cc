@@ -352,6 +352,26 @@ TEST(LmControl, AResumedLambdaBelowTheFloorStartsWithoutIt) {
   ExpectConsistent(w, run);
   EXPECT_EQ(run.summary.pcg_double_from_iteration, 1);
   EXPECT_EQ(Lambdas(run.summary), (std::vector<double>{1e-8, 1e-8 / 3}));
+  // At the floor exactly: where the floor held λ and was dropped.
+  LmRun at;
+  ScriptedWorkers w_at(100.0, {Rho(1.0)}, &at.cameras);
+  options.initial_lambda = kMixedPrecisionMinLambda;
+  options.max_iterations = 1;
+  Solve(options, &w_at, &at);
+  EXPECT_EQ(at.summary.pcg_double_from_iteration, 1);
+}
+
+// A drop after the last step names no iteration: no solve ran without it.
+TEST(LmControl, AFloorDroppedAfterTheLastStepIsNotReported) {
+  LmRun run;
+  ScriptedWorkers w(100.0, {Rho(1.0)}, &run.cameras);
+  LmOptions options = Options();
+  options.initial_lambda = 1e-7;
+  options.max_iterations = 1;
+  options.linear_solver.type = LinearSolverType::kPcg;
+  Solve(options, &w, &run);
+  EXPECT_EQ(run.summary.iterations, 1);
+  EXPECT_EQ(run.summary.pcg_double_from_iteration, 0);
 }
 
 TEST(LmControl, RejectedStepsDropTheCandidateAndKeepTheCameras) {
