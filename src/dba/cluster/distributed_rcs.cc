@@ -731,12 +731,6 @@ void DistributedRcs::Multiply(const double* x, double* y) const {
   }
 }
 
-bool DistributedRcs::DropDampingFloor() {
-  if (!can_drop_damping_floor()) return false;
-  multiplier_->UseDoublePrecision();
-  return true;
-}
-
 LinearSolveSummary DistributedRcs::Solve(double lambda, const DampingBounds& bounds) {
   DampCameraBlocks(lambda, bounds, jtj_diagonal_, &S_, n_own_);
   preconditioner_->Update(S_);

@@ -87,10 +87,7 @@ class DistributedRcs {
   // The least λ the solve is reliable at (solver/pcg.h, MinLambda).
   double min_lambda() const { return MinLambda(multiplier_->precision()); }
   // Every rank, between solves: RcsSolver::DropDampingFloor.
-  bool DropDampingFloor();
-  bool can_drop_damping_floor() const {
-    return DropsFloorByWidening(options_.pcg.precision, multiplier_->precision());
-  }
+  bool DropDampingFloor() { return dba::DropDampingFloor(options_.pcg.precision, multiplier_.get()); }
   int32_t num_own_rows() const { return n_own_; }
   const BsmcMatrix& own_matrix() const { return S_; }
   // Bytes this rank holds for its rows (S's structure and values, vectors,

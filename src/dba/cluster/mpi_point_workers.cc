@@ -207,9 +207,8 @@ class MpiPointWorkers::DistributedSolver : public DampedRcsSolver {
                            double* delta_c) override {
     (void)bounds;  // every rank damps with its own (the same options)
     (void)system;
-    // SOLVE's flag: every rank's product turns to double first.
+    // SOLVE's flag: the other ranks' products turn to double first.
     BroadcastCommand(w_->comm_, {Op::kSolve, drop_floor_ ? 1 : 0, lambda});
-    if (drop_floor_) w_->distributed_->DropDampingFloor();
     drop_floor_ = false;
     const LinearSolveSummary s = w_->distributed_->Solve(lambda, w_->bounds_);
     std::vector<double> all;
@@ -222,19 +221,16 @@ class MpiPointWorkers::DistributedSolver : public DampedRcsSolver {
     const BsmcMatrix& S = w_->distributed_->own_matrix();
     return w_->distributed_->MemoryBytes() - S.ValueBytes() - S.StructureBytes();
   }
-  double min_lambda() const override {
-    return drop_floor_ ? 0.0 : w_->distributed_->min_lambda();
-  }
-  // Taken by every rank at the next SOLVE.
+  double min_lambda() const override { return w_->distributed_->min_lambda(); }
+  // The main rank's now, the others' at the next SOLVE.
   bool DropDampingFloor() override {
-    if (drop_floor_ || !w_->distributed_->can_drop_damping_floor()) return false;
-    drop_floor_ = true;
-    return true;
+    drop_floor_ = w_->distributed_->DropDampingFloor();
+    return drop_floor_;
   }
 
  private:
   MpiPointWorkers* w_;
-  bool drop_floor_ = false;
+  bool drop_floor_ = false;  // to tell the other ranks at the next SOLVE
 };
 
 MpiPointWorkers::~MpiPointWorkers() = default;

@@ -59,16 +59,20 @@ constexpr double kMixedPrecisionMinLambda = 0x1p-24;
 inline double MinLambda(ProductPrecision precision) {
   return precision == ProductPrecision::kMixed ? kMixedPrecisionMinLambda : 0.0;
 }
-// Whether a product of `current` precision, chosen as `requested`, turns to
-// double when LM's damping reaches the floor and its steps would lower it
-// further (RcsSolver::DropDampingFloor): only kAuto's mixed product does.
+// RcsSolver::DropDampingFloor for a product `requested` as this precision:
+// only kAuto's mixed product turns to double (when LM's damping reaches the
+// floor and its steps would lower it further). True if it did.
 // Measured on the 1M-image survey (bench/README.md, "The damping floor
 // dropped"): with the floor λ sat on it from LM iteration 11 with gain
 // ratios of 0.93-0.99, and the solve stopped at the function tolerance
 // 1.6e-5 above the cost a double product reaches (41 LM iterations against
 // 33); tighter PCG solves at the floor (η 0.01) did not lower the cost.
-inline bool DropsFloorByWidening(PcgPrecision requested, ProductPrecision current) {
-  return requested == PcgPrecision::kAuto && current == ProductPrecision::kMixed;
+inline bool DropDampingFloor(PcgPrecision requested, SymmetricMultiplier* multiplier) {
+  if (requested != PcgPrecision::kAuto || multiplier->precision() != ProductPrecision::kMixed) {
+    return false;
+  }
+  multiplier->UseDoublePrecision();
+  return true;
 }
 
 struct PcgOptions {

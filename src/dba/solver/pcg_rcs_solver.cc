@@ -36,12 +36,6 @@ int64_t PcgPathBytes(const BsmcMatrix& S, ProductPrecision precision) {
   return S.ValueBytes() + S.StructureBytes() + (copies * diagonal + 5 * S.num_rows()) * 8;
 }
 
-bool PcgRcsSolver::DropDampingFloor() {
-  if (!DropsFloorByWidening(options_.precision, multiplier_.precision())) return false;
-  multiplier_.UseDoublePrecision();
-  return true;
-}
-
 LinearSolveSummary PcgRcsSolver::Solve(BsmcMatrix& S, const double* b, double* x) {
   if (&S != &multiplier_.matrix()) {
     throw std::logic_error("PcgRcsSolver: Solve on a matrix other than the one given at construction");

@@ -23,7 +23,7 @@ class PcgRcsSolver : public RcsSolver {
   LinearSolverType type() const override { return LinearSolverType::kPcg; }
   int64_t MemoryBytes() const override;
   double min_lambda() const override { return MinLambda(multiplier_.precision()); }
-  bool DropDampingFloor() override;
+  bool DropDampingFloor() override { return dba::DropDampingFloor(options_.precision, &multiplier_); }
 
  private:
   PcgOptions options_;
