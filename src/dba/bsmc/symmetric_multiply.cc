@@ -13,7 +13,6 @@
 #include <stdexcept>
 
 #include "dba/bsmc/block_shape.h"
-#include "dba/common/memory.h"
 
 namespace dba {
 namespace {
@@ -264,7 +263,7 @@ void SymmetricMultiplier::PlanNarrowing() {
   for (int32_t i = 0; i < n; ++i) {
     diagonal_offset_[i + 1] = diagonal_offset_[i] + int64_t{m.block_size(i)} * m.block_size(i);
   }
-  diagonal_.assign(diagonal_offset_[n], 0.0);
+  diagonal_.Resize(diagonal_offset_[n]);
   auto off_begin = [&](int32_t i) { return m.value_offset(m.row_begin(i)) + m.block_size(i) * int64_t{m.block_size(i)}; };
   auto narrowed_end = [&](int32_t i) { return m.value_offset(m.row_end(i)) - diagonal_offset_[i + 1]; };
   round_.assign(1, 0);
@@ -284,12 +283,13 @@ void SymmetricMultiplier::Narrow(BsmcMatrix* S) {
   double* values = S->values().data();
   float* narrowed = reinterpret_cast<float*>(values);
   const int threads = num_threads();
+  double* diagonal = diagonal_.data();
 #pragma omp parallel num_threads(threads) if (threads > 1)
   {
     // The diagonal blocks first: the floats of earlier rows overwrite them.
 #pragma omp for schedule(static)
     for (int32_t i = 0; i < n; ++i) {
-      std::memcpy(diagonal_.data() + diagonal_offset_[i], S->block_values(S->row_begin(i)),
+      std::memcpy(diagonal + diagonal_offset_[i], S->block_values(S->row_begin(i)),
                   (diagonal_offset_[i + 1] - diagonal_offset_[i]) * sizeof(double));
     }
     for (size_t k = 0; k + 1 < round_.size(); ++k) {
@@ -305,14 +305,12 @@ void SymmetricMultiplier::Narrow(BsmcMatrix* S) {
 
 void SymmetricMultiplier::UseDoublePrecision() {
   precision_ = ProductPrecision::kDouble;
-  diagonal_ = {};
+  diagonal_ = PlacedDoubles();
   diagonal_offset_ = {};
   round_ = {};
 }
 
-void SymmetricMultiplier::ReturnDiagonalPages() {
-  ReturnPages(diagonal_.data(), static_cast<int64_t>(diagonal_.size() * sizeof(double)));
-}
+void SymmetricMultiplier::ReturnDiagonalPages() { diagonal_.ReturnPages(); }
 
 void SymmetricMultiplier::Multiply(const double* x, double* y) const {
   if (precision_ == ProductPrecision::kMixed) {
@@ -361,7 +359,7 @@ void SymmetricMultiplier::MultiplyWith(const Values& values, const double* x, do
 }
 
 int64_t SymmetricMultiplier::MemoryBytes() const {
-  int64_t values = static_cast<int64_t>(diagonal_.size());
+  int64_t values = diagonal_.size();
   for (const auto& s : spill_) values += static_cast<int64_t>(s.size());
   return values * int64_t{sizeof(double)} +
          static_cast<int64_t>(diagonal_offset_.size() * sizeof(int64_t) + round_.size() * sizeof(int32_t));

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "dba/bsmc/bsmc_matrix.h"
+#include "dba/common/placed_doubles.h"
 
 namespace dba {
 
@@ -48,8 +49,13 @@ class SymmetricMultiplier {
   // Multiply. S's values are not valid afterwards, until SetZero.
   void Narrow(BsmcMatrix* S);
 
-  // kMixed: the diagonal copy's pages back to the system until the next
-  // Narrow (between solves).
+  // kMixed: the diagonal copy, DiagonalDoubles() doubles that each Narrow
+  // writes: placed where the caller lends them until the product's last use
+  // (PlaceDiagonal; nullptr: storage of its own again), else in storage of
+  // its own, whose pages go back to the system until the next Narrow
+  // (ReturnDiagonalPages, between solves).
+  int64_t DiagonalDoubles() const { return diagonal_.size(); }
+  void PlaceDiagonal(double* place) { diagonal_.Place(place); }
   void ReturnDiagonalPages();
 
   // From now on a double product (kDouble, no Narrow): for solves at a
@@ -78,7 +84,7 @@ class SymmetricMultiplier {
   // kMixed: the diagonal blocks in double (row i's at diagonal_offset_[i]),
   // and the rounds of the in-place narrowing (rows [round_[k], round_[k+1])).
   std::vector<int64_t> diagonal_offset_;
-  std::vector<double> diagonal_;
+  PlacedDoubles diagonal_;
   std::vector<int32_t> round_;
   std::vector<int32_t> row_split_;          // thread t owns [row_split_[t], row_split_[t+1])
   std::vector<int64_t> spill_begin_;        // scalar row where thread t's spill starts

@@ -798,7 +798,7 @@ int64_t DistributedRcs::MemoryBytes() const {
   int64_t halo = 0;
   for (const auto& v : plan_->halo_out) halo += 2 * static_cast<int64_t>(v.size()) * 8;
   return S_.ValueBytes() + S_.StructureBytes() + 8 * static_cast<int64_t>(b_.size()) * 4 +
-         4 * 8 * static_cast<int64_t>(scratch_.r.size()) + 2 * 8 * static_cast<int64_t>(x_ext_.size()) +
+         8 * scratch_.vectors.size() + 2 * 8 * static_cast<int64_t>(x_ext_.size()) +
          preconditioner_->MemoryBytes() + multiplier_->MemoryBytes() + halo;
 }
 

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "dba/rcs/form_rcs.h"
 #include "dba/solver/rcs_solver.h"
@@ -40,21 +41,37 @@ class DampedRcsSolver {
 class LocalDampedRcsSolver : public DampedRcsSolver {
  public:
   // The solver for `S`'s structure (options.type, or auto's choice, written
-  // to `choice`).
+  // to `choice`). `idle`: a buffer of `idle_doubles` that nothing reads
+  // during a Solve (the candidate points', lm/local_point_workers.h) or
+  // nullptr; where what the solver computes afresh each solve fits in it,
+  // each Solve borrows it for that (lends_idle()), resizing it if it is
+  // smaller (its contents are lost).
   LocalDampedRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options,
-                       RcsSolverChoice* choice)
-      : solver_(MakeRcsSolver(S, options, choice)) {}
+                       RcsSolverChoice* choice, std::vector<double>* idle = nullptr,
+                       int64_t idle_doubles = 0)
+      : solver_(MakeRcsSolver(S, options, choice)), idle_(idle), idle_doubles_(idle_doubles) {
+    const int64_t need = solver_->PerSolveDoubles();
+    if (idle_ == nullptr || need == 0 || need > idle_doubles_) idle_ = nullptr;
+  }
   LinearSolveSummary Solve(double lambda, const DampingBounds& bounds, RcsSystem* system,
                            double* delta_c) override {
     DampCameraBlocks(lambda, bounds, system->camera_side_jtj_diagonal, &system->S);
+    if (idle_ != nullptr) {
+      if (static_cast<int64_t>(idle_->size()) < idle_doubles_) idle_->resize(idle_doubles_);
+      solver_->LendForNextSolve(idle_->data());
+    }
     return solver_->Solve(system->S, system->b.data(), delta_c);
   }
   int64_t MemoryBytes() const override { return solver_->MemoryBytes(); }
   double min_lambda() const override { return solver_->min_lambda(); }
   bool DropDampingFloor() override { return solver_->DropDampingFloor(); }
+  // True if the solves borrow the idle buffer.
+  bool borrows_idle() const { return idle_ != nullptr; }
 
  private:
   std::unique_ptr<RcsSolver> solver_;
+  std::vector<double>* idle_;
+  int64_t idle_doubles_;
 };
 
 }  // namespace dba

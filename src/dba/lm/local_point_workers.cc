@@ -43,9 +43,20 @@ void LocalPointWorkers::FinishStep(bool accept) {
     problem_->points.swap(candidate_points_);
   }
   // The next back-substitution rewrites every candidate point: until then
-  // (the next formation and solve) their pages are the system's.
-  ReturnPages(candidate_points_.data(),
-              static_cast<int64_t>(candidate_points_.size() * sizeof(double)));
+  // (the next formation and solve) their pages are the system's, unless the
+  // solve borrows them.
+  if (!candidate_points_lent_) {
+    ReturnPages(candidate_points_.data(),
+                static_cast<int64_t>(candidate_points_.size() * sizeof(double)));
+  }
+}
+
+std::unique_ptr<DampedRcsSolver> LocalPointWorkers::MakeDampedRcsSolver(
+    RcsSystem& system, const LinearSolverOptions& options, RcsSolverChoice* choice) {
+  auto solver = std::make_unique<LocalDampedRcsSolver>(
+      system.S, options, choice, &candidate_points_, static_cast<int64_t>(problem_->points.size()));
+  candidate_points_lent_ = solver->borrows_idle();
+  return solver;
 }
 
 }  // namespace dba

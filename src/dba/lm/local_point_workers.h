@@ -23,12 +23,21 @@ class LocalPointWorkers : public PointWorkers {
   StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,
                               const std::vector<double>& candidate_cameras) override;
   void FinishStep(bool accept) override;
+  // The solver's storage for what it computes afresh each solve (PCG's
+  // preconditioner values and vectors) is the candidate points' buffer,
+  // idle from the step's end to the next back-substitution, where it fits:
+  // it is then held throughout, and no pages go back and come again.
+  std::unique_ptr<DampedRcsSolver> MakeDampedRcsSolver(RcsSystem& system,
+                                                       const LinearSolverOptions& options,
+                                                       RcsSolverChoice* choice) override;
 
   const RcsSystem& system() const { return system_; }
   // Frees the RCS's values until the next FormRcs (a rank whose sub-RCS has
   // gone to its rows' owners).
   void ReleaseRcsValues();
   int num_threads() const { return num_threads_; }
+  // The linear solver borrows the candidate points' buffer (MakeDampedRcsSolver).
+  bool candidate_points_lent() const { return candidate_points_lent_; }
 
  private:
   Problem* problem_;
@@ -38,6 +47,7 @@ class LocalPointWorkers : public PointWorkers {
   RcsSystem system_;
   std::vector<double> candidate_cameras_;
   std::vector<double> candidate_points_;
+  bool candidate_points_lent_ = false;  // to the linear solver
 };
 
 }  // namespace dba

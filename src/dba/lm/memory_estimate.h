@@ -19,7 +19,9 @@
 // Not all of it is held at once: the candidate points from a
 // back-substitution to the step's end, PCG's storage during its solve
 // (their pages go back to the system in between: LocalPointWorkers::
-// FinishStep, ReturnSolvePages); a factorization keeps its factor. The
+// FinishStep, ReturnSolvePages; or PCG's storage is placed in the candidate
+// points' buffer, which is then held throughout); a factorization keeps
+// its factor. The
 // growth is the largest of the three phases, formation, solve and
 // back-substitution, over what all hold. The
 // peak is the larger of that and the peak so far (loading, e.g.
@@ -56,8 +58,14 @@ struct MemoryEstimate {
   bool solver_between_solves_returned() const {
     return solver != LinearSolverType::kDense && solver != LinearSolverType::kSparse;
   }
+  // PCG's storage in the candidate points' buffer, idle during the solve
+  // (LocalPointWorkers::MakeDampedRcsSolver), which is then held throughout.
+  bool solve_in_candidate_points() const {
+    return solver_between_solves_returned() && candidate > 0 && linear_solver <= candidate;
+  }
   // What the solve adds to the process: its largest phase.
   int64_t growth() const {
+    if (solve_in_candidate_points()) return lm + messages + rcs + candidate + formation;
     const int64_t kept = solver_between_solves_returned() ? 0 : linear_solver;
     const int64_t formation_phase = rcs + formation + kept;
     const int64_t solve_phase = rcs + linear_solver;

@@ -62,7 +62,20 @@ TEST(MemoryEstimate, PartsMatchWhatTheSolveAllocates) {
   // PCG gives its storage back between solves, and the candidate points go
   // back after each step: S is held with one or the other, not both.
   EXPECT_TRUE(e.solver_between_solves_returned());
+  EXPECT_FALSE(e.solve_in_candidate_points());  // 300 points hold less than PCG's storage
   EXPECT_EQ(e.growth(), e.lm + e.rcs + std::max(e.linear_solver, e.candidate));
+  // Where PCG's storage fits in the candidate points' buffer, it is placed
+  // there (LocalPointWorkers), and that buffer is held throughout.
+  testing::SyntheticBalOptions o;
+  o.num_cameras = 12;
+  o.num_points = 3000;
+  o.max_track = 5;
+  Problem many = testing::MakeSyntheticBal(o).problem;
+  BundleAdjust(options, &many, {}, [&](const RcsSystem& structure) {
+    e = EstimateSolveMemory(many, structure, options, 0);
+  });
+  EXPECT_TRUE(e.solve_in_candidate_points());
+  EXPECT_EQ(e.growth(), e.lm + e.rcs + e.candidate);
 }
 
 TEST(MemoryEstimate, CheckRefusesWhatDoesNotFit) {

@@ -1,7 +1,6 @@
 // Block-Jacobi preconditioner (paper eq. 7); see block_jacobi.h.
 #include "dba/bsmc/block_shape.h"
 #include "dba/common/check.h"
-#include "dba/common/memory.h"
 #include "dba/solver/block_jacobi.h"
 
 #include <omp.h>
@@ -26,21 +25,18 @@ BlockJacobiPreconditioner::BlockJacobiPreconditioner(const BsmcMatrix& S, int nu
   for (int32_t i = 0; i < n; ++i) {
     offset_[i + 1] = offset_[i] + int64_t{S.block_size(i)} * S.block_size(i);
   }
-  inverse_.resize(offset_[n]);
-}
-
-void BlockJacobiPreconditioner::ReturnNumericPages() {
-  ReturnPages(inverse_.data(), static_cast<int64_t>(inverse_.size() * sizeof(double)));
+  inverse_.Resize(offset_[n]);
 }
 
 void BlockJacobiPreconditioner::Update(const BsmcMatrix& S) {
   DBA_DCHECK(!S.values_narrowed());
   const int32_t n = n_;
+  double* inverse = inverse_.data();
 #pragma omp parallel for num_threads(num_threads_) schedule(static) if (n > 256)
   for (int32_t i = 0; i < n; ++i) {
     const int c = S.block_size(i);
     Eigen::Map<const RowMat> block(S.block_values(S.diagonal_block(i)), c, c);
-    Eigen::Map<RowMat> inv(inverse_.data() + offset_[i], c, c);
+    Eigen::Map<RowMat> inv(inverse + offset_[i], c, c);
     const RowMat identity = RowMat::Identity(c, c);
     Eigen::LLT<RowMat> llt(block);
     if (llt.info() == Eigen::Success) {

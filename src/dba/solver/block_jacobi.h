@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dba/bsmc/bsmc_matrix.h"
+#include "dba/common/placed_doubles.h"
 #include "dba/solver/preconditioner.h"
 
 namespace dba {
@@ -27,15 +28,15 @@ class BlockJacobiPreconditioner : public Preconditioner {
   // z_i = S_ii⁻¹ r_i for share `part` of `parts` equal shares of the rows
   // only, on the calling thread.
   void ApplyShare(const double* r, double* z, int part, int parts) const;
-  void ReturnNumericPages() override;
-  int64_t MemoryBytes() const override {
-    return static_cast<int64_t>(inverse_.capacity() * sizeof(double));
-  }
+  void ReturnNumericPages() override { inverse_.ReturnPages(); }
+  int64_t NumericDoubles() const override { return inverse_.size(); }
+  void PlaceNumeric(double* place) override { inverse_.Place(place); }
+  int64_t MemoryBytes() const override { return inverse_.size() * static_cast<int64_t>(sizeof(double)); }
 
  private:
   const BsmcMatrix& S_;
   std::vector<int64_t> offset_;  // start of block i's inverse
-  std::vector<double> inverse_;
+  PlacedDoubles inverse_;  // the inverses, block i's at offset_[i]
   int num_threads_;
   int32_t n_;  // rows preconditioned
 };

@@ -3,7 +3,6 @@
 
 #include <cmath>
 
-#include "dba/common/memory.h"
 #include "dba/common/progress.h"
 
 namespace dba {
@@ -50,29 +49,16 @@ bool ParsePcgPrecision(const std::string& name, PcgPrecision* precision) {
   return false;
 }
 
-void PcgScratch::ReturnPages() {
-  for (std::vector<double>* v : {&r, &z, &d, &Sd}) {
-    dba::ReturnPages(v->data(), static_cast<int64_t>(v->size() * sizeof(double)));
-  }
-}
-
-void PcgScratch::Resize(int64_t n) {
-  r.resize(n);
-  z.resize(n);
-  d.resize(n);
-  Sd.resize(n);
-}
-
 PcgSummary SolvePcg(const PcgOperator& S, const Preconditioner& M, const double* b, double* y,
                     const PcgOptions& options, PcgScratch* scratch) {
   const int64_t n = S.num_rows();
   const int nt = options.num_threads;
   const bool par = n > kParallelBelow;
   scratch->Resize(n);
-  double* r = scratch->r.data();
-  double* z = scratch->z.data();
-  double* d = scratch->d.data();
-  double* Sd = scratch->Sd.data();
+  double* r = scratch->vectors.data();
+  double* z = r + n;
+  double* d = z + n;
+  double* Sd = d + n;
   PcgSummary summary;
   for (int64_t i = 0; i < n; ++i) {
     y[i] = 0.0;

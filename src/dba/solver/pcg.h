@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "dba/bsmc/symmetric_multiply.h"
+#include "dba/common/placed_doubles.h"
 #include "dba/solver/preconditioner.h"
 
 namespace dba {
@@ -117,12 +118,13 @@ struct PcgSummary {
   PcgStop stop = PcgStop::kIterationLimit;
 };
 
-// Vectors PCG needs, owned by the caller and reused across solves.
+// Vectors PCG needs (r, z, d, S d: 4 n doubles), owned by the caller and
+// reused across solves, or placed where the caller lends them for a solve.
 struct PcgScratch {
-  std::vector<double> r, z, d, Sd;
-  void Resize(int64_t n);
+  PlacedDoubles vectors;
+  void Resize(int64_t n) { vectors.Resize(4 * n); }
   // Their pages back to the system between solves (each solve rewrites them).
-  void ReturnPages();
+  void ReturnPages() { vectors.ReturnPages(); }
 };
 
 // What PCG needs of S: y = S x over this rank's entries, and the sums of

@@ -2,6 +2,7 @@
 #include "dba/solver/pcg_rcs_solver.h"
 
 #include <stdexcept>
+#include <utility>
 
 #include "dba/solver/block_jacobi.h"
 #include "dba/solver/two_level_preconditioner.h"
@@ -22,8 +23,7 @@ PcgRcsSolver::PcgRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& optio
 }
 
 int64_t PcgRcsSolver::MemoryBytes() const {
-  return preconditioner_->MemoryBytes() +
-         4 * static_cast<int64_t>(scratch_.r.size()) * 8 + multiplier_.MemoryBytes();
+  return preconditioner_->MemoryBytes() + scratch_.vectors.size() * 8 + multiplier_.MemoryBytes();
 }
 
 int64_t PcgPathBytes(const BsmcMatrix& S, ProductPrecision precision) {
@@ -43,11 +43,32 @@ LinearSolveSummary PcgRcsSolver::Solve(BsmcMatrix& S, const double* b, double* x
   if (S.values_narrowed()) {
     throw std::logic_error("PcgRcsSolver: Solve on narrowed values (S must be re-formed first)");
   }
+  PlaceSolveStorage(std::exchange(lent_, nullptr), preconditioner_.get(), &multiplier_, &scratch_,
+                    S.num_rows());
   preconditioner_->Update(S);
   if (multiplier_.precision() == ProductPrecision::kMixed) multiplier_.Narrow(&S);
   const PcgSummary pcg = SolvePcg(multiplier_, *preconditioner_, b, x, options_, &scratch_);
   ReturnSolvePages(preconditioner_.get(), &multiplier_, &scratch_);
   return ToLinearSolveSummary(pcg);
+}
+
+int64_t PcgRcsSolver::PerSolveDoubles() const {
+  return PcgSolveDoubles(*preconditioner_, multiplier_, multiplier_.num_rows());
+}
+
+int64_t PcgSolveDoubles(const Preconditioner& preconditioner, const SymmetricMultiplier& multiplier,
+                        int64_t num_rows) {
+  return preconditioner.NumericDoubles() + multiplier.DiagonalDoubles() + 4 * num_rows;
+}
+
+void PlaceSolveStorage(double* place, Preconditioner* preconditioner,
+                       SymmetricMultiplier* multiplier, PcgScratch* scratch, int64_t num_rows) {
+  const int64_t inverses = preconditioner->NumericDoubles();
+  const int64_t diagonal = multiplier->DiagonalDoubles();
+  preconditioner->PlaceNumeric(place);
+  multiplier->PlaceDiagonal(place == nullptr ? nullptr : place + inverses);
+  scratch->Resize(num_rows);
+  scratch->vectors.Place(place == nullptr ? nullptr : place + inverses + diagonal);
 }
 
 void ReturnSolvePages(Preconditioner* preconditioner, SymmetricMultiplier* multiplier,

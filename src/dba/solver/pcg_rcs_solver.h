@@ -24,18 +24,27 @@ class PcgRcsSolver : public RcsSolver {
   int64_t MemoryBytes() const override;
   double min_lambda() const override { return MinLambda(multiplier_.precision()); }
   bool DropDampingFloor() override { return dba::DropDampingFloor(options_.precision, &multiplier_); }
+  int64_t PerSolveDoubles() const override;
+  void LendForNextSolve(double* place) override { lent_ = place; }
 
  private:
   PcgOptions options_;
   SymmetricMultiplier multiplier_;
   std::unique_ptr<Preconditioner> preconditioner_;
   PcgScratch scratch_;
+  double* lent_ = nullptr;  // for the next Solve
 };
 
-// After a solve: the storage a PCG solve computes afresh each time (the
-// preconditioner's values, a mixed product's diagonal copy, the vectors)
-// goes back to the system until the next solve, so that it is not held
-// while the next RCS is formed.
+// The storage a PCG solve computes afresh each time (the preconditioner's
+// values, a mixed product's diagonal copy, the vectors), PcgSolveDoubles()
+// doubles. PlaceSolveStorage puts it at `place` (lent for the solve), or
+// with nullptr in their own storage; after a solve, ReturnSolvePages gives
+// the pages of their own storage back to the system until the next solve,
+// so that it is not held while the next RCS is formed.
+int64_t PcgSolveDoubles(const Preconditioner& preconditioner, const SymmetricMultiplier& multiplier,
+                        int64_t num_rows);
+void PlaceSolveStorage(double* place, Preconditioner* preconditioner,
+                       SymmetricMultiplier* multiplier, PcgScratch* scratch, int64_t num_rows);
 void ReturnSolvePages(Preconditioner* preconditioner, SymmetricMultiplier* multiplier,
                       PcgScratch* scratch);
 

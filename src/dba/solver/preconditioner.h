@@ -21,8 +21,16 @@ class Preconditioner {
   // z = M⁻¹ r.
   virtual void Apply(const double* r, double* z) const = 0;
   virtual int64_t MemoryBytes() const = 0;
+  // What Update computes afresh each time, its values for the Applys after
+  // it (e.g. block-Jacobi's inverses): NumericDoubles() doubles, placed
+  // where the caller lends them for the next Update and its Applys
+  // (PlaceNumeric; nullptr: storage of its own again), else in storage of
+  // its own, allocated at the first Update.
+  virtual int64_t NumericDoubles() const { return 0; }
+  virtual void PlaceNumeric(double* place) { (void)place; }
   // Between solves (the LM loop forms the next RCS meanwhile): the pages of
-  // what Update computes go back to the system until the next Update.
+  // what Update computes in storage of its own go back to the system until
+  // the next Update.
   virtual void ReturnNumericPages() {}
 };
 

@@ -108,6 +108,14 @@ class RcsSolver {
   // product is mixed by PcgPrecision::kAuto turns to a double product
   // (twice the bytes per product). True if it did.
   virtual bool DropDampingFloor() { return false; }
+  // What each Solve computes afresh and forgets after it (PCG: the
+  // preconditioner's values, a mixed product's diagonal copy, the vectors),
+  // in doubles; 0 for a factorization, whose factor is kept.
+  virtual int64_t PerSolveDoubles() const { return 0; }
+  // The next Solve puts that in `place` (PerSolveDoubles() doubles, lent by
+  // the caller for the solve, contents lost) instead of storage of its own;
+  // the Solve after it in its own again unless lent again.
+  virtual void LendForNextSolve(double* place) { (void)place; }
 };
 
 // A direct solver: Solve = Factorize, then SolveFactored. The split lets a

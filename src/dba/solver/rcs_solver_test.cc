@@ -5,6 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include <Eigen/Cholesky>
 
 #include "dba/solver/sparse_cholesky.h"
@@ -123,6 +127,53 @@ TEST(PcgSolver, OnlyAutosMixedProductDropsTheDampingFloor) {
   LinearSolverOptions options;
   options.type = LinearSolverType::kSparse;
   EXPECT_FALSE(MakeRcsSolver(S, options)->DropDampingFloor());
+}
+
+// A lent place holds what the solve computes afresh (the preconditioner's
+// inverses, a mixed product's diagonal copy, the vectors): the step is the
+// same as in the solver's own storage (to rounding: vectorized sums follow
+// the vectors' alignment), the place is written, and the solve after it (not
+// lent again) no longer reads it.
+TEST(PcgSolver, ALentPlaceGivesTheSameStepAsItsOwnStorage) {
+  const BsmcMatrix formed = Spd(60, 0.15, 4, 11);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(formed.num_rows(), -1.0, 2.0);
+  for (PcgPrecision precision : {PcgPrecision::kMixed, PcgPrecision::kDouble}) {
+    for (PreconditionerType preconditioner :
+         {PreconditionerType::kBlockJacobi, PreconditionerType::kTwoLevel}) {
+      LinearSolverOptions options;
+      options.type = LinearSolverType::kPcg;
+      options.preconditioner = preconditioner;
+      options.coarse_aggregate_size = 8;
+      options.pcg.precision = precision;
+      options.pcg.relative_tolerance = 1e-10;
+      BsmcMatrix S = formed;
+      std::unique_ptr<RcsSolver> solver = MakeRcsSolver(S, options);
+      const int64_t n = formed.num_rows();
+      int64_t diagonal = 0;
+      for (int32_t i = 0; i < formed.num_block_rows(); ++i) {
+        diagonal += int64_t{formed.block_size(i)} * formed.block_size(i);
+      }
+      // The inverses, the diagonal copy (mixed), r, z, d and S d.
+      EXPECT_EQ(solver->PerSolveDoubles(),
+                diagonal * (precision == PcgPrecision::kMixed ? 2 : 1) + 4 * n);
+      auto solve = [&](std::vector<double>* lent) {
+        S.SetZero();
+        S.values() = formed.values();
+        if (lent != nullptr) solver->LendForNextSolve(lent->data());
+        Eigen::VectorXd x(n);
+        EXPECT_TRUE(solver->Solve(S, b.data(), x.data()).ok);
+        return x;
+      };
+      const Eigen::VectorXd own = solve(nullptr);
+      std::vector<double> lent(solver->PerSolveDoubles(), std::nan(""));
+      const Eigen::VectorXd in_lent = solve(&lent);
+      EXPECT_LT((in_lent - own).norm(), 1e-14 * own.norm())
+          << PcgPrecisionName(precision) << " " << PreconditionerName(preconditioner);
+      EXPECT_EQ(std::count_if(lent.begin(), lent.end(), [](double v) { return std::isnan(v); }), 0);
+      std::fill(lent.begin(), lent.end(), std::nan(""));  // the lender's again
+      EXPECT_EQ(solve(nullptr), own);
+    }
+  }
 }
 
 TEST(AutoSolver, SmallSystemIsFactorizedDensely) {

@@ -83,6 +83,9 @@ class TwoLevelPreconditioner : public Preconditioner {
   void Apply(const double* r, double* z) const override;
   int64_t MemoryBytes() const override;
   void ReturnNumericPages() override;
+  // Block-Jacobi's inverses; the coarse matrix and its factor are its own.
+  int64_t NumericDoubles() const override { return jacobi_.NumericDoubles(); }
+  void PlaceNumeric(double* place) override { jacobi_.PlaceNumeric(place); }
 
   int32_t num_aggregates() const { return coarse_.num_block_rows(); }
   // The coarse matrix R S Rᵀ as last updated (for tests).
