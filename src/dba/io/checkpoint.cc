@@ -81,18 +81,23 @@ uint64_t ProblemFingerprint(const Problem& problem) {
 }
 
 void WriteCheckpoint(const std::string& path, const Checkpoint& c) {
+  WriteCheckpoint(path, c, c.cameras, c.points);
+}
+
+void WriteCheckpoint(const std::string& path, const Checkpoint& c, std::span<const double> cameras,
+                     std::span<const double> points) {
   AtomicOutputFile out(path);
   out.Write(kMagic, sizeof kMagic);
   const int64_t counts[2] = {c.iterations, c.accepted};
   const double state[2] = {c.lambda, c.cost};
-  const int64_t sizes[2] = {static_cast<int64_t>(c.cameras.size()),
-                            static_cast<int64_t>(c.points.size())};
+  const int64_t sizes[2] = {static_cast<int64_t>(cameras.size()),
+                            static_cast<int64_t>(points.size())};
   out.Write(&c.fingerprint, sizeof c.fingerprint);
   out.Write(counts, sizeof counts);
   out.Write(state, sizeof state);
   out.Write(sizes, sizeof sizes);
-  out.Write(c.cameras.data(), c.cameras.size() * sizeof(double));
-  out.Write(c.points.data(), c.points.size() * sizeof(double));
+  out.Write(cameras.data(), cameras.size() * sizeof(double));
+  out.Write(points.data(), points.size() * sizeof(double));
   out.Commit();
 }
 
@@ -167,7 +172,10 @@ bool CheckpointWriter::Due(bool step_accepted) {
 
 void CheckpointWriter::Write(int64_t iteration, double next_lambda, double cost,
                              const std::vector<double>& cameras, const std::vector<double>& points) {
-  WriteCheckpoint(path_, {fingerprint_, iteration, accepted_, next_lambda, cost, cameras, points});
+  // From where the parameters are: a copy of the points (2 GB at 1M) would
+  // sit beside S and the candidate points' buffer.
+  WriteCheckpoint(path_, {fingerprint_, iteration, accepted_, next_lambda, cost, {}, {}}, cameras,
+                  points);
   written_ = true;
   last_write_ = SteadySeconds();
   if (const char* k = std::getenv("DBA_KILL_AFTER_CHECKPOINT");

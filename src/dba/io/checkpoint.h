@@ -45,6 +45,10 @@ uint64_t ObservationsFingerprint(const Problem& problem, std::span<const int64_t
 uint64_t CombineFingerprints(uint64_t camera_side, uint64_t observations);
 
 void WriteCheckpoint(const std::string& path, const Checkpoint& checkpoint);
+// The same with the parameters from where they are (`state`'s own vectors
+// are not read).
+void WriteCheckpoint(const std::string& path, const Checkpoint& state,
+                     std::span<const double> cameras, std::span<const double> points);
 // InputError naming the path for a file that is not a whole checkpoint.
 Checkpoint ReadCheckpoint(const std::string& path);
 // InputError naming `path` when the checkpoint was written for another

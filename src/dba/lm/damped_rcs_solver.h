@@ -44,7 +44,7 @@ class LocalDampedRcsSolver : public DampedRcsSolver {
   // to `choice`). `idle`: a buffer of `idle_doubles` that nothing reads
   // during a Solve (the candidate points', lm/local_point_workers.h) or
   // nullptr; where what the solver computes afresh each solve fits in it,
-  // each Solve borrows it for that (lends_idle()), resizing it if it is
+  // each Solve borrows it for that (borrows_idle()), resizing it if it is
   // smaller (its contents are lost).
   LocalDampedRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& options,
                        RcsSolverChoice* choice, std::vector<double>* idle = nullptr,
@@ -62,7 +62,10 @@ class LocalDampedRcsSolver : public DampedRcsSolver {
     }
     return solver_->Solve(system->S, system->b.data(), delta_c);
   }
-  int64_t MemoryBytes() const override { return solver_->MemoryBytes(); }
+  // Beyond the RCS and the idle buffer.
+  int64_t MemoryBytes() const override {
+    return solver_->MemoryBytes() - (idle_ != nullptr ? solver_->PerSolveDoubles() * 8 : 0);
+  }
   double min_lambda() const override { return solver_->min_lambda(); }
   bool DropDampingFloor() override { return solver_->DropDampingFloor(); }
   // True if the solves borrow the idle buffer.

@@ -38,6 +38,8 @@ class LocalPointWorkers : public PointWorkers {
   int num_threads() const { return num_threads_; }
   // The linear solver borrows the candidate points' buffer (MakeDampedRcsSolver).
   bool candidate_points_lent() const { return candidate_points_lent_; }
+  // The candidate points of the last EvaluateStep (or what the solver wrote there since).
+  const std::vector<double>& candidate_points() const { return candidate_points_; }
 
  private:
   Problem* problem_;

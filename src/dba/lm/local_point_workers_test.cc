@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "dba/testing/synthetic_bal.h"
@@ -54,6 +55,11 @@ TEST(LocalPointWorkers, LendsTheCandidatePointsToPcgWhereItsStorageFits) {
   LocalPointWorkers pcg(&many, DampingBounds{}, 2);
   const std::vector<double> in_candidates = FirstStep(&pcg, LinearSolverType::kPcg, lambda, &lent);
   EXPECT_TRUE(lent);
+  // The solve wrote its storage there (the inverses are not zero).
+  ASSERT_EQ(pcg.candidate_points().size(), many.points.size());
+  EXPECT_GT(std::count_if(pcg.candidate_points().begin(), pcg.candidate_points().end(),
+                          [](double v) { return v != 0.0; }),
+            12 * 9);
   // The same step as a dense factorization, which borrows nothing.
   Problem same = Survey(3000);
   LocalPointWorkers dense(&same, DampingBounds{}, 2);

@@ -76,6 +76,10 @@ MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& stru
       // Preconditioner, vectors, the diagonal copy: the PCG path less S.
       e.linear_solver = PcgPathBytes(S, linear.pcg.product_precision()) - S.ValueBytes() -
                         S.StructureBytes();
+      if (role == EstimateRole::kWhole) {
+        const int64_t per_solve = PcgSolveDoubles(S, linear.pcg.product_precision());
+        if (per_solve <= static_cast<int64_t>(problem.points.size())) e.lent = per_solve * 8;
+      }
       break;
   }
   return e;

@@ -53,19 +53,23 @@ struct MemoryEstimate {
   int64_t messages = 0;
   LinearSolverType solver = LinearSolverType::kPcg;
 
-  // PCG gives its storage back between solves (ReturnSolvePages); a
-  // factorization keeps its factor.
+  // PCG gives its storage back between solves (ReturnSolvePages), or
+  // places it in the candidate points' buffer (lent); a factorization keeps
+  // its factor.
   bool solver_between_solves_returned() const {
     return solver != LinearSolverType::kDense && solver != LinearSolverType::kSparse;
   }
-  // PCG's storage in the candidate points' buffer, idle during the solve
-  // (LocalPointWorkers::MakeDampedRcsSolver), which is then held throughout.
-  bool solve_in_candidate_points() const {
-    return solver_between_solves_returned() && candidate > 0 && linear_solver <= candidate;
-  }
+  // One process, PCG: the part of linear_solver placed in the candidate
+  // points' buffer, idle during the solve (LocalPointWorkers::
+  // MakeDampedRcsSolver, the same test), which is then held throughout; 0
+  // where it does not fit.
+  int64_t lent = 0;
+  bool solve_in_candidate_points() const { return lent > 0; }
   // What the solve adds to the process: its largest phase.
   int64_t growth() const {
-    if (solve_in_candidate_points()) return lm + messages + rcs + candidate + formation;
+    if (solve_in_candidate_points()) {
+      return lm + messages + rcs + candidate + std::max(formation, linear_solver - lent);
+    }
     const int64_t kept = solver_between_solves_returned() ? 0 : linear_solver;
     const int64_t formation_phase = rcs + formation + kept;
     const int64_t solve_phase = rcs + linear_solver;

@@ -75,7 +75,16 @@ TEST(MemoryEstimate, PartsMatchWhatTheSolveAllocates) {
     e = EstimateSolveMemory(many, structure, options, 0);
   });
   EXPECT_TRUE(e.solve_in_candidate_points());
-  EXPECT_EQ(e.growth(), e.lm + e.rcs + e.candidate);
+  // Lent: the inverses (81 per camera), the mixed product's diagonal copy
+  // (81) and the four vectors; the fifth vector (δc) is not.
+  const int64_t rows = 9 * 12;
+  EXPECT_EQ(e.lent, (2 * 81 * 12 + 4 * rows) * 8);
+  EXPECT_EQ(e.linear_solver - e.lent, rows * 8);
+  EXPECT_EQ(e.growth(), e.lm + e.rcs + e.candidate + rows * 8);
+  // A point rank of a distributed solve lends nothing (its LocalPointWorkers
+  // never makes a solver).
+  e = EstimateSolveMemory(many, RcsSystem::ForProblem(many), options, 0, 0, EstimateRole::kForms);
+  EXPECT_FALSE(e.solve_in_candidate_points());
 }
 
 TEST(MemoryEstimate, CheckRefusesWhatDoesNotFit) {

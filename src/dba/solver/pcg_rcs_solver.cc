@@ -26,14 +26,19 @@ int64_t PcgRcsSolver::MemoryBytes() const {
   return preconditioner_->MemoryBytes() + scratch_.vectors.size() * 8 + multiplier_.MemoryBytes();
 }
 
-int64_t PcgPathBytes(const BsmcMatrix& S, ProductPrecision precision) {
+int64_t PcgSolveDoubles(const BsmcMatrix& S, ProductPrecision precision) {
   int64_t diagonal = 0;  // values of the diagonal blocks
   for (int32_t i = 0; i < S.num_block_rows(); ++i) {
     diagonal += int64_t{S.block_size(i)} * S.block_size(i);
   }
-  // The block-Jacobi inverse, and for a mixed product the diagonal in double.
+  // The block-Jacobi inverse, for a mixed product the diagonal in double,
+  // the four vectors.
   const int64_t copies = precision == ProductPrecision::kMixed ? 2 : 1;
-  return S.ValueBytes() + S.StructureBytes() + (copies * diagonal + 5 * S.num_rows()) * 8;
+  return copies * diagonal + 4 * S.num_rows();
+}
+
+int64_t PcgPathBytes(const BsmcMatrix& S, ProductPrecision precision) {
+  return S.ValueBytes() + S.StructureBytes() + (PcgSolveDoubles(S, precision) + S.num_rows()) * 8;
 }
 
 LinearSolveSummary PcgRcsSolver::Solve(BsmcMatrix& S, const double* b, double* x) {

@@ -43,6 +43,9 @@ class PcgRcsSolver : public RcsSolver {
 // so that it is not held while the next RCS is formed.
 int64_t PcgSolveDoubles(const Preconditioner& preconditioner, const SymmetricMultiplier& multiplier,
                         int64_t num_rows);
+// The same from S's structure, before a solver exists (block-Jacobi or
+// two-level: the inverses of the diagonal blocks).
+int64_t PcgSolveDoubles(const BsmcMatrix& S, ProductPrecision precision);
 void PlaceSolveStorage(double* place, Preconditioner* preconditioner,
                        SymmetricMultiplier* multiplier, PcgScratch* scratch, int64_t num_rows);
 void ReturnSolvePages(Preconditioner* preconditioner, SymmetricMultiplier* multiplier,
