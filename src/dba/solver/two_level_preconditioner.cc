@@ -335,8 +335,10 @@ void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
   // The threads' sums in thread order: the same coarse matrix for any
   // schedule.
   double* c = coarse_.values().data();
-  for (const std::vector<double>& p : partial_) {
+  for (std::vector<double>& p : partial_) {
     for (int64_t k = 0; k < coarse_.num_values(); ++k) c[k] += p[k];
+    // Summed: its pages go back now, not beside the factorization and PCG.
+    ReturnPages(p.data(), static_cast<int64_t>(p.size() * sizeof(double)));
   }
   coarse_ok_ = coarse_solver_->Factorize(coarse_);
 }
@@ -418,7 +420,6 @@ void TwoLevelPreconditioner::Apply(const double* r, double* z) const {
 void TwoLevelPreconditioner::ReturnNumericPages() {
   jacobi_.ReturnNumericPages();
   ReturnPages(coarse_.values().data(), coarse_.ValueBytes());  // Update rewrites them
-  for (std::vector<double>& p : partial_) ReturnPages(p.data(), static_cast<int64_t>(p.size() * sizeof(double)));
 }
 
 int64_t TwoLevelPreconditioner::MemoryBytes() const {
