@@ -37,9 +37,6 @@ class PlacedDoubles {
   // Read after data() (allocated by then).
   const double* data() const { return placed_ != nullptr ? placed_ : own_.data(); }
   int64_t size() const { return n_; }
-  bool placed() const { return placed_ != nullptr; }
-  // Storage of its own, allocated (0 while placed or not yet used).
-  int64_t OwnBytes() const { return static_cast<int64_t>(own_.capacity() * sizeof(double)); }
 
   // Own storage's pages back to the system until the next write; a place
   // lent is the lender's.

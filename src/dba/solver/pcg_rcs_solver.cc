@@ -58,12 +58,9 @@ LinearSolveSummary PcgRcsSolver::Solve(BsmcMatrix& S, const double* b, double* x
 }
 
 int64_t PcgRcsSolver::PerSolveDoubles() const {
-  return PcgSolveDoubles(*preconditioner_, multiplier_, multiplier_.num_rows());
-}
-
-int64_t PcgSolveDoubles(const Preconditioner& preconditioner, const SymmetricMultiplier& multiplier,
-                        int64_t num_rows) {
-  return preconditioner.NumericDoubles() + multiplier.DiagonalDoubles() + 4 * num_rows;
+  // What PlaceSolveStorage lays out.
+  return preconditioner_->NumericDoubles() + multiplier_.DiagonalDoubles() +
+         4 * multiplier_.num_rows();
 }
 
 void PlaceSolveStorage(double* place, Preconditioner* preconditioner,

@@ -36,15 +36,13 @@ class PcgRcsSolver : public RcsSolver {
 };
 
 // The storage a PCG solve computes afresh each time (the preconditioner's
-// values, a mixed product's diagonal copy, the vectors), PcgSolveDoubles()
-// doubles. PlaceSolveStorage puts it at `place` (lent for the solve), or
+// values, a mixed product's diagonal copy, the vectors). PlaceSolveStorage
+// puts it at `place` (lent for the solve), or
 // with nullptr in their own storage; after a solve, ReturnSolvePages gives
 // the pages of their own storage back to the system until the next solve,
 // so that it is not held while the next RCS is formed.
-int64_t PcgSolveDoubles(const Preconditioner& preconditioner, const SymmetricMultiplier& multiplier,
-                        int64_t num_rows);
-// The same from S's structure, before a solver exists (block-Jacobi or
-// two-level: the inverses of the diagonal blocks).
+// Its size in doubles from S's structure, before a solver exists
+// (block-Jacobi or two-level: the inverses of the diagonal blocks).
 int64_t PcgSolveDoubles(const BsmcMatrix& S, ProductPrecision precision);
 void PlaceSolveStorage(double* place, Preconditioner* preconditioner,
                        SymmetricMultiplier* multiplier, PcgScratch* scratch, int64_t num_rows);
