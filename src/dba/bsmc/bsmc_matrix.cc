@@ -17,7 +17,19 @@ BsmcMatrix BsmcMatrix::BuildFromPattern(std::vector<int32_t> block_sizes,
 }
 
 void BsmcMatrix::AllocateValues() {
+  placed_ = nullptr;
   values_.assign(value_offset_.back(), 0.0);
+  values_zero_ = false;
+}
+
+void BsmcMatrix::PlaceValues(double* place) {
+  if (place == nullptr) {
+    if (placed_ != nullptr) AllocateValues();
+    return;
+  }
+  std::vector<double>().swap(values_);
+  placed_ = place;
+  values_narrowed_ = false;
   values_zero_ = false;
 }
 
@@ -75,15 +87,17 @@ int32_t BsmcMatrix::BlockRow(int64_t b) const {
 }
 
 void BsmcMatrix::SetZero() {
-  if (!values_zero_) std::fill(values_.begin(), values_.end(), 0.0);
+  if (!values_zero_) std::ranges::fill(values(), 0.0);
   values_narrowed_ = false;
   values_zero_ = false;
 }
 
 void BsmcMatrix::ZeroValuesAndReturnPages() {
-  ZeroAndReturnPages(values_.data(), static_cast<int64_t>(values_.size()));
   values_narrowed_ = false;
-  values_zero_ = true;
+  // Lent values are the lender's meanwhile: kept, and zeroed by the next
+  // SetZero.
+  values_zero_ = placed_ == nullptr;
+  if (values_zero_) ZeroAndReturnPages(values_.data(), static_cast<int64_t>(values_.size()));
 }
 
 int64_t BsmcMatrix::StructureBytes() const {

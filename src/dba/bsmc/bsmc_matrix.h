@@ -56,10 +56,20 @@ class BsmcMatrix {
   // zero.
   void ReleaseValues() {
     std::vector<double>().swap(values_);
+    placed_ = nullptr;
     values_narrowed_ = false;
     values_zero_ = false;
   }
-  bool has_values() const { return static_cast<int64_t>(values_.size()) == num_values(); }
+  // The values at a place the caller lends (num_values() doubles, whose
+  // contents are lost) instead of storage of their own, which is freed;
+  // nullptr: storage of their own again, allocated zero. Writers start with
+  // SetZero as always; the lender's pages are never given back from here
+  // (ZeroValuesAndReturnPages leaves them to the next SetZero).
+  void PlaceValues(double* place);
+  bool values_placed() const { return placed_ != nullptr; }
+  bool has_values() const {
+    return placed_ != nullptr || static_cast<int64_t>(values_.size()) == num_values();
+  }
 
   int32_t num_block_rows() const {
     return static_cast<int32_t>(block_size_.size());
@@ -105,22 +115,27 @@ class BsmcMatrix {
   // row_begin); the block column is block_col(b).
   int32_t BlockRow(int64_t b) const;
 
-  double* block_values(int64_t b) { return values_.data() + value_offset_[b]; }
-  const double* block_values(int64_t b) const {
-    return values_.data() + value_offset_[b];
-  }
+  double* block_values(int64_t b) { return values().data() + value_offset_[b]; }
+  const double* block_values(int64_t b) const { return values().data() + value_offset_[b]; }
   // The diagonal block of row i is the first block of the row.
   int64_t diagonal_block(int32_t i) const { return row_begin_[i]; }
 
-  std::vector<double>& values() { return values_; }
-  const std::vector<double>& values() const { return values_; }
+  // All blocks back to back (empty while the structure has no values).
+  std::span<double> values() {
+    return placed_ != nullptr ? std::span<double>(placed_, num_values()) : std::span<double>(values_);
+  }
+  std::span<const double> values() const {
+    return placed_ != nullptr ? std::span<const double>(placed_, num_values())
+                              : std::span<const double>(values_);
+  }
   // Before the values are summed (a formation): nothing to write when they
   // were given back since (ZeroValuesAndReturnPages).
   void SetZero();
   // The values are not needed until the next SetZero (a rank's own rows
   // between a distributed solve and the next reduce-scatter): their pages go
   // back to the system, and they read zero, taking memory again only as they
-  // are written. Writers of the values start with SetZero.
+  // are written (lent values: left as they are, see PlaceValues). Writers of
+  // the values start with SetZero.
   void ZeroValuesAndReturnPages();
   // A mixed-precision product (bsmc/symmetric_multiply.h) narrowed the
   // values in place: they are not S's doubles until SetZero.
@@ -146,7 +161,8 @@ class BsmcMatrix {
   std::vector<int64_t> row_begin_{0};
   std::vector<int32_t> block_col_;
   std::vector<int64_t> value_offset_{0};
-  std::vector<double> values_;
+  std::vector<double> values_;  // storage of their own
+  double* placed_ = nullptr;     // or lent (PlaceValues)
   bool values_narrowed_ = false;
   bool values_zero_ = false;  // given back since the last SetZero
 };

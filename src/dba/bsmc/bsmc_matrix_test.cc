@@ -109,7 +109,7 @@ TEST(BsmcMatrix, StructureAloneSizesItsValues) {
   m.AllocateValues();
   EXPECT_TRUE(m.has_values());
   const BsmcMatrix full = BsmcMatrix::BuildFromPattern(sizes, pattern);
-  EXPECT_EQ(m.values(), full.values());
+  EXPECT_TRUE(std::ranges::equal(m.values(), full.values()));
   EXPECT_EQ(m.StructureBytes(), full.StructureBytes());
 }
 
@@ -164,4 +164,32 @@ TEST(BsmcMatrix, PackedBlockIdsRoundTripNearInt32Max) {
 }
 
 }  // namespace
+// Values at a lent place: read and written there, left there by
+// ZeroValuesAndReturnPages (the lender's pages) and zeroed by the next
+// SetZero; placed back in storage of their own, zero.
+TEST(BsmcMatrix, LentValuesLiveAtTheLentPlace) {
+  const std::vector<uint64_t> pattern = {PackBlock(0, 0), PackBlock(0, 1), PackBlock(1, 1)};
+  BsmcMatrix m = BsmcMatrix::BuildFromPattern({2, 3}, pattern);
+  std::vector<double> place(m.num_values() + 1, 5.0);
+  m.PlaceValues(place.data());
+  EXPECT_TRUE(m.values_placed());
+  EXPECT_TRUE(m.has_values());
+  EXPECT_EQ(m.values().data(), place.data());
+  EXPECT_EQ(m.values().size(), static_cast<size_t>(m.num_values()));
+  EXPECT_EQ(m.block_values(1), place.data() + 4);
+  m.SetZero();
+  EXPECT_EQ(std::count(place.begin(), place.end(), 0.0), m.num_values());
+  EXPECT_EQ(place.back(), 5.0);  // nothing written past the values
+  m.block_values(2)[8] = 2.0;
+  m.ZeroValuesAndReturnPages();
+  EXPECT_EQ(place[m.num_values() - 1], 2.0);
+  std::fill(place.begin(), place.end(), 4.0);  // the lender's meanwhile
+  m.SetZero();
+  EXPECT_EQ(std::count(place.begin(), place.end(), 0.0), m.num_values());
+  m.PlaceValues(nullptr);
+  EXPECT_FALSE(m.values_placed());
+  EXPECT_NE(m.values().data(), place.data());
+  EXPECT_TRUE(std::ranges::all_of(m.values(), [](double v) { return v == 0.0; }));
+}
+
 }  // namespace dba

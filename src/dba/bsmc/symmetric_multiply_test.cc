@@ -2,6 +2,7 @@
 // (including the spill buffers of the multithreaded path).
 #include "dba/bsmc/symmetric_multiply.h"
 
+#include <algorithm>
 #include <gtest/gtest.h>
 
 #include <random>
@@ -91,7 +92,7 @@ void ExpectMixedMatchesNarrowedDense(BsmcMatrix m, int threads) {
   const Eigen::VectorXd x = RandomVector(m.num_rows(), 5);
   const Eigen::VectorXd expected = narrowed * x;
   SymmetricMultiplier multiplier(m, threads, ProductPrecision::kMixed);
-  const std::vector<double> formed = m.values();
+  const std::vector<double> formed(m.values().begin(), m.values().end());
   // Twice: the second time after S is re-formed (zeroed, filled again),
   // with the pages of S and of the diagonal copy given back in between (as
   // between LM iterations; Narrow gives back the values' rear half itself).
@@ -101,7 +102,7 @@ void ExpectMixedMatchesNarrowedDense(BsmcMatrix m, int threads) {
       m.ZeroValuesAndReturnPages();
       m.SetZero();
       EXPECT_FALSE(m.values_narrowed());
-      m.values() = formed;
+      std::ranges::copy(formed, m.values().begin());
     }
     multiplier.Narrow(&m);
     EXPECT_TRUE(m.values_narrowed());
@@ -141,7 +142,7 @@ TEST(SymmetricMultiply, MixedTurnedDoubleIsTheDoubleProduct) {
   o.sizes = {9};
   o.band = 20;
   BsmcMatrix m = testing::MakeRandomBsmc(o);
-  const std::vector<double> formed = m.values();
+  const std::vector<double> formed(m.values().begin(), m.values().end());
   const Eigen::VectorXd x = RandomVector(m.num_rows(), 7);
   SymmetricMultiplier mixed(m, 2, ProductPrecision::kMixed);
   mixed.Narrow(&m);
@@ -150,7 +151,7 @@ TEST(SymmetricMultiply, MixedTurnedDoubleIsTheDoubleProduct) {
   std::vector<double> x0(m.num_rows(), 1.0), y0(m.num_rows());
   EXPECT_THROW(mixed.Multiply(x0.data(), y0.data()), std::logic_error);  // floats
   m.SetZero();
-  m.values() = formed;
+  std::ranges::copy(formed, m.values().begin());
   EXPECT_THROW(mixed.Narrow(&m), std::logic_error);
   Eigen::VectorXd y(m.num_rows()), expected(m.num_rows());
   mixed.Multiply(x.data(), y.data());

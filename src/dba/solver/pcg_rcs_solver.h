@@ -41,8 +41,10 @@ class PcgRcsSolver : public RcsSolver {
 // with nullptr in their own storage; after a solve, ReturnSolvePages gives
 // the pages of their own storage back to the system until the next solve,
 // so that it is not held while the next RCS is formed.
-// Its size in doubles from S's structure, before a solver exists
-// (block-Jacobi or two-level: the inverses of the diagonal blocks).
+// Its size in doubles from S's structure, before a solver exists: the
+// inverses of the diagonal blocks, the copy, the vectors (a two-level
+// preconditioner's coarse matrix, about a tenth of the inverses, is not
+// counted: its size needs the aggregation).
 int64_t PcgSolveDoubles(const BsmcMatrix& S, ProductPrecision precision);
 void PlaceSolveStorage(double* place, Preconditioner* preconditioner,
                        SymmetricMultiplier* multiplier, PcgScratch* scratch, int64_t num_rows);

@@ -263,7 +263,7 @@ void TwoLevelPreconditioner::BuildCoarse(std::vector<int32_t> sizes, int num_thr
   for (int32_t i = 0, t = 1; i < n_ && t < threads; ++i) {
     if (S.row_end(i) * threads >= blocks * t) thread_rows_[t++] = i + 1;
   }
-  partial_.assign(threads - 1, std::vector<double>(coarse_.num_values()));
+  partial_.Resize((threads - 1) * coarse_.num_values());
   rc_.resize(coarse_.num_rows());
   // Apply's R: the rows preconditioned, grouped by aggregate, in increasing
   // order within each.
@@ -289,11 +289,13 @@ void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
   DBA_DCHECK(!S.values_narrowed());
   jacobi_.Update(S);
   const int threads = static_cast<int>(thread_rows_.size()) - 1;
+  const int64_t num_values = coarse_.num_values();
+  double* const partial = partial_.data();  // storage of its own: allocated here
 #pragma omp parallel num_threads(threads) if (threads > 1)
   {
     const int t = omp_get_thread_num();
-    double* sum = t == 0 ? coarse_.values().data() : partial_[t - 1].data();
-    std::fill(sum, sum + coarse_.num_values(), 0.0);
+    double* sum = t == 0 ? coarse_.values().data() : partial + (t - 1) * num_values;
+    std::fill(sum, sum + num_values, 0.0);
     // Row i's blocks that land in the same coarse block the same way (S's
     // columns are sorted, and an aggregate's cameras mostly neighbours) are
     // summed after the right half of the transform and take the left half
@@ -335,11 +337,13 @@ void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
   // The threads' sums in thread order: the same coarse matrix for any
   // schedule.
   double* c = coarse_.values().data();
-  for (std::vector<double>& p : partial_) {
-    for (int64_t k = 0; k < coarse_.num_values(); ++k) c[k] += p[k];
-    // Summed: its pages go back now, not beside the factorization and PCG.
-    ReturnPages(p.data(), static_cast<int64_t>(p.size() * sizeof(double)));
+  for (int t = 1; t < threads; ++t) {
+    const double* p = partial + (t - 1) * num_values;
+    for (int64_t k = 0; k < num_values; ++k) c[k] += p[k];
   }
+  // Summed: pages of its own go back now, not beside the factorization and
+  // PCG.
+  partial_.ReturnPages();
   coarse_ok_ = coarse_solver_->Factorize(coarse_);
 }
 
@@ -417,9 +421,21 @@ void TwoLevelPreconditioner::Apply(const double* r, double* z) const {
   if (failure) std::rethrow_exception(failure);
 }
 
+int64_t TwoLevelPreconditioner::NumericDoubles() const {
+  return jacobi_.NumericDoubles() + coarse_.num_values() + partial_.size();
+}
+
+void TwoLevelPreconditioner::PlaceNumeric(double* place) {
+  jacobi_.PlaceNumeric(place);
+  if (place != nullptr) place += jacobi_.NumericDoubles();
+  coarse_.PlaceValues(place);
+  partial_.Place(place == nullptr ? nullptr : place + coarse_.num_values());
+}
+
 void TwoLevelPreconditioner::ReturnNumericPages() {
   jacobi_.ReturnNumericPages();
-  ReturnPages(coarse_.values().data(), coarse_.ValueBytes());  // Update rewrites them
+  // Update rewrites them; lent ones are the lender's.
+  if (!coarse_.values_placed()) ReturnPages(coarse_.values().data(), coarse_.ValueBytes());
 }
 
 int64_t TwoLevelPreconditioner::MemoryBytes() const {
@@ -428,7 +444,7 @@ int64_t TwoLevelPreconditioner::MemoryBytes() const {
          static_cast<int64_t>(aggregate_.size() + aggregate_rows_.size() +
                               aggregate_row_begin_.size() + own_aggregates_.size()) * 4 +
          static_cast<int64_t>(bases_.size() * sizeof(CoarseRowBasis)) +
-         static_cast<int64_t>(partial_.size()) * coarse_.num_values() * 8;
+         partial_.size() * 8;
 }
 
 }  // namespace dba

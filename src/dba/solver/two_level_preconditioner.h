@@ -32,6 +32,7 @@
 #include <memory>
 #include <vector>
 
+#include "dba/common/placed_doubles.h"
 #include "dba/solver/block_jacobi.h"
 #include "dba/solver/coarse_row_basis.h"
 #include "dba/solver/preconditioner.h"
@@ -83,12 +84,14 @@ class TwoLevelPreconditioner : public Preconditioner {
   void Apply(const double* r, double* z) const override;
   int64_t MemoryBytes() const override;
   void ReturnNumericPages() override;
-  // Block-Jacobi's inverses; the coarse matrix and its factor are its own.
-  int64_t NumericDoubles() const override { return jacobi_.NumericDoubles(); }
-  void PlaceNumeric(double* place) override { jacobi_.PlaceNumeric(place); }
+  // Block-Jacobi's inverses, the coarse matrix's values and the threads'
+  // partial sums of them (the coarse factor is the coarse solver's own).
+  int64_t NumericDoubles() const override;
+  void PlaceNumeric(double* place) override;
 
   int32_t num_aggregates() const { return coarse_.num_block_rows(); }
-  // The coarse matrix R S Rᵀ as last updated (for tests).
+  // The coarse matrix R S Rᵀ as last updated (for tests; its values only
+  // while the place lent for them is not the lender's again).
   const BsmcMatrix& coarse() const { return coarse_; }
   const std::vector<int32_t>& aggregate() const { return aggregate_; }
   // The bases in use: those given, less the scale of rows alone in their
@@ -119,7 +122,7 @@ class TwoLevelPreconditioner : public Preconditioner {
   std::vector<uint8_t> mirrored_;       // S block i < j in one aggregate: also add Sᵀ
   std::vector<CoarseRowBasis> bases_;   // empty: identity
   std::vector<int32_t> thread_rows_;    // Update: thread t sums rows [t], [t + 1]
-  std::vector<std::vector<double>> partial_;  // Update: threads 1.. sum here
+  PlacedDoubles partial_;  // Update: threads 1.. sum here, a coarse matrix's values each
   std::vector<int32_t> aggregate_row_begin_;  // Apply: aggregate a's rows are
   std::vector<int32_t> aggregate_rows_;       //   [begin[a], begin[a + 1]) of these
   std::vector<int32_t> own_aggregates_;       // Apply: the aggregates with rows here
