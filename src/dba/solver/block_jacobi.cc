@@ -12,8 +12,6 @@
 
 namespace dba {
 
-using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
 BlockJacobiPreconditioner::BlockJacobiPreconditioner(const BsmcMatrix& S, int num_threads,
                                                      int32_t num_block_rows)
     : S_(S),
@@ -29,29 +27,42 @@ BlockJacobiPreconditioner::BlockJacobiPreconditioner(const BsmcMatrix& S, int nu
 }
 
 void BlockJacobiPreconditioner::Update(const BsmcMatrix& S) {
+  AllocateNumeric();
+  const int threads = n_ > 256 ? std::max(num_threads_, 1) : 1;
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    const int t = omp_get_thread_num(), team = omp_get_num_threads();
+    UpdateRows(S, static_cast<int32_t>(int64_t{n_} * t / team),
+               static_cast<int32_t>(int64_t{n_} * (t + 1) / team));
+  }
+}
+
+// S_ii⁻¹ by Cholesky; a block that is not positive definite by LDLT with
+// pivoting, or the inverse of its diagonal if that fails too. Fixed-size
+// code for the camera models' blocks (no allocation per block).
+void BlockJacobiPreconditioner::UpdateRows(const BsmcMatrix& S, int32_t begin, int32_t end) {
   DBA_DCHECK(!S.values_narrowed());
-  const int32_t n = n_;
   double* inverse = inverse_.data();
-#pragma omp parallel for num_threads(num_threads_) schedule(static) if (n > 256)
-  for (int32_t i = 0; i < n; ++i) {
+  for (int32_t i = begin; i < end; ++i) {
     const int c = S.block_size(i);
-    Eigen::Map<const RowMat> block(S.block_values(S.diagonal_block(i)), c, c);
-    Eigen::Map<RowMat> inv(inverse + offset_[i], c, c);
-    const RowMat identity = RowMat::Identity(c, c);
-    Eigen::LLT<RowMat> llt(block);
-    if (llt.info() == Eigen::Success) {
-      inv = llt.solve(identity);
-      continue;
-    }
-    Eigen::LDLT<RowMat> ldlt(block);
-    if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
-      inv = ldlt.solve(identity);
-      continue;
-    }
-    inv.setZero();
-    for (int d = 0; d < c; ++d) {
-      inv(d, d) = block(d, d) > 0 ? 1.0 / block(d, d) : 1.0;
-    }
+    WithSquareBlockSize(c, [&]<int N>() {
+      using Mat = Eigen::Matrix<double, N, N, Eigen::RowMajor>;
+      const Eigen::Map<const Mat> block(S.block_values(S.diagonal_block(i)), c, c);
+      Eigen::Map<Mat> inv(inverse + offset_[i], c, c);
+      const Mat identity = Mat::Identity(c, c);
+      const Eigen::LLT<Mat> llt(block);
+      if (llt.info() == Eigen::Success) {
+        inv = llt.solve(identity);
+        return;
+      }
+      const Eigen::LDLT<Mat> ldlt(block);
+      if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
+        inv = ldlt.solve(identity);
+        return;
+      }
+      inv.setZero();
+      for (int d = 0; d < c; ++d) inv(d, d) = block(d, d) > 0 ? 1.0 / block(d, d) : 1.0;
+    });
   }
 }
 

@@ -24,6 +24,14 @@ class BlockJacobiPreconditioner : public Preconditioner {
   // definite is inverted by LDLT with pivoting, or replaced by the inverse of
   // its diagonal if that fails too).
   void Update(const BsmcMatrix& S) override;
+  // Update for block rows [begin, end) only, on the calling thread (for a
+  // team that shares out the rows itself), after AllocateNumeric on one
+  // thread.
+  void UpdateRows(const BsmcMatrix& S, int32_t begin, int32_t end);
+  int32_t num_block_rows() const { return n_; }
+  // The inverses' storage of its own allocated now (nothing where a place is
+  // lent), so that several threads may then UpdateRows.
+  void AllocateNumeric() { inverse_.data(); }
   void Apply(const double* r, double* z) const override;
   // z_i = S_ii⁻¹ r_i for share `part` of `parts` equal shares of the rows
   // only, on the calling thread.

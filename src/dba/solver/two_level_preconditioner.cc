@@ -7,6 +7,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <exception>
 #include <stdexcept>
 #include <string>
@@ -285,9 +286,41 @@ void TwoLevelPreconditioner::BuildCoarse(std::vector<int32_t> sizes, int num_thr
   num_threads_ = std::max(num_threads, 1);
 }
 
+// The coarse matrix summed over all threads, then its factorization
+// (serial: CHOLMOD on one BLAS thread, and on more than one rank the coarse
+// solver's messages, which FUNNELED MPI allows the main thread) on thread 0
+// while the others invert block-Jacobi's blocks, a chunk of rows at a time;
+// thread 0 takes chunks too once it has factorized. Each block's inverse is
+// the same whoever computes it.
 void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
   DBA_DCHECK(!S.values_narrowed());
-  jacobi_.Update(S);
+  SumCoarse(S);
+  jacobi_.AllocateNumeric();
+  const int32_t rows = jacobi_.num_block_rows();
+  constexpr int64_t kChunk = 4096;
+  std::atomic<int64_t> next{0};
+  std::exception_ptr failure;
+  const int threads = rows > 256 ? num_threads_ : 1;
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    if (omp_get_thread_num() == 0) {
+      // An exception may not leave the parallel region: kept, and rethrown
+      // after it.
+      try {
+        coarse_ok_ = coarse_solver_->Factorize(coarse_);
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    }
+    for (int64_t begin; (begin = next.fetch_add(kChunk)) < rows;) {
+      jacobi_.UpdateRows(S, static_cast<int32_t>(begin),
+                         static_cast<int32_t>(std::min<int64_t>(begin + kChunk, rows)));
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+}
+
+void TwoLevelPreconditioner::SumCoarse(const BsmcMatrix& S) {
   const int threads = static_cast<int>(thread_rows_.size()) - 1;
   const int64_t num_values = coarse_.num_values();
   double* const partial = partial_.data();  // storage of its own: allocated here
@@ -344,7 +377,6 @@ void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
   // Summed: pages of its own go back now, not beside the factorization and
   // PCG.
   partial_.ReturnPages();
-  coarse_ok_ = coarse_solver_->Factorize(coarse_);
 }
 
 // z = B⁻¹ r + Rᵀ (R S Rᵀ)⁻¹ R r. The two terms are independent: thread 0

@@ -111,6 +111,8 @@ class TwoLevelPreconditioner : public Preconditioner {
   }
   // The coarse pattern, its map from S's blocks, the threads' row split.
   void BuildCoarse(std::vector<int32_t> coarse_sizes, int num_threads);
+  // coarse_'s values: R S Rᵀ from S's.
+  void SumCoarse(const BsmcMatrix& S);
 
   const BsmcMatrix& S_;
   int32_t n_;  // rows preconditioned (a rank's own)

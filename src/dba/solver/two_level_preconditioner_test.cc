@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <map>
 #include <memory>
@@ -190,15 +192,52 @@ TEST(TwoLevelPreconditioner, ApplyIsTheSameOnAnyNumberOfThreads) {
   }
 }
 
-// A coarse solver that fails (as one whose rank was lost does).
+// Update's values at a place lent for them (block-Jacobi's inverses, the
+// coarse matrix, the second thread's partial sum of it): every lent double
+// written, and the same z as in storage of its own, before and after.
+TEST(TwoLevelPreconditioner, ALentPlaceGivesTheSameZAsItsOwnStorage) {
+  // Enough blocks (2 x 2^14) for Update to sum the coarse matrix on 2 threads.
+  const BsmcMatrix S = Spd(1500, 60, 5, {3, 6}, 0.5);
+  ASSERT_GE(S.num_blocks(), 2 << 14);
+  TwoLevelPreconditioner M(S, 6, 2);
+  int64_t inverses = 0;
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) inverses += int64_t{S.block_size(i)} * S.block_size(i);
+  // Thread 1's partial sum is a second coarse matrix.
+  EXPECT_EQ(M.NumericDoubles(), inverses + 2 * M.coarse().num_values());
+  const Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(S.num_rows(), -1.0, 3.0);
+  auto apply = [&](std::vector<double>* lent) {
+    M.PlaceNumeric(lent == nullptr ? nullptr : lent->data());
+    M.Update(S);
+    Eigen::VectorXd z(S.num_rows());
+    M.Apply(r.data(), z.data());
+    M.ReturnNumericPages();
+    return z;
+  };
+  const Eigen::VectorXd own = apply(nullptr);
+  std::vector<double> lent(M.NumericDoubles(), std::nan(""));
+  EXPECT_EQ(apply(&lent), own);
+  EXPECT_EQ(std::count_if(lent.begin(), lent.end(), [](double v) { return std::isnan(v); }), 0);
+  std::fill(lent.begin(), lent.end(), std::nan(""));  // the lender's again
+  EXPECT_EQ(apply(nullptr), own);
+}
+
+// A coarse solver that fails (as one whose rank was lost does), in its
+// solves or already in its factorization.
 class FailingCoarseSolver : public CholeskySolver {
  public:
-  bool Factorize(const BsmcMatrix&) override { return true; }
+  explicit FailingCoarseSolver(bool in_factorize = false) : in_factorize_(in_factorize) {}
+  bool Factorize(const BsmcMatrix&) override {
+    if (in_factorize_) throw std::runtime_error("coarse factorization failed");
+    return true;
+  }
   void SolveFactored(const double*, double*) override {
     throw std::runtime_error("coarse solve failed");
   }
   LinearSolverType type() const override { return LinearSolverType::kAuto; }
   int64_t MemoryBytes() const override { return 0; }
+
+ private:
+  bool in_factorize_;
 };
 
 // The coarse solve runs inside a parallel region; its exception still
@@ -214,6 +253,10 @@ TEST(TwoLevelPreconditioner, CoarseSolveFailureReachesTheCaller) {
   const Eigen::VectorXd r = Eigen::VectorXd::Ones(S.num_rows());
   Eigen::VectorXd z(S.num_rows());
   EXPECT_THROW(M.Apply(r.data(), z.data()), std::runtime_error);
+  // The factorization runs beside block-Jacobi's update: the same.
+  TwoLevelPreconditioner F(S, 2, S.num_block_rows(), whole.aggregate(), sizes, {},
+                           std::make_unique<FailingCoarseSolver>(true));
+  EXPECT_THROW(F.Update(S), std::runtime_error);
 }
 
 TEST(TwoLevelPreconditioner, PcgConvergesWithIt) {
