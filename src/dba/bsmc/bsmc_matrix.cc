@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "dba/common/memory.h"
 
@@ -14,6 +15,47 @@ BsmcMatrix BsmcMatrix::BuildFromPattern(std::vector<int32_t> block_sizes,
   BsmcMatrix m = BuildStructure(std::move(block_sizes), sorted_blocks);
   m.AllocateValues();
   return m;
+}
+
+BsmcMatrix::BsmcMatrix(const BsmcMatrix& other)
+    : block_size_(other.block_size_),
+      scalar_offset_(other.scalar_offset_),
+      row_begin_(other.row_begin_),
+      block_col_(other.block_col_),
+      value_offset_(other.value_offset_),
+      values_(other.values().begin(), other.values().end()),
+      values_narrowed_(other.values_narrowed_),
+      values_zero_(other.values_zero_) {}
+
+BsmcMatrix& BsmcMatrix::operator=(const BsmcMatrix& other) {
+  if (this != &other) *this = BsmcMatrix(other);
+  return *this;
+}
+
+BsmcMatrix::BsmcMatrix(BsmcMatrix&& other) noexcept
+    : block_size_(std::move(other.block_size_)),
+      scalar_offset_(std::move(other.scalar_offset_)),
+      row_begin_(std::move(other.row_begin_)),
+      block_col_(std::move(other.block_col_)),
+      value_offset_(std::move(other.value_offset_)),
+      values_(std::move(other.values_)),
+      placed_(std::exchange(other.placed_, nullptr)),
+      values_narrowed_(other.values_narrowed_),
+      values_zero_(other.values_zero_) {}
+
+BsmcMatrix& BsmcMatrix::operator=(BsmcMatrix&& other) noexcept {
+  if (this != &other) {
+    block_size_ = std::move(other.block_size_);
+    scalar_offset_ = std::move(other.scalar_offset_);
+    row_begin_ = std::move(other.row_begin_);
+    block_col_ = std::move(other.block_col_);
+    value_offset_ = std::move(other.value_offset_);
+    values_ = std::move(other.values_);
+    placed_ = std::exchange(other.placed_, nullptr);
+    values_narrowed_ = other.values_narrowed_;
+    values_zero_ = other.values_zero_;
+  }
+  return *this;
 }
 
 void BsmcMatrix::AllocateValues() {

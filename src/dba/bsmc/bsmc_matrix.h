@@ -39,6 +39,12 @@ inline int32_t PackedCol(uint64_t p) {
 class BsmcMatrix {
  public:
   BsmcMatrix() = default;
+  // A copy holds its values in storage of its own (lent ones copied); a
+  // move takes the place lent with it.
+  BsmcMatrix(const BsmcMatrix& other);
+  BsmcMatrix& operator=(const BsmcMatrix& other);
+  BsmcMatrix(BsmcMatrix&& other) noexcept;
+  BsmcMatrix& operator=(BsmcMatrix&& other) noexcept;
 
   // Symbolic phase. `block_sizes[i]` is the size of block row i;
   // `sorted_blocks` holds every stored block (row <= col) packed with
@@ -62,7 +68,8 @@ class BsmcMatrix {
   }
   // The values at a place the caller lends (num_values() doubles, whose
   // contents are lost) instead of storage of their own, which is freed;
-  // nullptr: storage of their own again, allocated zero. Writers start with
+  // nullptr: storage of their own again (allocated, zero, if the values were
+  // placed; else as they are). Writers start with
   // SetZero as always; the lender's pages are never given back from here
   // (ZeroValuesAndReturnPages leaves them to the next SetZero).
   void PlaceValues(double* place);

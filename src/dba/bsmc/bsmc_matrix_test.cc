@@ -186,6 +186,17 @@ TEST(BsmcMatrix, LentValuesLiveAtTheLentPlace) {
   std::fill(place.begin(), place.end(), 4.0);  // the lender's meanwhile
   m.SetZero();
   EXPECT_EQ(std::count(place.begin(), place.end(), 0.0), m.num_values());
+  // A copy holds its own values; a move takes the place with it.
+  m.block_values(0)[1] = 7.0;
+  const BsmcMatrix copy = m;
+  EXPECT_FALSE(copy.values_placed());
+  EXPECT_NE(copy.values().data(), place.data());
+  EXPECT_TRUE(std::ranges::equal(copy.values(), m.values()));
+  BsmcMatrix moved = std::move(m);
+  EXPECT_EQ(moved.values().data(), place.data());
+  m = std::move(moved);
+  EXPECT_FALSE(moved.values_placed());  // NOLINT(bugprone-use-after-move): moved from
+  EXPECT_EQ(m.values().data(), place.data());
   m.PlaceValues(nullptr);
   EXPECT_FALSE(m.values_placed());
   EXPECT_NE(m.values().data(), place.data());

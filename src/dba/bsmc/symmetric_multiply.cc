@@ -160,8 +160,9 @@ inline void ApplyOffDiagonal(const T* block, int r, int c, const double* x_j, co
 // less the diagonal values of rows 0..i).
 struct DoubleValues {
   const BsmcMatrix& m;
-  const double* diagonal(int32_t i) const { return m.block_values(m.row_begin(i)); }
-  const double* off_diagonal(int32_t, int64_t b) const { return m.block_values(b); }
+  const double* values = m.values().data();
+  const double* diagonal(int32_t i) const { return values + m.value_offset(m.row_begin(i)); }
+  const double* off_diagonal(int32_t, int64_t b) const { return values + m.value_offset(b); }
 };
 struct NarrowedValues {
   const BsmcMatrix& m;

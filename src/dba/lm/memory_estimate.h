@@ -62,7 +62,7 @@ struct MemoryEstimate {
   // One process, PCG: the part of linear_solver placed in the candidate
   // points' buffer, idle during the solve (LocalPointWorkers::
   // MakeDampedRcsSolver, the same test less the two-level coarse matrix,
-  // which the estimate leaves out: where that tips the balance, about 5% of
+  // which the estimate leaves out: where that tips the balance, about 3% of
   // the storage, it counts a lending the solver does not make), which is
   // then held throughout; 0 where it does not fit.
   int64_t lent = 0;

@@ -21,8 +21,9 @@ class Preconditioner {
   // z = M⁻¹ r.
   virtual void Apply(const double* r, double* z) const = 0;
   virtual int64_t MemoryBytes() const = 0;
-  // What Update computes afresh each time, its values for the Applys after
-  // it (e.g. block-Jacobi's inverses): NumericDoubles() doubles, placed
+  // What Update computes afresh each time (e.g. block-Jacobi's inverses,
+  // for the Applys after it; a coarse matrix's values, for its
+  // factorization): NumericDoubles() doubles, placed
   // where the caller lends them for the next Update and its Applys
   // (PlaceNumeric; nullptr: storage of its own again), else in storage of
   // its own, allocated at the first Update.

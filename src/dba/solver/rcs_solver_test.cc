@@ -155,10 +155,10 @@ TEST(PcgSolver, ALentPlaceGivesTheSameStepAsItsOwnStorage) {
         diagonal += int64_t{formed.block_size(i)} * formed.block_size(i);
       }
       // The inverses, the diagonal copy (mixed), r, z, d and S d; two-level:
-      // its coarse matrix (and the threads' partial sums of it).
+      // its coarse matrix.
       const int64_t coarse =
           preconditioner == PreconditionerType::kTwoLevel
-              ? TwoLevelPreconditioner(formed, 8, options.pcg.num_threads).NumericDoubles() - diagonal
+              ? TwoLevelPreconditioner(formed, 8, options.pcg.num_threads).coarse().num_values()
               : 0;
       EXPECT_EQ(solver->PerSolveDoubles(),
                 diagonal * (precision == PcgPrecision::kMixed ? 2 : 1) + 4 * n + coarse);

@@ -323,10 +323,11 @@ void TwoLevelPreconditioner::Update(const BsmcMatrix& S) {
 void TwoLevelPreconditioner::SumCoarse(const BsmcMatrix& S) {
   const int threads = static_cast<int>(thread_rows_.size()) - 1;
   const int64_t num_values = coarse_.num_values();
-  double* const partial = partial_.data();  // storage of its own: allocated here
+  double* const partial = partial_.data();  // allocated here
+  // Part t (rows thread_rows_[t] to [t + 1]) sums into its own array, on
+  // whichever thread the team gives it (a team may be smaller than asked).
 #pragma omp parallel num_threads(threads) if (threads > 1)
-  {
-    const int t = omp_get_thread_num();
+  for (int t = omp_get_thread_num(); t < threads; t += omp_get_num_threads()) {
     double* sum = t == 0 ? coarse_.values().data() : partial + (t - 1) * num_values;
     std::fill(sum, sum + num_values, 0.0);
     // Row i's blocks that land in the same coarse block the same way (S's
@@ -367,8 +368,7 @@ void TwoLevelPreconditioner::SumCoarse(const BsmcMatrix& S) {
       }
     }
   }
-  // The threads' sums in thread order: the same coarse matrix for any
-  // schedule.
+  // The parts' sums in order: the same coarse matrix for any schedule.
   double* c = coarse_.values().data();
   for (int t = 1; t < threads; ++t) {
     const double* p = partial + (t - 1) * num_values;
@@ -454,14 +454,12 @@ void TwoLevelPreconditioner::Apply(const double* r, double* z) const {
 }
 
 int64_t TwoLevelPreconditioner::NumericDoubles() const {
-  return jacobi_.NumericDoubles() + coarse_.num_values() + partial_.size();
+  return jacobi_.NumericDoubles() + coarse_.num_values();
 }
 
 void TwoLevelPreconditioner::PlaceNumeric(double* place) {
   jacobi_.PlaceNumeric(place);
-  if (place != nullptr) place += jacobi_.NumericDoubles();
-  coarse_.PlaceValues(place);
-  partial_.Place(place == nullptr ? nullptr : place + coarse_.num_values());
+  coarse_.PlaceValues(place == nullptr ? nullptr : place + jacobi_.NumericDoubles());
 }
 
 void TwoLevelPreconditioner::ReturnNumericPages() {

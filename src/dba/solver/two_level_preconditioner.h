@@ -84,8 +84,10 @@ class TwoLevelPreconditioner : public Preconditioner {
   void Apply(const double* r, double* z) const override;
   int64_t MemoryBytes() const override;
   void ReturnNumericPages() override;
-  // Block-Jacobi's inverses, the coarse matrix's values and the threads'
-  // partial sums of them (the coarse factor is the coarse solver's own).
+  // Block-Jacobi's inverses and the coarse matrix's values (the coarse
+  // factor is the coarse solver's own; the threads' partial sums of the
+  // coarse matrix are too, given back as soon as summed: their number
+  // grows with the threads, and the place lent must not).
   int64_t NumericDoubles() const override;
   void PlaceNumeric(double* place) override;
 
@@ -123,8 +125,8 @@ class TwoLevelPreconditioner : public Preconditioner {
   std::vector<uint8_t> transposed_;     // S block lands transposed
   std::vector<uint8_t> mirrored_;       // S block i < j in one aggregate: also add Sᵀ
   std::vector<CoarseRowBasis> bases_;   // empty: identity
-  std::vector<int32_t> thread_rows_;    // Update: thread t sums rows [t], [t + 1]
-  PlacedDoubles partial_;  // Update: threads 1.. sum here, a coarse matrix's values each
+  std::vector<int32_t> thread_rows_;    // Update: part t sums rows [t], [t + 1]
+  PlacedDoubles partial_;  // Update: parts 1.. sum here, a coarse matrix's values each
   std::vector<int32_t> aggregate_row_begin_;  // Apply: aggregate a's rows are
   std::vector<int32_t> aggregate_rows_;       //   [begin[a], begin[a + 1]) of these
   std::vector<int32_t> own_aggregates_;       // Apply: the aggregates with rows here

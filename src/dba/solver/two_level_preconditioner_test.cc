@@ -3,6 +3,7 @@
 #include "dba/solver/two_level_preconditioner.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -193,8 +194,9 @@ TEST(TwoLevelPreconditioner, ApplyIsTheSameOnAnyNumberOfThreads) {
 }
 
 // Update's values at a place lent for them (block-Jacobi's inverses, the
-// coarse matrix, the second thread's partial sum of it): every lent double
-// written, and the same z as in storage of its own, before and after.
+// coarse matrix; the second thread's partial sum of it stays its own):
+// every lent double written, and the same z as in storage of its own,
+// before and after.
 TEST(TwoLevelPreconditioner, ALentPlaceGivesTheSameZAsItsOwnStorage) {
   // Enough blocks (2 x 2^14) for Update to sum the coarse matrix on 2 threads.
   const BsmcMatrix S = Spd(1500, 60, 5, {3, 6}, 0.5);
@@ -202,8 +204,7 @@ TEST(TwoLevelPreconditioner, ALentPlaceGivesTheSameZAsItsOwnStorage) {
   TwoLevelPreconditioner M(S, 6, 2);
   int64_t inverses = 0;
   for (int32_t i = 0; i < S.num_block_rows(); ++i) inverses += int64_t{S.block_size(i)} * S.block_size(i);
-  // Thread 1's partial sum is a second coarse matrix.
-  EXPECT_EQ(M.NumericDoubles(), inverses + 2 * M.coarse().num_values());
+  EXPECT_EQ(M.NumericDoubles(), inverses + M.coarse().num_values());
   const Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(S.num_rows(), -1.0, 3.0);
   auto apply = [&](std::vector<double>* lent) {
     M.PlaceNumeric(lent == nullptr ? nullptr : lent->data());
@@ -219,6 +220,34 @@ TEST(TwoLevelPreconditioner, ALentPlaceGivesTheSameZAsItsOwnStorage) {
   EXPECT_EQ(std::count_if(lent.begin(), lent.end(), [](double v) { return std::isnan(v); }), 0);
   std::fill(lent.begin(), lent.end(), std::nan(""));  // the lender's again
   EXPECT_EQ(apply(nullptr), own);
+}
+
+// Update given a smaller team than it asks for (here: inside another
+// parallel region, nested regions inactive, so a team of one) still sums
+// every part of the coarse matrix: the same z.
+TEST(TwoLevelPreconditioner, UpdateOnASmallerTeamGivesTheSameZ) {
+  const BsmcMatrix S = Spd(1500, 60, 5, {3, 6}, 0.5);
+  ASSERT_GE(S.num_blocks(), 2 << 14);  // two parts of the coarse sum
+  const Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(S.num_rows(), -1.0, 3.0);
+  TwoLevelPreconditioner M(S, 6, 2);
+  M.Update(S);
+  Eigen::VectorXd expected(S.num_rows()), z(S.num_rows());
+  M.Apply(r.data(), expected.data());
+  const int levels = omp_get_max_active_levels();
+  omp_set_max_active_levels(1);
+  int inner_team = 0;
+#pragma omp parallel num_threads(2)
+#pragma omp single
+  {
+#pragma omp parallel num_threads(2)
+#pragma omp single
+    inner_team = omp_get_num_threads();
+    M.Update(S);
+    M.Apply(r.data(), z.data());
+  }
+  omp_set_max_active_levels(levels);
+  EXPECT_EQ(inner_team, 1);
+  EXPECT_EQ(z, expected);
 }
 
 // A coarse solver that fails (as one whose rank was lost does), in its
