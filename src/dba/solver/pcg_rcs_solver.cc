@@ -65,12 +65,12 @@ int64_t PcgRcsSolver::PerSolveDoubles() const {
 
 void PlaceSolveStorage(double* place, Preconditioner* preconditioner,
                        SymmetricMultiplier* multiplier, PcgScratch* scratch, int64_t num_rows) {
-  const int64_t inverses = preconditioner->NumericDoubles();
+  const int64_t numeric = preconditioner->NumericDoubles();
   const int64_t diagonal = multiplier->DiagonalDoubles();
   preconditioner->PlaceNumeric(place);
-  multiplier->PlaceDiagonal(place == nullptr ? nullptr : place + inverses);
+  multiplier->PlaceDiagonal(place == nullptr ? nullptr : place + numeric);
   scratch->Resize(num_rows);
-  scratch->vectors.Place(place == nullptr ? nullptr : place + inverses + diagonal);
+  scratch->vectors.Place(place == nullptr ? nullptr : place + numeric + diagonal);
 }
 
 void ReturnSolvePages(Preconditioner* preconditioner, SymmetricMultiplier* multiplier,

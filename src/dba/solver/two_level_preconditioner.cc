@@ -1,7 +1,6 @@
 // Two-level additive preconditioner M⁻¹ = B⁻¹ + Rᵀ (R S Rᵀ)⁻¹ R; see
 // two_level_preconditioner.h.
 #include "dba/common/check.h"
-#include "dba/common/memory.h"
 #include "dba/solver/two_level_preconditioner.h"
 
 #include <omp.h>
@@ -329,7 +328,11 @@ void TwoLevelPreconditioner::SumCoarse(const BsmcMatrix& S) {
 #pragma omp parallel num_threads(threads) if (threads > 1)
   for (int t = omp_get_thread_num(); t < threads; t += omp_get_num_threads()) {
     double* sum = t == 0 ? coarse_.values().data() : partial + (t - 1) * num_values;
-    std::fill(sum, sum + num_values, 0.0);
+    if (t == 0) {
+      coarse_.SetZero();  // nothing to write where its pages were given back
+    } else {
+      std::fill(sum, sum + num_values, 0.0);
+    }
     // Row i's blocks that land in the same coarse block the same way (S's
     // columns are sorted, and an aggregate's cameras mostly neighbours) are
     // summed after the right half of the transform and take the left half
@@ -464,8 +467,7 @@ void TwoLevelPreconditioner::PlaceNumeric(double* place) {
 
 void TwoLevelPreconditioner::ReturnNumericPages() {
   jacobi_.ReturnNumericPages();
-  // Update rewrites them; lent ones are the lender's.
-  if (!coarse_.values_placed()) ReturnPages(coarse_.values().data(), coarse_.ValueBytes());
+  coarse_.ZeroValuesAndReturnPages();  // SumCoarse rewrites them; lent ones stay the lender's
 }
 
 int64_t TwoLevelPreconditioner::MemoryBytes() const {
