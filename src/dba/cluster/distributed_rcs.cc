@@ -331,6 +331,7 @@ class DistributedRcs::Operator : public PcgOperator {
   void SumOverRanks(std::span<double> partial) const override {
     rcs_->comm_->AllreduceSum(Traffic::kReduction, partial);
   }
+  bool SumsOverRanks() const override { return rcs_->comm_->size() > 1; }
 
  private:
   const DistributedRcs* rcs_;
@@ -511,7 +512,7 @@ DistributedRcs::DistributedRcs(Communicator* comm, std::vector<int32_t> global_b
   }
   operator_ = std::make_unique<Operator>(this);
   options_.pcg.num_threads = options_.num_threads;
-  scratch_.Resize(own_scalars);
+  scratch_.Resize(own_scalars, kOneReductionPcgVectors);
   delta_.assign(own_scalars, 0.0);
   x_ext_.assign(S_.num_rows(), 0.0);
   y_ext_.assign(S_.num_rows(), 0.0);

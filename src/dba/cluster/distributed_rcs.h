@@ -13,7 +13,8 @@
 //              columns its rows touch from their owners (the halo), applies
 //              its blocks both ways over its rows and the halo, and returns
 //              the halo's transposed partial sums to their owners. Dot
-//              products: two fused all-reduces per iteration. The
+//              products: one fused all-reduce per iteration (PCG's
+//              predict-and-recompute form, solver/pcg.h). The
 //              preconditioner: block-Jacobi on each rank's own rows, plus (two-
 //              level, the default) a coarse correction over aggregates of a
 //              rank's own rows, the coarse matrix summed and factorized on

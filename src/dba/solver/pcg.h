@@ -5,6 +5,30 @@
 //   α_k = r_kᵀ z_k / d_kᵀ S d_k,  y += α d,  r -= α S d
 //   z = M⁻¹ r,  β = r_{k+1}ᵀ z_{k+1} / r_kᵀ z_k,  d = z + β d
 //
+// In one process, in this (Hestenes and Stiefel's) form. Where the sums go
+// over ranks (cluster/distributed_rcs.h), in the predict-and-recompute form
+// of Meurant ("Multitasking the conjugate gradient method on the CRAY
+// X-MP/48", Parallel Computing 5, 1987), as Chen and Carson analyse it
+// ("Predict-and-recompute conjugate gradient variants", SIAM J. Sci.
+// Comput. 42(5), 2020): z follows its own recurrence z -= α M⁻¹S d (M is
+// applied to S d instead of r), and
+//
+//   r_{k+1}ᵀ z_{k+1} = α_k² (S d_k)ᵀ M⁻¹ S d_k - r_kᵀ z_k
+//
+// predicts β with no sum of its own, so every sum of an iteration (dᵀSd,
+// (Sd)ᵀM⁻¹Sd, rᵀz recomputed for α, and the stopping tests' rᵀr, yᵀb, yᵀr)
+// goes in one all-reduce after the direction's product, against two in the
+// textbook form. Unlike Chronopoulos and Gear's one-reduction form (tried
+// and not kept: bench/README.md), S d is a product, not a recurrence. The
+// same products and preconditioner applications per iteration, one vector
+// more, and one product and application more per solve (the last
+// direction's, made before the tests that end it). One process keeps the
+// textbook form: it has no latency to save, and on the 120° fisheye
+// problem of tests/cli_generate.sh, whose tight solves stop at the
+// iteration cap, the textbook form's capped steps ended LM within 1e-11 of
+// the dense solve's cost, the one-reduction form's 1e-9 to 4e-9 above it in
+// three runs of four (other reset periods and tolerances).
+//
 // Inside Levenberg-Marquardt the linear system only has to be solved well
 // enough for the step to lower the model: the truncated-Newton stop of Nash
 // and Sofer ("Assessing a search direction within a truncated-Newton method",
@@ -14,15 +38,9 @@
 //   i · (Q_i - Q_{i-1}) / Q_i < η.
 //
 // A relative-residual test ‖r‖ ≤ tol ‖b‖ is kept as a second stop (for tight
-// solves), and the iteration cap only as a safety net. The recurrence for r
-// drifts from b - S y in floating point; it is recomputed every
-// `residual_reset_period` iterations.
-//
-// Distributed (cluster/distributed_rcs.h), each rank holds a slice of the
-// vectors and S's rows: PcgOperator's product exchanges what it needs, and
-// the dot products of an iteration are summed over the ranks in two fused
-// reductions, one for dᵀSd and one for rᵀr, yᵀb, yᵀr and rᵀz (the
-// preconditioner is applied before the stopping tests for that).
+// solves), and the iteration cap only as a safety net. The recurrences drift
+// from r = b - S y (and z = M⁻¹ r) in floating point: they are recomputed
+// every `residual_reset_period` iterations.
 //
 // Thread safety: one solve at a time per scratch and multiplier.
 #pragma once
@@ -118,11 +136,14 @@ struct PcgSummary {
   PcgStop stop = PcgStop::kIterationLimit;
 };
 
-// Vectors PCG needs (r, z, d, S d: 4 n doubles), owned by the caller and
-// reused across solves, or placed where the caller lends them for a solve.
+// Vectors PCG needs (r, z, d, S d: kPcgVectors n doubles; the one-reduction
+// form also M⁻¹S d), owned by the caller and reused across solves, or placed
+// where the caller lends them for a solve.
+constexpr int kPcgVectors = 4;
+constexpr int kOneReductionPcgVectors = 5;
 struct PcgScratch {
   PlacedDoubles vectors;
-  void Resize(int64_t n) { vectors.Resize(4 * n); }
+  void Resize(int64_t n, int count = kPcgVectors) { vectors.Resize(count * n); }
   // Their pages back to the system between solves (each solve rewrites them).
   void ReturnPages() { vectors.ReturnPages(); }
 };
@@ -136,6 +157,9 @@ class PcgOperator {
   virtual void Multiply(const double* x, double* y) const = 0;
   // In place: each partial sum summed over the ranks (one reduction).
   virtual void SumOverRanks(std::span<double> partial) const { (void)partial; }
+  // True where SumOverRanks communicates: SolvePcg then makes one reduction
+  // per iteration (the predict-and-recompute form).
+  virtual bool SumsOverRanks() const { return false; }
 };
 
 // S in one process.

@@ -32,9 +32,9 @@ int64_t PcgSolveDoubles(const BsmcMatrix& S, ProductPrecision precision) {
     diagonal += int64_t{S.block_size(i)} * S.block_size(i);
   }
   // The block-Jacobi inverse, for a mixed product the diagonal in double,
-  // the four vectors.
+  // PCG's vectors.
   const int64_t copies = precision == ProductPrecision::kMixed ? 2 : 1;
-  return copies * diagonal + 4 * S.num_rows();
+  return copies * diagonal + kPcgVectors * S.num_rows();
 }
 
 int64_t PcgPathBytes(const BsmcMatrix& S, ProductPrecision precision) {
@@ -60,7 +60,7 @@ LinearSolveSummary PcgRcsSolver::Solve(BsmcMatrix& S, const double* b, double* x
 int64_t PcgRcsSolver::PerSolveDoubles() const {
   // What PlaceSolveStorage lays out.
   return preconditioner_->NumericDoubles() + multiplier_.DiagonalDoubles() +
-         4 * multiplier_.num_rows();
+         kPcgVectors * multiplier_.num_rows();
 }
 
 void PlaceSolveStorage(double* place, Preconditioner* preconditioner,

@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <random>
 
 #include "dba/testing/dense_reference.h"
@@ -172,6 +174,112 @@ TEST(Pcg, NashSoferWaitsForTheMinimumIterations) {
     EXPECT_EQ(s.stop, PcgStop::kQuadraticModel) << "min " << min;
     EXPECT_EQ(s.iterations, min) << "min " << min;
   }
+}
+
+// S in one process, posing as spread over ranks (so SolvePcg takes the
+// one-reduction form), counting its products and reductions.
+class CountingOperator : public LocalPcgOperator {
+ public:
+  using LocalPcgOperator::LocalPcgOperator;
+  bool SumsOverRanks() const override { return true; }
+  void Multiply(const double* x, double* y) const override {
+    ++products;
+    LocalPcgOperator::Multiply(x, y);
+  }
+  void SumOverRanks(std::span<double> partial) const override {
+    ++reductions;
+    (void)partial;
+  }
+  mutable int products = 0, reductions = 0;
+};
+
+// Over ranks: one all-reduce per PCG iteration (and one to start, and one
+// per residual reset), whatever stops the solve; one product per iteration,
+// plus the first direction's, plus one per residual reset.
+TEST(Pcg, OneReductionPerIteration) {
+  const BsmcMatrix S = SpdMatrix(8);
+  const SymmetricMultiplier multiplier(S, 1);
+  const BlockJacobiPreconditioner M = Jacobi(S, 1);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(S.num_rows(), -1.0, 2.0);
+  Eigen::VectorXd y(S.num_rows());
+  PcgScratch scratch;
+  for (double eta : {0.0, 0.1}) {
+    PcgOptions options;
+    options.eta = eta;
+    options.relative_tolerance = 1e-12;
+    options.residual_reset_period = 5;
+    const CountingOperator counting(multiplier);
+    const PcgSummary s = SolvePcg(counting, M, b.data(), y.data(), options, &scratch);
+    ASSERT_EQ(s.stop, eta > 0.0 ? PcgStop::kQuadraticModel : PcgStop::kResidual);
+    ASSERT_GE(s.iterations, eta > 0.0 ? 2 : 6);
+    EXPECT_EQ(counting.reductions, s.iterations + 1 + s.iterations / 5) << "eta " << eta;
+    EXPECT_EQ(counting.products, s.iterations + 1 + s.iterations / 5) << "eta " << eta;
+  }
+}
+
+// The one-reduction form (over ranks) takes the textbook form's iterates to
+// a tight residual on an ill-conditioned system: S shifted so that its smallest
+// eigenvalue is 1e-7 of its largest (a weak direction spread over every
+// block, which block-Jacobi cannot see), against a textbook PCG written out
+// in dense arithmetic beside it. (Chronopoulos and Gear's form, S d by
+// recurrence, lost this accuracy on the fisheye problem of
+// tests/cli_generate.sh.)
+TEST(Pcg, TightSolveOfAnIllConditionedSystemAsTheTextbookForm) {
+  BsmcMatrix S = SpdMatrix(9);
+  {
+    const Eigen::VectorXd eigenvalues =
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(testing::DenseFromBsmc(S)).eigenvalues();
+    const double shift = eigenvalues.minCoeff() - 1e-7 * eigenvalues.maxCoeff();
+    for (int32_t i = 0; i < S.num_block_rows(); ++i) {
+      const int c = S.block_size(i);
+      double* v = S.block_values(S.diagonal_block(i));
+      for (int k = 0; k < c; ++k) v[k * c + k] -= shift;
+    }
+  }
+  const Eigen::MatrixXd dense = testing::DenseFromBsmc(S);
+  const SymmetricMultiplier multiplier(S, 1);
+  const BlockJacobiPreconditioner M = Jacobi(S, 1);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(S.num_rows(), -1.0, 2.0);
+  // Textbook PCG, dense.
+  Eigen::MatrixXd Minv = Eigen::MatrixXd::Zero(dense.rows(), dense.cols());
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) {
+    const int64_t o = S.scalar_offset(i);
+    const int c = S.block_size(i);
+    Minv.block(o, o, c, c) = dense.block(o, o, c, c).inverse();
+  }
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size()), r = b, z = Minv * r, d = z;
+  double rz = r.dot(z);
+  int textbook = 0;
+  while (r.norm() > 1e-13 * b.norm() && textbook < 500) {
+    const Eigen::VectorXd Sd = dense * d;
+    const double alpha = rz / d.dot(Sd);
+    x += alpha * d;
+    r -= alpha * Sd;
+    z = Minv * r;
+    const double rz_new = r.dot(z);
+    d = z + (rz_new / rz) * d;
+    rz = rz_new;
+    ++textbook;
+  }
+  PcgOptions options;
+  options.eta = 0.0;
+  options.relative_tolerance = 1e-13;
+  options.residual_reset_period = 0;
+  Eigen::VectorXd y(S.num_rows());
+  PcgScratch scratch;
+  const PcgSummary s =
+      SolvePcg(CountingOperator(multiplier), M, b.data(), y.data(), options, &scratch);
+  EXPECT_EQ(s.stop, PcgStop::kResidual);
+  // At this condition number the count moves with rounding (the heap's
+  // alignment changes the vectorized sums' order: 42 to 53 seen, against
+  // the textbook's 52); it must not be much slower.
+  EXPECT_LE(s.iterations, textbook + textbook / 5);
+  EXPECT_LT((y - x).norm(), 1e-6 * x.norm());
+  // Both stop on their recurrences at 1e-13; the true residuals are about
+  // 1.7e-11 (rounding times the condition number) and must be alike.
+  const double textbook_true = (b - dense * x).norm(), ours_true = (b - dense * y).norm();
+  EXPECT_LT(ours_true, 2.0 * textbook_true);
+  EXPECT_LT(ours_true, 1e-10 * b.norm());
 }
 
 TEST(BlockJacobi, AppliesTheInverseOfEachDiagonalBlock) {

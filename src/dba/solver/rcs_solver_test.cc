@@ -161,7 +161,7 @@ TEST(PcgSolver, ALentPlaceGivesTheSameStepAsItsOwnStorage) {
               ? TwoLevelPreconditioner(formed, 8, options.pcg.num_threads).coarse().num_values()
               : 0;
       EXPECT_EQ(solver->PerSolveDoubles(),
-                diagonal * (precision == PcgPrecision::kMixed ? 2 : 1) + 4 * n + coarse);
+                diagonal * (precision == PcgPrecision::kMixed ? 2 : 1) + kPcgVectors * n + coarse);
       auto solve = [&](std::vector<double>* lent) {
         S.SetZero();
         std::ranges::copy(formed.values(), S.values().begin());
