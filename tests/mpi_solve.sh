@@ -296,10 +296,14 @@ else
   fail "FULL_OPENCV COLMAP -np 3: $(final_cost "$tmp/fo3.json") vs $(final_cost "$tmp/fo1.json")"
 fi
 
-# Camera priors: the main rank adds their terms to the global RCS. A BAL
-# text survey on 1 and 4 ranks and a photogrammetric .dba on 2 and 4 ranks
-# (georeferenced, rank 0 reads either, aligns it onto the priors and hands
-# it out): the same optimum with defaults (1e-5).
+# Camera priors: rank 0 computes their terms and sends each to the owner of
+# its camera's row (the RCS spread over the ranks, the default), or adds it
+# to the gathered RCS (--rcs gather). A BAL text survey on 1 and 4 ranks and
+# a photogrammetric .dba on 2 and 4 ranks (georeferenced, rank 0 reads
+# either, aligns it onto the priors and hands it out): the same optimum with
+# defaults (1e-5). With a tight solve, 2 and 3 ranks spread, and 2 gathered,
+# reach one process's cost to 1e-9 on both (the photo survey with its
+# first image fixed: a prior on a fixed camera adds only its cost).
 "$dba" generate "$tmp/gnss.txt" --images 80 --seed 8 --priors "$tmp/gnss.priors" --gnss-outliers 0.05 >/dev/null
 "$dba" solve "$tmp/gnss.txt" -q --camera-priors "$tmp/gnss.priors" --report "$tmp/gnss1.json" >/dev/null 2>&1 \
   || fail "BAL with priors, one process"
@@ -317,6 +321,20 @@ if within "$(final_cost "$tmp/gnss1.json")" "$(final_cost "$tmp/gnss3.json")" 1e
 else
   fail "camera priors: $(final_cost "$tmp/gnss3.json") vs $(final_cost "$tmp/gnss1.json"); $(final_cost "$tmp/gnssp3.json") vs $(final_cost "$tmp/gnssp2.json")"
 fi
+
+"$dba" solve "$tmp/gnss.txt" -q --camera-priors "$tmp/gnss.priors" "${pcg_tight[@]}" \
+  --report "$tmp/gnss_tight1.json" >/dev/null 2>&1 || fail "BAL with priors, tight, one process"
+gnssp_tight=(--camera-priors "$tmp/gnssp.priors" --fix-images 0 "${pcg_tight[@]}")
+"$dba" solve "$tmp/gnssp.dba" -q "${gnssp_tight[@]}" --report "$tmp/gnssp_tight1.json" >/dev/null 2>&1 \
+  || fail "photo .dba with priors, tight, one process"
+for n in 2 3; do
+  check_distributed "camera priors, BAL, RCS spread, tight, -np $n" "$tmp/gnss_tight1.json" 1e-9 "$n" \
+    "$tmp/gnss.txt" --camera-priors "$tmp/gnss.priors" "${pcg_tight[@]}"
+  check_distributed "camera priors, photo .dba, first image fixed, RCS spread, tight, -np $n" \
+    "$tmp/gnssp_tight1.json" 1e-9 "$n" "$tmp/gnssp.dba" "${gnssp_tight[@]}"
+done
+expect_rcs=gather check_distributed "camera priors, BAL, RCS gathered, tight, -np 2" \
+  "$tmp/gnss_tight1.json" 1e-9 2 "$tmp/gnss.txt" --camera-priors "$tmp/gnss.priors" "${pcg_tight[@]}" --rcs gather
 
 # Ground control: control points are points with a prior, in whichever
 # rank's share they fall; with GNSS priors too, on an unaligned survey, 1, 2

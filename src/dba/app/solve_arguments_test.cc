@@ -57,7 +57,6 @@ INSTANTIATE_TEST_SUITE_P(
         Refusal{"bad_partition", {"a.txt", "--partition", "random"}, "--partition: unknown partition scheme 'random'"},
         Refusal{"bad_rcs", {"a.txt", "--rcs", "scatter"}, "--rcs: expected auto, gather or distributed, got 'scatter'"},
         Refusal{"distributed_rcs_with_sparse", {"a.txt", "--rcs", "distributed", "--linear-solver", "sparse"}, "--rcs distributed solves by PCG; --linear-solver sparse needs --rcs gather"},
-        Refusal{"distributed_rcs_with_priors", {"a.txt", "--rcs", "distributed", "--camera-priors", "p.txt"}, "--rcs distributed: camera priors are added to a gathered RCS"},
         Refusal{"bad_fix_intrinsics_group", {"a.txt", "--fix-intrinsics", "1,2:f"}, "--fix-intrinsics: one group before ':'"},
         Refusal{"empty_fix_intrinsics", {"a.txt", "--fix-intrinsics", "0:"}, "--fix-intrinsics: empty list"},
         Refusal{"bad_max_iterations", {"a.txt", "--max-iterations", "-3"}, "--max-iterations"},

@@ -220,7 +220,7 @@ void PrintSolveHelp(std::ostream& out) {
          "                             'gather' sums it on rank 0, which solves alone (the\n"
          "                             paper's); auto (default): distributed with more\n"
          "                             than one rank, unless --linear-solver is dense or\n"
-         "                             sparse or camera priors are given\n"
+         "                             sparse\n"
          "  --main-rank auto|forms|coordinates\n"
          "                             whether rank 0 also forms a sub-RCS (auto: yes for\n"
          "                             up to 4 ranks)\n"
@@ -436,10 +436,6 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
       throw std::invalid_argument(std::string("--rcs distributed solves by PCG; --linear-solver ") +
                                   LinearSolverName(o.lm.linear_solver.type) +
                                   " needs --rcs gather");
-    }
-    if (!o.geo.camera_priors_path.empty()) {
-      throw std::invalid_argument("--rcs distributed: camera priors are added to a gathered RCS "
-                                  "(use --rcs gather)");
     }
   }
   return o;

@@ -605,7 +605,8 @@ void DistributedRcs::BuildTwoLevel(const std::vector<CoarseRowBasis>& global_bas
                                              static_cast<int32_t>(first + own_aggregates)));
 }
 
-RcsTotals DistributedRcs::Reduce(const RcsSystem* sub) {
+RcsTotals DistributedRcs::Reduce(const RcsSystem* sub, bool with_pose_terms,
+                                 const std::vector<PoseRowTerm>& pose_terms) {
   const int ranks = comm_->size(), me = comm_->rank();
   const Plan& plan = *plan_;
   // Messages to the other owners: the blocks' values, then b, g and diag(U)
@@ -680,6 +681,8 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub) {
     std::vector<double>().swap(m.in[p]);
   }
 
+  if (with_pose_terms) AddPoseTerms(pose_terms);
+
   double sums[4] = {0.0, 0.0, 0.0, 0.0};
   double max_gradient = 0.0;
   if (sub != nullptr) {
@@ -697,6 +700,39 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub) {
   totals.residuals = {sums[1], sums[2], sums[3]};
   totals.max_abs_gradient = max_gradient;
   return totals;
+}
+
+// The main rank sends each owner its rows' terms (row, JᵀJ, Jᵀr: 43 doubles
+// each); every owner adds its own in the main rank's order.
+void DistributedRcs::AddPoseTerms(const std::vector<PoseRowTerm>& pose_terms) {
+  constexpr int kPacked = 1 + 36 + 6;
+  std::vector<double> mine;
+  if (comm_->is_main()) {
+    std::vector<std::vector<double>> out(comm_->size());
+    for (const PoseRowTerm& t : pose_terms) {
+      std::vector<double>& o = out[owner_[t.row]];
+      o.push_back(t.row);
+      o.insert(o.end(), t.JtJ.data(), t.JtJ.data() + 36);
+      o.insert(o.end(), t.g.data(), t.g.data() + 6);
+    }
+    for (int q = 1; q < comm_->size(); ++q) comm_->SendVector(q, Traffic::kSubRcs, out[q]);
+    mine = std::move(out[0]);
+  } else {
+    mine = comm_->RecvVector<double>(0, Traffic::kSubRcs);
+  }
+  const auto own_begin = local_rows_.begin(), own_end = local_rows_.begin() + n_own_;
+  for (size_t k = 0; k + kPacked <= mine.size(); k += kPacked) {
+    PoseRowTerm t;
+    t.row = static_cast<int32_t>(mine[k]);
+    std::copy(&mine[k + 1], &mine[k + 37], t.JtJ.data());
+    std::copy(&mine[k + 37], &mine[k + kPacked], t.g.data());
+    const auto it = std::lower_bound(own_begin, own_end, t.row);
+    if (it == own_end || *it != t.row) throw std::logic_error("a pose term for a row this rank does not own");
+    const int32_t l = static_cast<int32_t>(it - own_begin);
+    const int64_t o = S_.scalar_offset(l);
+    AddPoseRowTerm(t, S_.block_size(l), S_.block_values(S_.diagonal_block(l)), &b_[o],
+                   &gradient_[o], &jtj_diagonal_[o]);
+  }
 }
 
 // One halo exchange: to each rank the values of `from` at `out_rows[q]`;

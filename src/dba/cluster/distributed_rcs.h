@@ -20,6 +20,9 @@
 //              rank's own rows, the coarse matrix summed and factorized on
 //              the main rank, R r gathered there and the coarse solution
 //              sent back once per PCG iteration.
+//              Terms of residuals on a camera's pose alone (camera-centre
+//              priors) come from the main rank to their rows' owners with
+//              the reduce-scatter, and are added after the sums.
 //              Between a Solve and the next Reduce the own rows' values
 //              are freed (the ranks' sub-RCSs too, after Reduce): a rank
 //              holds both only while they are summed: through PCG its
@@ -44,6 +47,7 @@
 #include "dba/bsmc/symmetric_multiply.h"
 #include "dba/cluster/communicator.h"
 #include "dba/rcs/form_rcs.h"
+#include "dba/rcs/pose_row_term.h"
 #include "dba/solver/coarse_row_basis.h"
 #include "dba/solver/preconditioner.h"
 #include "dba/solver/rcs_solver.h"
@@ -73,8 +77,12 @@ class DistributedRcs {
   ~DistributedRcs();
 
   // Collective: the owners' rows from every rank's sub-system (null: a rank
-  // without points); the totals are the same on every rank.
-  RcsTotals Reduce(const RcsSystem* sub);
+  // without points); the totals are the same on every rank. With
+  // `with_pose_terms` (the same on every rank), the main rank's `pose_terms`
+  // (rows in global numbering, fixed cameras' left out) go to their rows'
+  // owners, who add them after the sub-systems (rcs/pose_row_term.h).
+  RcsTotals Reduce(const RcsSystem* sub, bool with_pose_terms = false,
+                   const std::vector<PoseRowTerm>& pose_terms = {});
 
   // Collective: damps the own rows by λ and solves S δc = b by PCG; the
   // result stays here for SpreadStep. The summary is the same on every rank.
@@ -102,6 +110,7 @@ class DistributedRcs {
   void ExchangeHalo(const std::vector<std::vector<int32_t>>& out_rows,
                     const std::vector<int64_t>& in_scalars, const double* from) const;
   void BuildTwoLevel(const std::vector<CoarseRowBasis>& global_bases);
+  void AddPoseTerms(const std::vector<PoseRowTerm>& pose_terms);
 
   Communicator* comm_;
   std::vector<int32_t> global_sizes_;

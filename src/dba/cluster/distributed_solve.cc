@@ -170,15 +170,10 @@ RcsPlacement ChooseRcsPlacement(const DistributedOptions& options, const LmOptio
         throw std::invalid_argument(std::string("--rcs distributed solves by PCG; --linear-solver ") +
                          LinearSolverName(type) + " needs --rcs gather");
       }
-      if (!options.priors.empty()) {
-        throw std::invalid_argument("--rcs distributed: camera-centre priors are added to a gathered RCS; "
-                         "use --rcs gather");
-      }
       return RcsPlacement::kDistributed;
     case DistributedOptions::Rcs::kAuto: break;
   }
-  return ranks > 1 && pcg && options.priors.empty() ? RcsPlacement::kDistributed
-                                                    : RcsPlacement::kGather;
+  return ranks > 1 && pcg ? RcsPlacement::kDistributed : RcsPlacement::kGather;
 }
 
 DistributedSummary DistributedBundleAdjust(

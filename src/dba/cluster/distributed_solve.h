@@ -42,16 +42,17 @@ struct DistributedOptions {
   RejectionCriteria rejection;
   bool reject_keep_loss = false;
   // Camera-centre priors (lm/prior_workers.h), global image numbering: the
-  // main rank adds their terms to the global RCS.
+  // main rank computes their terms and adds them to the gathered RCS, or
+  // sends them to their rows' owners (distributed).
   CameraPriors priors;
   // Where the RCS lives (--rcs): auto spreads it over the ranks when there
-  // is more than one and the linear solve is PCG (auto or pcg) without
-  // camera priors (they are added to the gathered RCS); else gathers it.
+  // is more than one and the linear solve is PCG (auto or pcg); else gathers
+  // it.
   enum class Rcs { kAuto, kGather, kDistributed } rcs = Rcs::kAuto;
 };
 
 // The placement `options` ask for on `ranks` ranks; throws std::invalid_argument when
-// kDistributed cannot be had (a factorization, camera priors).
+// kDistributed cannot be had (a factorization).
 RcsPlacement ChooseRcsPlacement(const DistributedOptions& options, const LmOptions& lm, int ranks);
 
 struct DistributedSummary {

@@ -22,7 +22,7 @@ enum class Op : int32_t {
 struct Command {
   Op op;
   int32_t accept;  // FINISH: accept; END: send points; REBUILD: keep the loss;
-                   // SOLVE: drop the damping floor first
+                   // SOLVE: drop the damping floor first; FORM: pose terms follow
   double lambda;   // FORM, STEP: λ; REJECT: the largest error kept (px)
   double value = 0.0;  // REJECT: the smallest triangulation angle kept (deg)
 };
@@ -289,7 +289,9 @@ MpiPointWorkers::MpiPointWorkers(Communicator* comm, UnknownLayout layout,
 }
 
 RcsSystem& MpiPointWorkers::FormRcs(double lambda) {
-  BroadcastCommand(comm_, {Op::kForm, 0, lambda});
+  // FORM's flag: the owners add pose terms from the main rank.
+  const bool with_pose_terms = !pose_terms_.empty();
+  BroadcastCommand(comm_, {Op::kForm, with_pose_terms ? 1 : 0, lambda});
   ++formations_;
   if (distributed_ != nullptr) {
     const RcsSystem* sub = nullptr;
@@ -297,7 +299,13 @@ RcsSystem& MpiPointWorkers::FormRcs(double lambda) {
       MaybeInjectFault(0, "form", formations_);
       sub = &own_->FormRcs(lambda);
     }
-    const RcsTotals totals = distributed_->Reduce(sub);
+    std::vector<PoseRowTerm> terms;
+    for (PoseRowTerm& t : pose_terms_) {
+      t.row = global_.layout.camera_row(t.image);
+      if (t.row >= 0) terms.push_back(t);  // a fixed camera's term has no row
+    }
+    pose_terms_.clear();
+    const RcsTotals totals = distributed_->Reduce(sub, with_pose_terms, terms);
     if (own_ != nullptr) own_->ReleaseRcsValues();  // summed into the owners' rows
     global_.cost = totals.cost;
     global_.residuals = totals.residuals;
@@ -472,7 +480,7 @@ RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers
         marks.push_back(comm->stats());
         MaybeInjectFault(comm->rank(), "form", ++formations);
         if (distributed != nullptr) {
-          distributed->Reduce(&workers->FormRcs(c.lambda));
+          distributed->Reduce(&workers->FormRcs(c.lambda), c.accept == 1);
           workers->ReleaseRcsValues();  // summed into the owners' rows
           break;
         }

@@ -104,6 +104,9 @@ class MpiPointWorkers : public PointWorkers {
   StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,
                               const std::vector<double>& candidate_cameras) override;
   void FinishStep(bool accept) override;
+  // Distributed: the owners add the pose terms at the next FormRcs.
+  bool TakesPoseTerms() const override { return distributed_ != nullptr; }
+  void SetPoseTerms(std::vector<PoseRowTerm> terms) override { pose_terms_ = std::move(terms); }
 
   // Between iterations: every rank's current points into `points` (global
   // numbering; sized to hold all), for a checkpoint.
@@ -151,6 +154,7 @@ class MpiPointWorkers : public PointWorkers {
   std::unique_ptr<DistributedRcs> distributed_;
   DampingBounds bounds_;
   std::vector<double> own_delta_;  // distributed: δc of the own share's rows
+  std::vector<PoseRowTerm> pose_terms_;  // distributed: for the next FormRcs
   RcsFootprint footprint_;
 };
 

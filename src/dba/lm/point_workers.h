@@ -33,6 +33,7 @@
 #include "dba/lm/damped_rcs_solver.h"
 #include "dba/rcs/back_substitute.h"
 #include "dba/rcs/form_rcs.h"
+#include "dba/rcs/pose_row_term.h"
 
 namespace dba {
 
@@ -52,6 +53,13 @@ class PointWorkers {
 
   // Makes the candidate of the last EvaluateStep current (accept) or drops it.
   virtual void FinishStep(bool accept) = 0;
+
+  // Where the system FormRcs returns holds no S (the RCS spread over the
+  // ranks), the terms of residuals on camera poses alone (camera-centre
+  // priors) for the next FormRcs to add, by their rows' owners; false (the
+  // default): the caller adds them to the system FormRcs returns.
+  virtual bool TakesPoseTerms() const { return false; }
+  virtual void SetPoseTerms(std::vector<PoseRowTerm> terms) { (void)terms; }
 
   // The solver of (S + λ D_c) δc = b for the systems FormRcs returns
   // (`system`: the first); `choice` gets what was chosen and why. By

@@ -18,11 +18,11 @@ PriorWorkers::PriorWorkers(PointWorkers* points, const std::vector<double>* came
     : points_(points), cameras_(cameras), camera_size_(camera_size), priors_(priors) {}
 
 RcsSystem& PriorWorkers::FormRcs(double lambda) {
-  RcsSystem& sys = points_->FormRcs(lambda);
-  system_ = &sys;
   const size_t n = priors_.priors.size();
   r_.resize(n);
   J_.resize(n);
+  std::vector<double> costs(n);
+  std::vector<PoseRowTerm> terms(n);
   model_offset_ = 0.0;
   for (size_t x = 0; x < n; ++x) {
     const CameraCentrePrior& p = priors_.priors[x];
@@ -31,7 +31,7 @@ RcsSystem& PriorWorkers::FormRcs(double lambda) {
     const double s = r.squaredNorm();
     double rho[3];
     priors_.loss.Evaluate(s, rho);
-    sys.cost += 0.5 * rho[0];
+    costs[x] = 0.5 * rho[0];
     if (!priors_.loss.trivial()) {
       const LossCorrection correction(s, rho);
       correction.CorrectJacobian(r, &J_[x]);
@@ -39,20 +39,24 @@ RcsSystem& PriorWorkers::FormRcs(double lambda) {
       model_offset_ += 0.5 * (rho[0] - r.squaredNorm());
     }
     r_[x] = r;
-    const int32_t row = sys.layout.camera_row(p.image);
+    terms[x].image = p.image;
+    terms[x].JtJ = J_[x].transpose() * J_[x];
+    terms[x].g = J_[x].transpose() * r;
+  }
+  // The RCS spread over ranks: its rows' owners add the terms as they sum
+  // the rows; else they go into the system here.
+  const bool owners_add = points_->TakesPoseTerms();
+  if (owners_add) points_->SetPoseTerms(std::move(terms));
+  RcsSystem& sys = points_->FormRcs(lambda);
+  system_ = &sys;
+  for (double c : costs) sys.cost += c;
+  if (owners_add) return sys;
+  for (const PoseRowTerm& t : terms) {
+    const int32_t row = sys.layout.camera_row(t.image);
     if (row < 0) continue;  // a fixed camera: its cost only
-    const int c = sys.S.block_size(row);  // 6 (pose) or 9 (BAL camera)
-    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> block(
-        sys.S.block_values(sys.S.diagonal_block(row)), c, c);
-    const Eigen::Matrix<double, 6, 6> JtJ = J_[x].transpose() * J_[x];
-    const Eigen::Matrix<double, 6, 1> g = J_[x].transpose() * r;
-    block.topLeftCorner<6, 6>() += JtJ;
     const int64_t o = sys.S.scalar_offset(row);
-    for (int j = 0; j < 6; ++j) {
-      sys.b[o + j] -= g[j];
-      sys.camera_side_gradient[o + j] += g[j];
-      sys.camera_side_jtj_diagonal[o + j] += JtJ(j, j);
-    }
+    AddPoseRowTerm(t, sys.S.block_size(row), sys.S.block_values(sys.S.diagonal_block(row)),
+                   &sys.b[o], &sys.camera_side_gradient[o], &sys.camera_side_jtj_diagonal[o]);
   }
   return sys;
 }

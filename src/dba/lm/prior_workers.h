@@ -5,14 +5,17 @@
 // residual r̃ and Jacobian J̃, as for an observation):
 //
 //   FormRcs       cost += ½ ρ(|r|²); for a camera that is an unknown, its
-//                 diagonal block S_cc += J̃ᵀ J̃, b_c -= J̃ᵀ r̃, gradient
-//                 += J̃ᵀ r̃, diag(JᵀJ) += diag(J̃ᵀ J̃)
+//                 row of the RCS gets rcs/pose_row_term.h's term: S_cc +=
+//                 J̃ᵀ J̃, b_c -= J̃ᵀ r̃, gradient += J̃ᵀ r̃, diag(JᵀJ) +=
+//                 diag(J̃ᵀ J̃)
 //   EvaluateStep  model cost += ½ |r̃ + J̃ δ_c|² + ½ (ρ - |r̃|²), candidate
 //                 cost += ½ ρ(|r(c ⊞ δ_c)|²)
 //
 // A prior touches one camera's diagonal block: the RCS pattern and the point
-// elimination are unchanged, and under MPI the main rank, which holds the
-// global RCS, adds them once.
+// elimination are unchanged. One process and the gathered RCS: the terms go
+// into the system the points' FormRcs returns. The RCS spread over ranks:
+// the main rank hands them to the workers before FormRcs
+// (PointWorkers::SetPoseTerms) and each row's owner adds its own.
 //
 // Thread safety: as PointWorkers (one caller).
 #pragma once

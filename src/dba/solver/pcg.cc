@@ -19,6 +19,17 @@ double Dot(const double* a, const double* b, int64_t n, int num_threads) {
   return s;
 }
 
+// y0 = 0, r0 = b, z0 = M⁻¹ r0, d0 = z0.
+void StartAtZero(const Preconditioner& M, const double* b, int64_t n, double* y, double* r,
+                 double* z, double* d) {
+  for (int64_t i = 0; i < n; ++i) {
+    y[i] = 0.0;
+    r[i] = b[i];
+  }
+  M.Apply(r, z);
+  for (int64_t i = 0; i < n; ++i) d[i] = z[i];
+}
+
 // The stopping tests after iteration k, from rᵀr, yᵀb and yᵀr of its iterate.
 class StopTests {
  public:
@@ -58,12 +69,7 @@ PcgSummary SolveTextbook(const PcgOperator& S, const Preconditioner& M, const do
   double* d = z + n;
   double* Sd = d + n;
   PcgSummary summary;
-  for (int64_t i = 0; i < n; ++i) {
-    y[i] = 0.0;
-    r[i] = b[i];
-  }
-  M.Apply(r, z);
-  for (int64_t i = 0; i < n; ++i) d[i] = z[i];
+  StartAtZero(M, b, n, y, r, z, d);
   double start[2] = {Dot(b, b, n, nt), Dot(r, z, n, nt)};
   S.SumOverRanks(start);
   const double b_norm = std::sqrt(start[0]);
@@ -133,12 +139,7 @@ PcgSummary SolveOneReduction(const PcgOperator& S, const Preconditioner& M, cons
   double* Sd = d + n;
   double* MSd = Sd + n;  // M⁻¹ S d
   PcgSummary summary;
-  for (int64_t i = 0; i < n; ++i) {
-    y[i] = 0.0;
-    r[i] = b[i];
-  }
-  M.Apply(r, z);
-  for (int64_t i = 0; i < n; ++i) d[i] = z[i];
+  StartAtZero(M, b, n, y, r, z, d);
   // Every sum of an iteration, in the one reduction that follows the
   // direction's product: dᵀSd, (Sd)ᵀM⁻¹Sd, rᵀz (recomputed), and for the
   // stopping tests rᵀr, yᵀb, yᵀr (of the iterate before the product).
