@@ -231,7 +231,8 @@ DistributedSummary DistributedBundleAdjust(
       MemoryEstimate estimate;
       LocalPointWorkers workers(&share.problem, options.damping, options.num_threads, loss,
                                 EstimateAndCheck(comm, options, distributed, share.problem,
-                                                 EstimateRole::kForms, &estimate));
+                                                 EstimateRole::kForms, &estimate),
+                                summary.rcs == RcsPlacement::kDistributed);
       const RankLoopEnd end = RunPointRank(comm, &share, &workers, estimate.total(), &rejection,
                                            summary.rcs, linear, options.damping);
       if (!end.rebuild) return summary;
@@ -305,7 +306,8 @@ DistributedSummary DistributedBundleAdjust(
       own_workers = std::make_unique<LocalPointWorkers>(
           &own.problem, o.damping, o.num_threads, o.loss,
           EstimateAndCheck(comm, o, distributed, own.problem, EstimateRole::kForms,
-                           &own_estimate));
+                           &own_estimate),
+          summary.rcs == RcsPlacement::kDistributed);
     }
     workers = std::make_unique<MpiPointWorkers>(
         comm, UnknownLayout(*problem), mine, own_workers.get(),

@@ -14,10 +14,14 @@ class LocalPointWorkers : public PointWorkers {
   // Builds the RCS structure (symbolic phase). `problem` must outlive this
   // object; its cameras and points are updated in place on accepted steps.
   // `loss`: the robust loss of every observation (rcs/robust_loss.h).
-  // `before_values`: see RcsSystem::ForProblem.
+  // `before_values`: see RcsSystem::ForProblem. `values_at_first_form`:
+  // S's values are allocated by the first FormRcs, not here (a rank of a
+  // distributed RCS: its owned rows' symbolic phase then does not hold them
+  // beside its sub-RCS's; at 1M on 8 ranks 0.75 GB each).
   LocalPointWorkers(Problem* problem, const DampingBounds& bounds,
                     int num_threads, const RobustLoss& loss = RobustLoss(),
-                    const std::function<void(const RcsSystem&)>& before_values = {});
+                    const std::function<void(const RcsSystem&)>& before_values = {},
+                    bool values_at_first_form = false);
 
   RcsSystem& FormRcs(double lambda) override;
   StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,

@@ -318,7 +318,8 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
 }  // namespace
 
 RcsSystem RcsSystem::ForProblem(const Problem& problem,
-                                const std::function<void(const RcsSystem&)>& before_values) {
+                                const std::function<void(const RcsSystem&)>& before_values,
+                                bool with_values) {
   RcsSystem sys;
   {
     UnknownLayout layout(problem);
@@ -326,7 +327,7 @@ RcsSystem RcsSystem::ForProblem(const Problem& problem,
     sys = ForPattern(std::move(layout), pattern, false);
   }
   if (before_values) before_values(sys);
-  sys.AllocateValues();
+  if (with_values) sys.AllocateValues();
   return sys;
 }
 

@@ -44,9 +44,11 @@ struct RcsSystem {
   // Symbolic phase: unknowns and structure of S from the problem's
   // visibility graph. `before_values`, if set, sees the system with S's
   // structure but before any value is allocated (the pattern freed): to size
-  // the solve, or refuse it by throwing.
+  // the solve, or refuse it by throwing. `with_values` false: the structure
+  // alone (AllocateValues to finish).
   static RcsSystem ForProblem(const Problem& problem,
-                              const std::function<void(const RcsSystem&)>& before_values = {});
+                              const std::function<void(const RcsSystem&)>& before_values = {},
+                              bool with_values = true);
   // Symbolic phase from a block pattern over the layout's rows (sorted packed
   // blocks, see PackBlock); `with_values` false: the structure alone
   // (AllocateValues to finish).
