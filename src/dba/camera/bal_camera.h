@@ -10,9 +10,11 @@
 //   ∂u/∂p = f (d I + 2 (k1 + 2 k2 |p|²) p pᵀ)
 //   ∂p/∂P = [ -1/Pz   0    Px/Pz² ]
 //           [   0   -1/Pz  Py/Pz² ]
-//   ∂P/∂X = R,  ∂P/∂t = I,  ∂P/∂ω = -[R X]ₓ J_l(ω)
+//   ∂P/∂X = R,  ∂P/∂δC = -R,  ∂P/∂δω = -[P]ₓ J_l(ω)
 //   ∂u/∂f = d p,  ∂u/∂k1 = f |p|² p,  ∂u/∂k2 = f |p|⁴ p
-// with J_l the left Jacobian of SO(3) (camera/rotation.h).
+// with J_l the left Jacobian of SO(3) (camera/rotation.h). The pose's
+// columns are on its step (δω, δC) of camera/pose_step.h, not on (ω, t):
+// J_c's columns are ∂r/∂(δω, δC, f, k1, k2).
 //
 // All functions are pure and thread-safe.
 #pragma once

@@ -1,6 +1,8 @@
 // Analytic Jacobians of the BAL camera against central differences.
 #include "dba/camera/bal_camera.h"
 
+#include "dba/camera/pose_step.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -56,15 +58,22 @@ TEST(BalCamera, JacobiansMatchCentralDifferences) {
     PointJacobian J_p;
     BalResidualAndJacobians(s.camera, s.point, s.observed, &J_c, &J_p);
     for (int j = 0; j < 12; ++j) {
-      double* x = j < 9 ? &s.camera[j] : &s.point[j - 9];
-      const double x0 = *x;
+      // The pose's columns are on its step (camera/pose_step.h), the others
+      // on the parameters.
+      auto residual_at = [&](double h) {
+        Sample moved = s;
+        if (j < kPoseSize) {
+          double delta[kPoseSize] = {};
+          delta[j] = h;
+          PlusPose(s.camera, delta, moved.camera);
+        } else {
+          (j < 9 ? moved.camera[j] : moved.point[j - 9]) += h;
+        }
+        return BalResidual(moved.camera, moved.point, moved.observed);
+      };
+      const double x0 = j < kPoseSize ? 0.0 : j < 9 ? s.camera[j] : s.point[j - 9];
       const double h = 1e-6 * std::max(1.0, std::abs(x0));
-      *x = x0 + h;
-      const Vec2 plus = BalResidual(s.camera, s.point, s.observed);
-      *x = x0 - h;
-      const Vec2 minus = BalResidual(s.camera, s.point, s.observed);
-      *x = x0;
-      const Vec2 numeric = (plus - minus) / (2 * h);
+      const Vec2 numeric = (residual_at(h) - residual_at(-h)) / (2 * h);
       const Vec2 analytic = j < 9 ? Vec2(J_c.col(j)) : Vec2(J_p.col(j - 9));
       EXPECT_LT((numeric - analytic).norm(), 1e-5 * (1.0 + analytic.norm()))
           << "trial " << trial << " parameter " << j;

@@ -6,7 +6,8 @@
 //
 // R and L are R(ω) and J_l(ω) column-major (R(i, j) = R[i + 3 j]); t the
 // translation; u the observed pixel. Writes the residual r and, when J_c is
-// not null, ∂r/∂c (2 x 9) and ∂r/∂X (2 x 3).
+// not null, ∂r/∂c (2 x 9, on the pose's step (δω, δC), then f, k1, k2) and
+// ∂r/∂X (2 x 3).
 // Thread safety: pure.
 #pragma once
 
@@ -18,8 +19,9 @@ inline void BalKernel(const T (&R)[9], const T (&L)[9], const T (&t)[3], T f, T 
   const double X0 = X[0], X1 = X[1], X2 = X[2];
   const T RX[3] = {R[0] * X0 + R[3] * X1 + R[6] * X2, R[1] * X0 + R[4] * X1 + R[7] * X2,
                    R[2] * X0 + R[5] * X1 + R[8] * X2};
-  const T inv_z = 1.0 / (RX[2] + t[2]);
-  const T px = -(RX[0] + t[0]) * inv_z, py = -(RX[1] + t[1]) * inv_z;
+  const T P[3] = {RX[0] + t[0], RX[1] + t[1], RX[2] + t[2]};
+  const T inv_z = 1.0 / P[2];
+  const T px = -P[0] * inv_z, py = -P[1] * inv_z;
   const T r2 = px * px + py * py;
   const T d = 1.0 + r2 * (k1 + k2 * r2);
   r[0] = f * d * px - u[0];
@@ -34,13 +36,14 @@ inline void BalKernel(const T (&R)[9], const T (&L)[9], const T (&t)[3], T f, T 
   const T p[2] = {px, py};
   for (int i = 0; i < 2; ++i) {
     const T v[3] = {-inv_z * q[i][0], -inv_z * q[i][1], -inv_z * (q[i][0] * px + q[i][1] * py)};
-    // Row i of -∂u/∂P [RX]ₓ is RX × (∂u/∂P)_i; then times J_l.
-    const T w[3] = {RX[1] * v[2] - RX[2] * v[1], RX[2] * v[0] - RX[0] * v[2],
-                    RX[0] * v[1] - RX[1] * v[0]};
+    // Row i of -∂u/∂P [P]ₓ is P × (∂u/∂P)_i; then times J_l. The centre's
+    // columns are minus the point's (camera/pose_step.h).
+    const T w[3] = {P[1] * v[2] - P[2] * v[1], P[2] * v[0] - P[0] * v[2],
+                    P[0] * v[1] - P[1] * v[0]};
     for (int j = 0; j < 3; ++j) {
       J_c[i][j] = w[0] * L[3 * j] + w[1] * L[3 * j + 1] + w[2] * L[3 * j + 2];
-      J_c[i][3 + j] = v[j];
       J_p[i][j] = v[0] * R[3 * j] + v[1] * R[3 * j + 1] + v[2] * R[3 * j + 2];
+      J_c[i][3 + j] = -J_p[i][j];
     }
     J_c[i][6] = d * p[i];
     J_c[i][7] = f * r2 * p[i];

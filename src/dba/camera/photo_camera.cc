@@ -23,17 +23,18 @@ Vec2 PhotoResidualAndJacobians(LensModel model, const RotationFrame& frame, cons
                                IntrinsicsJacobian* J_intrinsics, PointJacobian* J_point) {
   const Vec3 t(pose[3], pose[4], pose[5]);
   const Mat3& R = frame.R;
-  const Vec3 RX = R * Vec3(point[0], point[1], point[2]);
-  const Vec3 P = RX + t;
+  const Vec3 P = R * Vec3(point[0], point[1], point[2]) + t;
   const bool geometry = J_pose != nullptr || J_point != nullptr;
   LensPointJacobian du_dP;
   const Vec2 u =
       LensProjectInline(model, intrinsics, P, geometry ? &du_dP : nullptr, J_intrinsics);
+  if (!geometry) return u - Vec2(observed[0], observed[1]);
+  const PointJacobian du_dX = du_dP * R;
   if (J_pose != nullptr) {
-    J_pose->block<2, 3>(0, 0) = -du_dP * SkewSymmetric(RX) * frame.J_l;
-    J_pose->block<2, 3>(0, 3) = du_dP;
+    J_pose->block<2, 3>(0, 0) = -du_dP * SkewSymmetric(P) * frame.J_l;
+    J_pose->block<2, 3>(0, 3) = -du_dX;
   }
-  if (J_point != nullptr) *J_point = du_dP * R;
+  if (J_point != nullptr) *J_point = du_dX;
   return u - Vec2(observed[0], observed[1]);
 }
 

@@ -9,18 +9,18 @@
 //   P = R(ω) X + t,   u = lens(P) (camera/lens_projection.h),
 //   residual r = u - u_observed
 //
-// Derivatives (∂u/∂P and ∂u/∂intrinsics from the lens):
-//   ∂P/∂X = R,  ∂P/∂t = I,  ∂P/∂ω = -[R X]ₓ J_l(ω)
+// Derivatives (∂u/∂P and ∂u/∂intrinsics from the lens), the pose's on its
+// step (δω, δC) of camera/pose_step.h:
+//   ∂P/∂X = R,  ∂P/∂δC = -R,  ∂P/∂δω = -[P]ₓ J_l(ω)
 //
 // All functions are pure and thread-safe.
 #pragma once
 
 #include "dba/camera/lens_projection.h"
+#include "dba/camera/pose_step.h"
 #include "dba/camera/rotation.h"
 
 namespace dba {
-
-inline constexpr int kPoseSize = 6;
 
 using PoseJacobian = Eigen::Matrix<double, 2, kPoseSize, Eigen::RowMajor>;
 // ∂r/∂intrinsics: the first LensModelParams(model) columns.

@@ -62,15 +62,22 @@ void ExpectJacobiansMatch(LensModel m, Sample s, const std::string& where) {
   const uint16_t unknown = LensModelParamMask(m);
   for (int j = 0; j < 9 + n; ++j) {
     if (j >= 6 && j < 6 + n && !(unknown & (1u << (j - 6)))) continue;  // metadata
-    double* x = j < 6 ? &s.pose[j] : j < 6 + n ? &s.intrinsics[j - 6] : &s.point[j - 6 - n];
-    const double x0 = *x;
+    // The pose's columns are on its step (camera/pose_step.h), the others on
+    // the parameters.
+    auto residual_at = [&](double h) {
+      Sample moved = s;
+      if (j < kPoseSize) {
+        double delta[kPoseSize] = {};
+        delta[j] = h;
+        PlusPose(s.pose, delta, moved.pose);
+      } else {
+        (j < 6 + n ? moved.intrinsics[j - 6] : moved.point[j - 6 - n]) += h;
+      }
+      return PhotoResidual(m, moved.pose, moved.intrinsics.data(), moved.point, moved.observed);
+    };
+    const double x0 = j < kPoseSize ? 0.0 : j < 6 + n ? s.intrinsics[j - 6] : s.point[j - 6 - n];
     const double h = 1e-6 * std::max(1.0, std::abs(x0));
-    *x = x0 + h;
-    const Vec2 plus = PhotoResidual(m, s.pose, s.intrinsics.data(), s.point, s.observed);
-    *x = x0 - h;
-    const Vec2 minus = PhotoResidual(m, s.pose, s.intrinsics.data(), s.point, s.observed);
-    *x = x0;
-    const Vec2 numeric = (plus - minus) / (2 * h);
+    const Vec2 numeric = (residual_at(h) - residual_at(-h)) / (2 * h);
     const Vec2 analytic = j < 6       ? Vec2(J_pose.col(j))
                           : j < 6 + n ? Vec2(J_intr.col(j - 6))
                                       : Vec2(J_point.col(j - 6 - n));

@@ -228,7 +228,13 @@ class Minimizer {
     // A good step that the floor kept from lowering λ: the model holds at a
     // smaller damping than float's rounding of S allows.
     if (damping_.held_by_floor()) DropDampingFloor(linear_solver_.get());
-    const bool converged = cost_ - it.candidate_cost <= options_.function_tolerance * cost_;
+    // Converged when the step lowered the cost by less than the tolerance
+    // and its model promised no more (decrease / ρ): a poorly modelled step
+    // (small ρ) that barely lowers the cost says the model failed, not that
+    // the optimum is near. With ρ ≈ 1 the two tests are one.
+    const double decrease = cost_ - it.candidate_cost;
+    const double tolerance = options_.function_tolerance * cost_;
+    const bool converged = decrease <= tolerance && decrease <= tolerance * it.gain_ratio;
     if (converged) {
       Terminate(TerminationReason::kFunctionTolerance, "relative cost decrease below tolerance");
     }

@@ -5,11 +5,10 @@
 //
 //   r = Σ⁻¹ (C - C_prior),   Σ = diag(σ_x, σ_y, σ_z)   (σ_x = σ_y = σ_xy)
 //
-// with the Jacobian on (ω, t) (additive steps, rotation.h):
-//   ∂C/∂t = -Rᵀ,   ∂C/∂ω = [C]ₓ J_l(ω)ᵀ
-// (Rᵀ = R(-ω), and ∂(R(v) t)/∂v = -[R(v) t]ₓ J_l(v) at v = -ω, J_l(-ω) =
-// J_l(ω)ᵀ). A prior touches only its camera's pose: the point-by-point Schur
-// elimination is unchanged.
+// with the Jacobian on the pose's step (δω, δC) (camera/pose_step.h):
+//   ∂C/∂δω = 0,   ∂C/∂δC = I,
+// so the prior is exactly quadratic in the step. A prior touches only its
+// camera's pose: the point-by-point Schur elimination is unchanged.
 //
 // Thread safety: pure functions.
 #pragma once
@@ -27,9 +26,9 @@ struct CameraCentrePrior {
   Vec3 sigma = Vec3::Ones();  // σ_x, σ_y, σ_z (> 0)
 };
 
-using CentrePriorJacobian = Eigen::Matrix<double, 3, 6, Eigen::RowMajor>;  // ∂r/∂(ω, t)
+using CentrePriorJacobian = Eigen::Matrix<double, 3, 6, Eigen::RowMajor>;  // ∂r/∂(δω, δC)
 
-// r (above), and ∂r/∂(ω, t) when J is not null.
+// r (above), and ∂r/∂(δω, δC) when J is not null.
 Vec3 CentrePriorResidual(const double* pose, const CameraCentrePrior& prior,
                          CentrePriorJacobian* J);
 

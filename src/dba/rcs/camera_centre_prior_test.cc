@@ -1,6 +1,9 @@
-// The camera-centre prior's Jacobian against central differences, and its
-// centre against the camera's projection centre (the point every ray meets).
+// The camera-centre prior's Jacobian against central differences of the
+// pose's step, and its centre against the camera's projection centre (the
+// point every ray meets).
 #include "dba/rcs/camera_centre_prior.h"
+
+#include "dba/camera/pose_step.h"
 
 #include <gtest/gtest.h>
 
@@ -22,14 +25,15 @@ TEST(CameraCentrePrior, JacobianMatchesCentralDifferences) {
     CentrePriorJacobian J;
     const Vec3 r = CentrePriorResidual(pose, prior, &J);
     EXPECT_LT((r - CentrePriorResidual(pose, prior, nullptr)).norm(), 1e-12);
-    for (int j = 0; j < 6; ++j) {
-      const double x0 = pose[j], h = 1e-6 * std::max(1.0, std::abs(x0));
-      pose[j] = x0 + h;
-      const Vec3 plus = CentrePriorResidual(pose, prior, nullptr);
-      pose[j] = x0 - h;
-      const Vec3 minus = CentrePriorResidual(pose, prior, nullptr);
-      pose[j] = x0;
-      const Vec3 numeric = (plus - minus) / (2 * h);
+    for (int j = 0; j < kPoseSize; ++j) {
+      auto residual_at = [&](double h) {  // on the pose's step (camera/pose_step.h)
+        double delta[kPoseSize] = {}, moved[kPoseSize];
+        delta[j] = h;
+        PlusPose(pose, delta, moved);
+        return CentrePriorResidual(moved, prior, nullptr);
+      };
+      const double h = 1e-6;
+      const Vec3 numeric = (residual_at(h) - residual_at(-h)) / (2 * h);
       EXPECT_LT((numeric - J.col(j)).norm(), 1e-6 * (1 + J.col(j).norm()))
           << "trial " << trial << " parameter " << j;
     }

@@ -29,13 +29,14 @@ std::vector<CoarseRowBasis> RigidMotionBases(const UnknownLayout& layout, const 
     const Vec3 omega = Eigen::Map<const Vec3>(x + layout.param_offset(r));
     const Vec3 t = Eigen::Map<const Vec3>(x + layout.param_offset(r) + 3);
     const Mat3 R = AngleAxisToRotation(omega);
+    const Vec3 C = -R.transpose() * t;
     CoarseRowBasis& N = bases[r];
     N.rigid = true;
     N.A = -SO3LeftJacobian(omega).inverse() * R;
-    N.B = -R;
-    N.C = -R * SkewSymmetric(centroid);
+    N.B = Mat3::Identity();
+    N.C = -SkewSymmetric(C - centroid);
     N.scale = with_scale;
-    N.D = t + R * centroid;  // -R (C - c̄)
+    N.D = C - centroid;
   }
   return bases;
 }

@@ -4,6 +4,8 @@
 // differences) and the Gauss-Newton matrix Jᵀ (ρ' I + 2 ρ'' r rᵀ) J.
 #include "dba/rcs/robust_loss.h"
 
+#include "dba/camera/pose_step.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -81,12 +83,21 @@ TEST_P(RobustLossTest, CorrectedPairGivesTheRobustGradientAndGaussNewtonMatrix) 
     // Gradient of the robust cost against central differences.
     const Eigen::Matrix<double, 9, 1> gradient = J_corrected.transpose() * r_corrected;
     for (int p = 0; p < 9; ++p) {
+      // The pose's columns are on its step (camera/pose_step.h).
       double plus[9], minus[9];
       std::copy(camera, camera + 9, plus);
       std::copy(camera, camera + 9, minus);
-      const double h = 1e-6 * std::max(1e-3, std::abs(camera[p]));
-      plus[p] += h;
-      minus[p] -= h;
+      const double h = 1e-6 * std::max(1e-3, p < kPoseSize ? 1.0 : std::abs(camera[p]));
+      if (p < kPoseSize) {
+        double step[kPoseSize] = {};
+        step[p] = h;
+        PlusPose(camera, step, plus);
+        step[p] = -h;
+        PlusPose(camera, step, minus);
+      } else {
+        plus[p] += h;
+        minus[p] -= h;
+      }
       const double numeric =
           (RobustCost(loss, plus, point, observed) - RobustCost(loss, minus, point, observed)) /
           (2 * h);

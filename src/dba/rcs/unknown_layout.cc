@@ -1,6 +1,8 @@
 // Rows and sizes of the RCS unknowns; see unknown_layout.h.
 #include "dba/rcs/unknown_layout.h"
 
+#include "dba/camera/pose_step.h"
+
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
@@ -52,7 +54,8 @@ void UnknownLayout::Plus(const double* x, const double* delta, double* out) cons
     const double* d = delta + row_offset_[r];
     double* p = out + param_offset_[r];
     if (r < num_camera_rows_) {
-      for (int j = 0; j < block_sizes_[r]; ++j) p[j] += d[j];
+      PlusPose(p, d, p);
+      for (int j = kPoseSize; j < block_sizes_[r]; ++j) p[j] += d[j];
     } else {
       const auto& index = free_index_[row_entity_[r]];
       for (int j = 0; j < block_sizes_[r]; ++j) p[index[j]] += d[j];

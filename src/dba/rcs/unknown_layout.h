@@ -12,7 +12,10 @@
 // no row and no column, and a step never changes them.
 //
 // A step δ (one value per unknown) applies to the camera-side parameters x as
-//   x ⊞ δ:  x[param_offset(r) + free_index(r, j)] += δ[row_offset(r) + j].
+// x ⊞ δ: a camera row's first six unknowns step its pose (camera/pose_step.h:
+// the rotation about the camera's centre, then the centre), every other
+// unknown j of row r adds, x[param_offset(r) + free_index(r, j)] +=
+// δ[row_offset(r) + j].
 //
 // Thread safety: immutable after construction.
 #pragma once

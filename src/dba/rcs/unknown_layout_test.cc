@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "dba/camera/pose_step.h"
+
 namespace dba {
 namespace {
 
@@ -64,7 +66,7 @@ TEST(UnknownLayout, PlusMovesOnlyFreeParameters) {
   std::vector<double> out(p.cameras.size());
   l.Plus(p.cameras.data(), delta.data(), out.data());
   std::vector<double> expected = p.cameras;
-  for (int d = 0; d < 6; ++d) expected[d] += delta[d];     // pose 0
+  PlusPose(p.cameras.data(), delta.data(), expected.data());  // pose 0
   expected[12 + 1] += delta[6];                             // group 0: cx
   expected[12 + 2] += delta[7];                             //          cy
   expected[17 + 3] += delta[8];                             // group 1: k1
