@@ -46,6 +46,9 @@ double LmSummary::Rms(double cost) const {
 
 namespace {
 
+// Gain ratios below this mark a poorly modelled step (see AcceptStep).
+constexpr double kPoorModel = 0.25;
+
 // One solve, each decision of the loop a named step. State: the RCS system
 // at the current parameters (`sys_`, owned by the workers), its cost and
 // residual sums, the damping, the linear solver (built once, at the first
@@ -228,13 +231,13 @@ class Minimizer {
     // A good step that the floor kept from lowering λ: the model holds at a
     // smaller damping than float's rounding of S allows.
     if (damping_.held_by_floor()) DropDampingFloor(linear_solver_.get());
-    // Converged when the step lowered the cost by less than the tolerance
-    // and its model promised no more (decrease / ρ): a poorly modelled step
-    // (small ρ) that barely lowers the cost says the model failed, not that
-    // the optimum is near. With ρ ≈ 1 the two tests are one.
-    const double decrease = cost_ - it.candidate_cost;
-    const double tolerance = options_.function_tolerance * cost_;
-    const bool converged = decrease <= tolerance && decrease <= tolerance * it.gain_ratio;
+    // Converged when the step lowered the cost by less than the tolerance,
+    // unless the model was poor (ρ < 1/4, where a trust-region method shrinks
+    // its region: Nocedal & Wright, Numerical Optimization, Algorithm 4.1):
+    // such a step barely lowering the cost says the model failed there, not
+    // that the optimum is near.
+    const bool converged = cost_ - it.candidate_cost <= options_.function_tolerance * cost_ &&
+                           it.gain_ratio >= kPoorModel;
     if (converged) {
       Terminate(TerminationReason::kFunctionTolerance, "relative cost decrease below tolerance");
     }

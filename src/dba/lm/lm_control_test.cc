@@ -511,9 +511,9 @@ TEST(LmControl, LambdaAtTheLimitGoesOn) {
 
 TEST(LmControl, FunctionToleranceOnAnAcceptedStep) {
   LmRun run;
-  // Relative decreases 1e-2, then 4.5e-4 ≤ 1e-3 with a model decrease of
-  // 9e-4: stop after the second step, which is kept.
-  ScriptedWorkers w(100.0, {Step{2.0, 1.0}, Rising(), Step{0.09, 0.045}}, &run.cameras);
+  // Relative decreases 1e-2, then 5e-4 ≤ 1e-3 (ρ = 0.5): stop after the
+  // second step, which is kept.
+  ScriptedWorkers w(100.0, {Step{2.0, 1.0}, Rising(), Step{0.099, 0.0495}}, &run.cameras);
   LmOptions options = Options();
   options.function_tolerance = 1e-3;
   Solve(options, &w, &run);
@@ -522,15 +522,15 @@ TEST(LmControl, FunctionToleranceOnAnAcceptedStep) {
   EXPECT_STREQ(TerminationReasonName(run.summary.termination), "function_tolerance");
   ASSERT_EQ(w.finished(), (std::vector<bool>{true, false, true}));
   EXPECT_EQ(run.cameras, w.candidates()[2]);
-  EXPECT_NEAR(run.summary.final_cost, 99.0 - 0.045, 1e-12);
+  EXPECT_NEAR(run.summary.final_cost, 99.0 - 0.0495, 1e-12);
 }
 
 TEST(LmControl, APoorlyModelledStepDoesNotMeetTheFunctionTolerance) {
   LmRun run;
-  // ρ = 0.005: accepted, lowering the cost by 5e-4 (below the tolerance),
-  // but its model promised 0.1: the loop goes on, and stops after the next
-  // step, whose model promises as little as it gives.
-  ScriptedWorkers w(100.0, {Step{10.0, 0.05}, Step{0.05, 0.05}, Rho(0.5)}, &run.cameras);
+  // ρ = 0.005: accepted (ρ > 1e-3), lowering the cost by 5e-4 of it (below
+  // the tolerance), but a step of a poor model (ρ < 1/4): the loop goes on,
+  // and stops after the next step, as small and well modelled (ρ = 0.5).
+  ScriptedWorkers w(100.0, {Step{10.0, 0.05}, Step{0.1, 0.05}, Rho(0.5)}, &run.cameras);
   LmOptions options = Options();
   options.function_tolerance = 1e-3;
   Solve(options, &w, &run);
