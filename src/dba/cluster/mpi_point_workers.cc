@@ -330,7 +330,7 @@ RcsSystem& MpiPointWorkers::FormRcs(double lambda) {
 StepEvaluation MpiPointWorkers::EvaluateStep(double lambda,
                                              const std::vector<double>& delta_c,
                                              const std::vector<double>& candidate_cameras) {
-  (void)candidate_cameras;  // ranks add δc to their own copies of the cameras
+  (void)candidate_cameras;  // ranks step their own copies of the cameras by δc
   BroadcastCommand(comm_, {Op::kStep, 0, lambda});
   MaybeInjectFault(0, "step", ++steps_);
   for (int r = 1; r < comm_->size() && distributed_ == nullptr; ++r) {

@@ -233,11 +233,14 @@ class Minimizer {
     if (damping_.held_by_floor()) DropDampingFloor(linear_solver_.get());
     // Converged when the step lowered the cost by less than the tolerance,
     // unless the model was poor (ρ < 1/4, where a trust-region method shrinks
-    // its region: Nocedal & Wright, Numerical Optimization, Algorithm 4.1):
-    // such a step barely lowering the cost says the model failed there, not
-    // that the optimum is near.
-    const bool converged = cost_ - it.candidate_cost <= options_.function_tolerance * cost_ &&
-                           it.gain_ratio >= kPoorModel;
+    // its region: Nocedal & Wright, Numerical Optimization, Algorithm 4.1)
+    // and promised more (decrease / ρ above the tolerance): such a step
+    // says the model failed there, not that the optimum is near. Near the
+    // optimum, where ρ is mostly rounding, the model promises nothing.
+    const double decrease = cost_ - it.candidate_cost;
+    const double tolerance = options_.function_tolerance * cost_;
+    const bool poor_model = it.gain_ratio < kPoorModel && decrease > tolerance * it.gain_ratio;
+    const bool converged = decrease <= tolerance && !poor_model;
     if (converged) {
       Terminate(TerminationReason::kFunctionTolerance, "relative cost decrease below tolerance");
     }

@@ -30,7 +30,8 @@ namespace dba {
 struct LmOptions {
   // Upper bound on LM iterations (accepted and rejected steps both count).
   int max_iterations = 100;
-  // Stop when an accepted step lowers the cost by less than this fraction.
+  // Stop when an accepted step lowers the cost by less than this fraction
+  // (unless its model was poor: levenberg_marquardt.cc, AcceptStep).
   double function_tolerance = 1e-6;
   // Stop when ‖g‖∞ ≤ gradient_tolerance, g = Jᵀ r.
   double gradient_tolerance = 1e-10;

@@ -525,6 +525,19 @@ TEST(LmControl, FunctionToleranceOnAnAcceptedStep) {
   EXPECT_NEAR(run.summary.final_cost, 99.0 - 0.0495, 1e-12);
 }
 
+TEST(LmControl, APoorlyModelledStepWhoseModelPromisedLittleMeetsTheFunctionTolerance) {
+  LmRun run;
+  // ρ = 0.1 on a decrease of 5e-5 of the cost, whose model promised 5e-4:
+  // both under the tolerance (near the optimum ρ is mostly rounding).
+  ScriptedWorkers w(100.0, {Step{0.05, 0.005}, Rho(0.5)}, &run.cameras);
+  LmOptions options = Options();
+  options.function_tolerance = 1e-3;
+  Solve(options, &w, &run);
+  ExpectConsistent(w, run);
+  EXPECT_EQ(run.summary.termination, TerminationReason::kFunctionTolerance);
+  ASSERT_EQ(w.finished(), (std::vector<bool>{true}));
+}
+
 TEST(LmControl, APoorlyModelledStepDoesNotMeetTheFunctionTolerance) {
   LmRun run;
   // ρ = 0.005: accepted (ρ > 1e-3), lowering the cost by 5e-4 of it (below

@@ -47,7 +47,7 @@ TEST(BackSubstitute, RecoversTheFullNewtonStepAndItsCosts) {
 
   std::vector<double> delta_c(step.data(), step.data() + nc);
   std::vector<double> candidate_cameras = problem.cameras;
-  for (int i = 0; i < nc; ++i) candidate_cameras[i] += delta_c[i];
+  UnknownLayout(problem).Plus(problem.cameras.data(), delta_c.data(), candidate_cameras.data());
   std::vector<double> candidate_points;
   const StepEvaluation e = BackSubstitute(problem, UnknownLayout(problem), lambda, bounds, delta_c,
                                           candidate_cameras, 2, &candidate_points);
@@ -135,7 +135,7 @@ TEST(BackSubstitute, RobustModelAndCandidateCosts) {
   const int nc = dense.num_camera_params;
   std::vector<double> delta_c(step.data(), step.data() + nc);
   std::vector<double> candidate_cameras = problem.cameras;
-  for (int i = 0; i < nc; ++i) candidate_cameras[i] += delta_c[i];
+  UnknownLayout(problem).Plus(problem.cameras.data(), delta_c.data(), candidate_cameras.data());
   std::vector<double> candidate_points;
   const StepEvaluation e = BackSubstitute(problem, UnknownLayout(problem), lambda, bounds, delta_c,
                                           candidate_cameras, 2, &candidate_points, loss);

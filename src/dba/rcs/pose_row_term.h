@@ -1,7 +1,7 @@
 // A residual on one camera's pose alone (a camera-centre prior,
 // rcs/camera_centre_prior.h) adds to that camera's row of the RCS (paper
 // eq. 4: one more residual in the camera's block, none on the points): with
-// its loss-corrected Jacobian J on (ω, t) and residual r,
+// its loss-corrected Jacobian J on the pose's step (δω, δC) and residual r,
 //
 //   S_cc[0:6, 0:6] += JᵀJ,  b_c -= Jᵀr,  g_c += Jᵀr,  diag(U)_c += diag(JᵀJ).
 //

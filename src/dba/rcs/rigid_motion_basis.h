@@ -21,8 +21,8 @@
 // coordinates. c̄ keeps the rotation and scale columns of the size of the
 // scene, not of its distance from the origin.
 //
-// Camera rows of 9 (BAL: ω, t, f, k1, k2) or 6 unknowns (pose: ω, t) get the
-// rigid basis; intrinsic rows the identity.
+// Camera rows of 9 (BAL: δω, δC, f, k1, k2) or 6 unknowns (pose: δω, δC)
+// get the rigid basis; intrinsic rows the identity.
 #pragma once
 
 #include <vector>

@@ -7,8 +7,8 @@
 namespace dba {
 
 // The basis N of one block row's unknowns in the coarse space: the identity,
-// or (`rigid`, a row of at least 6 unknowns whose first six are a pose
-// (ω, t))
+// or (`rigid`, a row of at least 6 unknowns whose first six are a pose's
+// step (δω, δC), camera/pose_step.h)
 //
 //   N = [ 0  A  0  0 ]   columns: scene translation (3), scene rotation (3),
 //       [ B  C  0  D ]   the row's other unknowns as they are, and (`scale`)

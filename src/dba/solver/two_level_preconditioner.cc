@@ -32,7 +32,7 @@ using ConstSlab = Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic, Eige
 // N_iᵀ S_ij N_j for an r x c block (row-major; r' x c', one row and column
 // more for a basis with a scale column), in two halves by 3x3 panels.
 //
-// Right: sn = S_ij N_j replaces columns (ω, t) by (S_t B, S_ω A + S_t C) and
+// Right: sn = S_ij N_j replaces the pose's columns (δω, δC) by (S_t B, S_ω A + S_t C) and
 // appends S_t D (r x c'). `sn` may not alias `s`.
 void RightTransform(const double* s, const CoarseRowBasis& Nj, int r, int c, double* sn) {
   const int cc = c + (Nj.scale ? 1 : 0);
@@ -48,7 +48,7 @@ void RightTransform(const double* s, const CoarseRowBasis& Nj, int r, int c, dou
   }
 }
 
-// Left: out = N_iᵀ sn replaces rows (ω, t) of the r x cc `sn` by (Bᵀ T_t,
+// Left: out = N_iᵀ sn replaces the pose's rows (δω, δC) of the r x cc `sn` by (Bᵀ T_t,
 // Aᵀ T_ω + Cᵀ T_t) and appends Dᵀ T_t. `out` may not alias `sn`.
 void LeftTransform(const CoarseRowBasis& Ni, const double* sn, int r, int cc, double* out) {
   std::copy(sn, sn + r * cc, out);
@@ -141,7 +141,7 @@ std::vector<uint8_t> BasisKinds(const BsmcMatrix& S, const std::vector<CoarseRow
 // scale is the global gauge alone (a null direction of S that only λ
 // damps): both would leave R S Rᵀ (nearly) singular, so they go. The rest
 // scale about their aggregate's own centre: D_i - B_i o_a, o_a the mean of
-// B_jᵀ D_j over the aggregate (for the rigid-motion basis B = -R and
+// B_jᵀ D_j over the aggregate (for the rigid-motion basis B = I and
 // Bᵀ D = C - c̄, so o_a is the aggregate's centre). The span is the same (a
 // common translation is added), but D no longer carries the distance to the
 // scene's centre, which the coarse Cholesky would have to cancel (a
