@@ -4,7 +4,7 @@
 
 #include <Eigen/LU>
 
-#include "dba/camera/rotation.h"
+#include "dba/camera/pose_similarity.h"
 
 namespace dba {
 
@@ -17,8 +17,7 @@ std::vector<CoarseRowBasis> RigidMotionBases(const UnknownLayout& layout, const 
   int64_t poses = 0;
   for (int32_t r = 0; r < layout.num_block_rows(); ++r) {
     if (!is_pose_row(r)) continue;
-    const double* p = x + layout.param_offset(r);
-    centroid -= AngleAxisToRotation(Vec3(p[0], p[1], p[2])).transpose() * Vec3(p[3], p[4], p[5]);
+    centroid += CameraCentre(x + layout.param_offset(r));
     ++poses;
   }
   if (poses > 0) centroid /= static_cast<double>(poses);
