@@ -90,6 +90,20 @@ bool ReturnPages(void* data, int64_t bytes) {
 #endif
 }
 
+bool AdviseHugePages(void* data, int64_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  constexpr uintptr_t kHuge = uintptr_t{2} << 20;
+  const uintptr_t begin = (reinterpret_cast<uintptr_t>(data) + kHuge - 1) / kHuge * kHuge;
+  const uintptr_t end = (reinterpret_cast<uintptr_t>(data) + static_cast<uintptr_t>(bytes)) / kHuge * kHuge;
+  if (end <= begin) return true;
+  return madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE) == 0;
+#else
+  (void)data;
+  (void)bytes;
+  return false;
+#endif
+}
+
 void ZeroAndReturnPages(double* data, int64_t count) {
   static const int64_t page = sysconf(_SC_PAGESIZE) / static_cast<int64_t>(sizeof(double));
   const int64_t misalign = static_cast<int64_t>(reinterpret_cast<uintptr_t>(data) % (page * 8)) / 8;

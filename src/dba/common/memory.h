@@ -24,4 +24,12 @@ bool ReturnPages(void* data, int64_t bytes);
 // ones at the ends written (all written where pages cannot be given back).
 void ZeroAndReturnPages(double* data, int64_t count);
 
+// Asks the system to back the whole 2 MiB-aligned stretches inside
+// [data, data + bytes) with huge pages (madvise MADV_HUGEPAGE), before they
+// are first written. Where page faults are dear (a virtual machine that
+// shadows the page tables: about 4 s per GiB of 4 KiB pages here, 0.1 s per
+// GiB of huge ones) and for arrays read at random (fewer TLB misses). A hint:
+// false where the system refused it (no transparent huge pages, not Linux).
+bool AdviseHugePages(void* data, int64_t bytes);
+
 }  // namespace dba
