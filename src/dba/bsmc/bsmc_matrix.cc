@@ -60,7 +60,7 @@ BsmcMatrix& BsmcMatrix::operator=(BsmcMatrix&& other) noexcept {
 
 void BsmcMatrix::AllocateValues() {
   placed_ = nullptr;
-  values_.assign(value_offset_.back(), 0.0);
+  AssignZeros(&values_, static_cast<size_t>(value_offset_.back()));
   values_zero_ = false;
 }
 

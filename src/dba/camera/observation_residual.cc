@@ -3,7 +3,10 @@
 
 #include "dba/camera/photo_camera.h"
 
+#include <omp.h>
+
 #include <cmath>
+#include <vector>
 
 namespace dba {
 
@@ -31,21 +34,35 @@ Vec2 ObservationResidual(const CameraSide& side, const double* cameras, Rotation
 }
 
 NonFiniteResiduals FindNonFiniteResiduals(const Problem& problem, int keep) {
-  NonFiniteResiduals bad;
-  RotationFrameCache frames;  // the trigonometry once per camera, not per observation
-  for (int64_t k = 0; k < problem.num_points(); ++k) {
-    for (int64_t o = problem.point_offsets[k]; o < problem.point_offsets[k + 1]; ++o) {
-      const int32_t i = problem.obs_camera[o];
-      if (std::isfinite(ObservationResidual(problem, problem.cameras.data(), &frames, i,
-                                            problem.point(k), problem.pixel(o))
-                            .squaredNorm())) {
-        continue;
+  // Each thread a contiguous range of points, its finds appended in thread
+  // order: the first `keep` are the first in observation order.
+  std::vector<NonFiniteResiduals> parts(static_cast<size_t>(omp_get_max_threads()));
+#pragma omp parallel num_threads(static_cast<int>(parts.size()))
+  {
+    NonFiniteResiduals& bad = parts[static_cast<size_t>(omp_get_thread_num())];
+    RotationFrameCache frames;  // the trigonometry once per camera, not per observation
+#pragma omp for schedule(static)
+    for (int64_t k = 0; k < problem.num_points(); ++k) {
+      for (int64_t o = problem.point_offsets[k]; o < problem.point_offsets[k + 1]; ++o) {
+        const int32_t i = problem.obs_camera[o];
+        if (std::isfinite(ObservationResidual(problem, problem.cameras.data(), &frames, i,
+                                              problem.point(k), problem.pixel(o))
+                              .squaredNorm())) {
+          continue;
+        }
+        if (static_cast<int>(bad.first.size()) < keep) bad.first.push_back({o, k, i});
+        ++bad.count;
       }
-      if (static_cast<int>(bad.first.size()) < keep) bad.first.push_back({o, k, i});
-      ++bad.count;
     }
   }
-  return bad;
+  NonFiniteResiduals all;
+  for (const NonFiniteResiduals& part : parts) {
+    all.count += part.count;
+    for (const auto& where : part.first) {
+      if (static_cast<int>(all.first.size()) < keep) all.first.push_back(where);
+    }
+  }
+  return all;
 }
 
 }  // namespace dba

@@ -4,7 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
 #include <algorithm>
+#include <cmath>
+#include <vector>
 
 #include "dba/camera/photo_camera.h"
 #include "dba/testing/synthetic_photo.h"
@@ -39,6 +43,38 @@ TEST(ObservationResidual, PhotoModelUsesTheImagesGroup) {
       EXPECT_NE(r, PhotoResidual(LensModel::kRadial, p.camera(i), p.intrinsics(0), X, pixel)) << i;
     }
   }
+}
+
+// The search runs over the threads in contiguous ranges of points: the
+// count is every bad observation, and the ones kept are the first in
+// observation order, whichever thread found them.
+TEST(FindNonFiniteResiduals, CountsAllAndKeepsTheFirstInObservationOrder) {
+  testing::SyntheticBalOptions o;
+  o.pixel_noise = 1.0;
+  Problem p = testing::MakeSyntheticBal(o).problem;
+  ASSERT_GE(p.num_points(), 20);
+  EXPECT_EQ(FindNonFiniteResiduals(p).count, 0);
+  // Points of no finite position, one early and several late in the point
+  // order: every observation of theirs is bad.
+  const std::vector<int64_t> bad_points = {3, p.num_points() - 9, p.num_points() - 5,
+                                           p.num_points() - 2};
+  int64_t bad_observations = 0;
+  for (const int64_t k : bad_points) {
+    p.point(k)[1] = std::nan("");
+    bad_observations += p.point_offsets[k + 1] - p.point_offsets[k];
+  }
+  ASSERT_GE(bad_observations, 4);
+  for (const int threads : {1, 2, 3}) {
+    omp_set_num_threads(threads);
+    const NonFiniteResiduals bad = FindNonFiniteResiduals(p, 2);
+    EXPECT_EQ(bad.count, bad_observations) << threads;
+    ASSERT_EQ(bad.first.size(), 2u) << threads;
+    EXPECT_EQ(bad.first[0].point, 3) << threads;
+    EXPECT_EQ(bad.first[0].observation, p.point_offsets[3]) << threads;
+    EXPECT_LT(bad.first[0].observation, bad.first[1].observation) << threads;
+    EXPECT_EQ(bad.first[1].camera, p.obs_camera[bad.first[1].observation]) << threads;
+  }
+  omp_set_num_threads(omp_get_num_procs());
 }
 
 }  // namespace

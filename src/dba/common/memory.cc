@@ -1,6 +1,7 @@
 // Resident memory from /proc/self/status; see memory.h.
 #include "dba/common/memory.h"
 
+#include <omp.h>
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -101,6 +102,27 @@ bool AdviseHugePages(void* data, int64_t bytes) {
   (void)data;
   (void)bytes;
   return false;
+#endif
+}
+
+void PopulatePages(void* data, int64_t bytes) {
+#if defined(__linux__) && defined(MADV_POPULATE_WRITE)
+  static const uintptr_t page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
+  const uintptr_t begin = (reinterpret_cast<uintptr_t>(data) + page - 1) / page * page;
+  const uintptr_t end = (reinterpret_cast<uintptr_t>(data) + static_cast<uintptr_t>(bytes)) / page * page;
+  if (end <= begin) return;
+  const uintptr_t pages = (end - begin) / page;
+#pragma omp parallel
+  {
+    const uintptr_t threads = static_cast<uintptr_t>(omp_get_num_threads());
+    const uintptr_t t = static_cast<uintptr_t>(omp_get_thread_num());
+    const uintptr_t first = begin + pages * t / threads * page;
+    const uintptr_t last = begin + pages * (t + 1) / threads * page;
+    if (last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_POPULATE_WRITE);
+  }
+#else
+  (void)data;
+  (void)bytes;
 #endif
 }
 

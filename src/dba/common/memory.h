@@ -2,7 +2,9 @@
 // Thread safety: safe.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace dba {
 
@@ -31,5 +33,25 @@ void ZeroAndReturnPages(double* data, int64_t count);
 // GiB of huge ones) and for arrays read at random (fewer TLB misses). A hint:
 // false where the system refused it (no transparent huge pages, not Linux).
 bool AdviseHugePages(void* data, int64_t bytes);
+
+// Takes the pages of [data, data + bytes) now, writable, split over the
+// OpenMP threads (madvise MADV_POPULATE_WRITE): a fresh array's first
+// writes are page faults, which a single thread's memset takes one after
+// the other (2.4 s per GiB of huge pages here, 1.0 s with two threads).
+// A hint: nothing happens where the system cannot (Linux before 5.14).
+void PopulatePages(void* data, int64_t bytes);
+
+// v holds n zeros; a large fresh array's pages are taken by all threads
+// first (PopulatePages), then zeroed.
+template <typename T>
+void AssignZeros(std::vector<T>* v, std::size_t n) {
+  constexpr std::size_t kPopulateBytes = std::size_t{64} << 20;
+  if (n * sizeof(T) >= kPopulateBytes && v->capacity() < n) {
+    std::vector<T>().swap(*v);
+    v->reserve(n);
+    PopulatePages(v->data(), static_cast<int64_t>(n * sizeof(T)));
+  }
+  v->assign(n, T{});
+}
 
 }  // namespace dba

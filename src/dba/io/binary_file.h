@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "dba/common/memory.h"
+
 namespace dba {
 
 class BinaryFile {
@@ -28,10 +30,15 @@ class BinaryFile {
   uint64_t size() const { return size_; }
 
   // By position: exactly `bytes` at `offset`, `what` naming them in errors.
+  // Large reads bypass the page cache (O_DIRECT, through an aligned buffer)
+  // where the file system allows it: here a buffered read of a file not in
+  // the cache ran at 0.8 GB/s, a direct one at 4.5 GB/s, and a solve's
+  // arrays would share the memory with the file's cached copy.
   void ReadAt(int64_t offset, void* data, int64_t bytes, const char* what) const;
   template <typename T>
   std::vector<T> ReadArrayAt(int64_t offset, int64_t count, const char* what) const {
-    std::vector<T> v(count);
+    std::vector<T> v;
+    AssignZeros(&v, static_cast<size_t>(count));
     ReadAt(offset, v.data(), count * int64_t{sizeof(T)}, what);
     return v;
   }
@@ -64,6 +71,10 @@ class BinaryFile {
 
  private:
   void Refill();
+  // ReadAt through O_DIRECT; false (nothing read) where it is refused.
+  bool ReadDirectAt(int64_t offset, char* data, int64_t bytes, const char* what) const;
+  // InputError: the read at `offset` of `what` returned n (< 0: errno).
+  [[noreturn]] void FailRead(int64_t offset, const char* what, long n) const;
   std::string path_;
   int fd_ = -1;
   uint64_t size_ = 0;

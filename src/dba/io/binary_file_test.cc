@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -35,6 +37,39 @@ TEST(BinaryFile, InOrderAcrossRefillsAndByPosition) {
   f.ExpectEnd("the name");
   EXPECT_EQ(f.ReadArrayAt<uint64_t>(8 * 131071, 3, "values"),
             (std::vector<uint64_t>{values[131071], values[131072], values[131073]}));
+}
+
+// Reads of 64 MiB and more go around the page cache (O_DIRECT, in aligned
+// blocks through a buffer of 32 MiB) where the file system allows it, by
+// the buffered path elsewhere (tmpfs): the same bytes either way, from
+// unaligned offsets, across the buffer's chunks and up to the file's end.
+TEST(BinaryFile, LargeReadsAtUnalignedOffsetsMatchTheBytes) {
+  std::vector<uint64_t> values((size_t{72} << 20) / 8);  // 72 MiB
+  for (size_t i = 0; i < values.size(); ++i) values[i] = i * 0x9E3779B97F4A7C15ull;
+  const std::string tail("xyz", 3);  // the file ends off a 4 KiB boundary
+  BinaryFile f(WriteBytes("binary_file_large.bin", values, tail));
+  for (const int64_t first : {int64_t{0}, int64_t{1}, int64_t{513}}) {
+    const int64_t count = static_cast<int64_t>(values.size()) - first;
+    const std::vector<uint64_t> read = f.ReadArrayAt<uint64_t>(8 * first, count, "values");
+    ASSERT_EQ(read.size(), static_cast<size_t>(count));
+    EXPECT_TRUE(std::equal(read.begin(), read.end(), values.begin() + first)) << first;
+  }
+  // Unaligned by 3 bytes, up to the last byte of the file.
+  std::vector<char> bytes(f.size() - 3 - 8 * 4096);
+  f.ReadAt(3 + 8 * 4096, bytes.data(), static_cast<int64_t>(bytes.size()), "bytes");
+  EXPECT_EQ(std::memcmp(bytes.data(), reinterpret_cast<const char*>(values.data()) + 3 + 8 * 4096,
+                        bytes.size() - 3),
+            0);
+  EXPECT_EQ(std::string(bytes.end() - 3, bytes.end()), tail);
+  // One byte past the end is a truncation, named with its offset.
+  try {
+    f.ReadAt(3 + 8 * 4096, bytes.data(), static_cast<int64_t>(bytes.size()) + 1, "bytes");
+    FAIL() << "read past the end";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("truncated or unreadable while reading bytes at byte"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(BinaryFile, TruncationNamesOffsetEntryAndSizes) {
