@@ -17,6 +17,7 @@
 #include <memory>
 #include <vector>
 
+#include "dba/common/memory.h"
 #include "dba/rcs/form_rcs.h"
 #include "dba/solver/rcs_solver.h"
 
@@ -57,7 +58,9 @@ class LocalDampedRcsSolver : public DampedRcsSolver {
                            double* delta_c) override {
     DampCameraBlocks(lambda, bounds, system->camera_side_jtj_diagonal, &system->S);
     if (idle_ != nullptr) {
-      if (static_cast<int64_t>(idle_->size()) < idle_doubles_) idle_->resize(idle_doubles_);
+      if (static_cast<int64_t>(idle_->size()) < idle_doubles_) {
+        AssignZeros(idle_, static_cast<size_t>(idle_doubles_));
+      }
       solver_->LendForNextSolve(idle_->data());
     }
     return solver_->Solve(system->S, system->b.data(), delta_c);

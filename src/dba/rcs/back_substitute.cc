@@ -8,6 +8,7 @@
 
 #include "dba/camera/bal_camera_lanes.h"
 #include "dba/camera/observation_residual.h"
+#include "dba/common/memory.h"
 #include "dba/common/progress.h"
 
 namespace dba {
@@ -133,7 +134,9 @@ StepEvaluation BackSubstitute(const Problem& problem, const UnknownLayout& layou
                               const std::vector<double>& delta_c,
                               const std::vector<double>& candidate_cameras, int num_threads,
                               std::vector<double>* candidate_points, const RobustLoss& loss) {
-  candidate_points->resize(problem.points.size());
+  if (candidate_points->size() != problem.points.size()) {
+    AssignZeros(candidate_points, problem.points.size());
+  }
   if (problem.model == CameraModel::kBal) {
     return BackSubstituteWith<BalModel>(problem, layout, lambda, bounds, delta_c,
                                         candidate_cameras, num_threads, candidate_points, loss);
