@@ -99,11 +99,16 @@ struct RcsTarget {
   double* gradient;      // camera_side_gradient
   double* jtj_diagonal;  // camera_side_jtj_diagonal
   StripedLocks* locks;   // null: private, no locking
+  // With locks: the rows that other threads also write (null: all).
+  const uint8_t* shared_rows = nullptr;
+  bool Locks(int64_t row) const {
+    return locks != nullptr && (shared_rows == nullptr || shared_rows[row] != 0);
+  }
   void Lock(int64_t row) const {
-    if (locks != nullptr) locks->Lock(row);
+    if (Locks(row)) locks->Lock(row);
   }
   void Unlock(int64_t row) const {
-    if (locks != nullptr) locks->Unlock(row);
+    if (Locks(row)) locks->Unlock(row);
   }
 };
 
@@ -242,6 +247,41 @@ int64_t FormationCopyBytes(int64_t values, int64_t rows, int num_threads) {
 
 namespace {
 
+// Thread t of `threads` forms the points [n t / threads, n (t + 1) / threads).
+int64_t RangeBegin(int64_t n, int t, int threads) { return n * t / threads; }
+
+// The rows of S that points of more than one thread's range touch: only
+// those need a lock (neighbouring points see the same cameras, so at most
+// the cameras near the ranges' seams, and the shared intrinsics rows). The
+// lock's exchange was a tenth of formation's own time on the 100K-image
+// survey. Recomputed when the number of threads changes.
+void FindSharedRows(const Problem& problem, const UnknownLayout& layout, int threads,
+                    RcsSystem* sys) {
+  const int32_t rows = layout.num_block_rows();
+  // Per row, the first thread that touches it, or `kShared`.
+  constexpr int kShared = -2;
+  std::vector<int> toucher(rows, -1);
+  const int64_t n = problem.num_points();
+  const bool photo = problem.model == CameraModel::kPhoto;
+  for (int t = 0; t < threads; ++t) {
+    const int64_t first = problem.point_offsets[RangeBegin(n, t, threads)];
+    const int64_t last = problem.point_offsets[RangeBegin(n, t + 1, threads)];
+    auto touch = [&](int32_t row) {
+      if (row < 0) return;
+      int& who = toucher[row];
+      who = who == -1 || who == t ? t : kShared;
+    };
+    for (int64_t o = first; o < last; ++o) {
+      const int32_t i = problem.obs_camera[o];
+      touch(layout.camera_row(i));
+      if (photo) touch(layout.intrinsics_row(problem.camera_intrinsics[i]));
+    }
+  }
+  sys->shared_rows.assign(rows, 0);
+  for (int32_t r = 0; r < rows; ++r) sys->shared_rows[r] = toucher[r] == kShared;
+  sys->shared_rows_threads = threads;
+}
+
 template <class Model>
 void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bounds,
                  const RobustLoss& loss, int num_threads, RcsSystem* sys) {
@@ -251,10 +291,13 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
   const int64_t rows = sys->S.num_rows();
   const int64_t values = sys->S.num_values();
   const bool private_copies = FormationCopyBytes(values, rows, num_threads) > 0;
+  if (!private_copies && num_threads > 1 && sys->shared_rows_threads != num_threads) {
+    FindSharedRows(problem, sys->layout, num_threads, sys);
+  }
   // Thread t > 0 of the private scheme: values, then b, gradient, diagonal.
   std::vector<std::vector<double>> copies(private_copies ? num_threads - 1 : 0);
-  // The first thread reports its share (a static schedule: the first
-  // ceil(n / threads) points).
+  // The first thread reports its share (RangeBegin: about the first
+  // n / threads points).
   ProgressPhase progress("RCS formation");
   const double first_share =
       std::max<double>(1.0, static_cast<double>((num_points + num_threads - 1) / num_threads));
@@ -264,8 +307,14 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
     PointSystem<Model> p;
     AddScratch<Model> scratch;
     const int thread = omp_get_thread_num();
+    const int threads = omp_get_num_threads();
+    // Locks on the shared rows alone where they were found for this many
+    // threads (the team may be smaller than asked for).
+    const uint8_t* shared_rows =
+        threads == sys->shared_rows_threads ? sys->shared_rows.data() : nullptr;
     RcsTarget target{sys->S.values().data(), sys->b.data(), sys->camera_side_gradient.data(),
-                     sys->camera_side_jtj_diagonal.data(), private_copies ? nullptr : &locks};
+                     sys->camera_side_jtj_diagonal.data(), private_copies ? nullptr : &locks,
+                     shared_rows};
     if (private_copies && thread > 0) {
       std::vector<double>& c = copies[thread - 1];
       c.assign(values + 3 * rows, 0.0);
@@ -278,8 +327,8 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
     // (1920 cameras): dynamic chunks of 256 took 6.5 s per formation with 2
     // threads, slower than 2 single-threaded MPI ranks on half the points;
     // contiguous ranges take 3.0 s.
-#pragma omp for schedule(static)
-    for (int64_t k = 0; k < num_points; ++k) {
+    const int64_t end = RangeBegin(num_points, thread + 1, threads);
+    for (int64_t k = RangeBegin(num_points, thread, threads); k < end; ++k) {
       if (thread == 0 && (k & 4095) == 0) progress.Report(static_cast<double>(k) / first_share);
       LinearizePoint(problem, sys->layout, loss, k, &p);
       EliminatePoint(lambda, bounds, &p);

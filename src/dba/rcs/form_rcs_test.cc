@@ -8,9 +8,12 @@
 
 #include <bit>
 
+#include "dba/io/read_problem.h"
+#include "dba/synthetic/uav_generator.h"
 #include "dba/testing/dense_reference.h"
 #include "dba/testing/synthetic_bal.h"
 #include "dba/testing/synthetic_photo.h"
+#include "dba/testing/temp_files.h"
 
 namespace dba {
 namespace {
@@ -364,6 +367,57 @@ INSTANTIATE_TEST_SUITE_P(
       return std::string(info.param.photo ? "photo" : "bal") + "_" +
              std::to_string(info.param.threads) + "_threads";
     });
+
+// An RCS too large for the threads' private copies is formed under row
+// locks, and only the rows that more than one thread's range of points
+// touches are locked (FindSharedRows): a survey's points are ordered along
+// its strips, so most rows belong to one thread. The values are those of
+// one thread all the same.
+TEST(FormRcs, LocksOnlySharedRowsAndMatchesOneThread) {
+  UavSurveyOptions o;
+  o.images = 3000;
+  o.features_per_image = 100;
+  o.forward_overlap = 0.6;
+  o.side_overlap = 0.3;
+  const std::string path = testing::TempPath("form_rcs_locks.dba");
+  GenerateUavSurvey(o, path, "");
+  const Problem problem = ReadProblem(path);
+  const DampingBounds bounds;
+  RcsSystem one = RcsSystem::ForProblem(problem), many = RcsSystem::ForProblem(problem);
+  constexpr int kThreads = 8;
+  ASSERT_EQ(FormationCopyBytes(many.S.num_values(), many.S.num_rows(), kThreads), 0)
+      << "the survey's RCS is small enough for private copies: no locks to test";
+  FormRcs(problem, 1e-3, bounds, 1, &one);
+  FormRcs(problem, 1e-3, bounds, kThreads, &many);
+  ASSERT_EQ(many.shared_rows_threads, kThreads);
+  // A row is shared exactly when the threads of the points touching it
+  // (thread t forms points [n t / 8, n (t + 1) / 8)) are not all one.
+  const int64_t n = problem.num_points();
+  std::vector<int> lowest(many.S.num_block_rows(), kThreads), highest(many.S.num_block_rows(), -1);
+  for (int t = 0; t < kThreads; ++t) {
+    for (int64_t k = n * t / kThreads; k < n * (t + 1) / kThreads; ++k) {
+      for (int64_t a = problem.point_offsets[k]; a < problem.point_offsets[k + 1]; ++a) {
+        const int32_t row = many.layout.camera_row(problem.obs_camera[a]);
+        if (row < 0) continue;
+        lowest[row] = std::min(lowest[row], t), highest[row] = std::max(highest[row], t);
+      }
+    }
+  }
+  for (int32_t r = 0; r < many.S.num_block_rows(); ++r) {
+    ASSERT_EQ(many.shared_rows[r], lowest[r] < highest[r] ? 1 : 0) << "row " << r;
+  }
+  const int64_t shared = std::count(many.shared_rows.begin(), many.shared_rows.end(), 1);
+  EXPECT_GT(shared, 0);
+  EXPECT_LT(shared, many.S.num_block_rows() / 2);
+  EXPECT_LT(VectorRelativeError(one.S.values(), many.S.values()), 1e-13) << "S";
+  EXPECT_LT(VectorRelativeError(one.b, many.b), 1e-13) << "b";
+  EXPECT_LT(VectorRelativeError(one.camera_side_gradient, many.camera_side_gradient), 1e-13);
+  EXPECT_NEAR(one.cost, many.cost, 1e-13 * one.cost);
+  // Formed again (the shared rows kept), the same values.
+  const std::vector<double> first(many.S.values().begin(), many.S.values().end());
+  FormRcs(problem, 1e-3, bounds, kThreads, &many);
+  EXPECT_LT(VectorRelativeError(first, many.S.values()), 1e-13);
+}
 
 }  // namespace
 }  // namespace dba
