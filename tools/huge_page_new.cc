@@ -11,10 +11,15 @@
 // also miss the TLB less.
 //
 // In the executable only, not in dba_core: a library must not replace a host
-// program's (Python's) allocation functions. Blocks come from malloc, which
-// maps large ones afresh (untouched) and frees them with free: every other
-// operator new and delete (nothrow, array, sized, aligned) of libstdc++ ends
-// in these two or in malloc/free.
+// program's (Python's) allocation functions; nor under the sanitizers, whose
+// own operator new checks the pairs. Blocks come from malloc and go back
+// with free; every other operator new and delete of libstdc++ (nothrow,
+// array, sized) ends in these or in malloc and free. malloc maps the large
+// blocks afresh (untouched; from 32 MiB on always), while blocks of 4 to 32
+// MiB may come from its heap once its threshold has risen: the advice then
+// applies to those heap pages, which malloc reuses without new faults.
+// Over-aligned new (aligned_alloc) and delete (free) keep libstdc++'s
+// definitions and are not advised: nothing large is over-aligned here.
 #include <cstdlib>
 #include <new>
 
@@ -27,8 +32,13 @@ namespace {
 constexpr std::size_t kAdviseBytes = std::size_t{4} << 20;
 
 void* Allocate(std::size_t bytes) {
-  void* p = std::malloc(bytes == 0 ? 1 : bytes);
-  if (p == nullptr) throw std::bad_alloc();
+  void* p = nullptr;
+  // As the standard's operator new: the new-handler until it gives up.
+  while ((p = std::malloc(bytes == 0 ? 1 : bytes)) == nullptr) {
+    const std::new_handler handler = std::get_new_handler();
+    if (handler == nullptr) throw std::bad_alloc();
+    handler();
+  }
   if (bytes >= kAdviseBytes) dba::AdviseHugePages(p, static_cast<int64_t>(bytes));
   return p;
 }

@@ -584,6 +584,9 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   if (lm.num_threads == 0) {
     lm.num_threads = std::max(1, DefaultThreads() / comm->ranks_on_node());
   }
+  // Every parallel region without a count of its own (loading, the
+  // symbolic phase) takes the solve's threads too.
+  omp_set_num_threads(lm.num_threads);
   // Progress of long phases: the main rank, on a terminal, without -q.
   EnableProgress(main && !options.quiet && options.progress);
   SolveReport report;

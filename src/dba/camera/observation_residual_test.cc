@@ -63,18 +63,29 @@ TEST(FindNonFiniteResiduals, CountsAllAndKeepsTheFirstInObservationOrder) {
     p.point(k)[1] = std::nan("");
     bad_observations += p.point_offsets[k + 1] - p.point_offsets[k];
   }
-  ASSERT_GE(bad_observations, 4);
-  for (const int threads : {1, 2, 3}) {
-    omp_set_num_threads(threads);
-    const NonFiniteResiduals bad = FindNonFiniteResiduals(p, 2);
-    EXPECT_EQ(bad.count, bad_observations) << threads;
-    ASSERT_EQ(bad.first.size(), 2u) << threads;
-    EXPECT_EQ(bad.first[0].point, 3) << threads;
-    EXPECT_EQ(bad.first[0].observation, p.point_offsets[3]) << threads;
-    EXPECT_LT(bad.first[0].observation, bad.first[1].observation) << threads;
-    EXPECT_EQ(bad.first[1].camera, p.obs_camera[bad.first[1].observation]) << threads;
+  ASSERT_GE(bad_observations, 8);
+  // Kept: all of point 3's and some of the next bad points' (found by other
+  // threads), in observation order.
+  const int keep = static_cast<int>(p.point_offsets[4] - p.point_offsets[3]) + 3;
+  std::vector<int64_t> expected;
+  for (const int64_t k : bad_points) {
+    for (int64_t obs = p.point_offsets[k]; obs < p.point_offsets[k + 1]; ++obs) {
+      if (static_cast<int>(expected.size()) < keep) expected.push_back(obs);
+    }
   }
-  omp_set_num_threads(omp_get_num_procs());
+  const int before = omp_get_max_threads();
+  for (const int threads : {1, 2, 3, 8}) {
+    omp_set_num_threads(threads);
+    const NonFiniteResiduals bad = FindNonFiniteResiduals(p, keep);
+    EXPECT_EQ(bad.count, bad_observations) << threads;
+    ASSERT_EQ(bad.first.size(), expected.size()) << threads;
+    for (size_t x = 0; x < expected.size(); ++x) {
+      EXPECT_EQ(bad.first[x].observation, expected[x]) << threads << " " << x;
+      EXPECT_EQ(bad.first[x].camera, p.obs_camera[expected[x]]) << threads << " " << x;
+    }
+    EXPECT_EQ(bad.first[0].point, 3) << threads;
+  }
+  omp_set_num_threads(before);
 }
 
 }  // namespace

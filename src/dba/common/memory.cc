@@ -1,4 +1,4 @@
-// Resident memory from /proc/self/status; see memory.h.
+// Resident memory from /proc; pages given back, advised and taken; see memory.h.
 #include "dba/common/memory.h"
 
 #include <omp.h>
@@ -9,6 +9,7 @@
 #include <cstring>
 #include <algorithm>
 #include <string>
+#include <utility>
 
 namespace dba {
 namespace {
@@ -27,6 +28,13 @@ int64_t ReadKilobytes(const char* path, const char* key) {
   }
   std::fclose(f);
   return kb;
+}
+
+// [begin, end): the whole `unit`-aligned stretches inside [data, data +
+// bytes) (end <= begin: none).
+std::pair<uintptr_t, uintptr_t> WholeUnitsInside(const void* data, int64_t bytes, uintptr_t unit) {
+  const uintptr_t first = reinterpret_cast<uintptr_t>(data);
+  return {(first + unit - 1) / unit * unit, (first + static_cast<uintptr_t>(bytes)) / unit * unit};
 }
 
 int64_t ReadStatusKilobytes(const char* key) { return ReadKilobytes("/proc/self/status", key); }
@@ -80,8 +88,7 @@ int64_t AvailableMemoryBytes() {
 bool ReturnPages(void* data, int64_t bytes) {
 #ifdef __linux__
   static const uintptr_t page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
-  const uintptr_t begin = (reinterpret_cast<uintptr_t>(data) + page - 1) / page * page;
-  const uintptr_t end = (reinterpret_cast<uintptr_t>(data) + static_cast<uintptr_t>(bytes)) / page * page;
+  const auto [begin, end] = WholeUnitsInside(data, bytes, page);
   if (end <= begin) return true;
   return madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED) == 0;
 #else
@@ -93,9 +100,7 @@ bool ReturnPages(void* data, int64_t bytes) {
 
 bool AdviseHugePages(void* data, int64_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr uintptr_t kHuge = uintptr_t{2} << 20;
-  const uintptr_t begin = (reinterpret_cast<uintptr_t>(data) + kHuge - 1) / kHuge * kHuge;
-  const uintptr_t end = (reinterpret_cast<uintptr_t>(data) + static_cast<uintptr_t>(bytes)) / kHuge * kHuge;
+  const auto [begin, end] = WholeUnitsInside(data, bytes, uintptr_t{2} << 20);
   if (end <= begin) return true;
   return madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE) == 0;
 #else
@@ -108,8 +113,7 @@ bool AdviseHugePages(void* data, int64_t bytes) {
 void PopulatePages(void* data, int64_t bytes) {
 #if defined(__linux__) && defined(MADV_POPULATE_WRITE)
   static const uintptr_t page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
-  const uintptr_t begin = (reinterpret_cast<uintptr_t>(data) + page - 1) / page * page;
-  const uintptr_t end = (reinterpret_cast<uintptr_t>(data) + static_cast<uintptr_t>(bytes)) / page * page;
+  const auto [begin, end] = WholeUnitsInside(data, bytes, page);
   if (end <= begin) return;
   const uintptr_t pages = (end - begin) / page;
 #pragma omp parallel

@@ -1,5 +1,6 @@
-// Peak and current resident memory of this process (Linux /proc).
-// Thread safety: safe.
+// Peak and current resident memory of this process (Linux /proc), and the
+// pages of large arrays: given back, advised onto huge pages, taken early
+// by all threads. Thread safety: safe.
 #pragma once
 
 #include <cstddef>

@@ -10,8 +10,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <string>
 
 #include "dba/common/error.h"
+#include "dba/common/memory.h"
 
 namespace dba {
 namespace {
@@ -44,46 +46,55 @@ BinaryFile::~BinaryFile() { ::close(fd_); }
                        (n < 0 ? std::string(": ") + std::strerror(errno) : ""));
 }
 
-bool BinaryFile::ReadDirectAt(int64_t offset, char* data, int64_t bytes, const char* what) const {
+int64_t BinaryFile::ReadDirectAt(int64_t offset, char* data, int64_t bytes) const {
 #ifdef O_DIRECT
   // Whole blocks of kDirectAlign at aligned file offsets into an aligned
-  // buffer, each chunk's part in [offset, offset + bytes) copied out.
+  // buffer, each chunk's part in [offset, offset + bytes) copied out. The
+  // file is the one open as fd_ (reopened through /proc, not by its path,
+  // which may name another file by now).
   constexpr int64_t kDirectAlign = 4096;
   constexpr int64_t kChunk = int64_t{32} << 20;
-  const int fd = ::open(path_.c_str(), O_RDONLY | O_DIRECT);
-  if (fd < 0) return false;
+  const std::string self = "/proc/self/fd/" + std::to_string(fd_);
+  const int fd = ::open(self.c_str(), O_RDONLY | O_DIRECT);
+  if (fd < 0) return 0;
   struct Closer {
     int fd;
     ~Closer() { ::close(fd); }
   } closer{fd};
-  void* raw = std::aligned_alloc(kDirectAlign, kChunk);
-  if (raw == nullptr) return false;
+  // On huge pages: taken afresh at each call (glibc maps a block this size).
+  void* raw = std::aligned_alloc(size_t{2} << 20, kChunk);
+  if (raw == nullptr) return 0;
   std::unique_ptr<char, decltype(&std::free)> buffer(static_cast<char*>(raw), &std::free);
+  AdviseHugePages(raw, kChunk);
   const int64_t end = offset + bytes;
-  for (int64_t at = offset / kDirectAlign * kDirectAlign; at < end;) {
+  int64_t at = offset / kDirectAlign * kDirectAlign;
+  while (at < end) {
     const int64_t want = std::min(kChunk, (end - at + kDirectAlign - 1) / kDirectAlign * kDirectAlign);
     const ssize_t n = ::pread(fd, buffer.get(), static_cast<size_t>(want), at);
     if (n < 0 && errno == EINTR) continue;
-    // The first read tells whether the file system takes direct reads.
-    if (n < 0 && errno == EINVAL && at < offset + kDirectAlign) return false;
     const int64_t from = std::max(at, offset);
-    if (n <= 0 || at + n <= from) FailRead(from, what, n);
+    // Refused (the file system takes no direct reads), failed, at the end,
+    // or short: what is left goes through the buffered path.
+    if (n <= 0 || at + n <= from) break;
     const int64_t to = std::min(at + static_cast<int64_t>(n), end);
     std::memcpy(data + (from - offset), buffer.get() + (from - at), static_cast<size_t>(to - from));
     at += n;
-    if (at < end && n % kDirectAlign != 0) FailRead(at, what, 0);  // a short read before the end
+    if (n % kDirectAlign != 0) break;
   }
-  return true;
+  return std::clamp<int64_t>(at - offset, 0, bytes);
 #else
-  (void)offset, (void)data, (void)bytes, (void)what;
-  return false;
+  (void)offset, (void)data, (void)bytes;
+  return 0;
 #endif
 }
 
 void BinaryFile::ReadAt(int64_t offset, void* data, int64_t bytes, const char* what) const {
   char* p = static_cast<char*>(data);
   constexpr int64_t kDirectBytes = int64_t{64} << 20;
-  if (bytes >= kDirectBytes && ReadDirectAt(offset, p, bytes, what)) return;
+  if (bytes >= kDirectBytes) {
+    const int64_t done = ReadDirectAt(offset, p, bytes);
+    p += done, offset += done, bytes -= done;
+  }
   while (bytes > 0) {
     const ssize_t n =
         ::pread(fd_, p, static_cast<size_t>(std::min<int64_t>(bytes, 1 << 30)), offset);

@@ -71,8 +71,10 @@ class BinaryFile {
 
  private:
   void Refill();
-  // ReadAt through O_DIRECT; false (nothing read) where it is refused.
-  bool ReadDirectAt(int64_t offset, char* data, int64_t bytes, const char* what) const;
+  // ReadAt through O_DIRECT as far as it goes: how many of the bytes it
+  // read (a prefix; 0 where direct reads are refused). The rest is the
+  // buffered path's, which also names a truncation.
+  int64_t ReadDirectAt(int64_t offset, char* data, int64_t bytes) const;
   // InputError: the read at `offset` of `what` returned n (< 0: errno).
   [[noreturn]] void FailRead(int64_t offset, const char* what, long n) const;
   std::string path_;

@@ -55,15 +55,15 @@ TEST(BinaryFile, LargeReadsAtUnalignedOffsetsMatchTheBytes) {
     EXPECT_TRUE(std::equal(read.begin(), read.end(), values.begin() + first)) << first;
   }
   // Unaligned by 3 bytes, up to the last byte of the file.
-  std::vector<char> bytes(f.size() - 3 - 8 * 4096);
-  f.ReadAt(3 + 8 * 4096, bytes.data(), static_cast<int64_t>(bytes.size()), "bytes");
+  std::vector<char> bytes(f.size() - 3 - 8 * 4096 + 1);  // one more for the truncation below
+  f.ReadAt(3 + 8 * 4096, bytes.data(), static_cast<int64_t>(bytes.size()) - 1, "bytes");
   EXPECT_EQ(std::memcmp(bytes.data(), reinterpret_cast<const char*>(values.data()) + 3 + 8 * 4096,
-                        bytes.size() - 3),
+                        bytes.size() - 4),
             0);
-  EXPECT_EQ(std::string(bytes.end() - 3, bytes.end()), tail);
+  EXPECT_EQ(std::string(bytes.end() - 4, bytes.end() - 1), tail);
   // One byte past the end is a truncation, named with its offset.
   try {
-    f.ReadAt(3 + 8 * 4096, bytes.data(), static_cast<int64_t>(bytes.size()) + 1, "bytes");
+    f.ReadAt(3 + 8 * 4096, bytes.data(), static_cast<int64_t>(bytes.size()), "bytes");
     FAIL() << "read past the end";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("truncated or unreadable while reading bytes at byte"),

@@ -254,7 +254,10 @@ int64_t RangeBegin(int64_t n, int t, int threads) { return n * t / threads; }
 // those need a lock (neighbouring points see the same cameras, so at most
 // the cameras near the ranges' seams, and the shared intrinsics rows). The
 // lock's exchange was a tenth of formation's own time on the 100K-image
-// survey. Recomputed when the number of threads changes.
+// survey. Kept for the next formation of the same problem; recomputed when
+// the number of threads or of observations changes (a system is formed for
+// one problem's pattern: dropping observations means a new system, and the
+// count is a guard).
 void FindSharedRows(const Problem& problem, const UnknownLayout& layout, int threads,
                     RcsSystem* sys) {
   const int32_t rows = layout.num_block_rows();
@@ -280,6 +283,7 @@ void FindSharedRows(const Problem& problem, const UnknownLayout& layout, int thr
   sys->shared_rows.assign(rows, 0);
   for (int32_t r = 0; r < rows; ++r) sys->shared_rows[r] = toucher[r] == kShared;
   sys->shared_rows_threads = threads;
+  sys->shared_rows_observations = problem.num_observations();
 }
 
 template <class Model>
@@ -291,7 +295,9 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
   const int64_t rows = sys->S.num_rows();
   const int64_t values = sys->S.num_values();
   const bool private_copies = FormationCopyBytes(values, rows, num_threads) > 0;
-  if (!private_copies && num_threads > 1 && sys->shared_rows_threads != num_threads) {
+  if (!private_copies && num_threads > 1 &&
+      (sys->shared_rows_threads != num_threads ||
+       sys->shared_rows_observations != problem.num_observations())) {
     FindSharedRows(problem, sys->layout, num_threads, sys);
   }
   // Thread t > 0 of the private scheme: values, then b, gradient, diagonal.
@@ -300,7 +306,7 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
   // n / threads points).
   ProgressPhase progress("RCS formation");
   const double first_share =
-      std::max<double>(1.0, static_cast<double>((num_points + num_threads - 1) / num_threads));
+      std::max<double>(1.0, static_cast<double>(RangeBegin(num_points, 1, num_threads)));
 #pragma omp parallel num_threads(num_threads) reduction(+ : cost, squared, inlier_squared, inliers) \
     reduction(max : max_g_p)
   {
@@ -310,8 +316,10 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
     const int threads = omp_get_num_threads();
     // Locks on the shared rows alone where they were found for this many
     // threads (the team may be smaller than asked for).
-    const uint8_t* shared_rows =
-        threads == sys->shared_rows_threads ? sys->shared_rows.data() : nullptr;
+    const uint8_t* shared_rows = !private_copies && threads == sys->shared_rows_threads &&
+                                         sys->shared_rows_observations == problem.num_observations()
+                                     ? sys->shared_rows.data()
+                                     : nullptr;
     RcsTarget target{sys->S.values().data(), sys->b.data(), sys->camera_side_gradient.data(),
                      sys->camera_side_jtj_diagonal.data(), private_copies ? nullptr : &locks,
                      shared_rows};
@@ -327,8 +335,8 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
     // (1920 cameras): dynamic chunks of 256 took 6.5 s per formation with 2
     // threads, slower than 2 single-threaded MPI ranks on half the points;
     // contiguous ranges take 3.0 s.
-    const int64_t end = RangeBegin(num_points, thread + 1, threads);
-    for (int64_t k = RangeBegin(num_points, thread, threads); k < end; ++k) {
+    const int64_t last_point = RangeBegin(num_points, thread + 1, threads);
+    for (int64_t k = RangeBegin(num_points, thread, threads); k < last_point; ++k) {
       if (thread == 0 && (k & 4095) == 0) progress.Report(static_cast<double>(k) / first_share);
       LinearizePoint(problem, sys->layout, loss, k, &p);
       EliminatePoint(lambda, bounds, &p);
@@ -350,10 +358,14 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
                                                        {sys->camera_side_jtj_diagonal.data(), rows}};
       int64_t start = 0;  // of the segment in a copy
       for (const auto& [out, length] : segments) {
-        const int64_t begin = start + length * thread / num_threads;
-        const int64_t end = start + length * (thread + 1) / num_threads;
+        // Slices by the team's size (it may be smaller than asked for:
+        // copies of threads that never ran are empty).
+        const int64_t begin = start + length * thread / threads;
+        const int64_t end = start + length * (thread + 1) / threads;
         for (int64_t i = begin; i < end; ++i) {
-          for (const std::vector<double>& c : copies) out[i - start] += c[i];
+          for (const std::vector<double>& c : copies) {
+            if (!c.empty()) out[i - start] += c[i];
+          }
         }
         start += length;
       }

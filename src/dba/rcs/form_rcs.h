@@ -41,9 +41,11 @@ struct RcsSystem {
   ResidualSums residuals;                   // plain |r|², all and inliers
   double max_abs_point_gradient = 0.0;      // ‖g_p‖∞
   // FormRcs's: per row of S, whether points of more than one thread's range
-  // touch it (those rows are locked), for `shared_rows_threads` threads.
+  // touch it (those rows are locked), for `shared_rows_threads` threads and
+  // a problem of `shared_rows_observations` observations.
   std::vector<uint8_t> shared_rows;
   int shared_rows_threads = 0;
+  int64_t shared_rows_observations = -1;
 
   // Symbolic phase: unknowns and structure of S from the problem's
   // visibility graph. `before_values`, if set, sees the system with S's

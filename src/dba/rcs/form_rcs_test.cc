@@ -371,14 +371,18 @@ INSTANTIATE_TEST_SUITE_P(
 // An RCS too large for the threads' private copies is formed under row
 // locks, and only the rows that more than one thread's range of points
 // touches are locked (FindSharedRows): a survey's points are ordered along
-// its strips, so most rows belong to one thread. The values are those of
-// one thread all the same.
-TEST(FormRcs, LocksOnlySharedRowsAndMatchesOneThread) {
+// its strips, so most camera rows belong to one thread; the photogrammetric
+// model's intrinsics rows are shared. The values are those of one thread
+// all the same.
+class FormRcsLocksTest : public ::testing::TestWithParam<CameraModel> {};
+
+TEST_P(FormRcsLocksTest, LocksOnlySharedRowsAndMatchesOneThread) {
   UavSurveyOptions o;
   o.images = 3000;
   o.features_per_image = 100;
   o.forward_overlap = 0.6;
   o.side_overlap = 0.3;
+  o.model = GetParam();
   const std::string path = testing::TempPath("form_rcs_locks.dba");
   GenerateUavSurvey(o, path, "");
   const Problem problem = ReadProblem(path);
@@ -397,9 +401,14 @@ TEST(FormRcs, LocksOnlySharedRowsAndMatchesOneThread) {
   for (int t = 0; t < kThreads; ++t) {
     for (int64_t k = n * t / kThreads; k < n * (t + 1) / kThreads; ++k) {
       for (int64_t a = problem.point_offsets[k]; a < problem.point_offsets[k + 1]; ++a) {
-        const int32_t row = many.layout.camera_row(problem.obs_camera[a]);
-        if (row < 0) continue;
-        lowest[row] = std::min(lowest[row], t), highest[row] = std::max(highest[row], t);
+        const int32_t i = problem.obs_camera[a];
+        for (const int32_t row :
+             {many.layout.camera_row(i), problem.model == CameraModel::kPhoto
+                                             ? many.layout.intrinsics_row(problem.camera_intrinsics[i])
+                                             : -1}) {
+          if (row < 0) continue;
+          lowest[row] = std::min(lowest[row], t), highest[row] = std::max(highest[row], t);
+        }
       }
     }
   }
@@ -418,6 +427,12 @@ TEST(FormRcs, LocksOnlySharedRowsAndMatchesOneThread) {
   FormRcs(problem, 1e-3, bounds, kThreads, &many);
   EXPECT_LT(VectorRelativeError(first, many.S.values()), 1e-13);
 }
+
+INSTANTIATE_TEST_SUITE_P(Models, FormRcsLocksTest,
+                         ::testing::Values(CameraModel::kBal, CameraModel::kPhoto),
+                         [](const ::testing::TestParamInfo<CameraModel>& info) {
+                           return std::string(info.param == CameraModel::kBal ? "bal" : "photo");
+                         });
 
 }  // namespace
 }  // namespace dba
