@@ -27,10 +27,10 @@ template <class Model>
 Vec2 LinearizePhotoObservation(const Problem& problem, const UnknownLayout& layout, int64_t obs,
                                const double* X, int a, PointSystem<Model>* sys) {
   const int32_t i = problem.obs_camera[obs];
-  sys->camera_row[a] = layout.camera_row(i);
   const int32_t g = problem.camera_intrinsics[i];
-  const int32_t row = layout.intrinsics_row(g);
-  sys->intrinsics_row[a] = row;
+  const auto rows = layout.rows_of_image(problem, i);
+  sys->camera_row[a] = rows.camera;
+  const int32_t row = sys->intrinsics_row[a] = rows.intrinsics;
   IntrinsicsJacobian full;
   const Vec2 r = PhotoResidualAndJacobians(
       problem.group_model(g), sys->frames.Get(i, problem.camera(i)), problem.camera(i),

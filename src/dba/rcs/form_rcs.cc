@@ -265,7 +265,6 @@ void FindSharedRows(const Problem& problem, const UnknownLayout& layout, int thr
   constexpr int kShared = -2;
   std::vector<int> toucher(rows, -1);
   const int64_t n = problem.num_points();
-  const bool photo = problem.model == CameraModel::kPhoto;
   for (int t = 0; t < threads; ++t) {
     const int64_t first = problem.point_offsets[RangeBegin(n, t, threads)];
     const int64_t last = problem.point_offsets[RangeBegin(n, t + 1, threads)];
@@ -275,9 +274,9 @@ void FindSharedRows(const Problem& problem, const UnknownLayout& layout, int thr
       who = who == -1 || who == t ? t : kShared;
     };
     for (int64_t o = first; o < last; ++o) {
-      const int32_t i = problem.obs_camera[o];
-      touch(layout.camera_row(i));
-      if (photo) touch(layout.intrinsics_row(problem.camera_intrinsics[i]));
+      const auto touched = layout.rows_of_image(problem, problem.obs_camera[o]);
+      touch(touched.camera);
+      touch(touched.intrinsics);
     }
   }
   sys->shared_rows.assign(rows, 0);

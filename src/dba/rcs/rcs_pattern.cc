@@ -126,15 +126,11 @@ std::vector<uint64_t> RcsBlockPattern(int64_t num_cameras,
 }
 
 std::vector<uint64_t> RcsBlockPattern(const Problem& problem, const UnknownLayout& layout) {
-  const bool photo = problem.model == CameraModel::kPhoto;
   auto rows_of = [&](int64_t k, std::vector<int32_t>& rows) {
     for (int64_t a = problem.point_offsets[k]; a < problem.point_offsets[k + 1]; ++a) {
-      const int32_t i = problem.obs_camera[a];
-      if (layout.camera_row(i) >= 0) rows.push_back(layout.camera_row(i));
-      if (photo) {
-        const int32_t g = layout.intrinsics_row(problem.camera_intrinsics[i]);
-        if (g >= 0) rows.push_back(g);
-      }
+      const auto touched = layout.rows_of_image(problem, problem.obs_camera[a]);
+      if (touched.camera >= 0) rows.push_back(touched.camera);
+      if (touched.intrinsics >= 0) rows.push_back(touched.intrinsics);
     }
   };
   if (problem.num_points() <= int64_t{UINT32_MAX}) {

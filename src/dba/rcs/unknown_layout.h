@@ -46,6 +46,19 @@ class UnknownLayout {
   int32_t intrinsics_row(int64_t g) const {
     return intrinsics_row_.empty() ? -1 : intrinsics_row_[g];
   }
+  // The block rows an observation of image i touches, each -1 when held
+  // fixed: the image's camera row and (kPhoto) its intrinsic group's row.
+  // `side` is the one this layout was made from. The RCS pattern, the
+  // formation's shared rows and the point elimination read them here.
+  struct ImageRows {
+    int32_t camera;
+    int32_t intrinsics;
+  };
+  ImageRows rows_of_image(const CameraSide& side, int64_t i) const {
+    return {camera_row_[i], side.model == CameraModel::kPhoto
+                                ? intrinsics_row(side.camera_intrinsics[i])
+                                : -1};
+  }
   // Rows [0, num_camera_rows()) are cameras, the rest intrinsic groups.
   int32_t num_camera_rows() const { return num_camera_rows_; }
   // Free parameter j of intrinsic group g, as an index into its
