@@ -50,12 +50,13 @@ std::vector<double> Plus(const LocalPointWorkers& workers, const std::vector<dou
   return out;
 }
 
-constexpr int kPackedEvaluation = 7;  // values of Pack(StepEvaluation)
+constexpr int kPackedEvaluation = 11;  // values of Pack(StepEvaluation)
 
 std::vector<double> Pack(const StepEvaluation& e) {
-  return {e.model_cost, e.candidate_cost, e.point_step_squared_norm, e.point_squared_norm,
+  const PositionSpread& p = e.point_spread;
+  return {e.model_cost, e.candidate_cost, e.point_step_squared_norm,
           e.candidate_residuals.squared, e.candidate_residuals.inlier_squared,
-          e.candidate_residuals.inliers};
+          e.candidate_residuals.inliers, p.count, p.mean[0], p.mean[1], p.mean[2], p.m2};
 }
 
 constexpr int kPackedRound = 5;  // values of Pack(RejectionRound)
@@ -351,8 +352,8 @@ StepEvaluation MpiPointWorkers::EvaluateStep(double lambda,
     e.model_cost += v[0];
     e.candidate_cost += v[1];
     e.point_step_squared_norm += v[2];
-    e.point_squared_norm += v[3];
-    e.candidate_residuals.Add({v[4], v[5], v[6]});
+    e.candidate_residuals.Add({v[3], v[4], v[5]});
+    e.point_spread.Merge({v[6], Vec3(v[7], v[8], v[9]), v[10]});
   }
   return e;
 }

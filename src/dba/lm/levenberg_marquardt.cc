@@ -11,6 +11,7 @@
 
 #include "dba/common/timer.h"
 #include "dba/lm/nielsen_damping.h"
+#include "dba/lm/parameter_norm.h"
 
 namespace dba {
 namespace {
@@ -202,7 +203,7 @@ class Minimizer {
     candidate_residuals_ = eval.candidate_residuals;
     summary_.times.back_substitution += phase.Seconds();
     const double step_norm = std::sqrt(SquaredNorm(delta_c_) + eval.point_step_squared_norm);
-    const double x_norm = std::sqrt(SquaredNorm(*cameras_) + eval.point_squared_norm);
+    const double x_norm = ParameterNorm(sys_->layout, *cameras_, eval.point_spread);
     const double model_decrease = cost_ - eval.model_cost;
     it->candidate_cost = eval.candidate_cost;
     it->gain_ratio = model_decrease > 0 ? (cost_ - eval.candidate_cost) / model_decrease : 0.0;

@@ -35,7 +35,9 @@ struct LmOptions {
   double function_tolerance = 1e-6;
   // Stop when ‖g‖∞ ≤ gradient_tolerance, g = Jᵀ r.
   double gradient_tolerance = 1e-10;
-  // Stop when ‖δ‖ ≤ parameter_tolerance (‖x‖ + parameter_tolerance).
+  // Stop when ‖δ‖ ≤ parameter_tolerance (‖x‖ + parameter_tolerance), ‖x‖
+  // with the cameras' centres and the points about their centroids
+  // (lm/parameter_norm.h).
   double parameter_tolerance = 1e-8;
   // Initial damping λ (Ceres's initial trust region radius 1e4 is λ = 1e-4).
   double initial_lambda = 1e-4;

@@ -52,15 +52,17 @@ StepEvaluation BackSubstituteWith(const Problem& problem, const UnknownLayout& l
     for (int j = 0; j < layout.block_size(row); ++j) d[j] = delta_c[o + j];
     return d;
   };
-  double model_cost = 0.0, candidate_cost = 0.0, step_sq = 0.0, x_sq = 0.0;
+  double model_cost = 0.0, candidate_cost = 0.0, step_sq = 0.0;
   double squared = 0.0, inlier_squared = 0.0, inliers = 0.0;
   const int64_t num_points = problem.num_points();
   ProgressPhase progress("back-substitution");
+  std::vector<PositionSpread> spreads(static_cast<size_t>(num_threads));
   const double first_share =
       std::max<double>(1.0, static_cast<double>((num_points + num_threads - 1) / num_threads));
 #pragma omp parallel num_threads(num_threads) \
-    reduction(+ : model_cost, candidate_cost, step_sq, x_sq, squared, inlier_squared, inliers)
+    reduction(+ : model_cost, candidate_cost, step_sq, squared, inlier_squared, inliers)
   {
+    PositionSpread& spread = spreads[static_cast<size_t>(omp_get_thread_num())];
     PointSystem<Model> p;
     RotationFrameCache candidate_frames;
     std::vector<Vec2> candidate_r;
@@ -97,7 +99,7 @@ StepEvaluation BackSubstituteWith(const Problem& problem, const UnknownLayout& l
       const Vec3 X_new = X + dX;
       Eigen::Map<Vec3>(candidate_points->data() + 3 * k) = X_new;
       step_sq += dX.squaredNorm();
-      x_sq += X.squaredNorm();
+      spread.Add(X);
       model_cost += p.model_offset;
       if (p.prior != nullptr) {
         model_cost += 0.5 * (p.prior_r + prior_w.cwiseProduct(dX)).squaredNorm();
@@ -123,7 +125,8 @@ StepEvaluation BackSubstituteWith(const Problem& problem, const UnknownLayout& l
   e.candidate_cost = candidate_cost;
   e.candidate_residuals = {squared, inlier_squared, inliers};
   e.point_step_squared_norm = step_sq;
-  e.point_squared_norm = x_sq;
+  // In thread order: the same sum from run to run.
+  for (const PositionSpread& part : spreads) e.point_spread.Merge(part);
   return e;
 }
 

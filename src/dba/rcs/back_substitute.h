@@ -15,6 +15,7 @@
 
 #include "dba/problem/problem.h"
 #include "dba/rcs/eliminate_point.h"
+#include "dba/rcs/position_spread.h"
 #include "dba/rcs/unknown_layout.h"
 
 namespace dba {
@@ -24,7 +25,7 @@ struct StepEvaluation {
   double candidate_cost = 0.0;  // ½ Σ ρ(|r(x + δ)|²)
   ResidualSums candidate_residuals;      // plain |r(x + δ)|²
   double point_step_squared_norm = 0.0;  // Σ |δX|²
-  double point_squared_norm = 0.0;       // Σ |X|²
+  PositionSpread point_spread;           // the points X (not X + δX) about their centroid
 };
 
 // `delta_c` holds one value per unknown of `layout` (the problem's own);

@@ -64,9 +64,14 @@ TEST(BackSubstitute, RecoversTheFullNewtonStepAndItsCosts) {
   const double candidate = CandidateCost(problem, candidate_cameras, candidate_points);
   EXPECT_NEAR(e.candidate_cost, candidate, 1e-12 * candidate);
   EXPECT_NEAR(e.point_step_squared_norm, dX.squaredNorm(), 1e-9 * dX.squaredNorm());
-  const Eigen::VectorXd X = Eigen::Map<const Eigen::VectorXd>(problem.points.data(),
-                                                              problem.points.size());
-  EXPECT_NEAR(e.point_squared_norm, X.squaredNorm(), 1e-12 * X.squaredNorm());
+  // The current points' spread about their centroid.
+  const auto X = Eigen::Map<const Eigen::Matrix3Xd>(problem.points.data(), 3,
+                                                    problem.num_points());
+  const Vec3 centroid = X.rowwise().mean();
+  const double m2 = (X.colwise() - centroid).squaredNorm();
+  EXPECT_EQ(e.point_spread.count, static_cast<double>(problem.num_points()));
+  EXPECT_LE((e.point_spread.mean - centroid).norm(), 1e-12 * centroid.norm());
+  EXPECT_NEAR(e.point_spread.m2, m2, 1e-12 * m2);
 }
 
 

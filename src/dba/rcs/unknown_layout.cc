@@ -57,8 +57,7 @@ void UnknownLayout::Plus(const double* x, const double* delta, double* out) cons
       PlusPose(p, d, p);
       for (int j = kPoseSize; j < block_sizes_[r]; ++j) p[j] += d[j];
     } else {
-      const auto& index = free_index_[row_entity_[r]];
-      for (int j = 0; j < block_sizes_[r]; ++j) p[index[j]] += d[j];
+      for (int j = 0; j < block_sizes_[r]; ++j) out[parameter_index(r, j)] += d[j];
     }
   }
 }

@@ -70,6 +70,13 @@ class UnknownLayout {
   // kernels are instantiated for.
   int max_intrinsics_block() const { return max_intrinsics_block_; }
 
+  // Where unknown j of row r sits in x: param_offset(r) + j in a camera row
+  // (whose unknowns 3-5 step the centre, not the t stored there), the
+  // group's j-th free parameter in an intrinsics row.
+  int64_t parameter_index(int32_t r, int j) const {
+    return param_offset_[r] +
+           (r < num_camera_rows_ ? j : free_index_[row_entity_[r]][j]);
+  }
   // out = x ⊞ δ (out may alias x).
   void Plus(const double* x, const double* delta, double* out) const;
   // Where a share's rows sit in the whole problem (distributed runs): for a
