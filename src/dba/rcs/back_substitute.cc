@@ -62,7 +62,10 @@ StepEvaluation BackSubstituteWith(const Problem& problem, const UnknownLayout& l
 #pragma omp parallel num_threads(num_threads) \
     reduction(+ : model_cost, candidate_cost, step_sq, squared, inlier_squared, inliers)
   {
-    PositionSpread& spread = spreads[static_cast<size_t>(omp_get_thread_num())];
+    // The thread's own, written to `spreads` once at the end: neighbours in
+    // that vector share a cache line (written per point, they took back-
+    // substitution from 88 to 128 s at 1M).
+    PositionSpread spread;
     PointSystem<Model> p;
     RotationFrameCache candidate_frames;
     std::vector<Vec2> candidate_r;
@@ -119,6 +122,7 @@ StepEvaluation BackSubstituteWith(const Problem& problem, const UnknownLayout& l
         if (loss.IsInlier(s)) inlier_squared += s, inliers += 1.0;
       }
     }
+    spreads[static_cast<size_t>(omp_get_thread_num())] = spread;
   }
   StepEvaluation e;
   e.model_cost = model_cost;
