@@ -285,6 +285,12 @@ void FindSharedRows(const Problem& problem, const UnknownLayout& layout, int thr
   sys->shared_rows_observations = problem.num_observations();
 }
 
+// Whether sys.shared_rows were found for `threads` ranges of this problem.
+bool SharedRowsFit(const RcsSystem& sys, int threads, const Problem& problem) {
+  return sys.shared_rows_threads == threads &&
+         sys.shared_rows_observations == problem.num_observations();
+}
+
 template <class Model>
 void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bounds,
                  const RobustLoss& loss, int num_threads, RcsSystem* sys) {
@@ -294,9 +300,7 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
   const int64_t rows = sys->S.num_rows();
   const int64_t values = sys->S.num_values();
   const bool private_copies = FormationCopyBytes(values, rows, num_threads) > 0;
-  if (!private_copies && num_threads > 1 &&
-      (sys->shared_rows_threads != num_threads ||
-       sys->shared_rows_observations != problem.num_observations())) {
+  if (!private_copies && num_threads > 1 && !SharedRowsFit(*sys, num_threads, problem)) {
     FindSharedRows(problem, sys->layout, num_threads, sys);
   }
   // Thread t > 0 of the private scheme: values, then b, gradient, diagonal.
@@ -315,10 +319,8 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
     const int threads = omp_get_num_threads();
     // Locks on the shared rows alone where they were found for this many
     // threads (the team may be smaller than asked for).
-    const uint8_t* shared_rows = !private_copies && threads == sys->shared_rows_threads &&
-                                         sys->shared_rows_observations == problem.num_observations()
-                                     ? sys->shared_rows.data()
-                                     : nullptr;
+    const uint8_t* shared_rows =
+        !private_copies && SharedRowsFit(*sys, threads, problem) ? sys->shared_rows.data() : nullptr;
     RcsTarget target{sys->S.values().data(), sys->b.data(), sys->camera_side_gradient.data(),
                      sys->camera_side_jtj_diagonal.data(), private_copies ? nullptr : &locks,
                      shared_rows};
@@ -357,14 +359,12 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
                                                        {sys->camera_side_jtj_diagonal.data(), rows}};
       int64_t start = 0;  // of the segment in a copy
       for (const auto& [out, length] : segments) {
-        // Slices by the team's size (it may be smaller than asked for:
-        // copies of threads that never ran are empty).
+        // Slices and copies by the team's size (it may be smaller than
+        // asked for: the copies of threads that never ran are empty).
         const int64_t begin = start + length * thread / threads;
         const int64_t end = start + length * (thread + 1) / threads;
         for (int64_t i = begin; i < end; ++i) {
-          for (const std::vector<double>& c : copies) {
-            if (!c.empty()) out[i - start] += c[i];
-          }
+          for (int c = 0; c + 1 < threads; ++c) out[i - start] += copies[c][i];
         }
         start += length;
       }
