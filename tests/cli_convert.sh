@@ -36,7 +36,7 @@ done
 "$dba" convert "$tmp/photo.dba" "$tmp/photo2.dba" >"$tmp/pconv"; check "photo .dba -> .dba" test $? -eq 0
 check "photo .dba -> .dba is byte-identical" cmp -s "$tmp/photo.dba" "$tmp/photo2.dba"
 check "photo convert names the groups" grep -q "40 images, 3 intrinsic groups" "$tmp/pconv"
-"$dba" convert "$tmp/photo.dba" "$tmp/photo.txt" >"$tmp/err" 2>&1; check "photo -> BAL text exits 1" test $? -eq 1
+"$dba" convert "$tmp/photo.dba" "$tmp/photo.txt" >"$tmp/err" 2>&1; check "photo -> BAL text exits 2 (arguments that do not fit the input)" test $? -eq 2
 check "photo -> BAL text says why" grep -q "cannot hold shared intrinsics, so it converts to .dba only" "$tmp/err"
 check "no BAL text from photo" test ! -e "$tmp/photo.txt"
 

@@ -1,4 +1,7 @@
 // The dba command-line program: dispatches to the subcommands.
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -41,7 +44,35 @@ void PrintUsage(std::ostream& out) {
   out << "\nRun 'dba COMMAND --help' for the options of a command.\n";
 }
 
+// Before any library's constructor (the executable's .preinit_array):
+// OpenBLAS starts one thread per core when it loads, each mapping a 128 MiB
+// buffer, and under a limit on the address space (ulimit -v) a refused
+// buffer is retried forever, so every command hung before main. Under such
+// a limit the program starts again at once with OPENBLAS_NUM_THREADS=1
+// (glibc sets the environment up again after this function, so only a new
+// exec passes it to OpenBLAS): then no thread starts at load, and the sparse
+// factorization takes the threads that fit (common/blas_threads.h).
+void OneBlasThreadUnderAddressLimit(int, char** argv, char** envp) {
+  struct rlimit limit {};
+  if (::getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return;
+  static char one[] = "OPENBLAS_NUM_THREADS=1";
+  static char* env[4096];
+  size_t n = 0;
+  for (char** e = envp; *e != nullptr; ++e) {
+    if (std::strcmp(*e, one) == 0) return;  // started again already, or set so
+    if (std::strncmp(*e, one, sizeof "OPENBLAS_NUM_THREADS=" - 1) == 0) continue;
+    if (n + 2 >= sizeof env / sizeof env[0]) return;
+    env[n++] = *e;
+  }
+  env[n++] = one;
+  env[n] = nullptr;
+  ::execve("/proc/self/exe", argv, env);  // returns only where it failed: go on
+}
+
 }  // namespace
+
+__attribute__((section(".preinit_array"), used)) static void (*const kOneBlasThread)(
+    int, char**, char**) = OneBlasThreadUnderAddressLimit;
 
 int main(int argc, char** argv) {
   // An interrupted write leaves no temporary behind.

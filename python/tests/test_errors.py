@@ -1,5 +1,7 @@
 # Errors become Python exceptions with the command line's messages: malformed
 # input is a dba.InputError (a ValueError) naming the file and the line.
+import bz2
+
 import pytest
 
 import dba
@@ -33,3 +35,20 @@ def test_missing_file(tmp_path):
 def test_fixing_out_of_range_is_a_value_error():
     with pytest.raises(ValueError, match="--fix-images: camera 49 does not exist"):
         dba.solve(LADYBUG, fix_images=[49])
+
+
+def test_outputs_that_would_replace_an_input_or_each_other(tmp_path):
+    # The rule of the command line (tests/cli_outputs.sh): refused before the
+    # solve, naming both, and nothing is written.
+    problem = tmp_path / "p.txt"
+    problem.write_bytes(bz2.decompress(LADYBUG.read_bytes()))
+    before = problem.read_bytes()
+    with pytest.raises(ValueError, match=f"--report {problem} names INPUT {problem}"):
+        dba.solve(problem, report=problem)
+    out = tmp_path / "out.txt"
+    with pytest.raises(ValueError, match="name one file"):
+        dba.solve(problem, output=out, ply=out)
+    with pytest.raises(ValueError, match="is a directory"):
+        dba.solve(problem, report=tmp_path)
+    assert problem.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.txt"]

@@ -7,15 +7,10 @@
 #include <string>
 #include <utility>
 
+#include "dba/common/error.h"
+
 namespace dba {
 
-// An argument that does not fit the input, found after the input was read
-// (an image id the problem does not have, an option for another kind of
-// input, an output of an unknown kind): like a parse error, exit status 2.
-class UsageError : public std::invalid_argument {
- public:
-  using std::invalid_argument::invalid_argument;
-};
 
 // Threads per rank above this are refused (OpenMP's runtime fails far below
 // its own limits).

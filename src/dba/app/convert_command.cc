@@ -4,6 +4,7 @@
 #include "dba/io/binary_problem.h"
 #include "dba/io/colmap_text.h"
 #include "dba/io/colmap_binary.h"
+#include "dba/app/run_files.h"
 #include "dba/app/solve_input.h"
 
 #include <algorithm>
@@ -51,6 +52,21 @@ Stats Statistics(int64_t n, F value) {
 }
 
 }  // namespace
+
+// The input and the output, checked before reading (app/run_files.h): the
+// output may replace the input (converted in place), nothing else.
+void CheckConvertFiles(const std::string& in, const std::string& out,
+                       std::optional<ColmapFormat> format) {
+  RunFiles files;
+  files.Input("INPUT", in);
+  if (IsColmapInput(in) && KindOfPath(out) == PathKind::kOther) {
+    files.ModelOutput("OUTPUT", out, format.value_or(*DetectColmapFormat(in)));
+  } else {
+    files.Output("OUTPUT", out);
+  }
+  files.AllowInPlace("OUTPUT", "INPUT");
+  files.Check();
+}
 
 // A COLMAP model directory to a COLMAP directory (text or binary, every
 // value as read: binary byte for byte) or to a photogrammetric .dba (each
@@ -111,7 +127,9 @@ int ConvertMain(const std::vector<std::string>& all_args) {
            "Converts between BAL text (plain or .bz2) and the dba binary format,\n"
            "losslessly. The input kind is detected by content; the output kind by\n"
            "the extension: .dba is binary, .bz2 is compressed BAL, anything else\n"
-           "BAL text. The output is written to a temporary name and renamed.\n"
+           "BAL text. The output is written to a temporary name and renamed over\n"
+           "OUTPUT (a symbolic link is written through; a device or a FIFO is written\n"
+           "plainly; a directory is refused); OUTPUT may be INPUT (in place).\n"
            "A photogrammetric .dba (poses and shared intrinsic groups) converts to\n"
            ".dba only: the BAL format cannot hold shared intrinsics.\n"
            "\n"
@@ -120,19 +138,13 @@ int ConvertMain(const std::vector<std::string>& all_args) {
            "to a .dba (each COLMAP camera an intrinsic group in its own model).\n";
     return WantsHelp(args) ? 0 : 2;
   }
-  if (IsColmapInput(args[0])) {
-    try {
-      return ConvertColmap(args[0], args[1], colmap_format);
-    } catch (const std::exception& e) {
-      std::cerr << "dba convert: error: " << e.what() << "\n";
-      return 1;
-    }
-  }
-  if (colmap_format) {
+  if (!IsColmapInput(args[0]) && colmap_format) {
     std::cerr << "dba convert: --colmap-format applies to a COLMAP input\n";
     return 2;
   }
   try {
+    CheckConvertFiles(args[0], args[1], colmap_format);
+    if (IsColmapInput(args[0])) return ConvertColmap(args[0], args[1], colmap_format);
     Timer timer;
     const Problem problem = ReadProblem(args[0]);
     const std::string& out = args[1];
@@ -155,6 +167,9 @@ int ConvertMain(const std::vector<std::string>& all_args) {
                 static_cast<long>(problem.num_points()),
                 static_cast<long>(problem.num_observations()), timer.Seconds());
     return 0;
+  } catch (const std::invalid_argument& e) {  // the arguments do not fit the input
+    std::cerr << "dba convert: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "dba convert: error: " << e.what() << "\n";
     return 1;

@@ -8,7 +8,9 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "dba/io/atomic_output_file.h"
 #include "dba/io/path_kind.h"
+#include "dba/app/run_files.h"
 #include "dba/app/arguments.h"
 #include "dba/common/memory.h"
 #include "dba/synthetic/uav_generator.h"
@@ -82,6 +84,7 @@ int GenerateMain(const std::vector<std::string>& args) {
       const std::string& a = args[i];
       auto value = [&]() -> const std::string& {
         if (i + 1 >= args.size()) throw std::invalid_argument(a + ": missing value");
+        if (args[i + 1].empty()) throw std::invalid_argument(a + ": an empty value");
         return args[++i];
       };
       if (a == "-h" || a == "--help") {
@@ -174,6 +177,22 @@ int GenerateMain(const std::vector<std::string>& args) {
     return 2;
   }
   try {
+    RunFiles files;  // four outputs, four files (app/run_files.h)
+    files.Output("OUTPUT", output);
+    files.Output("--truth", truth);
+    files.Output("--priors", o.priors_path);
+    files.Output("--gcps", o.gcps_path);
+    files.Check();
+  } catch (const UsageError& e) {
+    std::cerr << "dba generate: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "dba generate: error: " << e.what() << "\n";
+    return 1;
+  }
+  try {
+    // Every file appears when all are written, or none does.
+    OutputTransaction outputs;
     // Progress on a terminal only: a log file gets the summary line.
     const bool tty = ::isatty(2) != 0;
     int last = -1;
@@ -184,6 +203,7 @@ int GenerateMain(const std::vector<std::string>& args) {
         last = pct;
       }
     });
+    outputs.Commit();
     if (tty) std::fprintf(stderr, "\n");
     const std::string groups =
         o.model == CameraModel::kPhoto

@@ -30,6 +30,8 @@
 #include "dba/io/bal_writer.h"
 #include "dba/io/ply_writer.h"
 #include "dba/app/arguments.h"
+#include "dba/app/run_files.h"
+#include "dba/io/path_kind.h"
 #include "dba/app/solve_report.h"
 #include "dba/cluster/mpi_point_workers.h"
 #include "dba/synthetic/ground_truth.h"
@@ -236,8 +238,19 @@ void PrintSolveHelp(std::ostream& out) {
          "                             back-substitution, with the time left)\n"
          "  -h, --help                 this text\n"
          "\n"
+         "Outputs (-o, --report, --ply, --checkpoint, --camera-centres,\n"
+         "--accuracy-report) are checked before the solve. A file, or a path that does\n"
+         "not exist yet, is written to a temporary beside it and renamed over it: the\n"
+         "run's outputs appear together when all are written, or none does. A symbolic\n"
+         "link is written through (the file it leads to is replaced, the link kept). A\n"
+         "character device or a FIFO (/dev/null, a pipe) is written plainly. Anything\n"
+         "else (a directory, a socket, /proc) is refused, and so is an output naming an\n"
+         "input or another output, except -o over the problem it reads (a COLMAP model\n"
+         "replaced whole) and --checkpoint F --resume F.\n"
+         "\n"
          "Exit status: 0 on success (whatever the termination reason), 1 on bad\n"
-         "input or failure, 2 on bad arguments.\n";
+         "input or failure, 2 on bad arguments (outputs refused by the rule above\n"
+         "included).\n";
 }
 
 SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
@@ -249,6 +262,7 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
     const std::string& a = args[i];
     auto value = [&]() -> const std::string& {
       if (i + 1 >= args.size()) throw std::invalid_argument(a + ": missing value");
+      if (args[i + 1].empty()) throw std::invalid_argument(a + ": an empty value");
       return args[++i];
     };
     if (a == "-h" || a == "--help") {
@@ -446,22 +460,30 @@ SolveCommandOptions ParseSolveArguments(const std::vector<std::string>& args,
 
 namespace {
 
-// An output file's directory must exist and be writable; a COLMAP model
-// directory (`directory`) itself, or its parent when it does not exist yet.
-void CheckWritable(const std::string& flag, const std::string& path, bool directory) {
-  namespace fs = std::filesystem;
-  fs::path where = fs::path(path);
-  std::error_code ec;
-  if (!directory || !fs::exists(where, ec)) where = where.parent_path();
-  if (where.empty()) where = ".";
-  if (!fs::is_directory(where, ec)) {
-    throw std::runtime_error(flag + " " + path + ": directory " + where.string() +
-                             " does not exist");
+// Every file the run reads and writes, checked before the input is read
+// (app/run_files.h): -o may replace the problem it reads, --checkpoint the
+// checkpoint --resume reads; any other output naming an input or another
+// output is refused.
+void CheckRunFiles(const SolveCommandOptions& o) {
+  RunFiles files;
+  files.Input("INPUT", o.input);
+  files.Input("--truth", o.truth_path);
+  files.Input("--resume", o.resume_path);
+  files.Input("--camera-priors", o.geo.camera_priors_path);
+  files.Input("--gcps", o.geo.gcps_path);
+  if (!o.output.empty() && KindOfPath(o.output) == PathKind::kOther && IsColmapInput(o.input)) {
+    files.ModelOutput("-o", o.output, o.colmap_format.value_or(*DetectColmapFormat(o.input)));
+  } else {
+    files.Output("-o", o.output);
   }
-  if (access(where.c_str(), W_OK) != 0) {
-    throw std::runtime_error(flag + " " + path + ": directory " + where.string() +
-                             " is not writable");
-  }
+  files.Output("--report", o.report_path);
+  files.Output("--ply", o.ply_path);
+  files.Output("--checkpoint", o.checkpoint_path);
+  files.Output("--camera-centres", o.geo.camera_centres_path);
+  files.Output("--accuracy-report", o.geo.accuracy_report_path);
+  files.AllowInPlace("-o", "INPUT");
+  files.AllowInPlace("--checkpoint", "--resume");
+  files.Check();
 }
 
 // The ground truth must exist and have the problem's counts (checked again,
@@ -606,6 +628,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   ImageNames colmap_names;  // main rank, georeferencing or --camera-centres: a COLMAP input's
   if (main) {
     Timer load_timer;
+    CheckRunFiles(options);
     CameraModel model = CameraModel::kBal;
     if (ranks_read_file) {
       const BinaryProblemHeader h = ReadBinaryProblemHeader(options.input);
@@ -643,17 +666,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     // Refused before the solve, not after it: every output's kind and
     // directory, and the truth's counts.
     if (!options.output.empty()) {
-      const OutputKind kind = CheckOutput(options.input, options.output, model, options.colmap_format);
-      CheckWritable("-o", options.output, kind == OutputKind::kColmap);
-    }
-    if (!options.report_path.empty()) CheckWritable("--report", options.report_path, false);
-    if (!options.ply_path.empty()) CheckWritable("--ply", options.ply_path, false);
-    if (!options.geo.accuracy_report_path.empty()) {
-      CheckWritable("--accuracy-report", options.geo.accuracy_report_path, false);
-    }
-    if (!options.checkpoint_path.empty()) CheckWritable("--checkpoint", options.checkpoint_path, false);
-    if (!options.geo.camera_centres_path.empty()) {
-      CheckWritable("--camera-centres", options.geo.camera_centres_path, false);
+      CheckOutput(options.input, options.output, model, options.colmap_format);
     }
     if (!options.truth_path.empty()) CheckTruthFile(options.truth_path, report);
     if (options.geo.any()) {
@@ -793,6 +806,8 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     }
   }
   if (!main) return 0;
+  // Every output of the run appears when all are written, or none does.
+  OutputTransaction outputs;
 
   // Georeferencing: the control points (the last points) out again, then
   // the block against the survey.
@@ -895,13 +910,12 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   }
   report.write_seconds = write_timer.Seconds();
   report.peak_memory_bytes = PeakResidentBytes();
+  if (!options.report_path.empty()) WriteFileAtomically(options.report_path, SolveReportJson(report));
+  outputs.Commit();
   PrintSolveReport(report, out);
   if (!options.output.empty()) out << "  output              " << options.output << "\n";
   if (!options.ply_path.empty()) out << "  point cloud         " << options.ply_path << "\n";
-  if (!options.report_path.empty()) {
-    WriteFileAtomically(options.report_path, SolveReportJson(report));
-    out << "  report              " << options.report_path << "\n";
-  }
+  if (!options.report_path.empty()) out << "  report              " << options.report_path << "\n";
   if (outcome != nullptr) {
     outcome->report = std::move(report);
     outcome->problem = std::move(problem);
@@ -932,7 +946,7 @@ int SolveMain(const std::vector<std::string>& args) {
   try {
     return RunSolveCommand(options, &comm, std::cout);
   } catch (const UsageError& e) {
-    if (comm.size() > 1) comm.Abort(e.what());
+    if (comm.size() > 1) comm.Abort(e.what(), 2);
     std::cerr << "dba solve: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {

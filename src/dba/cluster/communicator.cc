@@ -201,11 +201,11 @@ void Communicator::AllreduceMax(Traffic t, std::span<int64_t> values) {
   Allreduce(t, values.data(), static_cast<int64_t>(values.size()), false, true);
 }
 
-void Communicator::Abort(const std::string& message) const {
+void Communicator::Abort(const std::string& message, int status) const {
   std::fprintf(stderr, "dba: rank %d: error: %s\n", rank_, message.c_str());
   std::fflush(stderr);
-  if (mpi_) MPI_Abort(MPI_COMM_WORLD, 1);
-  std::exit(1);
+  if (mpi_) MPI_Abort(MPI_COMM_WORLD, status);
+  std::exit(status);
 }
 
 }  // namespace dba

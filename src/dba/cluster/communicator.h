@@ -114,8 +114,9 @@ class Communicator {
   void AllreduceMax(Traffic t, std::span<int64_t> values);
 
   // Ends the whole job: prints "dba: rank R: error: MESSAGE" and aborts every
-  // rank with a non-zero status. Never returns.
-  [[noreturn]] void Abort(const std::string& message) const;
+  // rank with `status` (mpirun exits with it: 2 for arguments, 1 otherwise).
+  // Never returns.
+  [[noreturn]] void Abort(const std::string& message, int status = 1) const;
 
   const TrafficStats& stats() const { return stats_; }
 

@@ -23,7 +23,14 @@ namespace dba {
 // program's (numpy's) BLAS threads too.
 void StopBlasThreads();
 
-// `num_threads` BLAS threads for the scope; after it, the count it found,
+// Under a limit on the address space (RLIMIT_AS) OpenBLAS, refused a
+// buffer, retries forever: the threads that fit in what the limit leaves,
+// at most `num_threads`; std::runtime_error when not even the calling
+// thread's buffer fits (the sparse factorization would hang).
+int BlasThreadsThatFit(int num_threads);
+
+// `num_threads` BLAS threads for the scope (as many as fit:
+// BlasThreadsThatFit); after it, the count it found,
 // and after a multithreaded scope (not one that only lowered the count) the
 // pool's threads joined (a later multithreaded call starts them again). A
 // one-thread scope where one thread is set changes nothing.

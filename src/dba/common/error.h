@@ -33,4 +33,13 @@ class InputError : public std::runtime_error {
   int64_t line_;
 };
 
+// An argument that does not fit the input, found after the input was read
+// (an image id the problem does not have, an option for another kind of
+// input, an output that would overwrite an input or another output): like a
+// parse error, exit status 2.
+class UsageError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
 }  // namespace dba

@@ -3,6 +3,7 @@
 
 #include <omp.h>
 #include <sys/mman.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -71,6 +72,13 @@ int64_t CgroupLimitBytes() {
 }
 
 }  // namespace
+
+int64_t AddressSpaceRoomBytes() {
+  struct rlimit limit {};
+  if (::getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return -1;
+  const int64_t mapped = ReadStatusKilobytes("VmSize:") * 1024;
+  return std::max<int64_t>(0, static_cast<int64_t>(limit.rlim_cur) - mapped);
+}
 
 int64_t PeakResidentBytes() { return ReadStatusKilobytes("VmHWM:") * 1024; }
 int64_t CurrentResidentBytes() { return ReadStatusKilobytes("VmRSS:") * 1024; }

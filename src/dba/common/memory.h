@@ -17,6 +17,12 @@ int64_t CurrentResidentBytes();
 // where a cgroup (v2) limit leaves less room; 0 if unknown.
 int64_t AvailableMemoryBytes();
 
+// Address space this process may still map under its limit (RLIMIT_AS,
+// `ulimit -v`): the limit less the mappings it has (VmSize); -1 when there
+// is no limit. Under such a limit every mapping counts, reserved or not (a
+// thread's stack, a library's buffers).
+int64_t AddressSpaceRoomBytes();
+
 // Gives the whole pages inside [data, data + bytes) back to the system
 // (madvise MADV_DONTNEED): they read as zero afterwards and take memory
 // again only when written. For arrays whose contents are no longer needed.

@@ -1,6 +1,7 @@
 // AtomicOutputFile: only Commit() makes the file appear; anything else leaves
-// no trace. (CommitTogether: tests/cli_solve.sh, a COLMAP output
-// under ulimit -f.)
+// no trace. Several files replaced together appear all or none: a rename
+// that fails puts back what the earlier ones replaced (CommitTogether and
+// OutputTransaction; a write that fails: tests/cli_outputs.sh under ulimit -f).
 #include "dba/io/atomic_output_file.h"
 
 #include <gtest/gtest.h>
@@ -9,6 +10,11 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <thread>
 
 #include "dba/testing/temp_files.h"
 
@@ -72,6 +78,79 @@ TEST(AtomicOutputFile, WriteFileAtomicallyFailureLeavesNothing) {
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
   }
   EXPECT_FALSE(std::filesystem::exists(dir));
+}
+
+// Three files replaced together; the third's rename fails (its path became a
+// non-empty directory after the check): the first two are put back as they
+// were, the new file that had no old one is gone, and no temporary or backup
+// is left.
+TEST(AtomicOutputFile, FailedRenamePutsBackWhatWasReplaced) {
+  const std::string dir = dba::testing::FreshTempDir("together_fails");
+  dba::testing::WriteFileBytes(dir + "/a.txt", "old a");
+  AtomicOutputFile a(dir + "/a.txt"), b(dir + "/b.txt"), c(dir + "/c.txt");
+  a.Write("new a");
+  b.Write("new b");
+  c.Write("new c");
+  std::filesystem::create_directories(dir + "/c.txt/occupied");
+  try {
+    CommitTogether({&a, &b, &c});
+    FAIL() << "the third rename succeeded";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("c.txt"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("put back as they were"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(dba::testing::ReadFileBytes(dir + "/a.txt"), "old a");
+  EXPECT_FALSE(std::filesystem::exists(dir + "/b.txt"));
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    EXPECT_TRUE(name == "a.txt" || name == "c.txt") << name;
+  }
+}
+
+TEST(AtomicOutputFile, TransactionRenamesAllAtItsCommitOrNothing) {
+  const std::string dir = dba::testing::FreshTempDir("transaction");
+  dba::testing::WriteFileBytes(dir + "/kept.txt", "old");
+  {
+    OutputTransaction run;
+    WriteFileAtomically(dir + "/kept.txt", "new");
+    WriteFileAtomically(dir + "/other.txt", "new");
+    EXPECT_EQ(dba::testing::ReadFileBytes(dir + "/kept.txt"), "old");  // not yet
+  }  // never committed: nothing of it appears
+  EXPECT_EQ(dba::testing::ReadFileBytes(dir + "/kept.txt"), "old");
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir),
+                          std::filesystem::directory_iterator()),
+            1);
+  OutputTransaction run;
+  WriteFileAtomically(dir + "/kept.txt", "new");
+  WriteFileAtomically(dir + "/other.txt", "other");
+  run.Commit();
+  EXPECT_EQ(dba::testing::ReadFileBytes(dir + "/kept.txt"), "new");
+  EXPECT_EQ(dba::testing::ReadFileBytes(dir + "/other.txt"), "other");
+  EXPECT_EQ(OutputTransaction::Current(), nullptr);
+}
+
+TEST(AtomicOutputFile, ReplacedFileKeepsItsMode) {
+  const std::string dir = dba::testing::FreshTempDir("keep_mode");
+  dba::testing::WriteFileBytes(dir + "/private.txt", "old");
+  ::chmod((dir + "/private.txt").c_str(), 0600);
+  WriteFileAtomically(dir + "/private.txt", "new");
+  struct stat st {};
+  ASSERT_EQ(::stat((dir + "/private.txt").c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777, 0600u);
+}
+
+TEST(AtomicOutputFile, FifoIsWrittenInPlace) {
+  const std::string dir = dba::testing::FreshTempDir("fifo_out");
+  const std::string fifo = dir + "/fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string got;
+  std::thread reader([&] { got = dba::testing::ReadFileBytes(fifo); });
+  WriteFileAtomically(fifo, "through the pipe");
+  reader.join();
+  EXPECT_EQ(got, "through the pipe");
+  struct stat st {};
+  ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
 }
 
 }  // namespace

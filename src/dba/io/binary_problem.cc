@@ -604,6 +604,10 @@ BinaryProblemWriter::BinaryProblemWriter(const std::string& path, const Problem&
 }
 
 void BinaryProblemWriter::WriteHeader() {
+  if (!out_.seekable()) {
+    throw UsageError(out_.path() + ": a .dba file is written out of order and needs a regular "
+                     "file, not a device or a FIFO");
+  }
   RawHeader raw{};
   std::memcpy(raw.magic, kMagic, 8);
   raw.version = h_.version;

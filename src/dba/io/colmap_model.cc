@@ -1,6 +1,7 @@
 // COLMAP sparse models: camera model table, validation, format detection and
 // the intrinsics mapping; see colmap_model.h.
 #include "dba/io/colmap_model.h"
+#include "dba/io/stale_temporaries.h"
 
 #include "dba/io/colmap_model_internal.h"
 
@@ -379,6 +380,12 @@ ColmapModel ReadColmapModel(const std::string& dir) {
     throw InputError(dir, 0,
                      "not a directory (expected a COLMAP sparse model directory holding "
                      "cameras, images and points3D as .txt or .bin)");
+  }
+  // A write into this model that a dead process left unfinished is undone
+  // first (io/stale_temporaries.h): the model is read whole, old or new.
+  for (const char* name : {"cameras.txt", "images.txt", "points3D.txt", "cameras.bin",
+                           "images.bin", "points3D.bin"}) {
+    RecoverStaleTemporaries(colmap_internal::JoinPath(dir, name));
   }
   const std::optional<ColmapFormat> format = DetectColmapFormat(dir);
   if (format == ColmapFormat::kBinary) return ReadColmapBinary(dir);
