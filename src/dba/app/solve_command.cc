@@ -670,7 +670,7 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
     }
     if (!options.truth_path.empty()) CheckTruthFile(options.truth_path, report);
     if (options.geo.any()) {
-      geo = PrepareGeoreference(options.geo, colmap_names, &problem, &report, out);
+      geo = PrepareGeoreference(options.geo, colmap_names, &problem, &report.geo, out);
     }
     report.load_seconds = load_timer.Seconds();
     out << "dba solve " << options.input << ": " << report.num_cameras
@@ -812,7 +812,11 @@ int RunSolveCommand(const SolveCommandOptions& options, Communicator* comm,
   // Georeferencing: the control points (the last points) out again, then
   // the block against the survey.
   if (!geo.empty()) {
-    MeasureGeoreference(options.geo, geo, &problem, &report);
+    const LmSummary& lm_summary = report.solve.ba.lm;
+    MeasureGeoreference(options.geo, geo,
+                        {lm_summary.final_cost, lm_summary.num_observations,
+                         report.solve.ba.rcs.camera_unknowns, report.num_points},
+                        &problem, &report.geo);
     if (options.reject_outliers_px > 0) {
       all_points.resize(kPointSize * report.num_points);
       std::erase_if(original.point, [&](int64_t k) { return k >= report.num_points; });

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "dba/app/georeference.h"
+#include "dba/geo/georeference.h"
 #include "dba/app/solve_input.h"
 #include "dba/app/solve_report.h"
 #include "dba/cluster/communicator.h"

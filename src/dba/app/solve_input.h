@@ -17,8 +17,7 @@
 
 #include <Eigen/Core>
 
-#include "dba/lm/ground_control.h"
-#include "dba/lm/prior_workers.h"
+#include "dba/io/image_names.h"
 #include "dba/problem/fixings.h"
 #include "dba/io/colmap_model.h"
 #include "dba/io/colmap_problem.h"
@@ -52,16 +51,6 @@ std::vector<int64_t> ParseIdList(const std::string& flag, const std::string& val
 // True when `path` is a directory holding a COLMAP sparse model.
 bool IsColmapInput(const std::string& path);
 
-// A COLMAP input's image names: the problem's images in order, and the
-// model's images without observations to adjust.
-struct ImageNames {
-  std::vector<std::string> problem;
-  std::unordered_set<std::string> others;
-  // Each problem image's width and height in pixels (its COLMAP camera's).
-  std::vector<std::array<uint64_t, 2>> size;
-  std::unordered_map<std::string, int32_t> index;  // problem's names -> index
-};
-
 // Reads the input and marks the fixed parameters. Throws InputError for bad
 // input (file, line or entry, what is wrong), std::invalid_argument for
 // fixings that do not fit the problem (an index out of range, intrinsics of
@@ -77,30 +66,6 @@ Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
 Fixings CheckedFixings(const UnknownsOptions& unknowns, const CameraSide& side);
 // CheckedFixings, then marks them in `problem`.
 void ApplyFixings(const UnknownsOptions& unknowns, Problem* problem);
-
-// An image named in `path` at `line`: by name when names.problem is not
-// empty (a COLMAP input; nullopt for a name in names.others, an image of
-// the model without observations to adjust), else a 0-based index below
-// num_images. Throws InputError(path, line, ...) otherwise.
-std::optional<int32_t> ResolveImage(const std::string& path, int64_t line, const std::string& image,
-                                    const ImageNames& names, int64_t num_images);
-
-// --gcps (io/ground_control_file.h): the points with their measurements in
-// the problem's images (ResolveImage; measurements in images not adjusted
-// are left out); for a COLMAP input a measurement outside its image (the
-// only format with image sizes) is refused. The coordinates as read.
-GroundControl LoadGroundControl(const std::string& path, const ImageNames& names,
-                                int64_t num_images);
-
-// --camera-priors (io/camera_priors_file.h): the rows of `path` matched to
-// the problem's images, by name when names.problem is not empty (a COLMAP
-// input; a name in names.others, an image of the model without observations
-// to adjust, is skipped), else by 0-based index below num_images. Rows without σ take `default_sigma` (--prior-sigma XY,Z).
-// Throws InputError(path, line, ...) for an unknown image, an index out of
-// range, or no σ at all.
-CameraPriors LoadCameraPriors(const std::string& path, const ImageNames& names,
-                              int64_t num_images, const std::optional<Eigen::Vector2d>& default_sigma,
-                              const RobustLoss& loss);
 
 // Output kinds, by the output path: .dba binary, .txt/.bz2 BAL text,
 // anything else a COLMAP model directory (COLMAP input only).

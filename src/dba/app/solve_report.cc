@@ -150,8 +150,8 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
                   r.true_inliers ? 100.0 * r.true_inliers_dropped / r.true_inliers : 0.0);
     out << buf;
   }
-  if (r.has_priors || r.has_ground_control) {
-    const AccuracyReport& a = r.accuracy;
+  if (r.geo.has_priors || r.geo.has_ground_control) {
+    const AccuracyReport& a = r.geo.accuracy;
     // One line of figures per set.
     auto figures = [&](const char* label, const AccuracyFigures& f, const char* what) {
       std::snprintf(buf, sizeof buf,
@@ -162,23 +162,23 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
                     f.le90);
       out << buf;
     };
-    if (r.has_priors) figures("camera priors", a.gnss.figures, "C - prior");
-    if (r.has_ground_control) {
+    if (r.geo.has_priors) figures("camera priors", a.gnss.figures, "C - prior");
+    if (r.geo.has_ground_control) {
       figures("control points", a.control.figures, "X - survey");
       figures("check points", a.check.figures, "triangulated - survey");
-      if (!r.check_points_not_triangulated.empty()) {
+      if (!r.geo.check_points_not_triangulated.empty()) {
         out << "  not triangulated   ";
-        for (const std::string& n : r.check_points_not_triangulated) out << " " << n;
+        for (const std::string& n : r.geo.check_points_not_triangulated) out << " " << n;
         out << "\n";
       }
     }
-    if (r.has_local_frame) {
+    if (r.geo.has_local_frame) {
       std::snprintf(buf, sizeof buf,
                     "  local frame         ENU at %.9f, %.9f, %.3f m (WGS84 φ, λ, h); in %s "
                     "(%s heights)\n",
-                    r.local_frame_origin.x(), r.local_frame_origin.y(), r.local_frame_origin.z(),
-                    r.prior_crs.c_str(), r.prior_heights.c_str());
-      out << buf << "  PROJ pipeline       " << r.local_frame_pipeline << "\n";
+                    r.geo.local_frame_origin.x(), r.geo.local_frame_origin.y(), r.geo.local_frame_origin.z(),
+                    r.geo.prior_crs.c_str(), r.geo.prior_heights.c_str());
+      out << buf << "  PROJ pipeline       " << r.geo.local_frame_pipeline << "\n";
     }
     std::snprintf(buf, sizeof buf, "  unit weight         σ0² %.4g (%lld degrees of freedom)\n",
                   a.sigma0_squared, static_cast<long long>(a.degrees_of_freedom));
@@ -190,8 +190,8 @@ void PrintSolveReport(const SolveReport& r, std::ostream& out) {
       out << label << f.flagged.size() << " (squared Mahalanobis distance > 16.27)"
           << (names.empty() ? "" : ":" + names) << "\n";
     };
-    if (r.has_priors) flagged("  priors flagged      ", a.gnss.figures);
-    if (r.has_ground_control) flagged("  control flagged     ", a.control.figures);
+    if (r.geo.has_priors) flagged("  priors flagged      ", a.gnss.figures);
+    if (r.geo.has_ground_control) flagged("  control flagged     ", a.control.figures);
   }
   if (r.has_truth && r.truth.absolute) {
     std::snprintf(buf, sizeof buf,
@@ -404,32 +404,32 @@ std::string SolveReportJson(const SolveReport& r) {
                           {"rms", f.rms},     {"rms_3d", f.rms_3d}, {"ce90", f.ce90},
                           {"le90", f.le90},   {"flagged", f.flagged}};
   };
-  const AccuracyReport& a = r.accuracy;
-  if (r.has_priors || r.has_ground_control) {
+  const AccuracyReport& a = r.geo.accuracy;
+  if (r.geo.has_priors || r.geo.has_ground_control) {
     j["georeferencing"] = {{"sigma0_squared", a.sigma0_squared},
                            {"degrees_of_freedom", a.degrees_of_freedom},
-                           {"crs", r.prior_crs},
-                           {"heights", r.prior_heights},
+                           {"crs", r.geo.prior_crs},
+                           {"heights", r.geo.prior_heights},
                            {"local_frame",
-                            {{"origin_latitude", r.local_frame_origin.x()},
-                             {"origin_longitude", r.local_frame_origin.y()},
-                             {"origin_height", r.local_frame_origin.z()},
-                             {"proj_pipeline", r.local_frame_pipeline}}}};
+                            {{"origin_latitude", r.geo.local_frame_origin.x()},
+                             {"origin_longitude", r.geo.local_frame_origin.y()},
+                             {"origin_height", r.geo.local_frame_origin.z()},
+                             {"proj_pipeline", r.geo.local_frame_pipeline}}}};
   }
-  if (r.has_priors) {
+  if (r.geo.has_priors) {
     nlohmann::ordered_json p = figures_json(a.gnss.figures);
     p["sigma0_squared"] = a.sigma0_squared;
     p["degrees_of_freedom"] = a.degrees_of_freedom;
-    p["crs"] = r.prior_crs;
-    p["heights"] = r.prior_heights;
+    p["crs"] = r.geo.prior_crs;
+    p["heights"] = r.geo.prior_heights;
     p["local_frame"] = j["georeferencing"]["local_frame"];
-    p["loss"] = {{"type", LossName(r.prior_loss.type)}, {"scale", r.prior_loss.scale}};
+    p["loss"] = {{"type", LossName(r.geo.prior_loss.type)}, {"scale", r.geo.prior_loss.scale}};
     j["camera_priors"] = p;
   }
-  if (r.has_ground_control) {
+  if (r.geo.has_ground_control) {
     j["control_points"] = figures_json(a.control.figures);
     j["check_points"] = figures_json(a.check.figures);
-    j["check_points"]["not_triangulated"] = r.check_points_not_triangulated;
+    j["check_points"]["not_triangulated"] = r.geo.check_points_not_triangulated;
   }
   if (r.has_truth) {
     j["ground_truth"] = {{"rms_to_noise_free_px", r.truth.rms_to_noise_free_px},

@@ -1,7 +1,7 @@
 // The summary of `dba solve`: printed for people, written as JSON for tools.
 #pragma once
 
-#include "dba/lm/prior_accuracy.h"
+#include "dba/geo/georeference.h"
 
 #include <iosfwd>
 #include <string>
@@ -44,16 +44,9 @@ struct SolveReport {
   bool has_outlier_truth = false;
   int64_t true_outliers = 0, true_outliers_dropped = 0;
   int64_t true_inliers = 0, true_inliers_dropped = 0;
-  // --camera-priors and --gcps: the adjusted block against the survey.
-  bool has_priors = false;
-  bool has_ground_control = false;
-  AccuracyReport accuracy;
-  RobustLoss prior_loss;
-  std::vector<std::string> check_points_not_triangulated;
-  // --prior-crs: the local east-north-up frame the solve ran in.
-  bool has_local_frame = false;
-  Eigen::Vector3d local_frame_origin = Eigen::Vector3d::Zero();  // φ, λ (deg), h (m)
-  std::string local_frame_pipeline, prior_crs, prior_heights;
+  // --camera-priors and --gcps: the adjusted block against the survey, and
+  // the frame the solve ran in.
+  GeoreferenceSummary geo;
   bool has_truth = false;
   GroundTruthErrors truth;        // against a generated problem's ground truth
 

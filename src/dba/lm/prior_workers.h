@@ -28,12 +28,6 @@
 
 namespace dba {
 
-struct CameraPriors {
-  std::vector<CameraCentrePrior> priors;
-  RobustLoss loss;  // on |r|², r in units of σ
-  bool empty() const { return priors.empty(); }
-};
-
 // ½ Σ ρ(|r|²) of the priors at `cameras` (camera_size parameters per image,
 // the pose first).
 double CameraPriorsCost(const CameraPriors& priors, const std::vector<double>& cameras,

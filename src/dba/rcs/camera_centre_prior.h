@@ -15,8 +15,10 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <vector>
 
 #include "dba/camera/pose_similarity.h"
+#include "dba/rcs/robust_loss.h"
 
 namespace dba {
 
@@ -24,6 +26,13 @@ struct CameraCentrePrior {
   int32_t image = 0;  // 0-based image (camera) index in the problem
   Vec3 centre = Vec3::Zero();
   Vec3 sigma = Vec3::Ones();  // σ_x, σ_y, σ_z (> 0)
+};
+
+// A solve's camera-centre priors and their robust loss.
+struct CameraPriors {
+  std::vector<CameraCentrePrior> priors;
+  RobustLoss loss;  // on |r|², r in units of σ
+  bool empty() const { return priors.empty(); }
 };
 
 using CentrePriorJacobian = Eigen::Matrix<double, 3, 6, Eigen::RowMajor>;  // ∂r/∂(δω, δC)

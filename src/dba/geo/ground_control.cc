@@ -1,5 +1,5 @@
 // Control points in the solve, check points after it; see ground_control.h.
-#include "dba/lm/ground_control.h"
+#include "dba/geo/ground_control.h"
 
 #include <Eigen/Cholesky>
 #include <algorithm>

@@ -1,7 +1,7 @@
 // The alignment onto the priors recovers a known similarity from noisy
 // priors with 20% gross outliers, moves cameras and points consistently
 // (every image sees the same), and says when the centres are collinear.
-#include "dba/lm/prior_alignment.h"
+#include "dba/geo/prior_alignment.h"
 
 #include <gtest/gtest.h>
 

@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "dba/lm/prior_alignment.h"
+#include "dba/geo/prior_alignment.h"
 #include "dba/problem/problem.h"
 
 namespace dba {
@@ -62,7 +62,7 @@ std::vector<Triangulation> TriangulateGroundControl(const Problem& problem,
                                                     bool start_at_survey);
 
 // The similarity from triangulated control points onto their surveyed
-// positions (RANSAC + Umeyama, lm/prior_alignment.h), for a block without
+// positions (RANSAC + Umeyama, geo/prior_alignment.h), for a block without
 // camera priors. Throws std::invalid_argument for fewer than 3 triangulated
 // control points.
 SimilarityFit AlignToControlPoints(const GroundControl& gcps,

@@ -15,7 +15,7 @@
 #include <Eigen/Core>
 
 #include "dba/camera/pose_similarity.h"
-#include "dba/lm/prior_workers.h"
+#include "dba/rcs/camera_centre_prior.h"
 #include "dba/problem/problem.h"
 
 namespace dba {

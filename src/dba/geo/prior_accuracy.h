@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "dba/lm/prior_workers.h"
+#include "dba/rcs/camera_centre_prior.h"
 
 namespace dba {
 

@@ -1,5 +1,5 @@
 // The robust similarity onto the priors; see prior_alignment.h.
-#include "dba/lm/prior_alignment.h"
+#include "dba/geo/prior_alignment.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>

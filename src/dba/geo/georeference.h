@@ -14,11 +14,12 @@
 #include <string>
 #include <vector>
 
-#include "dba/app/solve_input.h"
-#include "dba/app/solve_report.h"
+#include "dba/geo/ground_control.h"
 #include "dba/geo/local_frame.h"
-#include "dba/lm/ground_control.h"
-#include "dba/lm/prior_workers.h"
+#include "dba/geo/prior_accuracy.h"
+#include "dba/io/image_names.h"
+#include "dba/problem/problem.h"
+#include "dba/rcs/camera_centre_prior.h"
 
 namespace dba {
 
@@ -49,18 +50,27 @@ struct Georeference {
   bool empty() const { return priors.empty() && gcps.empty(); }
 };
 
+// What a solve's summary says of its georeferencing.
+struct GeoreferenceSummary {
+  bool has_priors = false;
+  bool has_ground_control = false;
+  AccuracyReport accuracy;
+  RobustLoss prior_loss;
+  std::vector<std::string> check_points_not_triangulated;
+  // --prior-crs: the local east-north-up frame the solve ran in.
+  bool has_local_frame = false;
+  Eigen::Vector3d local_frame_origin = Eigen::Vector3d::Zero();  // φ, λ (deg), h (m)
+  std::string local_frame_pipeline, prior_crs, prior_heights;
+};
+
 // Reads what `options` names against the problem's images (`names`: a
 // COLMAP input's), converts it into the solve's frame, aligns `problem`
 // onto the priors (or, without enough of them, the control points), then
 // appends the control points. Throws InputError (file, line) for bad input
 // and UsageError for a CRS PROJ cannot use.
 Georeference PrepareGeoreference(const GeoreferenceOptions& options, const ImageNames& names,
-                                 Problem* problem, SolveReport* report, std::ostream& out);
+                                 Problem* problem, GeoreferenceSummary* summary, std::ostream& out);
 
-// After the solve, with the adjusted cameras and points (the control points
-// still last): takes the control points out of `problem`, triangulates the
-// check points, and fills report->accuracy (σ0² from the solve's final
-// cost).
 // `xyz` (3 per point, the solve's frame) in --output-crs, or as they are
 // without it. Throws std::runtime_error where PROJ cannot convert.
 std::vector<double> InOutputCrs(const GeoreferenceOptions& options, const Georeference& geo,
@@ -71,7 +81,21 @@ std::vector<double> InOutputCrs(const GeoreferenceOptions& options, const Georef
 void WriteCameraCentres(const GeoreferenceOptions& options, const Georeference& geo,
                         const CameraSide& side, const std::vector<std::string>& image_names);
 
+// What the solve measured: its final cost and observations, its
+// camera-side unknowns and the problem's points (without control points).
+struct SolveFigures {
+  double final_cost = 0.0;
+  int64_t num_observations = 0;
+  int64_t camera_unknowns = 0;
+  int64_t num_points = 0;
+};
+
+// After the solve, with the adjusted cameras and points (the control points
+// still last): takes the control points out of `problem`, triangulates the
+// check points, and fills summary->accuracy (σ0² from the solve's final
+// cost); writes --accuracy-report.
 void MeasureGeoreference(const GeoreferenceOptions& options, const Georeference& geo,
-                         Problem* problem, SolveReport* report);
+                         const SolveFigures& solve, Problem* problem,
+                         GeoreferenceSummary* summary);
 
 }  // namespace dba

@@ -1,17 +1,17 @@
 // Georeferencing a solve on the main rank; see georeference.h.
-#include "dba/app/georeference.h"
+#include "dba/geo/georeference.h"
 
 #include <cstdio>
 #include <memory>
 #include <ostream>
 
-#include "dba/app/arguments.h"
+#include "dba/geo/georeference_input.h"
 #include "dba/camera/pose_similarity.h"
 #include "dba/common/error.h"
 #include "dba/geo/local_frame.h"
 #include "dba/io/atomic_output_file.h"
-#include "dba/lm/prior_accuracy.h"
-#include "dba/lm/prior_alignment.h"
+#include "dba/geo/prior_accuracy.h"
+#include "dba/geo/prior_alignment.h"
 
 namespace dba {
 namespace {
@@ -37,8 +37,8 @@ Eigen::Vector3d Geocentric(const CrsToGeocentric& crs, const Eigen::Vector3d& xy
 
 // The priors and ground control from their CRSs into one local
 // east-north-up frame at the centre of them all.
-void ToLocalFrame(const GeoreferenceOptions& options, Georeference* geo, SolveReport* report,
-                  std::ostream& out) {
+void ToLocalFrame(const GeoreferenceOptions& options, Georeference* geo,
+                  GeoreferenceSummary* report, std::ostream& out) {
   const std::string gcp_crs = options.gcp_crs.empty() ? options.prior_crs : options.gcp_crs;
   if (!options.gcp_crs.empty() && !geo->priors.empty() && options.prior_crs.empty()) {
     throw UsageError("--gcp-crs: the camera priors are in a Cartesian frame (no --prior-crs); give "
@@ -93,7 +93,7 @@ void ToLocalFrame(const GeoreferenceOptions& options, Georeference* geo, SolveRe
 }  // namespace
 
 Georeference PrepareGeoreference(const GeoreferenceOptions& options, const ImageNames& names,
-                                 Problem* problem, SolveReport* report, std::ostream& out) {
+                                 Problem* problem, GeoreferenceSummary* report, std::ostream& out) {
   Georeference geo;
   const int64_t num_images = problem->num_images();
   geo.image_names = names.problem;
@@ -193,7 +193,8 @@ void WriteCameraCentres(const GeoreferenceOptions& options, const Georeference& 
 }
 
 void MeasureGeoreference(const GeoreferenceOptions& options, const Georeference& geo,
-                         Problem* problem, SolveReport* report) {
+                         const SolveFigures& solve, Problem* problem,
+                         GeoreferenceSummary* report) {
   const std::vector<double> control = RemoveControlPoints(geo.control_points, problem);
   AccuracyReport& a = report->accuracy;
   a.gnss.errors = CameraPriorErrors(geo.priors, problem->cameras, problem->camera_size(),
@@ -215,12 +216,11 @@ void MeasureGeoreference(const GeoreferenceOptions& options, const Georeference&
     }
   }
   a.Measure();
-  const LmSummary& lm = report->solve.ba.lm;
-  a.degrees_of_freedom = 2 * lm.num_observations + 3 * (a.gnss.figures.count + geo.control_points) -
-                         (report->solve.ba.rcs.camera_unknowns +
-                          3 * (report->num_points + geo.control_points));
+  a.degrees_of_freedom = 2 * solve.num_observations +
+                         3 * (a.gnss.figures.count + geo.control_points) -
+                         (solve.camera_unknowns + 3 * (solve.num_points + geo.control_points));
   if (a.degrees_of_freedom > 0) {
-    a.sigma0_squared = 2.0 * lm.final_cost / static_cast<double>(a.degrees_of_freedom);
+    a.sigma0_squared = 2.0 * solve.final_cost / static_cast<double>(a.degrees_of_freedom);
   }
   report->has_priors = !geo.priors.empty();
   report->has_ground_control = !geo.gcps.empty();

@@ -1,5 +1,5 @@
 // Agreement of an adjusted block with its survey; see prior_accuracy.h.
-#include "dba/lm/prior_accuracy.h"
+#include "dba/geo/prior_accuracy.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 // Ground control in a solve: check points triangulated from known cameras
 // in both camera models, the block aligned onto control points through a
 // known similarity, and control points added and taken out again.
-#include "dba/lm/ground_control.h"
+#include "dba/geo/ground_control.h"
 
 #include <gtest/gtest.h>
 

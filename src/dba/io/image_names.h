@@ -1,0 +1,25 @@
+// How a problem's images are named: a COLMAP input's image names (BAL and
+// .dba problems have none; their images are 0-based indices).
+// Thread safety: plain data.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+namespace dba {
+
+// A COLMAP input's image names: the problem's images in order, and the
+// model's images without observations to adjust.
+struct ImageNames {
+  std::vector<std::string> problem;
+  std::unordered_set<std::string> others;
+  // Each problem image's width and height in pixels (its COLMAP camera's).
+  std::vector<std::array<uint64_t, 2>> size;
+  std::unordered_map<std::string, int32_t> index;  // problem's names -> index
+};
+
+}  // namespace dba
