@@ -3,30 +3,31 @@
 // (python/dba/__init__.py turns keyword options into command-line arguments
 // and the results into Python objects).
 //
-// Options are parsed by ParseSolveArguments, so names, defaults and
-// validation are the command line's. The GIL is released while reading and
-// solving. C++ exceptions become Python exceptions with the same messages:
-// dba::InputError -> dba.InputError (a ValueError, with .file and .line),
-// std::invalid_argument -> ValueError, other errors -> RuntimeError.
+// Both run the one solve session (session/solve_session.h): on a file as
+// the command line does (RunSolve: the files checked, loaded, solved,
+// written), on arrays from the problem they make. Options are parsed by
+// ParseSolveArguments, so names, defaults and validation are the command
+// line's. The GIL is released while reading and solving. C++ exceptions
+// become Python exceptions with the same messages: dba::InputError ->
+// dba.InputError (a ValueError, with .file and .line), std::invalid_argument
+// -> ValueError, other errors -> RuntimeError.
 #include <algorithm>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "dba/app/solve_command.h"
-#include "dba/app/solve_report.h"
 #include "dba/common/error.h"
 #include "dba/common/memory.h"
-#include "dba/common/timer.h"
-#include "dba/lm/bundle_adjust.h"
 #include "dba/io/read_problem.h"
+#include "dba/session/solve_options.h"
+#include "dba/session/solve_outputs.h"
+#include "dba/session/solve_session.h"
 #include "problem_arrays.h"
 
 namespace py = pybind11;
@@ -40,9 +41,9 @@ py::tuple Outcome(const SolveReport& report, const Problem& problem, const std::
   return py::make_tuple(SolveReportJson(report), ProblemToArrays(problem), log);
 }
 
-SolveCommandOptions Parse(const std::vector<std::string>& args) {
+SolveOptions Parse(const std::vector<std::string>& args) {
   bool help = false;
-  SolveCommandOptions options = ParseSolveArguments(args, &help);
+  SolveOptions options = ParseSolveArguments(args, &help);
   if (help) throw std::invalid_argument("help: see help(dba.solve) and `dba solve --help`");
   return options;
 }
@@ -50,71 +51,58 @@ SolveCommandOptions Parse(const std::vector<std::string>& args) {
 // dba.solve: the whole of `dba solve ARGS` in this process (one rank), its
 // outputs (-o, --report, --ply) included.
 py::tuple Solve(const std::vector<std::string>& args, bool verbose) {
-  SolveCommandOptions options = Parse(args);
+  SolveOptions options = Parse(args);
   options.progress = verbose;  // the terminal's progress line only when printing the log
-  SolveOutcome outcome;
   std::ostringstream log;
+  SolveResult result;
   {
     py::gil_scoped_release release;
     Communicator comm(Communicator::SingleRank{});
-    RunSolveCommand(options, &comm, verbose ? std::cout : log, &outcome);
+    result = RunSolve(options, &comm, verbose ? std::cout : log);
     if (verbose) std::cout.flush();
   }
-  return Outcome(outcome.report, outcome.problem, log.str());
+  return Outcome(result.report, result.problem, log.str());
 }
 
-// dba.solve_arrays: the solve of `dba solve` on a problem given as arrays;
-// the options about files are refused.
+// dba.solve_arrays: the session of `dba solve` on a problem given as arrays;
+// every option but the file outputs (the result is returned) and a COLMAP
+// input's own.
 py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string>& option_args,
                       bool verbose) {
   std::vector<std::string> args = {"<arrays>"};
   args.insert(args.end(), option_args.begin(), option_args.end());
-  const SolveCommandOptions options = Parse(args);
-  const auto refuse = [](bool given, const char* name) {
-    if (given) {
-      throw std::invalid_argument(std::string(name) +
-                                  ": applies to dba.solve on a file, not to solve_arrays");
-    }
+  SolveOptions options = Parse(args);
+  options.progress = verbose;
+  const auto refuse = [](bool given, const char* name, const char* why) {
+    if (given) throw std::invalid_argument(std::string(name) + ": " + why);
   };
-  refuse(!options.output.empty(), "output");
-  refuse(!options.report_path.empty(), "report (the summary is returned)");
-  refuse(!options.truth_path.empty(), "truth");
-  refuse(!options.ply_path.empty(), "ply");
-  refuse(options.colmap_format.has_value(), "colmap_format");
-  refuse(!options.unknowns.shared_intrinsics, "intrinsics");
-  refuse(options.reject_outliers_px > 0, "reject_outliers");
-
-  Timer load_timer;
-  Problem problem = ProblemFromArrays(arrays);
-  ApplyFixings(options.unknowns, &problem);  // fix_images, fix_intrinsics
-  LmOptions lm = options.lm;
-  if (lm.num_threads == 0) {
-    lm.num_threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  }
-  SolveReport report;
-  report.input = "<arrays>";
-  report.threads = lm.num_threads;
-  report.loss = lm.loss;
-  report.num_cameras = problem.num_images();
-  report.num_intrinsic_groups = problem.num_groups();
-  report.num_points = problem.num_points();
-  report.num_observations = problem.num_observations();
-  report.problem_bytes = problem.MemoryBytes();
+  const char* returned = "solve_arrays returns its result (Result.problem, Result.summary); it "
+                         "writes no file";
+  refuse(!options.output.empty(), "output", returned);
+  refuse(!options.report_path.empty(), "report", returned);
+  refuse(!options.ply_path.empty(), "ply", returned);
+  refuse(!options.geo.camera_centres_path.empty(), "camera_centres", returned);
+  refuse(!options.geo.accuracy_report_path.empty(), "accuracy_report", returned);
+  refuse(options.colmap_format.has_value(), "colmap_format", "for a COLMAP output; arrays have none");
+  refuse(!options.unknowns.shared_intrinsics, "intrinsics",
+         "for a COLMAP input; arrays give their groups (camera_intrinsics)");
+  SolveInput input;
+  input.name = "<arrays>";
+  input.problem = ProblemFromArrays(arrays);
+  ApplyFixings(options.unknowns, &input.problem);  // fix_images, fix_intrinsics
   std::ostringstream log;
+  SolveResult result;
   {
     py::gil_scoped_release release;
-    RefuseNonFiniteResiduals("arrays", problem);
-    report.load_seconds = load_timer.Seconds();
+    CheckSolveFiles(options);
+    Communicator comm(Communicator::SingleRank{});
     std::ostream& out = verbose ? std::cout : log;
-    if (!options.quiet) out << IterationLogHeader();
-    report.solve.ba = BundleAdjust(lm, &problem, [&](const IterationSummary& it) {
-      if (!options.quiet) out << IterationLogLine(it) << std::flush;
-    });
-    report.peak_memory_bytes = PeakResidentBytes();
-    PrintSolveReport(report, out);
+    result = SolveSession(options, &comm, out).Run(std::move(input));
+    result.report.peak_memory_bytes = PeakResidentBytes();
+    PrintSolveReport(result.report, out);
     out.flush();
   }
-  return Outcome(report, problem, log.str());
+  return Outcome(result.report, result.problem, log.str());
 }
 
 // The Python class dba.InputError; leaked on purpose: it must outlive every

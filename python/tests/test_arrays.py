@@ -115,6 +115,6 @@ def test_bad_arrays_are_refused(ladybug_problem):
     points[2, 1] = np.nan
     with pytest.raises(ValueError, match="points: value 7 is not finite"):
         dba.solve_arrays(p.cameras, points, p.observations, p.camera_indices, p.point_indices)
-    with pytest.raises(ValueError, match="output: applies to dba.solve on a file"):
+    with pytest.raises(ValueError, match="output: solve_arrays returns its result"):
         dba.solve_arrays(p.cameras, p.points, p.observations, p.camera_indices,
                          p.point_indices, output="x.txt")

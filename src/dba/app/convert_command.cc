@@ -4,8 +4,8 @@
 #include "dba/io/binary_problem.h"
 #include "dba/io/colmap_text.h"
 #include "dba/io/colmap_binary.h"
-#include "dba/app/run_files.h"
-#include "dba/app/solve_input.h"
+#include "dba/session/run_files.h"
+#include "dba/session/solve_input.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -53,7 +53,7 @@ Stats Statistics(int64_t n, F value) {
 
 }  // namespace
 
-// The input and the output, checked before reading (app/run_files.h): the
+// The input and the output, checked before reading (session/run_files.h): the
 // output may replace the input (converted in place), nothing else.
 void CheckConvertFiles(const std::string& in, const std::string& out,
                        std::optional<ColmapFormat> format) {

@@ -10,8 +10,8 @@
 
 #include "dba/io/atomic_output_file.h"
 #include "dba/io/path_kind.h"
-#include "dba/app/run_files.h"
-#include "dba/app/arguments.h"
+#include "dba/session/run_files.h"
+#include "dba/common/arguments.h"
 #include "dba/common/memory.h"
 #include "dba/synthetic/uav_generator.h"
 
@@ -177,7 +177,7 @@ int GenerateMain(const std::vector<std::string>& args) {
     return 2;
   }
   try {
-    RunFiles files;  // four outputs, four files (app/run_files.h)
+    RunFiles files;  // four outputs, four files (session/run_files.h)
     files.Output("OUTPUT", output);
     files.Output("--truth", truth);
     files.Output("--priors", o.priors_path);

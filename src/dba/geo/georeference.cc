@@ -225,9 +225,6 @@ void MeasureGeoreference(const GeoreferenceOptions& options, const Georeference&
   report->has_priors = !geo.priors.empty();
   report->has_ground_control = !geo.gcps.empty();
   report->prior_loss = geo.priors.loss;
-  if (!options.accuracy_report_path.empty()) {
-    WriteFileAtomically(options.accuracy_report_path, AccuracyReportTable(a));
-  }
 }
 
 }  // namespace dba

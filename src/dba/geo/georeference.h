@@ -93,7 +93,7 @@ struct SolveFigures {
 // After the solve, with the adjusted cameras and points (the control points
 // still last): takes the control points out of `problem`, triangulates the
 // check points, and fills summary->accuracy (σ0² from the solve's final
-// cost); writes --accuracy-report.
+// cost).
 void MeasureGeoreference(const GeoreferenceOptions& options, const Georeference& geo,
                          const SolveFigures& solve, Problem* problem,
                          GeoreferenceSummary* summary);

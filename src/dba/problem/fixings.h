@@ -5,7 +5,7 @@
 // own names, e.g. k0…k5 and p0, p1 for RAD_TAN_THIN_PRISM_FISHEYE), or
 // "all". Fixed parameters are not unknowns (rcs/unknown_layout.h).
 //
-// The command line's fixings (app/solve_input.h) become these after they are
+// The command line's fixings (session/solve_input.h) become these after they are
 // checked against the input; the ranks of a distributed solve that read a
 // binary file apply the same Fixings to the camera side they read.
 // Thread safety: values; ApplyFixings writes only *problem.

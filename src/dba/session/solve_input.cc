@@ -1,11 +1,11 @@
 // dba solve's inputs and outputs; see solve_input.h.
-#include "dba/app/solve_input.h"
+#include "dba/session/solve_input.h"
 
 #include <unordered_map>
 
 
 #include "dba/io/path_kind.h"
-#include "dba/app/arguments.h"
+#include "dba/common/arguments.h"
 
 #include <filesystem>
 #include <sstream>

@@ -1,5 +1,5 @@
 // Command-line value parsing; see arguments.h.
-#include "dba/app/arguments.h"
+#include "dba/common/arguments.h"
 
 #include <charconv>
 #include <cmath>

@@ -1,5 +1,5 @@
 // Human and JSON summaries of a solve; see solve_report.h.
-#include "dba/app/solve_report.h"
+#include "dba/session/solve_report.h"
 
 #include <algorithm>
 #include <array>

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "dba/app/solve_command.h"
+#include "dba/session/solve_options.h"
 
 namespace dba {
 namespace {
@@ -65,7 +65,7 @@ INSTANTIATE_TEST_SUITE_P(
 
 TEST(SolveArguments, AcceptedOptionsLandInTheOptions) {
   bool help = false;
-  const SolveCommandOptions o = ParseSolveArguments(
+  const SolveOptions o = ParseSolveArguments(
       {"in.dba", "-o", "out.dba", "--report", "r.json", "-t", "3", "--linear-solver", "sparse",
        "--loss", "huber", "--loss-scale", "2.5", "--reject-outliers", "4", "--reject-keep-loss", "--eta", "0.2",
        "--coarse-basis", "parameters", "--pcg-precision", "double", "--min-triangulation-angle", "2", "-q"},

@@ -1,6 +1,6 @@
 // A run's files: outputs naming inputs or each other are refused, naming
 // both, unless the pair is in-place work the command allows.
-#include "dba/app/run_files.h"
+#include "dba/session/run_files.h"
 
 #include <gtest/gtest.h>
 

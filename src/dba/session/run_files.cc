@@ -1,5 +1,5 @@
 // A run's files checked before the work; see run_files.h.
-#include "dba/app/run_files.h"
+#include "dba/session/run_files.h"
 
 #include <sys/stat.h>
 

@@ -1,5 +1,5 @@
 // Argument parsing: accepted values and the messages of refused ones.
-#include "dba/app/arguments.h"
+#include "dba/common/arguments.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,154 @@
+// What a solve writes; see solve_outputs.h.
+#include "dba/session/solve_outputs.h"
+
+#include <ostream>
+
+#include "dba/cluster/mpi_point_workers.h"
+#include "dba/common/memory.h"
+#include "dba/common/timer.h"
+#include "dba/io/atomic_output_file.h"
+#include "dba/io/binary_problem.h"
+#include "dba/io/path_kind.h"
+#include "dba/io/ply_writer.h"
+#include "dba/io/read_problem.h"
+#include "dba/session/run_files.h"
+
+namespace dba {
+namespace {
+
+// --ply: the points left, with a COLMAP input's colours.
+void WritePointCloud(const SolveOptions& options, const SolveResult& result,
+                     const std::optional<ColmapInput>& colmap) {
+  std::vector<uint8_t> rgb;
+  if (colmap) {
+    rgb = PointColours(*colmap);
+    if (result.kept) {  // the colours of the points left
+      std::vector<uint8_t> left;
+      for (size_t k = 0; k < result.kept->point.size(); ++k) {
+        if (result.kept->point[k]) left.insert(left.end(), &rgb[3 * k], &rgb[3 * k + 3]);
+      }
+      rgb.swap(left);
+    }
+  }
+  const std::vector<double>& points = result.problem.points;
+  WritePointCloudPly(options.ply_path,
+                     options.geo.output_crs.empty() ? points
+                                                    : InOutputCrs(options.geo, result.geo, points),
+                     rgb);
+}
+
+// -o: a COLMAP model, a .dba streamed from a .dba the ranks read, or the
+// problem (read again where the ranks held its observations).
+void WriteAdjustedProblem(const SolveOptions& options, int ranks, SolveResult* result,
+                          std::optional<ColmapInput>* colmap) {
+  Problem& problem = result->problem;
+  const bool kept = result->kept.has_value();
+  const OutputKind kind =
+      CheckOutput(options.input, options.output, problem.model, options.colmap_format);
+  if (kind == OutputKind::kColmap) {
+    WriteColmapOutput(problem.cameras, kept ? result->all_points : problem.points, options.output,
+                      options.colmap_format, &**colmap, kept ? &*result->kept : nullptr);
+    return;
+  }
+  if (ranks > 1 && result->ranks_read_file && kind == OutputKind::kBinary && !kept) {
+    // Binary to binary: stream the observations from the input; the camera
+    // side (values and what was held fixed) is the solve's.
+    WriteBinaryWithNewParameters(options.input, options.output, problem, problem.points);
+    return;
+  }
+  if (ranks > 1) {
+    // The observations were handed to the ranks (and released here, so the
+    // main rank's memory during the solve is its share's): read them again.
+    Problem full = *colmap ? std::move((*colmap)->source.problem)
+                           : LoadSolveInput(options.input, options.unknowns);
+    full.cameras.swap(problem.cameras);
+    full.points.swap(kept ? result->all_points : problem.points);
+    if (kept) KeepOnly(*result->kept, &full);
+    problem = std::move(full);
+  }
+  WriteProblem(problem, options.output);
+}
+
+}  // namespace
+
+void CheckSolveFiles(const SolveOptions& o) {
+  RunFiles files;
+  files.Input("INPUT", o.input);
+  files.Input("--truth", o.truth_path);
+  files.Input("--resume", o.resume_path);
+  files.Input("--camera-priors", o.geo.camera_priors_path);
+  files.Input("--gcps", o.geo.gcps_path);
+  if (!o.output.empty() && KindOfPath(o.output) == PathKind::kOther && IsColmapInput(o.input)) {
+    files.ModelOutput("-o", o.output, o.colmap_format.value_or(*DetectColmapFormat(o.input)));
+  } else {
+    files.Output("-o", o.output);
+  }
+  files.Output("--report", o.report_path);
+  files.Output("--ply", o.ply_path);
+  files.Output("--checkpoint", o.checkpoint_path);
+  files.Output("--camera-centres", o.geo.camera_centres_path);
+  files.Output("--accuracy-report", o.geo.accuracy_report_path);
+  files.AllowInPlace("-o", "INPUT");
+  files.AllowInPlace("--checkpoint", "--resume");
+  files.Check();
+}
+
+void CheckSolveOutputs(const SolveOptions& options, const SolveInput& input,
+                       const Communicator& comm) {
+  if (!comm.is_main() || options.output.empty()) return;
+  const CameraModel model = input.ranks_read_file ? ReadBinaryProblemHeader(input.name).model
+                                                  : input.problem.model;
+  CheckOutput(options.input, options.output, model, options.colmap_format);
+}
+
+void WriteSolveOutputs(const SolveOptions& options, int ranks, SolveResult* result,
+                       std::ostream& out) {
+  // Every output of the run appears when all are written, or none does.
+  OutputTransaction outputs;
+  SolveReport& report = result->report;
+  Timer write_timer;
+  if (ranks > 1) MaybeInjectFault(0, "write", 1);
+  // A COLMAP input is read once more, for what the outputs keep from it
+  // (names, colours, tracks; the observations a distributed run handed out).
+  // Deliberate: keeping the model through the solve instead would hold about
+  // 32 bytes per observation (its points2D and tracks) beside the problem's
+  // 20, in the phase where memory peaks; the re-read costs time only.
+  std::optional<ColmapInput> colmap;
+  if (IsColmapInput(options.input) && (!options.output.empty() || !options.ply_path.empty())) {
+    colmap = ReadColmapInput(options.input, options.unknowns);
+  }
+  if (!options.ply_path.empty()) WritePointCloud(options, *result, colmap);
+  if (!options.output.empty()) {
+    WriteAdjustedProblem(options, ranks, result, &colmap);
+  }
+  if (!options.geo.camera_centres_path.empty()) {
+    // Named as the input names them (COLMAP), else by index.
+    WriteCameraCentres(options.geo, result->geo, result->problem, result->names.problem);
+  }
+  if (!options.geo.accuracy_report_path.empty()) {
+    WriteFileAtomically(options.geo.accuracy_report_path, AccuracyReportTable(report.geo.accuracy));
+  }
+  report.write_seconds = write_timer.Seconds();
+  report.peak_memory_bytes = PeakResidentBytes();
+  if (!options.report_path.empty()) WriteFileAtomically(options.report_path, SolveReportJson(report));
+  outputs.Commit();
+  PrintSolveReport(report, out);
+  if (!options.output.empty()) out << "  output              " << options.output << "\n";
+  if (!options.ply_path.empty()) out << "  point cloud         " << options.ply_path << "\n";
+  if (!options.report_path.empty()) out << "  report              " << options.report_path << "\n";
+}
+
+}  // namespace dba
+
+namespace dba {
+
+SolveResult RunSolve(const SolveOptions& options, Communicator* comm, std::ostream& out) {
+  if (comm->is_main()) CheckSolveFiles(options);
+  SolveInput input = LoadInput(options, *comm);
+  CheckSolveOutputs(options, input, *comm);
+  SolveResult result = SolveSession(options, comm, out).Run(std::move(input));
+  if (comm->is_main()) WriteSolveOutputs(options, comm->size(), &result, out);
+  return result;
+}
+
+}  // namespace dba

@@ -1,0 +1,39 @@
+// What a solve writes, on the main rank, after the session: its files
+// checked before the input is read (CheckSolveFiles, session/run_files.h),
+// and after the solve the adjusted problem (-o: BAL, .dba or a COLMAP
+// model), the point cloud (--ply), the camera centres, the JSON report, all
+// appearing together or not at all (io/atomic_output_file.h,
+// OutputTransaction), then the printed summary.
+//
+// Thread safety: one caller; touches only the files the options name.
+#pragma once
+
+#include <iosfwd>
+
+#include "dba/session/solve_options.h"
+#include "dba/session/solve_session.h"
+
+namespace dba {
+
+// Every file the run reads and writes, checked before the input is read:
+// -o may replace the problem it reads, --checkpoint the checkpoint --resume
+// reads; any other output naming an input or another output is refused
+// (UsageError), and so is an output the rule of io/output_target.h refuses.
+void CheckSolveFiles(const SolveOptions& options);
+
+// The outputs' kinds against the loaded input (CheckOutput), before the
+// solve.
+void CheckSolveOutputs(const SolveOptions& options, const SolveInput& input,
+                       const Communicator& comm);
+
+// Writes every output `options` names from `result` (a solve on `ranks`
+// ranks), then prints the summary to `out`.
+void WriteSolveOutputs(const SolveOptions& options, int ranks, SolveResult* result,
+                       std::ostream& out);
+
+// A whole solve as `dba solve` runs it, on every rank of `comm`: the files
+// checked, the input loaded, the session run, the outputs written (main
+// rank). Returns the main rank's result.
+SolveResult RunSolve(const SolveOptions& options, Communicator* comm, std::ostream& out);
+
+}  // namespace dba

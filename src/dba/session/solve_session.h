@@ -1,0 +1,106 @@
+// One solve, whichever way it is started: the command line in one process
+// or on N ranks, and Python (on a file or on arrays) all run this session.
+// It owns what decides the result: the LM run on a point side that is local
+// or spread over MPI ranks, camera priors and control points (geo/), rounds
+// of outlier rejection, checkpoints and resume, the memory check, the
+// comparison with a ground truth, and the report. The caller loads the
+// input before it and writes the outputs after it (session/solve_outputs.h).
+//
+//   main rank                                  other ranks
+//   SolveInput (LoadSolveInput, or arrays)      -
+//   Run: resume, georeference, LM (+ rounds)    Run: serve their points
+//   Measure: control points out, accuracy,
+//            ground truth
+//
+// Thread safety: one session per process at a time (collective over the
+// communicator).
+#pragma once
+
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dba/cluster/communicator.h"
+#include "dba/geo/georeference.h"
+#include "dba/io/checkpoint.h"
+#include "dba/io/image_names.h"
+#include "dba/lm/outlier_rejection.h"
+#include "dba/problem/problem.h"
+#include "dba/session/solve_options.h"
+#include "dba/session/solve_report.h"
+
+namespace dba {
+
+// What a solve starts from, on the main rank.
+struct SolveInput {
+  std::string name;  // the input's path ("<arrays>" for Python's arrays)
+  // The problem, with its fixings applied; empty when the ranks read
+  // `name`, a .dba, themselves (ranks_read_file).
+  Problem problem;
+  bool ranks_read_file = false;
+  ImageNames names;  // a COLMAP input's image names (empty otherwise)
+};
+
+// Reads options.input on the main rank: the whole problem, or, when every
+// rank of a distributed run reads its own points of a .dba, only its counts.
+// Fixings are checked against it (UsageError).
+SolveInput LoadInput(const SolveOptions& options, const Communicator& comm);
+
+// What the main rank holds after the solve.
+struct SolveResult {
+  SolveReport report;
+  // The adjusted cameras and the points left (after rejection, those kept,
+  // in their loaded order); the observations too unless the ranks held them.
+  Problem problem;
+  // After --reject-outliers: what is left, flagged over the problem as
+  // loaded, and every loaded point (the kept ones adjusted).
+  std::optional<KeptObservations> kept;
+  std::vector<double> all_points;
+  Georeference geo;  // the frame and priors (--output-crs, --camera-centres)
+  ImageNames names;  // the input's (SolveInput::names)
+  bool ranks_read_file = false;  // SolveInput::ranks_read_file
+};
+
+class SolveSession {
+ public:
+  SolveSession(const SolveOptions& options, Communicator* comm, std::ostream& log);
+
+  // Collective. On the main rank `input` is what LoadInput returned (or a
+  // problem made from arrays); other ranks pass an empty one. Returns the
+  // result on the main rank (an empty one elsewhere).
+  SolveResult Run(SolveInput input);
+
+ private:
+  void Start(const SolveInput& input);
+  void Resume();
+  void PrepareGeoreferencing();
+  void PrintStart();
+  void SolveInOneProcess();
+  void SolveOnRanks();
+  void RejectOutlierRoundsInOneProcess(const std::function<void(const IterationSummary&)>& log);
+  void Measure();
+  void CompareWithTruth();
+  std::function<void(const IterationSummary&)> IterationLog();
+
+  const SolveOptions& options_;
+  Communicator* comm_;
+  std::ostream& out_;
+  LmOptions lm_;
+  SolveInput input_;
+  SolveResult result_;
+  std::optional<Checkpoint> resumed_;
+  std::optional<CheckpointWriter> checkpoints_;
+  OriginalIndices original_;           // one process, with rejection
+  std::vector<double> loaded_pixels_;  // with rejection and a truth
+};
+
+// The log line of one round of --reject-outliers.
+std::string RejectionRoundLine(const RejectionCriteria& criteria, int r,
+                               const RejectionRound& round);
+
+// Refuses (std::runtime_error naming `input` and the first observations) a
+// problem whose initial cost is not finite.
+void RefuseNonFiniteResiduals(const std::string& input, const Problem& problem);
+
+}  // namespace dba
