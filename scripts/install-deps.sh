@@ -9,7 +9,7 @@ packages=(
   libgtest-dev googletest libbenchmark-dev
   openmpi-bin libopenmpi-dev
   libsuitesparse-dev libopenblas0-pthread
-  libproj-dev
+  libproj-dev libxxhash-dev
   time
   python3-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
 )

@@ -329,14 +329,18 @@ DistributedSummary DistributedBundleAdjust(
     before = comm->stats();
     summary.per_iteration.push_back(delta);
     if (hooks.on_iteration) hooks.on_iteration(it);
-    if (checkpoints.writer != nullptr && checkpoints.writer->Due(it.step_accepted)) {
+    if (checkpoints.writer != nullptr && checkpoints.writer->Due(it.step_accepted, it.ends_solve)) {
       // The main rank's points, if it keeps them, are collected in place.
       std::vector<double> scratch;
       std::vector<double>& points = collect_points ? problem->points : scratch;
       points.resize(kPointSize * num_points);
       workers->CollectPoints(&points);
-      checkpoints.writer->Write(it.iteration, it.next_lambda, it.candidate_cost,
-                                problem->cameras, points);
+      Checkpoint state;
+      state.iterations = it.iteration;
+      state.lambda = it.next_lambda;
+      state.cost = it.candidate_cost;
+      state.ended = it.ends_solve ? static_cast<int32_t>(it.termination) : -1;
+      checkpoints.writer->Write(state, problem->cameras, points);
     }
   };
   // The other ranks on this node busy-wait in MPI while the main rank

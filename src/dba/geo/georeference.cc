@@ -90,38 +90,10 @@ void ToLocalFrame(const GeoreferenceOptions& options, Georeference* geo,
   out << line;
 }
 
-}  // namespace
-
-Georeference PrepareGeoreference(const GeoreferenceOptions& options, const ImageNames& names,
-                                 Problem* problem, GeoreferenceSummary* report, std::ostream& out) {
-  Georeference geo;
-  const int64_t num_images = problem->num_images();
-  geo.image_names = names.problem;
-  if (geo.image_names.empty()) {
-    for (int64_t i = 0; i < num_images; ++i) geo.image_names.push_back(std::to_string(i));
-  }
-  if (!options.camera_priors_path.empty()) {
-    geo.priors = LoadCameraPriors(options.camera_priors_path, names, num_images,
-                                  options.prior_sigma, options.prior_loss);
-  }
-  if (!options.gcps_path.empty()) {
-    geo.gcps = LoadGroundControl(options.gcps_path, names, num_images);
-    if (geo.priors.empty() && geo.gcps.CountControl() == 0) {
-      throw InputError(options.gcps_path, 0,
-                       "no control points and no --camera-priors: nothing places the block "
-                       "(check points only measure it)");
-    }
-  }
-  ToLocalFrame(options, &geo, report, out);
-  if (!options.output_crs.empty()) {
-    if (!geo.frame) {
-      throw UsageError("--output-crs: the solve is in a Cartesian frame of its own; give the "
-                       "priors' or control points' CRS (--prior-crs, --gcp-crs)");
-    }
-    OpenCrs("--output-crs", options.output_crs);  // refused now, not after the solve
-  }
-
-  // Before LM, the block onto the priors, or else onto the control points.
+// Before LM, the block onto the priors, or else onto the control points,
+// by a robust similarity; what was done in one log line.
+void AlignBlock(const GeoreferenceOptions& options, const Georeference& geo, Problem* problem,
+                std::ostream& out) {
   const int64_t control = geo.gcps.CountControl();
   const bool on_priors = geo.priors.priors.size() >= 3 || control == 0;
   SimilarityFit fit;
@@ -151,8 +123,43 @@ Georeference PrepareGeoreference(const GeoreferenceOptions& options, const Image
                                 "is left to the priors inside LM"
                               : "");
   out << line;
+}
+
+}  // namespace
+
+Georeference PrepareGeoreference(const GeoreferenceOptions& options, const ImageNames& names,
+                                 Problem* problem, GeoreferenceSummary* report, std::ostream& out,
+                                 bool align) {
+  Georeference geo;
+  const int64_t num_images = problem->num_images();
+  geo.image_names = names.problem;
+  if (geo.image_names.empty()) {
+    for (int64_t i = 0; i < num_images; ++i) geo.image_names.push_back(std::to_string(i));
+  }
+  if (!options.camera_priors_path.empty()) {
+    geo.priors = LoadCameraPriors(options.camera_priors_path, names, num_images,
+                                  options.prior_sigma, options.prior_loss);
+  }
+  if (!options.gcps_path.empty()) {
+    geo.gcps = LoadGroundControl(options.gcps_path, names, num_images);
+    if (geo.priors.empty() && geo.gcps.CountControl() == 0) {
+      throw InputError(options.gcps_path, 0,
+                       "no control points and no --camera-priors: nothing places the block "
+                       "(check points only measure it)");
+    }
+  }
+  ToLocalFrame(options, &geo, report, out);
+  if (!options.output_crs.empty()) {
+    if (!geo.frame) {
+      throw UsageError("--output-crs: the solve is in a Cartesian frame of its own; give the "
+                       "priors' or control points' CRS (--prior-crs, --gcp-crs)");
+    }
+    OpenCrs("--output-crs", options.output_crs);  // refused now, not after the solve
+  }
+
+  if (align) AlignBlock(options, geo, problem, out);
   AddControlPoints(geo.gcps, problem);
-  geo.control_points = control;
+  geo.control_points = geo.gcps.CountControl();
   return geo;
 }
 

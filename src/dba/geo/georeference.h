@@ -65,11 +65,13 @@ struct GeoreferenceSummary {
 
 // Reads what `options` names against the problem's images (`names`: a
 // COLMAP input's), converts it into the solve's frame, aligns `problem`
-// onto the priors (or, without enough of them, the control points), then
-// appends the control points. Throws InputError (file, line) for bad input
+// onto the priors (or, without enough of them, the control points; not
+// with `align` false: a resumed solve's parameters are aligned already),
+// then appends the control points. Throws InputError (file, line) for bad input
 // and UsageError for a CRS PROJ cannot use.
 Georeference PrepareGeoreference(const GeoreferenceOptions& options, const ImageNames& names,
-                                 Problem* problem, GeoreferenceSummary* summary, std::ostream& out);
+                                 Problem* problem, GeoreferenceSummary* summary, std::ostream& out,
+                                 bool align = true);
 
 // `xyz` (3 per point, the solve's frame) in --output-crs, or as they are
 // without it. Throws std::runtime_error where PROJ cannot convert.

@@ -41,6 +41,17 @@ const char* TerminationReasonName(TerminationReason reason) {
   return "unknown";
 }
 
+const char* TerminationMessage(TerminationReason reason) {
+  switch (reason) {
+    case TerminationReason::kFunctionTolerance: return "relative cost decrease below tolerance";
+    case TerminationReason::kGradientTolerance: return "gradient max-norm below tolerance";
+    case TerminationReason::kParameterTolerance: return "step size below tolerance";
+    case TerminationReason::kMaxIterations: return "reached the iteration limit";
+    case TerminationReason::kLambdaTooLarge: return "no acceptable step: damping too large";
+  }
+  return "unknown";
+}
+
 double LmSummary::Rms(double cost) const {
   return num_observations > 0 ? std::sqrt(2.0 * cost / num_observations) : 0.0;
 }
@@ -73,6 +84,7 @@ class Minimizer {
   LmSummary Run() {
     Linearize();
     CheckInitialCost();
+    if (options_.ended) return EndedBefore(*options_.ended);
     // δc has one value per unknown (fixed parameters are not unknowns); the
     // candidate is cameras ⊞ δc (rcs/unknown_layout.h).
     delta_c_.resize(sys_->layout.num_unknowns());
@@ -95,6 +107,8 @@ class Minimizer {
       if (!done) Linearize();
       it.next_lambda = damping_.lambda();
       it.seconds = iteration_timer.Seconds();
+      it.ends_solve = done;
+      it.termination = summary_.termination;
       summary_.history.push_back(it);
       if (on_iteration_) on_iteration_(it);
     }
@@ -106,6 +120,16 @@ class Minimizer {
 
  private:
   enum class StepOutcome { kAccepted, kRejected, kTooSmall };
+
+  // A resumed solve that had ended: its cost at the checkpoint's
+  // parameters, no iteration.
+  LmSummary EndedBefore(const LmOptions::Ended& ended) {
+    Terminate(ended.reason);
+    summary_.final_cost = ended.cost;
+    summary_.termination_message += " (when the checkpoint resumed from was written)";
+    summary_.times.total = total_timer_.Seconds();
+    return summary_;
+  }
 
   // RCS, right-hand side, gradient and cost at the current parameters and λ.
   void Linearize() {
@@ -128,7 +152,7 @@ class Minimizer {
 
   bool ReachedIterationLimit() {
     if (summary_.iterations < options_.max_iterations) return false;
-    Terminate(TerminationReason::kMaxIterations, "reached the iteration limit");
+    Terminate(TerminationReason::kMaxIterations);
     return true;
   }
 
@@ -144,7 +168,7 @@ class Minimizer {
 
   bool GradientIsSmall(const IterationSummary& it) {
     if (it.gradient_max_norm > options_.gradient_tolerance) return false;
-    Terminate(TerminationReason::kGradientTolerance, "gradient max-norm below tolerance");
+    Terminate(TerminationReason::kGradientTolerance);
     return true;
   }
 
@@ -219,7 +243,7 @@ class Minimizer {
   // A step below the parameter tolerance ends the solve; the parameters stay.
   bool DropTinyStep(IterationSummary* it) {
     it->step_accepted = false;
-    Terminate(TerminationReason::kParameterTolerance, "step size below tolerance");
+    Terminate(TerminationReason::kParameterTolerance);
     return true;
   }
 
@@ -243,7 +267,7 @@ class Minimizer {
     const bool poor_model = it.gain_ratio < kPoorModel && decrease > tolerance * it.gain_ratio;
     const bool converged = decrease <= tolerance && !poor_model;
     if (converged) {
-      Terminate(TerminationReason::kFunctionTolerance, "relative cost decrease below tolerance");
+      Terminate(TerminationReason::kFunctionTolerance);
     }
     cost_ = it.candidate_cost;
     residuals_ = candidate_residuals_;
@@ -254,13 +278,13 @@ class Minimizer {
   bool RejectStep() {
     damping_.StepRejected();
     if (damping_.lambda() <= options_.max_lambda) return false;
-    Terminate(TerminationReason::kLambdaTooLarge, "no acceptable step: damping too large");
+    Terminate(TerminationReason::kLambdaTooLarge);
     return true;
   }
 
-  void Terminate(TerminationReason reason, const char* message) {
+  void Terminate(TerminationReason reason) {
     summary_.termination = reason;
-    summary_.termination_message = message;
+    summary_.termination_message = TerminationMessage(reason);
   }
 
   const LmOptions& options_;

@@ -18,6 +18,7 @@
 
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,18 @@
 #include "dba/solver/rcs_solver.h"
 
 namespace dba {
+
+enum class TerminationReason {
+  kFunctionTolerance,
+  kGradientTolerance,
+  kParameterTolerance,
+  kMaxIterations,
+  kLambdaTooLarge,  // no acceptable step found with ever stronger damping
+};
+const char* TerminationReasonName(TerminationReason reason);
+// The log's words for why a solve ended ("relative cost decrease below
+// tolerance").
+const char* TerminationMessage(TerminationReason reason);
 
 struct LmOptions {
   // Upper bound on LM iterations (accepted and rejected steps both count).
@@ -55,16 +68,17 @@ struct LmOptions {
   // is then the checkpoint's.
   int iterations_done = 0;
   int accepted_done = 0;
+  // A resumed solve whose checkpoint was written by the step that ended it:
+  // no iteration is taken, and it ends as it did, at the cost that step
+  // reported (the checkpoint's; evaluating it again sums in another order).
+  struct Ended {
+    TerminationReason reason;
+    double cost;
+  };
+  std::optional<Ended> ended;
 };
 
-enum class TerminationReason {
-  kFunctionTolerance,
-  kGradientTolerance,
-  kParameterTolerance,
-  kMaxIterations,
-  kLambdaTooLarge,  // no acceptable step found with ever stronger damping
-};
-const char* TerminationReasonName(TerminationReason reason);
+
 
 struct IterationSummary {
   int iteration = 0;
@@ -80,6 +94,10 @@ struct IterationSummary {
   bool step_accepted = false;
   double next_lambda = 0.0;    // the damping after this step's outcome
   double seconds = 0.0;        // wall time of this iteration
+  // This iteration ended the solve, for `termination` (a checkpoint written
+  // after it says so: io/checkpoint.h).
+  bool ends_solve = false;
+  TerminationReason termination = TerminationReason::kMaxIterations;
 };
 
 struct PhaseTimes {

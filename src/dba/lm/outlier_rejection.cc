@@ -19,6 +19,26 @@ OriginalIndices OriginalIndices::Identity(const Problem& problem) {
   return o;
 }
 
+KeptObservations KeptFlags(const OriginalIndices& original, int64_t observations, int64_t points) {
+  KeptObservations kept;
+  kept.observation.assign(observations, 0);
+  for (int64_t o : original.observation) kept.observation[o] = 1;
+  kept.point.assign(points, 0);
+  for (int64_t k : original.point) kept.point[k] = 1;
+  return kept;
+}
+
+OriginalIndices IndicesOf(const KeptObservations& kept) {
+  OriginalIndices o;
+  for (size_t i = 0; i < kept.observation.size(); ++i) {
+    if (kept.observation[i]) o.observation.push_back(static_cast<int64_t>(i));
+  }
+  for (size_t k = 0; k < kept.point.size(); ++k) {
+    if (kept.point[k]) o.point.push_back(static_cast<int64_t>(k));
+  }
+  return o;
+}
+
 std::vector<double> CameraCentres(const Problem& problem) {
   std::vector<double> centres(3 * problem.num_images());
   for (int64_t i = 0; i < problem.num_images(); ++i) {
@@ -136,18 +156,27 @@ void KeepOnly(const KeptObservations& kept, Problem* problem) {
 
 std::vector<RejectionRound> RunRejectionRounds(
     const std::function<RejectionRound()>& drop, const std::function<void()>& solve_again,
-    const std::function<void(int, const RejectionRound&)>& on_round) {
+    const std::function<void(int, const RejectionRound&)>& on_round,
+    std::vector<RejectionRound> done) {
   constexpr int kMaxRounds = 5;
   constexpr double kSettled = 5e-4;  // fraction of the observations
-  std::vector<RejectionRound> rounds;
-  for (int r = 1; r <= kMaxRounds; ++r) {
+  const auto settled = [](const RejectionRound& round) {
+    const int64_t before = round.observations_left + round.observations_dropped;
+    return round.observations_dropped < kSettled * static_cast<double>(before);
+  };
+  std::vector<RejectionRound> rounds = std::move(done);
+  if (!rounds.empty()) {  // resumed inside the solve after the last round
+    if (rounds.back().observations_dropped == 0) return rounds;
+    solve_again();
+    if (settled(rounds.back())) return rounds;
+  }
+  for (int r = static_cast<int>(rounds.size()) + 1; r <= kMaxRounds; ++r) {
     const RejectionRound round = drop();
     rounds.push_back(round);
     on_round(r, round);
     if (round.observations_dropped == 0) break;
     solve_again();
-    const int64_t before = round.observations_left + round.observations_dropped;
-    if (round.observations_dropped < kSettled * static_cast<double>(before)) break;
+    if (settled(round)) break;
   }
   return rounds;
 }

@@ -57,10 +57,18 @@ void KeepOnly(const KeptObservations& kept, Problem* problem);
 // The rounds of --reject-outliers after the first solve (COLMAP's global BA
 // filter): `drop` one round, then `solve_again`, until a round drops nothing
 // or fewer than 0.05% of the observations it started with, or after 5
-// rounds. `on_round` hears of each round as it ends (1-based).
+// rounds. `on_round` hears of each round as it ends (1-based). `done`: the
+// rounds a resumed solve had done (io/checkpoint.h); it resumes with the
+// solve after the last of them, then goes on as the uninterrupted one would.
 std::vector<RejectionRound> RunRejectionRounds(
     const std::function<RejectionRound()>& drop, const std::function<void()>& solve_again,
-    const std::function<void(int, const RejectionRound&)>& on_round);
+    const std::function<void(int, const RejectionRound&)>& on_round,
+    std::vector<RejectionRound> done = {});
+
+// The flags of what `original` holds, over `observations` and `points` as
+// loaded; and the indices back from such flags.
+KeptObservations KeptFlags(const OriginalIndices& original, int64_t observations, int64_t points);
+OriginalIndices IndicesOf(const KeptObservations& kept);
 
 // Drops from `problem` the observations with |r| > max_error_px at its
 // current parameters, then the points with fewer than 2 observations left or

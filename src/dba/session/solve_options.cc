@@ -72,7 +72,7 @@ void PrintSolveHelp(std::ostream& out) {
          "  --checkpoint FILE          after each accepted LM iteration, write the parameters\n"
          "                             and the LM state to FILE (whole or not at all), to\n"
          "                             --resume from (rank 0 writes it in a distributed\n"
-         "                             run; not with --reject-outliers)\n"
+         "                             run; with --reject-outliers in one process)\n"
          "  --checkpoint-every S       at most one checkpoint per S seconds (default 0: after\n"
          "                             every accepted iteration)\n"
          "  --resume FILE              continue the solve of INPUT (the same input and\n"
@@ -393,9 +393,6 @@ SolveOptions ParseSolveArguments(const std::vector<std::string>& args,
   if (o.colmap_format.has_value() && o.output.empty()) {
     throw std::invalid_argument("--colmap-format: no -o output to write");
   }
-  if ((!o.checkpoint_path.empty() || !o.resume_path.empty()) && o.reject_outliers_px > 0) {
-    throw std::invalid_argument("--checkpoint and --resume do not combine with --reject-outliers yet");
-  }
   if (o.checkpoint_every_s > 0 && o.checkpoint_path.empty()) {
     throw std::invalid_argument("--checkpoint-every: no --checkpoint to write");
   }
@@ -407,10 +404,6 @@ SolveOptions ParseSolveArguments(const std::vector<std::string>& args,
   }
   if (!o.geo.gcp_crs.empty() && o.geo.gcps_path.empty()) {
     throw std::invalid_argument("--gcp-crs: no --gcps FILE");
-  }
-  if (!o.resume_path.empty() && !o.geo.gcps_path.empty()) {
-    throw std::invalid_argument("--resume does not combine with --gcps yet (the checkpoint holds "
-                                "the control points among the points)");
   }
   if (o.truth_absolute && o.truth_path.empty()) {
     throw std::invalid_argument("--truth-absolute needs --truth FILE");

@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <utility>
 #include <cstdio>
 #include <ostream>
 #include <stdexcept>
@@ -30,17 +31,6 @@ void ScatterPoints(const Problem& problem, const OriginalIndices& original,
   for (size_t k = 0; k < original.point.size(); ++k) {
     for (int d = 0; d < 3; ++d) (*all)[3 * original.point[k] + d] = problem.points[3 * k + d];
   }
-}
-
-// The flags of what `original` still holds, over `observations` and
-// `points` as loaded.
-KeptObservations KeptOf(const OriginalIndices& original, int64_t observations, int64_t points) {
-  KeptObservations kept;
-  kept.observation.assign(observations, 0);
-  for (int64_t o : original.observation) kept.observation[o] = 1;
-  kept.point.assign(points, 0);
-  for (int64_t k : original.point) kept.point[k] = 1;
-  return kept;
 }
 
 // The points `kept` flags, in their loaded order, from every loaded point.
@@ -105,6 +95,38 @@ void RefuseNonFiniteResiduals(const std::string& input, const Problem& problem) 
                            "beyond double range)");
 }
 
+SetupFingerprint SolveSetup(const SolveOptions& options, const Georeference& geo) {
+  SetupFingerprint f;
+  const RobustLoss& loss = options.lm.loss;
+  f.Add("--loss", LossName(loss.type));
+  f.Add("--loss", loss.scale);
+  for (const CameraCentrePrior& p : geo.priors.priors) {
+    f.Add("--camera-priors", &p.image, sizeof p.image);
+    f.Add("--camera-priors", p.centre.data(), 3 * sizeof(double));
+    f.Add("--camera-priors", p.sigma.data(), 3 * sizeof(double));
+  }
+  if (!geo.priors.empty()) {
+    f.Add("--prior-loss", LossName(geo.priors.loss.type));
+    f.Add("--prior-loss", geo.priors.loss.scale);
+  }
+  for (const GroundControlPoint& p : geo.gcps.points) {
+    f.Add("--gcps", p.name);
+    f.Add("--gcps", p.position.data(), 3 * sizeof(double));
+    f.Add("--gcps", p.sigma.data(), 3 * sizeof(double));
+    f.Add("--gcps", p.control ? 1.0 : 0.0);
+    for (const auto& m : p.measurements) {
+      f.Add("--gcps", &m.image, sizeof m.image);
+      f.Add("--gcps", m.pixel.data(), 2 * sizeof(double));
+    }
+  }
+  if (options.reject_outliers_px > 0) {
+    f.Add("--reject-outliers", options.reject_outliers_px);
+    f.Add("--min-triangulation-angle", options.min_triangulation_angle_deg);
+    f.Add("--reject-keep-loss", options.reject_keep_loss ? 1.0 : 0.0);
+  }
+  return f;
+}
+
 SolveSession::SolveSession(const SolveOptions& options, Communicator* comm, std::ostream& log)
     : options_(options), comm_(comm), out_(log), lm_(options.lm) {
   if (lm_.num_threads == 0) lm_.num_threads = std::max(1, DefaultThreads() / comm->ranks_on_node());
@@ -120,16 +142,22 @@ SolveResult SolveSession::Run(SolveInput input) {
   if (comm_->is_main()) {
     Timer load;
     Start(input_);
-    Resume();
     if (!input_.ranks_read_file) RefuseNonFiniteResiduals(input_.name, result_.problem);
-    if (!options_.truth_path.empty()) CheckTruthFile(options_.truth_path, result_.report);
     if (options_.geo.any()) PrepareGeoreferencing();
+    setup_ = SolveSetup(options_, result_.geo);
+    Resume();
+    if (!options_.truth_path.empty()) CheckTruthFile(options_.truth_path, result_.report);
     result_.report.load_seconds = load.Seconds();
     PrintStart();
   }
   if (comm_->size() == 1) {
     SolveInOneProcess();
   } else {
+    if (options_.reject_outliers_px > 0 &&
+        (!options_.checkpoint_path.empty() || !options_.resume_path.empty())) {
+      throw UsageError("--checkpoint and --resume with --reject-outliers run in one process: on "
+                       "ranks the kept observations are not gathered into checkpoints yet");
+    }
     SolveOnRanks();
   }
   if (comm_->is_main()) Measure();
@@ -163,24 +191,75 @@ void SolveSession::Start(const SolveInput& input) {
   report.problem_bytes = problem.MemoryBytes();
 }
 
-// --resume: the checkpoint's parameters and LM state (spread over the
-// ranks, the problem is checked against it there).
+// --resume: the checkpoint's setup against this run's, its parameters
+// (spread over the ranks, the problem is checked against it there), the
+// rejection it had done, and its LM state.
 void SolveSession::Resume() {
   if (options_.resume_path.empty()) return;
   resumed_ = ReadCheckpoint(options_.resume_path);
-  if (!input_.ranks_read_file) {
-    ApplyCheckpoint(std::move(*resumed_), options_.resume_path, &result_.problem);
+  CheckCheckpointSetup(*resumed_, options_.resume_path, setup_);
+  if (resumed_->round > 0 && options_.reject_outliers_px <= 0) {
+    throw UsageError("--resume " + options_.resume_path + ": written after " +
+                     std::to_string(resumed_->round) + " rounds of --reject-outliers");
   }
-  lm_.initial_lambda = resumed_->lambda;
-  lm_.iterations_done = static_cast<int>(resumed_->iterations);
-  lm_.accepted_done = static_cast<int>(resumed_->accepted);
+  if (!input_.ranks_read_file) {
+    if (resumed_->round > 0) {
+      ResumeRejection(&*resumed_);
+    } else {
+      ApplyCheckpoint(std::move(*resumed_), options_.resume_path, &result_.problem);
+    }
+  }
+  resumed_round_ = resumed_->round;
+  if (resumed_round_ == 0) lm_ = RoundOptions(true);
   out_ << "resumed from " << options_.resume_path << " after LM iteration "
-       << resumed_->iterations << "\n";
+       << resumed_->iterations
+       << (resumed_->round > 0 ? " of the solve after rejection round " +
+                                     std::to_string(resumed_->round)
+                               : std::string())
+       << (resumed_->ended >= 0 ? ", which had ended the solve" : "") << "\n";
+}
+
+// A checkpoint written after rejection rounds: every loaded point and what
+// was left, the problem cut down to it as the rounds left it.
+void SolveSession::ResumeRejection(Checkpoint* c) {
+  Problem& problem = result_.problem;
+  KeptObservations kept{std::move(c->kept_observations), std::move(c->kept_points)};
+  if (static_cast<int64_t>(kept.observation.size()) != problem.num_observations() ||
+      static_cast<int64_t>(kept.point.size()) != problem.num_points()) {
+    throw InputError(options_.resume_path, 0, "written for another input: its kept flags "
+                                              "do not fit this problem's observations");
+  }
+  solve_observations_ = problem.num_observations();
+  ApplyCheckpoint(std::move(*c), options_.resume_path, &problem);
+  result_.all_points = problem.points;
+  original_ = IndicesOf(kept);
+  KeepOnly(kept, &problem);
+  for (const auto& r : c->rounds) rounds_.push_back({r[0], r[1], r[2], r[3], r[4]});
+}
+
+// The LM options of a solve: the first round's (lm_ as configured), or a
+// round after a rejection (the squared loss unless --reject-keep-loss);
+// with the resumed checkpoint's state when it is the round it resumes in.
+LmOptions SolveSession::RoundOptions(bool resumed_round) const {
+  LmOptions o = options_.lm;
+  o.num_threads = lm_.num_threads;
+  if (rounds_.size() > 0 && !options_.reject_keep_loss) o.loss = RobustLoss();
+  if (resumed_round && resumed_) {
+    o.initial_lambda = resumed_->lambda;
+    o.iterations_done = static_cast<int>(resumed_->iterations);
+    o.accepted_done = static_cast<int>(resumed_->accepted);
+    if (resumed_->ended >= 0) {
+      o.ended = LmOptions::Ended{static_cast<TerminationReason>(resumed_->ended), resumed_->cost};
+    }
+  }
+  return o;
 }
 
 void SolveSession::PrepareGeoreferencing() {
+  // A resumed solve's parameters are aligned already: the checkpoint holds
+  // them after the alignment.
   result_.geo = PrepareGeoreference(options_.geo, input_.names, &result_.problem,
-                                    &result_.report.geo, out_);
+                                    &result_.report.geo, out_, options_.resume_path.empty());
 }
 
 void SolveSession::PrintStart() {
@@ -207,40 +286,54 @@ void SolveSession::PrintStart() {
 }
 
 // The log line of every iteration, and the checkpoints after accepted ones
-// (one process: the parameters where the workers update them; a
-// distributed solve gathers its points itself). A binary input spread over
-// the ranks gets its fingerprint once the ranks hold it.
-std::function<void(const IterationSummary&)> SolveSession::IterationLog() {
+// (and always the one that ends a solve). A binary input spread over the
+// ranks gets its fingerprint once the ranks hold it.
+SolveSession::IterationHook SolveSession::IterationLog() {
   if (comm_->is_main() && !options_.checkpoint_path.empty()) {
     checkpoints_.emplace(options_.checkpoint_path, options_.checkpoint_every_s,
-                         input_.ranks_read_file ? 0 : ProblemFingerprint(result_.problem),
+                         input_.ranks_read_file ? 0 : ProblemFingerprint(result_.problem), setup_,
                          lm_.accepted_done);
   }
   return [this](const IterationSummary& it) {
     if (!options_.quiet) out_ << IterationLogLine(it) << std::flush;
-    if (comm_->size() == 1 && checkpoints_ && checkpoints_->Due(it.step_accepted)) {
-      checkpoints_->Write(it.iteration, it.next_lambda, it.candidate_cost, result_.problem.cameras,
-                          result_.problem.points);
+    if (comm_->size() == 1 && checkpoints_ && checkpoints_->Due(it.step_accepted, it.ends_solve)) {
+      WriteCheckpoint(it);
     }
   };
 }
 
-void SolveSession::SolveInOneProcess() {
-  SolveReport& report = result_.report;
-  Problem& problem = result_.problem;
-  const auto log = IterationLog();
-  if (options_.reject_outliers_px > 0) {
-    original_ = OriginalIndices::Identity(problem);
-    if (!options_.truth_path.empty()) {  // without the control points' measurements
-      loaded_pixels_.assign(problem.obs_pixel.begin(),
-                            problem.obs_pixel.begin() + 2 * report.num_observations);
-    }
+// One process: the parameters where the workers update them; after a
+// rejection round every loaded point (the kept ones scattered back) and
+// what is left.
+void SolveSession::WriteCheckpoint(const IterationSummary& it) {
+  Checkpoint state;
+  state.iterations = it.iteration;
+  state.lambda = it.next_lambda;
+  state.cost = it.candidate_cost;
+  state.ended = it.ends_solve ? static_cast<int32_t>(it.termination) : -1;
+  state.round = static_cast<int32_t>(rounds_.size());
+  for (const RejectionRound& r : rounds_) {
+    state.rounds.push_back({r.observations_dropped, r.points_dropped, r.points_small_angle,
+                            r.observations_left, r.points_left});
   }
-  // After the symbolic phase, before S's values: the peak estimated, and
-  // the solve refused where it would not fit.
-  auto check_memory = [&](const RcsSystem& structure) {
-    report.memory_estimate =
-        EstimateSolveMemory(problem, structure, lm_, CurrentResidentBytes(), PeakResidentBytes());
+  const Problem& problem = result_.problem;
+  if (rounds_.empty()) {
+    checkpoints_->Write(state, problem.cameras, problem.points);
+    return;
+  }
+  ScatterPoints(problem, original_, &result_.all_points);
+  const KeptObservations kept = KeptFlags(original_, solve_observations_,
+                                          static_cast<int64_t>(result_.all_points.size() / kPointSize));
+  checkpoints_->Write(state, problem.cameras, result_.all_points, kept.observation, kept.point);
+}
+
+// After the symbolic phase, before S's values: the peak estimated, and the
+// solve refused where it would not fit.
+std::function<void(const RcsSystem&)> SolveSession::MemoryCheck() {
+  return [this](const RcsSystem& structure) {
+    SolveReport& report = result_.report;
+    report.memory_estimate = EstimateSolveMemory(result_.problem, structure, lm_,
+                                                 CurrentResidentBytes(), PeakResidentBytes());
     report.available_memory_bytes = AvailableMemoryBytes();
     if (!options_.quiet) {
       const int64_t have = report.available_memory_bytes;
@@ -253,39 +346,73 @@ void SolveSession::SolveInOneProcess() {
       CheckMemoryFits(report.memory_estimate, report.available_memory_bytes);
     }
   };
-  report.solve.ba = BundleAdjust(lm_, &problem, log, check_memory, &result_.geo.priors);
-  if (options_.reject_outliers_px > 0) RejectOutlierRoundsInOneProcess(log);
+}
+
+void SolveSession::SolveInOneProcess() {
+  SolveReport& report = result_.report;
+  Problem& problem = result_.problem;
+  const IterationHook log = IterationLog();
+  std::function<void(const RcsSystem&)> check_memory = MemoryCheck();
+  const bool reject = options_.reject_outliers_px > 0;
+  if (reject && resumed_round_ <= 0) {
+    original_ = OriginalIndices::Identity(problem);
+    solve_observations_ = problem.num_observations();
+  }
+  if (reject && !options_.truth_path.empty()) {  // without the control points' measurements
+    if (resumed_round_ <= 0) {
+      loaded_pixels_.assign(problem.obs_pixel.begin(),
+                            problem.obs_pixel.begin() + 2 * report.num_observations);
+    } else {  // a resumed problem is cut down already
+      loaded_pixels_ = LoadSolveInput(options_.input, options_.unknowns).obs_pixel;
+    }
+  }
+  if (resumed_round_ <= 0) {
+    report.solve.ba = BundleAdjust(lm_, &problem, log, check_memory, &result_.geo.priors);
+    check_memory = {};
+  }
+  if (reject) RejectOutlierRoundsInOneProcess(log, check_memory);
 }
 
 // Rounds of --reject-outliers after the first solve, in one process: what
-// is left and every loaded point (the kept ones adjusted) in the result.
+// is left and every loaded point (the kept ones adjusted) in the result. A
+// checkpoint written after a round resumes in the solve after it.
 void SolveSession::RejectOutlierRoundsInOneProcess(
-    const std::function<void(const IterationSummary&)>& log) {
+    const IterationHook& log, std::function<void(const RcsSystem&)> check_memory) {
   SolveReport& report = result_.report;
   Problem& problem = result_.problem;
   const RejectionCriteria criteria{options_.reject_outliers_px,
                                    options_.min_triangulation_angle_deg};
-  LmOptions resolve = lm_;
-  if (!options_.reject_keep_loss) resolve.loss = RobustLoss();
   std::vector<double>& all_points = result_.all_points;
-  all_points = problem.points;
-  // What the solve started from, control points included (Measure takes
-  // them out of the flags again).
-  const int64_t observations = problem.num_observations();
+  if (resumed_round_ <= 0) all_points = problem.points;
+  bool resumed_round = resumed_round_ > 0;
+  bool first_solve = resumed_round;  // no solve yet in this run
   report.rejection = RunRejectionRounds(
       [&] {
         ScatterPoints(problem, original_, &all_points);
-        return DropOutliers(criteria, resolve.num_threads, &problem, &original_);
+        rounds_.push_back(DropOutliers(criteria, lm_.num_threads, &problem, &original_));
+        return rounds_.back();
       },
       [&] {
-        AppendSolve(BundleAdjust(resolve, &problem, log, {}, &result_.geo.priors), &report.solve.ba);
-        report.final_loss = resolve.loss;
+        const LmOptions o = RoundOptions(resumed_round);
+        if (checkpoints_ && !resumed_round) checkpoints_->StartRound();
+        resumed_round = false;
+        const BundleAdjustSummary s =
+            BundleAdjust(o, &problem, log, std::exchange(check_memory, {}), &result_.geo.priors);
+        if (first_solve) {
+          report.solve.ba = s;
+        } else {
+          AppendSolve(s, &report.solve.ba);
+        }
+        first_solve = false;
+        report.final_loss = o.loss;
       },
       [&](int r, const RejectionRound& round) {
         out_ << RejectionRoundLine(criteria, r, round) << std::flush;
-      });
+      },
+      rounds_);
   ScatterPoints(problem, original_, &all_points);
-  result_.kept = KeptOf(original_, observations, static_cast<int64_t>(all_points.size() / kPointSize));
+  result_.kept = KeptFlags(original_, solve_observations_,
+                           static_cast<int64_t>(all_points.size() / kPointSize));
 }
 
 void SolveSession::SolveOnRanks() {

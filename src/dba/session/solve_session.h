@@ -16,6 +16,7 @@
 // communicator).
 #pragma once
 
+#include <functional>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -72,16 +73,22 @@ class SolveSession {
   SolveResult Run(SolveInput input);
 
  private:
+  using IterationHook = std::function<void(const IterationSummary&)>;
   void Start(const SolveInput& input);
   void Resume();
+  void ResumeRejection(Checkpoint* checkpoint);
   void PrepareGeoreferencing();
   void PrintStart();
   void SolveInOneProcess();
   void SolveOnRanks();
-  void RejectOutlierRoundsInOneProcess(const std::function<void(const IterationSummary&)>& log);
+  void RejectOutlierRoundsInOneProcess(const IterationHook& log,
+                                       std::function<void(const RcsSystem&)> check_memory);
+  std::function<void(const RcsSystem&)> MemoryCheck();
+  LmOptions RoundOptions(bool resumed_round) const;
   void Measure();
   void CompareWithTruth();
-  std::function<void(const IterationSummary&)> IterationLog();
+  IterationHook IterationLog();
+  void WriteCheckpoint(const IterationSummary& it);
 
   const SolveOptions& options_;
   Communicator* comm_;
@@ -89,11 +96,21 @@ class SolveSession {
   LmOptions lm_;
   SolveInput input_;
   SolveResult result_;
+  SetupFingerprint setup_;             // what shapes the result (io/checkpoint.h)
   std::optional<Checkpoint> resumed_;
   std::optional<CheckpointWriter> checkpoints_;
+  int resumed_round_ = -1;             // the rejection round a checkpoint resumed in
+  std::vector<RejectionRound> rounds_; // rejection rounds done
   OriginalIndices original_;           // one process, with rejection
+  int64_t solve_observations_ = 0;     // observations the solve started with
   std::vector<double> loaded_pixels_;  // with rejection and a truth
 };
+
+// What shapes a solve's result besides its input: the loss, the camera
+// priors (as placed in the solve's frame) and their loss, the control
+// points, the rejection criteria. A checkpoint written with another is
+// refused (io/checkpoint.h).
+SetupFingerprint SolveSetup(const SolveOptions& options, const Georeference& geo);
 
 // The log line of one round of --reject-outliers.
 std::string RejectionRoundLine(const RejectionCriteria& criteria, int r,

@@ -1,0 +1,112 @@
+#!/usr/bin/env bash
+# Checkpoints: a solve killed (SIGKILL, right after its N-th checkpoint) and
+# resumed ends where the uninterrupted solve ends, bit for bit with a direct
+# solver (its outputs compared byte for byte) and to 1e-9 with a tight PCG
+# solve: plain, with camera priors (whose alignment is not done again), with
+# control points, with outlier rejection (killed inside a later round), and
+# resumed from the checkpoint of the step that ended the solve (no further
+# iteration, however often). A checkpoint written with other priors, loss or
+# rejection is refused naming what differs; a damaged one is refused.
+# Usage: cli_checkpoints.sh PATH_TO_DBA PROJECT_ROOT
+set -uo pipefail
+source "$(dirname "$0")/lib/check.sh"
+dba=$1
+root=$2
+p49=$root/data/problem-49-7776-pre.txt.bz2
+
+# killed_and_resumed NAME N OUTPUT_EXT ARGS...: the uninterrupted solve of
+# ARGS (with --checkpoint), then one killed after its N-th checkpoint and
+# resumed: the same -o bytes, final cost and iteration count.
+killed_and_resumed() {
+  local name=$1 n=$2 ext=$3; shift 3
+  local full=$tmp/$name.full$ext resumed=$tmp/$name.resumed$ext ckpt=$tmp/$name.ckpt
+  "$dba" solve "$@" -q -t 2 --checkpoint "$tmp/$name.full.ckpt" -o "$full" \
+    --report "$tmp/$name.full.json" >/dev/null 2>&1
+  check "$name: the uninterrupted solve exits 0" test $? -eq 0
+  DBA_KILL_AFTER_CHECKPOINT=$n "$dba" solve "$@" -q -t 2 --checkpoint "$ckpt" -o "$resumed" \
+    >/dev/null 2>&1
+  check "$name: killed after checkpoint $n" test $? -eq 137
+  check "$name: no output from the killed run" test ! -e "$resumed"
+  "$dba" solve "$@" -q -t 2 --resume "$ckpt" --checkpoint "$ckpt" -o "$resumed" \
+    --report "$tmp/$name.resumed.json" >"$tmp/$name.log" 2>&1
+  check "$name: the resume exits 0" test $? -eq 0
+  check "$name: resumed, the same output bytes" cmp -s "$full" "$resumed"
+  check "$name: resumed, the same final cost" test \
+    "$(json_value "$tmp/$name.full.json" final_cost)" = "$(json_value "$tmp/$name.resumed.json" final_cost)"
+  check "$name: resumed, the same termination" test \
+    "$(json_value "$tmp/$name.full.json" termination)" = "$(json_value "$tmp/$name.resumed.json" termination)"
+}
+
+# Plain: killed early, and killed at its last checkpoint (the one written by
+# the step that ended the solve).
+"$dba" solve "$p49" -q -t 2 --report "$tmp/p49.json" >/dev/null 2>&1
+accepted=$(json_value "$tmp/p49.json" accepted_iterations)
+killed_and_resumed p49_early 2 .txt "$p49"
+killed_and_resumed p49_last "$accepted" .txt "$p49"
+check "p49_last: the resume takes no iteration" contains "$tmp/p49_last.log" "which had ended the solve"
+check "p49_last: the same iteration count" test \
+  "$(json_value "$tmp/p49_last.full.json" iterations)" = "$(json_value "$tmp/p49_last.resumed.json" iterations)"
+# Resumed again from the checkpoint the resume left: still no iteration.
+cp "$tmp/p49_last.ckpt" "$tmp/again.ckpt"
+for k in 1 2; do
+  "$dba" solve "$p49" -q -t 2 --resume "$tmp/again.ckpt" --checkpoint "$tmp/again.ckpt" \
+    -o "$tmp/again.txt" --report "$tmp/again.json" >/dev/null 2>&1
+  check "resumed again ($k): the same output bytes" cmp -s "$tmp/p49_last.full.txt" "$tmp/again.txt"
+  check "resumed again ($k): no more iterations" test \
+    "$(json_value "$tmp/p49_last.full.json" iterations)" = "$(json_value "$tmp/again.json" iterations)"
+done
+
+# A tight PCG solve: to 1e-9 relative.
+tight_pcg=(--linear-solver pcg --eta 0 --pcg-tolerance 1e-14 --pcg-max-iterations 2000)
+"$dba" solve "$p49" -q -t 2 "${tight_pcg[@]}" --report "$tmp/pcg.json" >/dev/null 2>&1
+DBA_KILL_AFTER_CHECKPOINT=3 "$dba" solve "$p49" -q -t 2 "${tight_pcg[@]}" --checkpoint "$tmp/pcg.ckpt" >/dev/null 2>&1
+"$dba" solve "$p49" -q -t 2 "${tight_pcg[@]}" --resume "$tmp/pcg.ckpt" --report "$tmp/pcg_resumed.json" >/dev/null 2>&1
+check "PCG, tight: resumed to 1e-9" json "$tmp/pcg_resumed.json" \
+  "near(d['final_cost'], $(json_value "$tmp/pcg.json" final_cost), 1e-9)"
+
+# Camera priors (a block in a frame of its own, aligned onto them before
+# LM) and control points: the resume neither aligns again nor loses them.
+"$dba" generate "$tmp/s.dba" --model photo --images 60 --unaligned --priors "$tmp/s.priors" \
+  --gcps "$tmp/s.gcps" --control-points 4 --check-points 2 --outliers 0.01 --seed 5 >/dev/null
+killed_and_resumed priors 3 .dba "$tmp/s.dba" --camera-priors "$tmp/s.priors"
+killed_and_resumed gcps 3 .dba "$tmp/s.dba" --gcps "$tmp/s.gcps"
+killed_and_resumed both 4 .dba "$tmp/s.dba" --camera-priors "$tmp/s.priors" --gcps "$tmp/s.gcps"
+
+# Outlier rejection: killed inside the first solve, and inside a later
+# round's (the N-th checkpoint counts every accepted step of every round).
+"$dba" solve "$tmp/s.dba" -q -t 2 --reject-outliers 3 --report "$tmp/rej.json" >/dev/null 2>&1
+accepted=$(json_value "$tmp/rej.json" accepted_iterations)
+check "rejection: more than one round" json "$tmp/rej.json" "len(d['outlier_rejection']['rounds']) >= 1"
+killed_and_resumed rej_first 2 .dba "$tmp/s.dba" --reject-outliers 3
+killed_and_resumed rej_later $((accepted - 1)) .dba "$tmp/s.dba" --reject-outliers 3
+check "rej_later: resumed after a rejection round" contains "$tmp/rej_later.log" "after rejection round"
+killed_and_resumed rej_last "$accepted" .dba "$tmp/s.dba" --reject-outliers 3
+
+# What differs from the checkpoint's setup is refused (exit 2), naming it.
+refused_resume() {
+  local says=$1; shift
+  "$dba" solve "$tmp/s.dba" -q --resume "$tmp/priors.ckpt" -o "$tmp/refused.dba" "$@" >"$tmp/log" 2>&1
+  local status=$?
+  check "resume with $*: exit 2 (got $status)" test "$status" -eq 2
+  check "resume with $*: says '$says'" contains "$tmp/log" "$says"
+  check "resume with $*: nothing written" test ! -e "$tmp/refused.dba"
+}
+refused_resume "written with --camera-priors, which this run does not have"
+refused_resume "written with other --prior-loss" --camera-priors "$tmp/s.priors" --prior-loss huber
+refused_resume "written with other --loss" --camera-priors "$tmp/s.priors" --loss cauchy
+refused_resume "written without --gcps" --camera-priors "$tmp/s.priors" --gcps "$tmp/s.gcps"
+refused_resume "written without --reject-outliers" --camera-priors "$tmp/s.priors" --reject-outliers 3
+
+# A damaged checkpoint (one byte changed, or cut short) is refused (exit 1).
+python3 - "$tmp/priors.ckpt" "$tmp/flipped.ckpt" <<'PY'
+import sys
+b = bytearray(open(sys.argv[1], "rb").read())
+b[len(b) // 2] ^= 0x10
+open(sys.argv[2], "wb").write(b)
+PY
+"$dba" solve "$tmp/s.dba" -q --camera-priors "$tmp/s.priors" --resume "$tmp/flipped.ckpt" -o "$tmp/refused.dba" >"$tmp/log" 2>&1
+check "a flipped bit: exit 1" test $? -eq 1
+check "a flipped bit: says so" contains "$tmp/log" "checksum does not match"
+check "a flipped bit: nothing written" test ! -e "$tmp/refused.dba"
+
+finish
