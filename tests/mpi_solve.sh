@@ -466,6 +466,24 @@ PY
     fi
   done
 done
+# At the same rank count with a direct solver, bit for bit: killed after its
+# third checkpoint and resumed, the outputs byte for byte the uninterrupted
+# run's, with and without camera priors (whose alignment is not done again).
+"$dba" generate "$tmp/ckp.dba" --model photo --images 60 --unaligned --priors "$tmp/ckp.priors" \
+  --seed 5 >/dev/null
+for priors in "" "--camera-priors $tmp/ckp.priors"; do
+  mpirun_n 2 "$dba" solve "$tmp/ckp.dba" -q "${tight[@]}" $priors -o "$tmp/ckp_whole.dba" >/dev/null 2>&1
+  rm -f "$tmp/ckp.ckpt"
+  DBA_KILL_AFTER_CHECKPOINT=3 mpirun_n 2 "$dba" solve "$tmp/ckp.dba" -q "${tight[@]}" $priors \
+    --checkpoint "$tmp/ckp.ckpt" >/dev/null 2>&1
+  mpirun_n 2 "$dba" solve "$tmp/ckp.dba" -q "${tight[@]}" $priors --resume "$tmp/ckp.ckpt" \
+    -o "$tmp/ckp_resumed.dba" >"$tmp/ck.out" 2>&1
+  if cmp -s "$tmp/ckp_whole.dba" "$tmp/ckp_resumed.dba"; then
+    passes=$((passes + 1)); echo "ok   killed on 2 ranks and resumed on 2 ${priors:+with priors }: the output byte for byte"
+  else
+    fail "killed on 2 ranks and resumed on 2 ${priors:+with priors}: another output"; cat "$tmp/ck.out" >&2
+  fi
+done
 "$dba" convert "$root/../shared/data/bal/problem-49-7776-pre.txt.bz2" "$tmp/p49ck.dba" >/dev/null
 mpirun_n 2 "$dba" solve "$tmp/p49ck.dba" -q "${tight[@]}" --resume "$tmp/run.ckpt" -o "$tmp/ck_wrong.dba" \
   >"$tmp/ck.out" 2>&1 && fail "a checkpoint of another input was resumed (-np 2, .dba)"
