@@ -16,7 +16,7 @@ done
 "$dba" generate >/dev/null 2>&1; check "missing output exits 2" test $? -eq 2
 "$dba" generate "$tmp/x.dba" --images many >"$tmp/err" 2>&1; check "bad number exits 2" test $? -eq 2
 check "bad number is named" grep -q -- "--images" "$tmp/err"
-"$dba" generate "$tmp/x.dba" --side-overlap 1.5 >/dev/null 2>&1; check "bad overlap exits 1" test $? -eq 1
+"$dba" generate "$tmp/x.dba" --side-overlap 1.5 >/dev/null 2>&1; check "bad overlap exits 2" test $? -eq 2
 check "nothing written after refusal" test ! -e "$tmp/x.dba"
 
 "$dba" generate "$tmp/a.dba" --images 80 --seed 3 --truth "$tmp/a.truth.dba" >"$tmp/out"
@@ -89,7 +89,7 @@ check "--camera-model without --model photo exits 2" test $? -eq 2
 "$dba" generate "$tmp/x.dba" --model photo --camera-model NOPE >"$tmp/err" 2>&1
 check "an unknown camera model is refused with the known ones" grep -q "unknown camera model 'NOPE' (known: SIMPLE_PINHOLE" "$tmp/err"
 "$dba" generate "$tmp/x.dba" --model photo --field-of-view 170 >"$tmp/err" 2>&1
-check "a field of view of 170° is refused" grep -q -- "--field-of-view: must be in (0, 160)" "$tmp/err"
+check "a field of view of 170° is refused" grep -q -- "--field-of-view: expected a number in (0, 159.9]" "$tmp/err"
 
 # GNSS camera priors: generated with 2% gross errors on a survey started in a
 # random similarity frame; solve aligns onto them, then adjusts with them

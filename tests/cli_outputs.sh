@@ -137,9 +137,15 @@ if [ "$(id -u)" -eq 0 ] && mknod "$tmp/null" c 1 3 2>/dev/null && mknod "$tmp/fu
   "$dba" solve "$tmp/a.txt" -q --max-iterations 1 --report "$tmp/null" --ply "$tmp/null" >"$tmp/log" 2>&1
   check "a private null device as two outputs exits 0" test $? -eq 0
   check "the null device stays a character device" test -c "$tmp/null"
-  "$dba" convert "$tmp/a.txt" "$tmp/full" >"$tmp/log" 2>&1
+  "$dba" solve "$tmp/a.txt" -q --max-iterations 1 --report "$tmp/full" >"$tmp/log" 2>&1
   check "a full device exits 1" test $? -eq 1
   check "a full device: says so" contains "$tmp/log" "No space left on device"
+  ln -s full "$tmp/full.txt"
+  "$dba" convert "$tmp/a.txt" "$tmp/full.txt" >"$tmp/log" 2>&1
+  check "convert into a full device (through a link) exits 1" test $? -eq 1
+  check "convert into a full device: says so" contains "$tmp/log" "No space left on device"
+  check "the link stays a link to the device" test -L "$tmp/full.txt" -a -c "$tmp/full"
+  rm -f "$tmp/full.txt"
   check "the full device stays a character device" test -c "$tmp/full"
   refused 2 "$tmp/block: is a block device" solve "$tmp/a.txt" --report "$tmp/block"
   check "the block device stays one" test -b "$tmp/block"

@@ -7,13 +7,15 @@
 solve(path, **options) reads anything `dba solve` reads (BAL text or .bz2, a
 .dba file, a COLMAP sparse model directory); solve_arrays(...) solves a problem
 given as NumPy arrays; read_problem(path) returns a file's problem as arrays.
-Options are the command line's, with '_' for '-' (`dba solve --help`):
-threads, max_iterations, function_tolerance, gradient_tolerance,
-parameter_tolerance, initial_lambda, linear_solver, eta, preconditioner,
-coarse_size, coarse_basis, pcg_tolerance, pcg_max_iterations, loss,
-loss_scale, fix_images, fix_intrinsics, quiet; for solve on a file also
-output, report, ply, truth, intrinsics, colmap_format, reject_outliers,
-reject_keep_loss.
+Options are the command line's, each declared once (solve_options() lists
+them; `dba solve --help` and README.md's table are made from the same
+declaration), with '_' for '-': threads=2, max_iterations=50,
+linear_solver="pcg", loss="huber", loss_scale=2.0, fix_images=[0],
+camera_priors="p.txt", checkpoint=path, quiet=True, ... Flags take True or
+False, numbers take numbers, paths str or os.PathLike, lists sequences of
+integers: anything else is a TypeError, never cast. solve_arrays takes every
+option but the file outputs (its result is returned) and a COLMAP input's or
+the MPI ranks' own, which it refuses (ValueError) naming why.
 verbose=True prints the per-iteration log and summary to the process's
 stdout while solving; otherwise they are returned in Result.log.
 
@@ -25,6 +27,7 @@ RuntimeError for other failures. The GIL is released during the solve.
 # results (a JSON report and dicts of arrays) -> the dataclasses below.
 
 import json
+import os
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -34,7 +37,7 @@ from ._dba import InputError
 
 InputError.__module__ = "dba"  # shown as dba.InputError
 
-__all__ = ["solve", "solve_arrays", "read_problem", "Problem", "Result", "Summary",
+__all__ = ["solve", "solve_arrays", "solve_options", "read_problem", "Problem", "Result", "Summary",
            "Iteration", "InputError"]
 
 
@@ -132,25 +135,74 @@ class Result:
         return self.problem.intrinsics
 
 
-def _arguments(options):
-    """{'max_iterations': 20, 'quiet': True} -> ['--max-iterations', '20', '--quiet']."""
+_OPTIONS = {o["keyword"]: o for o in _dba.solve_options()}
+
+
+def _is_int(v):
+    return isinstance(v, (int, np.integer)) and not isinstance(v, (bool, np.bool_))
+
+
+def _is_number(v):
+    return _is_int(v) or (isinstance(v, (float, np.floating)) and not isinstance(v, np.bool_))
+
+
+def _value(name, spec, value):
+    """One keyword's value as the command line's text, type-checked, not cast."""
+    kind = spec["kind"]
+    if kind == "integer":
+        if not _is_int(value):
+            raise TypeError(f"{name}: expected an integer, got {value!r}")
+        return str(int(value))
+    if kind == "number":
+        if not _is_number(value):
+            raise TypeError(f"{name}: expected a number, got {value!r}")
+        return repr(float(value))  # round-trips exactly (NumPy floats too)
+    if kind == "path":
+        if not isinstance(value, (str, os.PathLike)):
+            raise TypeError(f"{name}: expected a path (str or os.PathLike), got {value!r}")
+        return os.fspath(value)
+    if kind == "list":
+        if isinstance(value, (str, bytes)) or not isinstance(value, (list, tuple, np.ndarray)):
+            raise TypeError(f"{name}: expected a sequence of integers, got {value!r}")
+        if not all(_is_int(v) for v in value):
+            raise TypeError(f"{name}: expected integers, got {list(value)!r}")
+        return ",".join(str(int(v)) for v in value)
+    if not isinstance(value, str):  # text, choice
+        raise TypeError(f"{name}: expected a str, got {value!r}")
+    return value
+
+
+def _arguments(options, mode):
+    """Keyword options -> dba solve's arguments, by its option table:
+    booleans for flags, numbers for numbers, str or os.PathLike for paths,
+    sequences of integers for lists; refused (ValueError) where `mode`
+    ("file" or "arrays") has no place for the option."""
     args = []
     for name, value in options.items():
-        flag = "--" + name.replace("_", "-")
-        if isinstance(value, bool):
-            if name not in ("quiet", "reject_keep_loss"):
-                raise ValueError(f"{name}: expected a value, not {value!r}")
-            if value:
-                args.append(flag)
-            continue
+        spec = _OPTIONS.get(name)
+        if spec is None:
+            raise TypeError(f"unknown option {name!r} (dba.solve_options() lists them)")
+        if not spec[mode]:
+            raise ValueError(f"{name}: {spec['not_here']}")
         if value is None:
             continue
-        if isinstance(value, (list, tuple, np.ndarray)):
-            value = ",".join(str(int(v)) if name == "fix_images" else str(v) for v in value)
-        elif isinstance(value, float):
-            value = repr(float(value))  # round-trips exactly (NumPy floats too)
-        args += [flag, str(value)]
+        if spec["kind"] == "flag":
+            if not isinstance(value, (bool, np.bool_)):
+                raise TypeError(f"{name}: expected True or False, got {value!r}")
+            if value:
+                args.append(spec["flag"])
+            continue
+        values = value if spec["repeatable"] and isinstance(value, (list, tuple)) else [value]
+        for v in values:
+            args += [spec["flag"], _value(name, spec, v)]
     return args
+
+
+def solve_options():
+    """dba solve's options, as the keywords of solve and solve_arrays take
+    them: one dict per option (keyword, flag, kind, choices, min, max,
+    repeatable, file and arrays: where it applies, not_here: why not, help)."""
+    return [dict(o) for o in _OPTIONS.values()]
 
 
 def _result(outcome):
@@ -162,7 +214,7 @@ def _result(outcome):
 def solve(path, *, verbose=False, **options) -> Result:
     """Bundle-adjusts the problem at `path` as `dba solve path --option value ...`
     does (outputs included: output=, report=, ply=). Returns a Result."""
-    return _result(_dba.solve([str(path)] + _arguments(options), verbose))
+    return _result(_dba.solve([os.fspath(path)] + _arguments(options, "file"), verbose))
 
 
 def solve_arrays(cameras, points, observations, camera_indices, point_indices, *,
@@ -175,7 +227,7 @@ def solve_arrays(cameras, points, observations, camera_indices, point_indices, *
     return _result(_dba.solve_arrays(camera_model, cameras, points, observations,
                                      camera_indices, point_indices, intrinsics,
                                      camera_intrinsics, fixed_cameras, fixed_intrinsics,
-                                     lens_models, _arguments(options), verbose))
+                                     lens_models, _arguments(options, "arrays"), verbose))
 
 
 def read_problem(path) -> Problem:

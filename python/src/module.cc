@@ -25,6 +25,7 @@
 #include "dba/common/error.h"
 #include "dba/common/memory.h"
 #include "dba/io/read_problem.h"
+#include "dba/session/solve_option_table.h"
 #include "dba/session/solve_options.h"
 #include "dba/session/solve_outputs.h"
 #include "dba/session/solve_session.h"
@@ -73,19 +74,15 @@ py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string
   args.insert(args.end(), option_args.begin(), option_args.end());
   SolveOptions options = Parse(args);
   options.progress = verbose;
-  const auto refuse = [](bool given, const char* name, const char* why) {
-    if (given) throw std::invalid_argument(std::string(name) + ": " + why);
-  };
-  const char* returned = "solve_arrays returns its result (Result.problem, Result.summary); it "
-                         "writes no file";
-  refuse(!options.output.empty(), "output", returned);
-  refuse(!options.report_path.empty(), "report", returned);
-  refuse(!options.ply_path.empty(), "ply", returned);
-  refuse(!options.geo.camera_centres_path.empty(), "camera_centres", returned);
-  refuse(!options.geo.accuracy_report_path.empty(), "accuracy_report", returned);
-  refuse(options.colmap_format.has_value(), "colmap_format", "for a COLMAP output; arrays have none");
-  refuse(!options.unknowns.shared_intrinsics, "intrinsics",
-         "for a COLMAP input; arrays give their groups (camera_intrinsics)");
+  // What solve_arrays has no place for (the file outputs, a COLMAP input's
+  // and the ranks' options), by the option table.
+  for (const std::string& a : option_args) {
+    for (const OptionSpec<SolveOptions>& spec : SolveOptionTable()) {
+      if ((a == spec.name || a == spec.alias) && !(spec.modes & kModePythonArrays)) {
+        throw std::invalid_argument(PythonKeyword(spec.name) + ": " + spec.not_here);
+      }
+    }
+  }
   SolveInput input;
   input.name = "<arrays>";
   input.problem = ProblemFromArrays(arrays);
@@ -103,6 +100,29 @@ py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string
     out.flush();
   }
   return Outcome(result.report, result.problem, log.str());
+}
+
+// The option table (session/solve_option_table.h) for the Python keywords:
+// per option its keyword, flag, kind, choices, range, whether it repeats,
+// where it applies and why not elsewhere.
+py::list SolveOptionList() {
+  py::list out;
+  for (const OptionSpec<SolveOptions>& s : SolveOptionTable()) {
+    py::dict d;
+    d["keyword"] = PythonKeyword(s.name);
+    d["flag"] = s.name;
+    d["kind"] = OptionKindName(s.kind);
+    d["choices"] = s.choices;
+    d["min"] = s.min;
+    d["max"] = s.max;
+    d["repeatable"] = s.repeatable;
+    d["file"] = (s.modes & kModePythonFile) != 0;
+    d["arrays"] = (s.modes & kModePythonArrays) != 0;
+    d["not_here"] = s.not_here;
+    d["help"] = s.help;
+    out.append(d);
+  }
+  return out;
 }
 
 // The Python class dba.InputError; leaked on purpose: it must outlive every
@@ -171,6 +191,10 @@ PYBIND11_MODULE(_dba, m) {
       py::arg("camera_intrinsics"), py::arg("fixed_cameras"), py::arg("fixed_intrinsics"),
       py::arg("lens_models"), py::arg("args"), py::arg("verbose") = false,
       "the solve of dba solve on arrays: (report JSON, adjusted problem arrays, printed text)");
+  m.def("solve_options", &SolveOptionList,
+        "dba solve's options as the option table declares them (one dict per option)");
+  m.def("solve_options_markdown", []() -> std::string { return dba::OptionsMarkdown(dba::SolveOptionTable(), dba::SolveOptions()); },
+        "README.md's table of dba solve's options, made from the option table");
   m.def("read_problem", &Read, py::arg("path"),
         "the problem at path (BAL, .dba, COLMAP directory) as a dict of arrays");
 }

@@ -13,6 +13,8 @@
 
 #include <omp.h>
 
+#include "dba/common/error.h"
+#include "dba/common/option_table.h"
 #include "dba/io/path_kind.h"
 #include "dba/bsmc/bsmc_matrix.h"
 #include "dba/common/memory.h"
@@ -105,39 +107,66 @@ int ConvertColmap(const std::string& in, const std::string& out, std::optional<C
   return 0;
 }
 
-int ConvertMain(const std::vector<std::string>& all_args) {
-  std::vector<std::string> args;
+// dba convert's arguments.
+struct ConvertArgs {
+  std::vector<std::string> files;  // INPUT OUTPUT
   std::optional<ColmapFormat> colmap_format;
-  for (size_t i = 0; i < all_args.size(); ++i) {
-    if (all_args[i] == "--colmap-format" && i + 1 < all_args.size()) {
-      const std::string& v = all_args[++i];
-      if (v != "text" && v != "binary") {
-        std::cerr << "dba convert: --colmap-format: expected text or binary, got '" << v << "'\n";
-        return 2;
-      }
-      colmap_format = v == "text" ? ColmapFormat::kText : ColmapFormat::kBinary;
-    } else {
-      args.push_back(all_args[i]);
+};
+
+const std::vector<OptionSpec<ConvertArgs>>& ConvertOptionTable() {
+  static const std::vector<OptionSpec<ConvertArgs>> table = {ChoiceOption<ConvertArgs>(
+      "--colmap-format", {"text", "binary"},
+      "a COLMAP output's form (default: the input's)",
+      [](ConvertArgs& a, size_t i) { a.colmap_format = i == 0 ? ColmapFormat::kText : ColmapFormat::kBinary; },
+      [](const ConvertArgs&) { return std::string(); })};
+  return table;
+}
+
+void PrintConvertHelp(std::ostream& out) {
+  out << "Usage: dba convert INPUT OUTPUT [--colmap-format text|binary]\n"
+         "\n"
+         "Converts between BAL text (plain or .bz2) and the dba binary format,\n"
+         "losslessly. The input kind is detected by content; the output kind by\n"
+         "the extension: .dba is binary, .bz2 is compressed BAL, .txt BAL text;\n"
+         "any other extension is refused for a BAL or .dba input. The output is\n"
+         "written to a temporary name and renamed over OUTPUT (a symbolic link is\n"
+         "written through; a device or a FIFO is written plainly; a directory is\n"
+         "refused); OUTPUT may be INPUT (in place).\n"
+         "A photogrammetric .dba (poses and shared intrinsics) converts to .dba\n"
+         "only: the BAL format cannot hold shared intrinsics.\n"
+         "\n"
+         "A COLMAP model directory converts to a COLMAP directory (the input's form\n"
+         "unless --colmap-format says; every value as read, binary byte for byte) or\n"
+         "to a .dba (each COLMAP camera an intrinsic group in its own model).\n"
+         "\n"
+         "Options:\n";
+  PrintOptions(ConvertOptionTable(), ConvertArgs(), out);
+  out << "  -h, --help                 this text\n";
+}
+
+int ConvertMain(const std::vector<std::string>& all_args) {
+  ConvertArgs parsed;
+  try {
+    bool help = false;
+    ParseOptions(ConvertOptionTable(), all_args, &parsed,
+                 [&](const std::string& f) { parsed.files.push_back(f); }, &help, "convert");
+    if (help) {
+      PrintConvertHelp(std::cout);
+      return 0;
     }
+    for (const std::string& f : parsed.files) {
+      if (f.empty()) throw std::invalid_argument("an empty path names no file");
+    }
+    if (parsed.files.size() != 2) {
+      throw std::invalid_argument("expected INPUT OUTPUT, got " +
+                                  std::to_string(parsed.files.size()) + " files (see dba convert --help)");
+    }
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "dba convert: " << e.what() << "\n";
+    return 2;
   }
-  if (WantsHelp(args) || args.size() != 2) {
-    (WantsHelp(args) ? std::cout : std::cerr)
-        << "Usage: dba convert INPUT OUTPUT [--colmap-format text|binary]\n"
-           "\n"
-           "Converts between BAL text (plain or .bz2) and the dba binary format,\n"
-           "losslessly. The input kind is detected by content; the output kind by\n"
-           "the extension: .dba is binary, .bz2 is compressed BAL, anything else\n"
-           "BAL text. The output is written to a temporary name and renamed over\n"
-           "OUTPUT (a symbolic link is written through; a device or a FIFO is written\n"
-           "plainly; a directory is refused); OUTPUT may be INPUT (in place).\n"
-           "A photogrammetric .dba (poses and shared intrinsic groups) converts to\n"
-           ".dba only: the BAL format cannot hold shared intrinsics.\n"
-           "\n"
-           "A COLMAP model directory converts to a COLMAP directory (the input's form\n"
-           "unless --colmap-format says; every value as read, binary byte for byte) or\n"
-           "to a .dba (each COLMAP camera an intrinsic group in its own model).\n";
-    return WantsHelp(args) ? 0 : 2;
-  }
+  const std::vector<std::string>& args = parsed.files;
+  const std::optional<ColmapFormat> colmap_format = parsed.colmap_format;
   if (!IsColmapInput(args[0]) && colmap_format) {
     std::cerr << "dba convert: --colmap-format applies to a COLMAP input\n";
     return 2;
@@ -146,8 +175,12 @@ int ConvertMain(const std::vector<std::string>& all_args) {
     CheckConvertFiles(args[0], args[1], colmap_format);
     if (IsColmapInput(args[0])) return ConvertColmap(args[0], args[1], colmap_format);
     Timer timer;
-    const Problem problem = ReadProblem(args[0]);
     const std::string& out = args[1];
+    if (KindOfPath(out) == PathKind::kOther) {
+      throw UsageError(out + ": expected a .txt or .bz2 (BAL text) or .dba file name (a COLMAP "
+                       "model directory is written only from a COLMAP model)");
+    }
+    const Problem problem = ReadProblem(args[0]);
     if (problem.model == CameraModel::kPhoto &&
         KindOfPath(out) != PathKind::kBinary) {
       throw std::invalid_argument(

@@ -12,14 +12,137 @@
 #include "dba/io/path_kind.h"
 #include "dba/session/run_files.h"
 #include "dba/common/arguments.h"
+#include "dba/common/option_table.h"
 #include "dba/common/memory.h"
 #include "dba/synthetic/uav_generator.h"
 
 namespace dba {
 namespace {
 
+// dba generate's arguments: the survey's options, the output and the truth.
+struct GenerateArgs {
+  UavSurveyOptions survey;
+  std::string output, truth;
+};
+using Spec = OptionSpec<GenerateArgs>;
+#define DBA_FIELD(path) [](auto& a) -> auto& { return a.path; }
+
+// The sizes of the survey, bounded so that a run ends in minutes, not hours.
+std::vector<Spec> SurveyOptions() {
+  std::vector<Spec> t;
+  t.push_back(IntegerOption<GenerateArgs>("--images", "N", "images", DBA_FIELD(survey.images), 2,
+                                          100000000));
+  t.push_back(NumberOption<GenerateArgs>("--features", "F", "mean observations per image",
+                                         DBA_FIELD(survey.features_per_image), 1, 100000));
+  t.push_back(NumberOption<GenerateArgs>("--forward-overlap", "X", "along-strip overlap",
+                                         DBA_FIELD(survey.forward_overlap), 0.05, 0.95));
+  t.push_back(NumberOption<GenerateArgs>("--side-overlap", "X", "between-strip overlap",
+                                         DBA_FIELD(survey.side_overlap), 0.05, 0.95));
+  t.push_back(IntegerOption<GenerateArgs>(
+      "--cameras", "C",
+      "physical cameras, one per strip in turn, whose intrinsics their images share",
+      DBA_FIELD(survey.physical_cameras), 1, 1000000));
+  t.push_back(ChoiceOption<GenerateArgs>(
+      "--model", {"bal", "photo"}, "camera model (see above)",
+      [](GenerateArgs& a, size_t i) { a.survey.model = i == 0 ? CameraModel::kBal : CameraModel::kPhoto; },
+      [](const GenerateArgs&) { return std::string("bal"); }));
+  Spec lens = OptionEntry<GenerateArgs>(
+      "--camera-model", OptionKind::kText, "NAME",
+      "the groups' lens model (--model photo): any of dba solve --list-camera-models, with "
+      "typical values (default RADIAL)");
+  lens.set = [](GenerateArgs& a, const std::string& v) {
+    const LensModelInfo* m = FindLensModel(v);
+    if (m == nullptr) {
+      throw std::invalid_argument("--camera-model: unknown camera model '" + v + "' (known: " +
+                                  LensModelNames() + ")");
+    }
+    a.survey.camera_model = m->id;
+  };
+  t.push_back(lens);
+  t.push_back(NumberOption<GenerateArgs>(
+      "--field-of-view", "DEG",
+      "the lens's field of view across the image, below 160 (default: that of a 1000 px focal "
+      "length, about 53); fisheye models get the equidistant focal length, so wide angles and "
+      "high-order terms are observed",
+      DBA_FIELD(survey.field_of_view), 0, 159.9, true));
+  t.back().default_text = {};
+  t.push_back(NumberOption<GenerateArgs>("--noise", "S", "pixel noise sigma",
+                                         DBA_FIELD(survey.pixel_noise), 0, 100));
+  t.push_back(NumberOption<GenerateArgs>(
+      "--outliers", "F",
+      "replace a fraction F of the observations by mismatches: uniform random pixels of the "
+      "image, at least 50 px from the true projection; the ground truth keeps the true pixels, "
+      "so dba solve --truth tells them apart",
+      DBA_FIELD(survey.outlier_fraction), 0, 0.99));
+  t.push_back(IntegerOption<GenerateArgs>("--seed", "S", "random seed", DBA_FIELD(survey.seed), 0,
+                                          int64_t{1} << 62));
+  t.push_back(FlagOption<GenerateArgs>(
+      "--unaligned",
+      "start the survey in a random similarity frame (scale, rotation, shift), as a "
+      "reconstruction before georeferencing; the truth stays in the world frame",
+      DBA_FIELD(survey.unaligned)));
+  return t;
+}
+
+// A "XY,Z" pair of σ into two fields.
+template <class F>
+Spec SigmaOption(std::string name, std::string help, F fields) {
+  Spec s = OptionEntry<GenerateArgs>(name, OptionKind::kText, "XY,Z", std::move(help));
+  s.set = [=](GenerateArgs& a, const std::string& v) {
+    std::tie(fields(a).first, fields(a).second) = ParseSigmaPair(name, v);
+  };
+  return s;
+}
+
+std::vector<Spec> OutputsAndGeoreference() {
+  std::vector<Spec> t;
+  t.push_back(PathOption<GenerateArgs>(
+      "--truth", "FILE",
+      "also write the ground truth (true parameters, noise-free observations), same format; "
+      "give it to dba solve --truth",
+      DBA_FIELD(truth)));
+  t.push_back(PathOption<GenerateArgs>(
+      "--priors", "FILE",
+      "also write GNSS camera-centre priors (dba solve --camera-priors): the true centres with "
+      "noise",
+      DBA_FIELD(survey.priors_path)));
+  t.push_back(SigmaOption("--gnss-sigma", "their sigma in metres (default 2,4)", [](GenerateArgs& a) {
+    return std::pair<double&, double&>(a.survey.gnss_sigma_xy, a.survey.gnss_sigma_z);
+  }));
+  t.push_back(NumberOption<GenerateArgs>(
+      "--gnss-outliers", "F",
+      "a fraction F of the images gets a gross error of 20 to 50 m instead (marked '# outlier' "
+      "in the file)",
+      DBA_FIELD(survey.gnss_outliers), 0, 0.99));
+  t.push_back(PathOption<GenerateArgs>(
+      "--gcps", "FILE",
+      "also write ground control (dba solve --gcps): surveyed ground points measured in the "
+      "images that see them",
+      DBA_FIELD(survey.gcps_path)));
+  t.push_back(IntegerOption<GenerateArgs>("--control-points", "N", "control points in it",
+                                          DBA_FIELD(survey.control_points), 0, 100000));
+  t.push_back(IntegerOption<GenerateArgs>("--check-points", "M", "check points in it",
+                                          DBA_FIELD(survey.check_points), 0, 100000));
+  t.push_back(SigmaOption("--gcp-sigma", "their survey sigma in metres (default 0.02,0.02)",
+                          [](GenerateArgs& a) {
+                            return std::pair<double&, double&>(a.survey.gcp_sigma_xy,
+                                                               a.survey.gcp_sigma_z);
+                          }));
+  return t;
+}
+
+#undef DBA_FIELD
+
+const std::vector<Spec>& GenerateOptionTable() {
+  static const std::vector<Spec> table = [] {
+    std::vector<Spec> t = SurveyOptions();
+    for (Spec& s : OutputsAndGeoreference()) t.push_back(std::move(s));
+    return t;
+  }();
+  return table;
+}
+
 void PrintHelp(std::ostream& out) {
-  const UavSurveyOptions d;
   out << "Usage: dba generate OUTPUT [options]\n"
          "\n"
          "Writes a synthetic UAV survey with a known ground truth: nadir images along\n"
@@ -35,153 +158,60 @@ void PrintHelp(std::ostream& out) {
          "camera, COLMAP's axes, .dba outputs only; the group's lens model is RADIAL\n"
          "(f, cx, cy, k1, k2) unless --camera-model names another.\n"
          "\n"
-         "Options:\n"
-         "  --images N              images (default " << d.images << ")\n"
-         "  --features F            mean observations per image (default " << d.features_per_image << ")\n"
-         "  --forward-overlap X     along-strip overlap in (0, 1) (default " << d.forward_overlap << ")\n"
-         "  --side-overlap X        between-strip overlap in (0, 1) (default " << d.side_overlap << ")\n"
-         "  --cameras C             physical cameras, one per strip in turn, whose intrinsics\n"
-         "                          their images share (default " << d.physical_cameras << ")\n"
-         "  --model bal|photo       camera model (default bal; see above)\n"
-         "  --camera-model NAME     the groups' lens model (--model photo): any of\n"
-         "                          dba solve --list-camera-models, with typical values\n"
-         "                          (default RADIAL)\n"
-         "  --field-of-view DEG     the lens's field of view across the image, in (0, 160)\n"
-         "                          (default: that of a " << d.focal_px << " px focal length, about 53);\n"
-         "                          fisheye models get the equidistant focal length, so\n"
-         "                          wide angles and high-order terms are observed\n"
-         "  --noise S               pixel noise sigma (default " << d.pixel_noise << ")\n"
-         "  --priors FILE           also write GNSS camera-centre priors (dba solve\n"
-         "                          --camera-priors): the true centres with noise\n"
-         "  --gnss-sigma XY,Z       their σ in metres (default " << d.gnss_sigma_xy << "," << d.gnss_sigma_z << ")\n"
-         "  --gnss-outliers F       a fraction F of the images gets a gross error of 20 to\n"
-         "                          50 m instead (marked '# outlier' in the file)\n"
-         "  --gcps FILE             also write ground control (dba solve --gcps): surveyed\n"
-         "                          ground points measured in the images that see them\n"
-         "  --control-points N      control points in it (default 0)\n"
-         "  --check-points M        check points in it (default 0)\n"
-         "  --gcp-sigma XY,Z        their survey σ in metres (default " << d.gcp_sigma_xy << "," << d.gcp_sigma_z << ")\n"
-         "  --unaligned             start the survey in a random similarity frame (scale,\n"
-         "                          rotation, shift), as a reconstruction before\n"
-         "                          georeferencing; the truth stays in the world frame\n"
-         "  --outliers F            replace a fraction F of the observations by mismatches:\n"
-         "                          uniform random pixels of the image, at least 50 px from\n"
-         "                          the true projection (default 0); the ground truth keeps\n"
-         "                          the true pixels, so dba solve --truth tells them apart\n"
-         "  --seed S                random seed (default " << d.seed << ")\n"
-         "  --truth FILE            also write the ground truth (true parameters, noise-free\n"
-         "                          observations), same format; give it to dba solve --truth\n"
-         "  -h, --help              this text\n";
+         "Options:\n";
+  PrintOptions(GenerateOptionTable(), GenerateArgs(), out);
+  out << "  -h, --help                 this text\n";
+}
+
+// What needs another option, or a kind of output, to make sense.
+void CheckGenerateArgs(const GenerateArgs& a) {
+  const UavSurveyOptions& o = a.survey;
+  if (a.output.empty()) throw std::invalid_argument("missing OUTPUT (see dba generate --help)");
+  if (o.gcps_path.empty() != (o.control_points + o.check_points == 0)) {
+    throw std::invalid_argument(o.gcps_path.empty()
+                                    ? "--control-points/--check-points: no --gcps FILE to write"
+                                    : "--gcps: give --control-points N and/or --check-points M");
+  }
+  auto binary = [](const std::string& p) { return KindOfPath(p) == PathKind::kBinary; };
+  if (o.camera_model != LensModel::kRadial && o.model != CameraModel::kPhoto) {
+    throw std::invalid_argument("--camera-model needs --model photo (a BAL camera is its own model)");
+  }
+  if (o.model == CameraModel::kPhoto && (!binary(a.output) || (!a.truth.empty() && !binary(a.truth)))) {
+    throw std::invalid_argument(
+        "--model photo needs .dba files (the BAL text format cannot hold shared intrinsics)");
+  }
 }
 
 }  // namespace
 
 int GenerateMain(const std::vector<std::string>& args) {
-  UavSurveyOptions o;
-  std::string output, truth;
+  GenerateArgs a;
   try {
-    for (size_t i = 0; i < args.size(); ++i) {
-      const std::string& a = args[i];
-      auto value = [&]() -> const std::string& {
-        if (i + 1 >= args.size()) throw std::invalid_argument(a + ": missing value");
-        if (args[i + 1].empty()) throw std::invalid_argument(a + ": an empty value");
-        return args[++i];
-      };
-      if (a == "-h" || a == "--help") {
-        PrintHelp(std::cout);
-        return 0;
-      } else if (a == "--images") {
-        o.images = ParseIntegerArgument(a, value(), 2);
-      } else if (a == "--features") {
-        o.features_per_image = ParseNumberArgument(a, value(), 1e-9);
-      } else if (a == "--forward-overlap") {
-        o.forward_overlap = ParseNumberArgument(a, value());
-      } else if (a == "--side-overlap") {
-        o.side_overlap = ParseNumberArgument(a, value());
-      } else if (a == "--cameras") {
-        o.physical_cameras = static_cast<int>(ParseIntegerArgument(a, value(), 1, 1000000));
-      } else if (a == "--model") {
-        const std::string& v = value();
-        if (v == "bal") o.model = CameraModel::kBal;
-        else if (v == "photo") o.model = CameraModel::kPhoto;
-        else throw std::invalid_argument(a + ": expected bal or photo, got '" + v + "'");
-      } else if (a == "--camera-model") {
-        const std::string& v = value();
-        const LensModelInfo* m = FindLensModel(v);
-        if (m == nullptr) {
-          throw std::invalid_argument(a + ": unknown camera model '" + v + "' (known: " +
-                                      LensModelNames() + ")");
-        }
-        o.camera_model = m->id;
-      } else if (a == "--field-of-view") {
-        o.field_of_view = ParseNumberArgument(a, value());
-        if (!(o.field_of_view > 0 && o.field_of_view < 160)) {
-          throw std::invalid_argument(a + ": must be in (0, 160) degrees");
-        }
-      } else if (a == "--priors") {
-        o.priors_path = value();
-      } else if (a == "--gnss-sigma") {
-        std::tie(o.gnss_sigma_xy, o.gnss_sigma_z) = ParseSigmaPair(a, value());
-      } else if (a == "--gnss-outliers") {
-        o.gnss_outliers = ParseNumberArgument(a, value());
-        if (!(o.gnss_outliers >= 0 && o.gnss_outliers < 1)) {
-          throw std::invalid_argument(a + ": must be in [0, 1)");
-        }
-      } else if (a == "--gcps") {
-        o.gcps_path = value();
-      } else if (a == "--control-points") {
-        o.control_points = ParseIntegerArgument(a, value(), 0, 100000);
-      } else if (a == "--check-points") {
-        o.check_points = ParseIntegerArgument(a, value(), 0, 100000);
-      } else if (a == "--gcp-sigma") {
-        std::tie(o.gcp_sigma_xy, o.gcp_sigma_z) = ParseSigmaPair(a, value());
-      } else if (a == "--unaligned") {
-        o.unaligned = true;
-      } else if (a == "--noise") {
-        o.pixel_noise = ParseNumberArgument(a, value());
-      } else if (a == "--seed") {
-        o.seed = static_cast<uint64_t>(ParseIntegerArgument(a, value(), 0));
-      } else if (a == "--outliers") {
-        o.outlier_fraction = ParseNumberArgument(a, value());
-        if (!(o.outlier_fraction >= 0 && o.outlier_fraction < 1)) {
-          throw std::invalid_argument(a + ": must be in [0, 1)");
-        }
-      } else if (a == "--truth") {
-        truth = value();
-      } else if (!a.empty() && a[0] == '-') {
-        throw std::invalid_argument("unknown option '" + a + "' (see dba generate --help)");
-      } else if (output.empty()) {
-        output = a;
-      } else {
-        throw std::invalid_argument("more than one output: '" + output + "' and '" + a + "'");
-      }
+    bool help = false;
+    ParseOptions(
+        GenerateOptionTable(), args, &a,
+        [&](const std::string& p) {
+          if (!a.output.empty()) {
+            throw std::invalid_argument("more than one output: '" + a.output + "' and '" + p + "'");
+          }
+          a.output = p;
+        },
+        &help, "generate");
+    if (help) {
+      PrintHelp(std::cout);
+      return 0;
     }
-    if (output.empty()) throw std::invalid_argument("missing OUTPUT (see dba generate --help)");
-    if (o.gcps_path.empty() != (o.control_points + o.check_points == 0)) {
-      throw std::invalid_argument(o.gcps_path.empty()
-                                      ? "--control-points/--check-points: no --gcps FILE to write"
-                                      : "--gcps: give --control-points N and/or --check-points M");
-    }
-    auto binary = [](const std::string& p) {
-      return KindOfPath(p) == PathKind::kBinary;
-    };
-    if (o.camera_model != LensModel::kRadial && o.model != CameraModel::kPhoto) {
-      throw std::invalid_argument("--camera-model needs --model photo (a BAL camera is its own model)");
-    }
-    if (o.model == CameraModel::kPhoto && (!binary(output) || (!truth.empty() && !binary(truth)))) {
-      throw std::invalid_argument(
-          "--model photo needs .dba files (the BAL text format cannot hold shared intrinsics)");
-    }
+    CheckGenerateArgs(a);
   } catch (const std::exception& e) {
     std::cerr << "dba generate: " << e.what() << "\n";
     return 2;
   }
   try {
     RunFiles files;  // four outputs, four files (session/run_files.h)
-    files.Output("OUTPUT", output);
-    files.Output("--truth", truth);
-    files.Output("--priors", o.priors_path);
-    files.Output("--gcps", o.gcps_path);
+    files.Output("OUTPUT", a.output);
+    files.Output("--truth", a.truth);
+    files.Output("--priors", a.survey.priors_path);
+    files.Output("--gcps", a.survey.gcps_path);
     files.Check();
   } catch (const UsageError& e) {
     std::cerr << "dba generate: " << e.what() << "\n";
@@ -196,7 +226,7 @@ int GenerateMain(const std::vector<std::string>& args) {
     // Progress on a terminal only: a log file gets the summary line.
     const bool tty = ::isatty(2) != 0;
     int last = -1;
-    const UavSurveySummary s = GenerateUavSurvey(o, output, truth, [&](double f) {
+    const UavSurveySummary s = GenerateUavSurvey(a.survey, a.output, a.truth, [&](double f) {
       const int pct = static_cast<int>(100 * f);
       if (tty && pct != last) {
         std::fprintf(stderr, "\rgenerating: %3d%%", pct);
@@ -206,12 +236,12 @@ int GenerateMain(const std::vector<std::string>& args) {
     outputs.Commit();
     if (tty) std::fprintf(stderr, "\n");
     const std::string groups =
-        o.model == CameraModel::kPhoto
+        a.survey.model == CameraModel::kPhoto
             ? " (photo model, " + std::to_string(s.intrinsic_groups) + " intrinsic groups)"
             : "";
     std::printf("%s: %ld images%s in %ld strips of %ld, %ld points, %ld observations "
                 "(%.1f per image, %.2f per point), %.2f s, peak memory %.1f MiB\n",
-                output.c_str(), static_cast<long>(s.images), groups.c_str(),
+                a.output.c_str(), static_cast<long>(s.images), groups.c_str(),
                 static_cast<long>(s.strips),
                 static_cast<long>(s.images_per_strip), static_cast<long>(s.points),
                 static_cast<long>(s.observations), double(s.observations) / s.images,
