@@ -1,9 +1,11 @@
-// The summary of `dba solve`: printed for people, written as JSON for tools.
+// The report of a solve: what the session measured (SolveReport), and its
+// summary, computed once and rendered as text, JSON and Python's Summary.
 #pragma once
 
 #include "dba/geo/georeference.h"
 
 #include <iosfwd>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -57,7 +59,13 @@ struct SolveReport {
 std::string IterationLogHeader();
 std::string IterationLogLine(const IterationSummary& it);
 
+// The summary, computed once (session/solve_summary.cc): every figure the
+// printed summary, --report's JSON and Python's Summary show, as the JSON
+// document --report writes.
+nlohmann::ordered_json SolveSummary(const SolveReport& report);
+std::string SolveReportJson(const SolveReport& report);  // SolveSummary, dumped
+// The summary rendered for people (session/solve_summary_text.cc).
+void PrintSolveSummary(const nlohmann::ordered_json& summary, std::ostream& out);
 void PrintSolveReport(const SolveReport& report, std::ostream& out);
-std::string SolveReportJson(const SolveReport& report);
 
 }  // namespace dba

@@ -1,0 +1,200 @@
+// The printed summary of a solve: the summary value (SolveSummary, the
+// --report JSON) rendered for people; no figure is computed here again.
+#include <algorithm>
+#include <cstdio>
+#include <ostream>
+#include <string>
+
+#include "dba/session/solve_report.h"
+
+namespace dba {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+std::string Bytes(double b) {
+  char buf[64];
+  if (b >= double(int64_t{1} << 30)) {
+    std::snprintf(buf, sizeof buf, "%.2f GiB", b / double(int64_t{1} << 30));
+  } else if (b >= double(1 << 20)) {
+    std::snprintf(buf, sizeof buf, "%.1f MiB", b / double(1 << 20));
+  } else {
+    std::snprintf(buf, sizeof buf, "%.1f KiB", b / 1024.0);
+  }
+  return buf;
+}
+
+// printf into a string.
+template <typename... A>
+std::string Format(const char* format, A... args) {
+  char buf[512];
+  std::snprintf(buf, sizeof buf, format, args...);
+  return buf;
+}
+
+double Percent(double part, double whole) { return whole > 0 ? 100.0 * part / whole : 0.0; }
+
+void PrintCosts(const Json& j, std::ostream& out) {
+  const double n0 = j["num_observations"], n = j["final_observations"];
+  if (j["loss"]["type"] == "trivial") {
+    out << Format("  initial cost        %.6e  (RMS %.4f px)\n"
+                  "  final cost          %.6e  (RMS %.4f px)\n",
+                  j["initial_cost"].get<double>(), j["initial_rms_px"].get<double>(),
+                  j["final_cost"].get<double>(), j["final_rms_px"].get<double>());
+    return;
+  }
+  out << Format("  loss                %s, scale %g px (inliers: residual within the scale)\n"
+                "  initial cost        %.6e  (robust; RMS %.4f px, inliers %.4f px over %.2f%%)\n",
+                j["loss"]["type"].get<std::string>().c_str(), j["loss"]["scale_px"].get<double>(),
+                j["initial_cost"].get<double>(), j["initial_rms_px"].get<double>(),
+                j["initial_inlier_rms_px"].get<double>(),
+                Percent(j["initial_inliers"].get<double>(), n0));
+  if (j["final_loss"]["type"] == "trivial") {
+    out << Format("  final cost          %.6e  (squared loss after outlier rejection; RMS %.4f px)\n",
+                  j["final_cost"].get<double>(), j["final_rms_px"].get<double>());
+  } else {
+    out << Format("  final cost          %.6e  (robust; RMS %.4f px, inliers %.4f px over %.2f%%)\n",
+                  j["final_cost"].get<double>(), j["final_rms_px"].get<double>(),
+                  j["final_inlier_rms_px"].get<double>(),
+                  Percent(j["final_inliers"].get<double>(), n));
+  }
+}
+
+void PrintSolver(const Json& j, std::ostream& out) {
+  const Json& ls = j["linear_solver"];
+  out << "  iterations          " << j["iterations"].get<int>() << " ("
+      << j["accepted_iterations"].get<int>() << " accepted, " << j["pcg_iterations"].get<int>()
+      << " PCG iterations)\n";
+  out << "  linear solver       " << ls["type"].get<std::string>() << " ("
+      << ls["reason"].get<std::string>() << "); holds " << Bytes(ls["bytes"].get<double>())
+      << " beyond the RCS";
+  if (const int from = ls["pcg_double_from_iteration"]; from > 0) {
+    out << "; product in double from LM iteration " << from << " (damping at float's floor)";
+  }
+  out << "\n  termination         " << j["termination"].get<std::string>() << ": "
+      << j["termination_message"].get<std::string>() << "\n";
+  const Json& s = j["seconds"];
+  out << Format("  time (s)            load %.3f  distribute %.3f  setup %.3f  rcs %.3f  "
+                "linear solve %.3f  back-substitution %.3f  write %.3f  total %.3f\n",
+                s["load"].get<double>(), s["distribution"].get<double>(), s["setup"].get<double>(),
+                s["rcs_formation"].get<double>(), s["linear_solve"].get<double>(),
+                s["back_substitution"].get<double>(), s["write"].get<double>(),
+                s["total"].get<double>());
+}
+
+void PrintSizes(const Json& j, std::ostream& out) {
+  const int64_t camera = j["camera_unknowns"], points = j["num_points"];
+  const Json& m = j["memory"];
+  out << "  unknowns            " << j["unknowns"].get<int64_t>() << " (" << camera
+      << " camera-side, " << 3 * points << " point coordinates)\n";
+  out << "  RCS (BSMC)          " << m["rcs_block_rows"].get<int64_t>() << " block rows, "
+      << m["rcs_blocks"].get<int64_t>() << " blocks, "
+      << Bytes(m["rcs_bsmc_structure_bytes"].get<double>() + m["rcs_bsmc_value_bytes"].get<double>())
+      << " (CSR: " << Bytes(m["rcs_csr_bytes"].get<double>()) << ")\n";
+  out << Format("  memory              peak %s, %.1f bytes/observation "
+                "(problem data %.1f bytes/observation)\n",
+                Bytes(m["peak_bytes"].get<double>()).c_str(),
+                m["peak_bytes_per_observation"].get<double>(),
+                m["problem_bytes_per_observation"].get<double>());
+  if (m.contains("estimate")) {
+    out << "  memory estimate     " << m["estimate"]["description"].get<std::string>() << "\n";
+  }
+}
+
+void PrintRejection(const Json& j, std::ostream& out) {
+  if (j.contains("outlier_rejection") && !j["outlier_rejection"]["rounds"].empty()) {
+    const Json& rounds = j["outlier_rejection"]["rounds"];
+    int64_t obs = 0, points = 0;
+    for (const Json& round : rounds) {
+      obs += round["observations_dropped"].get<int64_t>();
+      points += round["points_dropped"].get<int64_t>();
+    }
+    out << Format("  outlier rejection   |r| > %g px, %zu rounds: dropped %lld observations "
+                  "(%.3f%%) and %lld points\n",
+                  j["outlier_rejection"]["max_error_px"].get<double>(), rounds.size(),
+                  static_cast<long long>(obs),
+                  Percent(static_cast<double>(obs), j["num_observations"].get<double>()),
+                  static_cast<long long>(points));
+  }
+  if (j.contains("true_outliers")) {
+    const Json& t = j["true_outliers"];
+    const double o = t["outliers"], od = t["outliers_dropped"], i = t["inliers"],
+                 id = t["inliers_dropped"];
+    out << Format("  true outliers       %lld of %lld dropped (%.2f%%); true inliers dropped "
+                  "%lld of %lld (%.3f%%)\n",
+                  static_cast<long long>(od), static_cast<long long>(o), Percent(od, o),
+                  static_cast<long long>(id), static_cast<long long>(i), Percent(id, i));
+  }
+}
+
+void PrintFigures(const char* label, const Json& f, const char* what, std::ostream& out) {
+  const auto v = [&](const char* key, int a) { return f[key][a].get<double>(); };
+  out << Format("  %-19s %lld; %s (m): mean X %.4g Y %.4g Z %.4g, sd %.4g %.4g %.4g, RMS %.4g "
+                "%.4g %.4g, 3D %.4g; CE90 %.4g, LE90 %.4g\n",
+                label, static_cast<long long>(f["count"].get<int64_t>()), what, v("mean", 0),
+                v("mean", 1), v("mean", 2), v("sd", 0), v("sd", 1), v("sd", 2), v("rms", 0),
+                v("rms", 1), v("rms", 2), f["rms_3d"].get<double>(), f["ce90"].get<double>(),
+                f["le90"].get<double>());
+}
+
+void PrintFlagged(const char* label, const Json& f, std::ostream& out) {
+  const Json& flagged = f["flagged"];
+  std::string names;
+  for (size_t k = 0; k < flagged.size() && k < 10; ++k) names += " " + flagged[k].get<std::string>();
+  if (flagged.size() > 10) names += " ...";
+  out << label << flagged.size() << " (squared Mahalanobis distance > 16.27)"
+      << (names.empty() ? "" : ":" + names) << "\n";
+}
+
+void PrintGeoreferencing(const Json& j, std::ostream& out) {
+  if (!j.contains("georeferencing")) return;
+  const Json& g = j["georeferencing"];
+  if (j.contains("camera_priors")) PrintFigures("camera priors", j["camera_priors"], "C - prior", out);
+  if (j.contains("control_points")) {
+    PrintFigures("control points", j["control_points"], "X - survey", out);
+    PrintFigures("check points", j["check_points"], "triangulated - survey", out);
+    const Json& missing = j["check_points"]["not_triangulated"];
+    if (!missing.empty()) {
+      out << "  not triangulated   ";
+      for (const Json& n : missing) out << " " << n.get<std::string>();
+      out << "\n";
+    }
+  }
+  if (g["has_local_frame"].get<bool>()) {
+    const Json& f = g["local_frame"];
+    out << Format("  local frame         ENU at %.9f, %.9f, %.3f m (WGS84 φ, λ, h); in %s "
+                  "(%s heights)\n",
+                  f["origin_latitude"].get<double>(), f["origin_longitude"].get<double>(),
+                  f["origin_height"].get<double>(), g["crs"].get<std::string>().c_str(),
+                  g["heights"].get<std::string>().c_str())
+        << "  PROJ pipeline       " << f["proj_pipeline"].get<std::string>() << "\n";
+  }
+  out << Format("  unit weight         σ0² %.4g (%lld degrees of freedom)\n",
+                g["sigma0_squared"].get<double>(),
+                static_cast<long long>(g["degrees_of_freedom"].get<int64_t>()));
+  if (j.contains("camera_priors")) PrintFlagged("  priors flagged      ", j["camera_priors"], out);
+  if (j.contains("control_points")) PrintFlagged("  control flagged     ", j["control_points"], out);
+}
+
+}  // namespace
+
+// The truth's lines and the ranks' table (solve_summary_text_more.cc).
+void PrintTruth(const Json& j, std::ostream& out);
+void PrintRanks(const Json& j, std::ostream& out);
+
+void PrintSolveSummary(const Json& j, std::ostream& out) {
+  out << "\nSummary\n";
+  PrintCosts(j, out);
+  PrintSolver(j, out);
+  PrintSizes(j, out);
+  PrintRejection(j, out);
+  PrintGeoreferencing(j, out);
+  PrintTruth(j, out);
+  PrintRanks(j, out);
+}
+
+void PrintSolveReport(const SolveReport& report, std::ostream& out) {
+  PrintSolveSummary(SolveSummary(report), out);
+}
+
+}  // namespace dba
