@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 #include "dba/io/binary_problem.h"
+#include "dba/lm/prior_workers.h"
 
 namespace dba {
 namespace {
@@ -176,221 +177,223 @@ RcsPlacement ChooseRcsPlacement(const DistributedOptions& options, const LmOptio
   return ranks > 1 && pcg ? RcsPlacement::kDistributed : RcsPlacement::kGather;
 }
 
-DistributedSummary DistributedBundleAdjust(
-    Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
-    const std::string& binary_input, bool collect_points, Problem* problem,
-    const DistributedHooks& hooks) {
-  const DistributedCheckpoints& checkpoints = hooks.checkpoints;
-  DistributedSummary summary;
-  summary.ranks = comm->size();
-  summary.partition = distributed.partition;
-  summary.main_forms =
-      comm->size() == 1 ||
-      distributed.main_role == DistributedOptions::MainRole::kForms ||
-      (distributed.main_role == DistributedOptions::MainRole::kAuto &&
-       comm->size() <= DistributedOptions::kMainFormsUpTo);
-  // Everyone learns the decision (ranks may have been given other options).
-  int32_t main_forms = summary.main_forms ? 1 : 0;
-  comm->Broadcast(Traffic::kControl, &main_forms);
-  summary.main_forms = main_forms != 0;
+namespace {
+
+// Whether the main rank forms a sub-RCS: decided there, told to every rank
+// (ranks may have been given other options).
+bool MainForms(Communicator* comm, const DistributedOptions& d) {
+  int32_t forms = comm->size() == 1 || d.main_role == DistributedOptions::MainRole::kForms ||
+                  (d.main_role == DistributedOptions::MainRole::kAuto &&
+                   comm->size() <= DistributedOptions::kMainFormsUpTo);
+  comm->Broadcast(Traffic::kControl, &forms);
+  return forms != 0;
+}
+
+RcsPlacement Placement(Communicator* comm, const DistributedOptions& d, const LmOptions& options) {
+  int32_t placement = 0;
+  if (comm->is_main()) placement = static_cast<int32_t>(ChooseRcsPlacement(d, options, comm->size()));
+  comm->Broadcast(Traffic::kControl, &placement);
+  return static_cast<RcsPlacement>(placement);
+}
+
+}  // namespace
+
+DistributedPointSide::DistributedPointSide(Communicator* comm, const LmOptions& options,
+                                           const DistributedOptions& distributed,
+                                           const std::string& binary_input, Problem* problem,
+                                           const DistributedCheckpoints& checkpoints)
+    : comm_(comm), distributed_(distributed), problem_(problem) {
+  summary_.ranks = comm->size();
+  summary_.partition = distributed.partition;
+  summary_.main_forms = MainForms(comm, distributed);
   CheckpointFlags flags{checkpoints.writer != nullptr || checkpoints.resume != nullptr,
                         checkpoints.resume != nullptr};
   comm->Broadcast(Traffic::kControl, &flags);
-  int32_t placement = 0;
-  if (comm->is_main()) {
-    placement = static_cast<int32_t>(ChooseRcsPlacement(distributed, options, comm->size()));
-  }
-  comm->Broadcast(Traffic::kControl, &placement);
-  summary.rcs = static_cast<RcsPlacement>(placement);
+  summary_.rcs = Placement(comm, distributed, options);
   // The linear solve's options, the same on every rank (distributed PCG).
-  const LinearSolverOptions linear = LinearSolverOptionsFor(options, 0);
-
-  const bool from_file = !binary_input.empty();
-  BinaryProblemHeader header;
-  if (from_file) header = ReadBinaryProblemHeader(binary_input);
-  const int first_rank = summary.main_forms ? 0 : 1;
-  const int groups = comm->size() - first_rank;
-
-  if (!comm->is_main()) {
-    RankShare share;
-    if (from_file) {
-      const std::vector<int32_t> group =
-          BinaryPointGroups(comm, binary_input, header, groups, distributed.partition);
-      share = ReadShare(comm->rank(), binary_input, group, comm->rank() - first_rank, distributed);
-      if (flags.fingerprint) SpreadFingerprint(comm, &share, first_rank, {}, 0);
-      if (flags.resume) ResumeShares(comm, nullptr, &share, first_rank);
-      KeepTouchedCameras(&share);
-    } else {
-      share = RecvShare(comm);
-    }
-    // Served until the end; again with new workers after each rejection
-    // round that asks for another solve.
-    ShareRejection rejection;
-    RobustLoss loss = options.loss;
-    for (;;) {
-      MemoryEstimate estimate;
-      LocalPointWorkers workers(&share.problem, options.damping, options.num_threads, loss,
-                                EstimateAndCheck(comm, options, distributed, share.problem,
-                                                 EstimateRole::kForms, &estimate),
-                                summary.rcs == RcsPlacement::kDistributed);
-      const RankLoopEnd end = RunPointRank(comm, &share, &workers, estimate.total(), &rejection,
-                                           summary.rcs, linear, options.damping);
-      if (!end.rebuild) return summary;
-      if (!end.keep_loss) loss = RobustLoss();
-    }
-  }
-
-  // Main rank: partition and hand out the shares.
+  linear_ = LinearSolverOptionsFor(options, 0);
+  groups_ = comm->size() - (summary_.main_forms ? 0 : 1);
+  mine_ = summary_.main_forms ? &own_ : nullptr;
   Timer distribution;
-  RankShare own;
-  RankShare* mine = summary.main_forms ? &own : nullptr;
-  int64_t num_observations = 0, num_points = 0;
-  if (from_file) {
+  Distribute(binary_input, checkpoints);
+  summary_.distribution_seconds = distribution.Seconds();
+}
+
+DistributedPointSide::~DistributedPointSide() = default;
+
+// Partition and hand out the shares (or let the ranks read theirs).
+void DistributedPointSide::Distribute(const std::string& binary_input,
+                                      const DistributedCheckpoints& checkpoints) {
+  const int first_rank = summary_.main_forms ? 0 : 1;
+  if (!binary_input.empty()) {
+    const BinaryProblemHeader header = ReadBinaryProblemHeader(binary_input);
     const std::vector<int32_t> group =
-        BinaryPointGroups(comm, binary_input, header, groups, distributed.partition);
-    if (summary.main_forms) own = ReadShare(0, binary_input, group, 0, distributed);
+        BinaryPointGroups(comm_, binary_input, header, groups_, distributed_.partition);
+    if (mine_ != nullptr) own_ = ReadShare(0, binary_input, group, 0, distributed_);
     // The main rank keeps the camera side (model, image groups, fixed flags:
     // its unknowns must be the ranks') and point coordinates, not
     // observations.
-    *problem = Problem(ReadBinaryCameraSide(binary_input));
-    ApplyFixings(distributed.fixings, problem);
-    if (flags.fingerprint) {
+    *problem_ = Problem(ReadBinaryCameraSide(binary_input));
+    ApplyFixings(distributed_.fixings, problem_);
+    const bool wanted = checkpoints.writer != nullptr || checkpoints.resume != nullptr;
+    if (wanted) {
       const uint64_t fingerprint =
-          SpreadFingerprint(comm, mine, first_rank, *problem, header.num_points);
+          SpreadFingerprint(comm_, mine_, first_rank, *problem_, header.num_points);
       if (checkpoints.writer != nullptr) checkpoints.writer->set_fingerprint(fingerprint);
       if (checkpoints.resume != nullptr) {
         CheckCheckpointFits(*checkpoints.resume, checkpoints.resume_path, fingerprint,
-                            problem->cameras.size(), kPointSize * header.num_points);
+                            problem_->cameras.size(), kPointSize * header.num_points);
       }
     }
-    if (flags.resume) {
-      ResumeShares(comm, checkpoints.resume, mine, first_rank);
-      problem->cameras = std::exchange(checkpoints.resume->cameras, {});
+    if (checkpoints.resume != nullptr) {
+      ResumeShares(comm_, checkpoints.resume, mine_, first_rank);
+      problem_->cameras = std::exchange(checkpoints.resume->cameras, {});
       checkpoints.resume->points = {};  // handed out to the ranks
     }
-    if (mine != nullptr) KeepTouchedCameras(mine);
-    if (collect_points) problem->points.resize(kPointSize * header.num_points);
-    num_observations = header.num_observations;
-    num_points = header.num_points;
-  } else {
-    const std::vector<int32_t> group =
-        PartitionPoints(*problem, groups, distributed.partition);
-    for (int g = 0; g < groups; ++g) {
-      const int rank = g + first_rank;
-      if (rank == 0) {
-        own = ExtractShare(*problem, group, g);
-      } else {
-        SendShare(comm, rank, ExtractShare(*problem, group, g));
-      }
-    }
-    // The observations now live on the ranks.
-    num_observations = problem->num_observations();
-    num_points = problem->num_points();
-    if (!collect_points) Release(problem->points);
-    Release(problem->point_offsets);
-    Release(problem->obs_camera);
-    Release(problem->obs_pixel);
+    if (mine_ != nullptr) KeepTouchedCameras(mine_);
+    num_observations_ = header.num_observations;
+    num_points_ = header.num_points;
+    return;
   }
-  summary.distribution_seconds = distribution.Seconds();
-
-  // The workers: the main rank's own share's (if it forms) and the global
-  // RCS over every rank's; made again after each rejection round.
-  Timer symbolic;
-  std::unique_ptr<LocalPointWorkers> own_workers;
-  std::unique_ptr<MpiPointWorkers> workers;
-  MemoryEstimate own_estimate;
-  auto make_workers = [&](const LmOptions& o) {
-    workers.reset();
-    own_workers.reset();
-    if (mine != nullptr) {
-      own_workers = std::make_unique<LocalPointWorkers>(
-          &own.problem, o.damping, o.num_threads, o.loss,
-          EstimateAndCheck(comm, o, distributed, own.problem, EstimateRole::kForms,
-                           &own_estimate),
-          summary.rcs == RcsPlacement::kDistributed);
+  const std::vector<int32_t> group = PartitionPoints(*problem_, groups_, distributed_.partition);
+  for (int g = 0; g < groups_; ++g) {
+    const int rank = g + first_rank;
+    if (rank == 0) {
+      own_ = ExtractShare(*problem_, group, g);
+    } else {
+      SendShare(comm_, rank, ExtractShare(*problem_, group, g));
     }
-    workers = std::make_unique<MpiPointWorkers>(
-        comm, UnknownLayout(*problem), mine, own_workers.get(),
-        EstimateAndCheck(comm, o, distributed, *problem, EstimateRole::kSolves,
-                         &summary.memory_estimate, groups, num_observations),
-        summary.rcs, linear, o.damping, problem->cameras.data());
-  };
-  make_workers(options);
-  summary.ba.symbolic_seconds = symbolic.Seconds();
-  summary.ba.rcs = workers->footprint();
+  }
+  // The observations now live on the ranks.
+  num_observations_ = problem_->num_observations();
+  num_points_ = problem_->num_points();
+  Release(problem_->points);
+  Release(problem_->point_offsets);
+  Release(problem_->obs_camera);
+  Release(problem_->obs_pixel);
+}
 
-  TrafficStats before = comm->stats();
+// The workers: the main rank's own share's (if it forms) and the global RCS
+// over every rank's; made again after each rejection round.
+void DistributedPointSide::MakeWorkers(const LmOptions& o) {
+  workers_.reset();
+  own_workers_.reset();
+  if (mine_ != nullptr) {
+    own_workers_ = std::make_unique<LocalPointWorkers>(
+        &own_.problem, o.damping, o.num_threads, o.loss,
+        EstimateAndCheck(comm_, o, distributed_, own_.problem, EstimateRole::kForms,
+                         &own_estimate_),
+        summary_.rcs == RcsPlacement::kDistributed);
+  }
+  workers_ = std::make_unique<MpiPointWorkers>(
+      comm_, UnknownLayout(*problem_), mine_, own_workers_.get(),
+      EstimateAndCheck(comm_, o, distributed_, *problem_, EstimateRole::kSolves,
+                       &summary_.memory_estimate, groups_, num_observations_),
+      summary_.rcs, linear_, o.damping, problem_->cameras.data());
+}
+
+BundleAdjustSummary DistributedPointSide::Solve(
+    const LmOptions& options, const CameraPriors& priors,
+    const std::function<void(const IterationSummary&)>& on_iteration) {
+  BundleAdjustSummary s;
+  Timer symbolic;
+  if (stale_) workers_->Rebuild(keep_loss_);  // the ranks make theirs again
+  if (workers_ == nullptr || stale_) MakeWorkers(options);
+  stale_ = false;
+  s.symbolic_seconds = symbolic.Seconds();
+  s.rcs = workers_->footprint();
+  TrafficStats before = comm_->stats();
   auto log = [&](const IterationSummary& it) {
     TrafficStats delta;
     for (int t = 0; t < kNumTraffic; ++t) {
-      delta.bytes[t] = comm->stats().bytes[t] - before.bytes[t];
-      delta.seconds[t] = comm->stats().seconds[t] - before.seconds[t];
+      delta.bytes[t] = comm_->stats().bytes[t] - before.bytes[t];
+      delta.seconds[t] = comm_->stats().seconds[t] - before.seconds[t];
     }
-    before = comm->stats();
-    summary.per_iteration.push_back(delta);
-    if (hooks.on_iteration) hooks.on_iteration(it);
-    if (checkpoints.writer != nullptr && checkpoints.writer->Due(it.step_accepted, it.ends_solve)) {
-      // The main rank's points, if it keeps them, are collected in place.
-      std::vector<double> scratch;
-      std::vector<double>& points = collect_points ? problem->points : scratch;
-      points.resize(kPointSize * num_points);
-      workers->CollectPoints(&points);
-      Checkpoint state;
-      state.iterations = it.iteration;
-      state.lambda = it.next_lambda;
-      state.cost = it.candidate_cost;
-      state.ended = it.ends_solve ? static_cast<int32_t>(it.termination) : -1;
-      checkpoints.writer->Write(state, problem->cameras, points);
-    }
+    before = comm_->stats();
+    summary_.per_iteration.push_back(delta);
+    if (on_iteration) on_iteration(it);
   };
   // The other ranks on this node busy-wait in MPI while the main rank
   // factorizes: BLAS threads would compete with them (sparse_cholesky.h).
-  LmOptions main_options = options;
-  if (comm->ranks_on_node() > 1) main_options.linear_solver.threaded_blas = false;
-  // With camera priors the LM loop sees the workers through PriorWorkers.
-  const auto solve = [&](const LmOptions& lm) {
-    if (distributed.priors.empty()) {
-      return SolveLevenbergMarquardt(lm, num_observations, &problem->cameras, workers.get(), log);
-    }
-    PriorWorkers with_priors(workers.get(), &problem->cameras, problem->camera_size(),
-                             distributed.priors);
-    return SolveLevenbergMarquardt(lm, num_observations, &problem->cameras, &with_priors, log);
-  };
-  summary.ba.lm = solve(main_options);
-  if (distributed.reject_outliers) {
-    ShareRejection own_rejection;
-    LmOptions resolve = main_options;
-    if (!distributed.reject_keep_loss) resolve.loss = RobustLoss();
-    summary.rejection = RunRejectionRounds(
-        [&] {
-          const RejectionRound round =
-              workers->DropOutliers(distributed.rejection, options.num_threads, &own_rejection);
-          num_observations = round.observations_left;
-          return round;
-        },
-        [&] {
-          Timer again;
-          workers->Rebuild(distributed.reject_keep_loss);
-          make_workers(resolve);
-          BundleAdjustSummary next;
-          next.symbolic_seconds = again.Seconds();
-          next.rcs = workers->footprint();
-          next.lm = solve(resolve);
-          AppendSolve(next, &summary.ba);
-        },
-        [&](int r, const RejectionRound& round) {
-          if (hooks.on_rejection_round) hooks.on_rejection_round(r, round);
-        });
-    summary.kept = MergeLeft(workers->CollectLeft(&own_rejection), num_points);
+  LmOptions o = options;
+  if (comm_->ranks_on_node() > 1) o.linear_solver.threaded_blas = false;
+  if (priors.empty()) {
+    s.lm = SolveLevenbergMarquardt(o, num_observations_, &problem_->cameras, workers_.get(), log);
+  } else {
+    PriorWorkers with_priors(workers_.get(), &problem_->cameras, problem_->camera_size(), priors);
+    s.lm = SolveLevenbergMarquardt(o, num_observations_, &problem_->cameras, &with_priors, log);
   }
+  return s;
+}
+
+RejectionRound DistributedPointSide::DropOutliers(const RejectionCriteria& criteria,
+                                                  int num_threads, bool keep_loss) {
+  const RejectionRound round = workers_->DropOutliers(criteria, num_threads, &own_rejection_);
+  num_observations_ = round.observations_left;
+  stale_ = true;
+  keep_loss_ = keep_loss;
+  return round;
+}
+
+void DistributedPointSide::CollectPoints(std::vector<double>* points) {
+  points->resize(kPointSize * num_points_);
+  workers_->CollectPoints(points);
+}
+
+KeptObservations DistributedPointSide::Kept() {
+  return MergeLeft(workers_->CollectLeft(&own_rejection_), num_points_);
+}
+
+void DistributedPointSide::Finish(bool collect_points, DistributedSummary* summary) {
+  if (collect_points) problem_->points.resize(kPointSize * num_points_);
   // Distributed, the main rank's estimate is its own share's (it holds no
   // global RCS).
-  if (summary.rcs == RcsPlacement::kDistributed) summary.memory_estimate = own_estimate;
-  summary.rank_reports = workers->Finish(collect_points ? &problem->points : nullptr,
-                                        summary.memory_estimate.total(),
-                                        &summary.rank_per_iteration);
-  summary.traffic = comm->stats();
-  return summary;
+  if (summary_.rcs == RcsPlacement::kDistributed) summary_.memory_estimate = own_estimate_;
+  summary_.rank_reports = workers_->Finish(collect_points ? &problem_->points : nullptr,
+                                           summary_.memory_estimate.total(),
+                                           &summary_.rank_per_iteration);
+  summary_.traffic = comm_->stats();
+  BundleAdjustSummary ba = std::move(summary->ba);
+  *summary = std::move(summary_);
+  summary->ba = std::move(ba);
+}
+
+void ServePoints(Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
+                 const std::string& binary_input, const DistributedCheckpoints&) {
+  const bool main_forms = MainForms(comm, distributed);
+  CheckpointFlags flags;
+  comm->Broadcast(Traffic::kControl, &flags);
+  const RcsPlacement placement = Placement(comm, distributed, options);
+  const LinearSolverOptions linear = LinearSolverOptionsFor(options, 0);
+  const int first_rank = main_forms ? 0 : 1;
+  RankShare share;
+  if (!binary_input.empty()) {
+    const BinaryProblemHeader header = ReadBinaryProblemHeader(binary_input);
+    const std::vector<int32_t> group = BinaryPointGroups(comm, binary_input, header,
+                                                         comm->size() - first_rank,
+                                                         distributed.partition);
+    share = ReadShare(comm->rank(), binary_input, group, comm->rank() - first_rank, distributed);
+    if (flags.fingerprint) SpreadFingerprint(comm, &share, first_rank, {}, 0);
+    if (flags.resume) ResumeShares(comm, nullptr, &share, first_rank);
+    KeepTouchedCameras(&share);
+  } else {
+    share = RecvShare(comm);
+  }
+  // Served until the end; again with new workers after each rejection
+  // round that asks for another solve.
+  ShareRejection rejection;
+  RobustLoss loss = options.loss;
+  for (;;) {
+    MemoryEstimate estimate;
+    LocalPointWorkers workers(&share.problem, options.damping, options.num_threads, loss,
+                              EstimateAndCheck(comm, options, distributed, share.problem,
+                                               EstimateRole::kForms, &estimate),
+                              placement == RcsPlacement::kDistributed);
+    const RankLoopEnd end = RunPointRank(comm, &share, &workers, estimate.total(), &rejection,
+                                         placement, linear, options.damping);
+    if (!end.rebuild) return;
+    if (!end.keep_loss) loss = RobustLoss();
+  }
 }
 
 }  // namespace dba

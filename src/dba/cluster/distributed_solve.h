@@ -1,11 +1,11 @@
 // Distributed bundle adjustment (paper section 6, docs/design.md §4): the main
-// rank partitions the points, sends each rank its share, and runs LM over
-// MpiPointWorkers; every other rank serves its share until the solve ends.
+// rank partitions the points, sends each rank its share, and drives them
+// through MpiPointWorkers (DistributedPointSide: the solve session runs LM,
+// rejection rounds and checkpoints over it); every other rank serves its
+// share until the solve ends (ServePoints).
 //
 // Thread safety: collective over the communicator; one call per process.
 #pragma once
-
-#include "dba/lm/prior_workers.h"
 
 #include <functional>
 #include <string>
@@ -17,6 +17,8 @@
 #include "dba/io/checkpoint.h"
 #include "dba/lm/bundle_adjust.h"
 #include "dba/lm/memory_estimate.h"
+#include "dba/cluster/share_outliers.h"
+#include "dba/lm/local_point_workers.h"
 #include "dba/lm/outlier_rejection.h"
 #include "dba/problem/fixings.h"
 
@@ -35,16 +37,6 @@ struct DistributedOptions {
   // Each rank refuses (the job stops) when its estimated growth exceeds its
   // part of the node's available memory (available / ranks on the node).
   bool memory_check = true;
-  // --reject-outliers: rounds of rejection and solving again after the
-  // first solve (lm/outlier_rejection.h), each rank on its share; the solves
-  // after it with the loss (keep_loss) or the squared one.
-  bool reject_outliers = false;
-  RejectionCriteria rejection;
-  bool reject_keep_loss = false;
-  // Camera-centre priors (lm/prior_workers.h), global image numbering: the
-  // main rank computes their terms and adds them to the gathered RCS, or
-  // sends them to their rows' owners (distributed).
-  CameraPriors priors;
   // Where the RCS lives (--rcs): auto spreads it over the ranks when there
   // is more than one and the linear solve is PCG (auto or pcg); else gathers
   // it.
@@ -70,46 +62,84 @@ struct DistributedSummary {
   // The main rank's estimate before the global RCS's values (its own
   // share's sub-RCS, if it forms, already held); total 0: not estimated.
   MemoryEstimate memory_estimate;
-  // With reject_outliers (main rank): the rounds, and what is left of the
-  // loaded problem; the solves after them are appended to `ba`.
-  std::vector<RejectionRound> rejection;
-  KeptObservations kept;
 };
 
-// Checkpoints of a distributed solve (io/checkpoint.h); the main rank's.
+// Checkpoints of a distributed solve whose ranks read a .dba themselves: the
+// checkpoint to start from, checked against the problem the ranks read
+// (fingerprint), then handed out (its parameters released once handed
+// out); and the writer, which gets the fingerprint summed over the ranks.
+// (With the whole problem on the main rank, the caller applies it before.)
 struct DistributedCheckpoints {
-  // Written after accepted iterations, with the points gathered from the
-  // ranks (24 bytes per point on the main rank while it is written).
   CheckpointWriter* writer = nullptr;
-  // A binary input read by the ranks: the checkpoint to start from, checked
-  // against the problem the ranks read (fingerprint), then handed out. (With
-  // the whole problem on the main rank, the caller applies it before.) Its
-  // parameters are released once handed out.
   Checkpoint* resume = nullptr;
   std::string resume_path;  // for the message when it does not fit
 };
 
-// What the main rank hears during the solve.
-struct DistributedHooks {
-  std::function<void(const IterationSummary&)> on_iteration;
-  std::function<void(int, const RejectionRound&)> on_rejection_round;
-  DistributedCheckpoints checkpoints;
-};
-
-// Collective. Two ways to get the points to the ranks:
-//  - `binary_input` empty: on the main rank `problem` is the whole problem;
-//    the main rank partitions it and sends each rank its share, then
-//    releases the observations.
+// The points of a solve spread over MPI ranks, as the main rank drives them
+// (the other ranks run ServePoints). Collective construction, two ways to
+// get the points to the ranks:
+//  - `binary_input` empty: `problem` is the whole problem; the main rank
+//    partitions it and sends each rank its share, then releases the
+//    observations;
 //  - `binary_input` a dba binary file: every rank reads only its own points
 //    and their observations from it; the main rank streams the visibility
 //    graph to partition (camera-locality scheme) and reads cameras and point
 //    coordinates into `problem`, never the observations.
-// On return the main rank's `problem` holds the adjusted cameras and, if
-// `collect_points`, the adjusted points (no observations). `problem` is
-// ignored on the other ranks.
-DistributedSummary DistributedBundleAdjust(
-    Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
-    const std::string& binary_input, bool collect_points, Problem* problem,
-    const DistributedHooks& hooks = {});
+// `problem` then holds the cameras the LM loop updates.
+class DistributedPointSide {
+ public:
+  DistributedPointSide(Communicator* comm, const LmOptions& options,
+                       const DistributedOptions& distributed, const std::string& binary_input,
+                       Problem* problem, const DistributedCheckpoints& checkpoints = {});
+  ~DistributedPointSide();
+
+  // LM over every rank's points from the current parameters with `options`
+  // (its loss: the workers are made again after a rejection round), the
+  // priors' terms added on the main rank; `on_iteration` hears each
+  // iteration (between iterations the main rank may CollectPoints).
+  BundleAdjustSummary Solve(const LmOptions& options, const CameraPriors& priors,
+                            const std::function<void(const IterationSummary&)>& on_iteration);
+  // One round of outlier rejection on every rank's share (the next Solve
+  // rebuilds the workers on what is left, with `keep_loss`'s loss).
+  RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads,
+                              bool keep_loss);
+  // Every rank's current points into `points` (global numbering, resized to
+  // hold all; points dropped keep what was there).
+  void CollectPoints(std::vector<double>* points);
+  // What is left, over the problem as distributed (after DropOutliers).
+  KeptObservations Kept();
+  // Ends the other ranks; with `collect_points` the final points into the
+  // problem (global numbering). The distributed figures into `summary`.
+  void Finish(bool collect_points, DistributedSummary* summary);
+
+  int64_t num_points() const { return num_points_; }
+  int64_t num_observations() const { return num_observations_; }
+
+ private:
+  void Distribute(const std::string& binary_input, const DistributedCheckpoints& checkpoints);
+  void MakeWorkers(const LmOptions& options);
+
+  Communicator* comm_;
+  DistributedOptions distributed_;
+  Problem* problem_;
+  DistributedSummary summary_;
+  RankShare own_;
+  RankShare* mine_ = nullptr;
+  int groups_ = 1;
+  int64_t num_points_ = 0, num_observations_ = 0;
+  LinearSolverOptions linear_;
+  std::unique_ptr<LocalPointWorkers> own_workers_;
+  std::unique_ptr<MpiPointWorkers> workers_;
+  MemoryEstimate own_estimate_;
+  ShareRejection own_rejection_;
+  bool stale_ = false;  // a rejection round since the workers were made
+  bool keep_loss_ = false;
+};
+
+// The other ranks' side of a DistributedPointSide: their share read or
+// received, served until the main rank ends (again with new workers after
+// each rejection round). Collective.
+void ServePoints(Communicator* comm, const LmOptions& options, const DistributedOptions& distributed,
+                 const std::string& binary_input, const DistributedCheckpoints& checkpoints = {});
 
 }  // namespace dba

@@ -208,6 +208,10 @@ std::vector<Spec> GeoreferencingOptions() {
                    "with a CRS given: --ply and --camera-centres in this 3D CRS (converted back "
                    "from the local frame by PROJ); the problem outputs stay in the local frame",
                    DBA_FIELD(geo.output_crs)));
+  t.back().modes = kNotArrays;
+  t.back().not_here =
+      "converts the files --ply and --camera-centres, which solve_arrays does not write; its "
+      "result is in the local frame (Result.summary.report['georeferencing'])";
   t.push_back(Path("--camera-centres", "FILE", "the adjusted camera centres, IMAGE X Y Z per line",
                    DBA_FIELD(geo.camera_centres_path), kNotArrays, kNoArrayFiles));
   t.push_back(Path("--accuracy-report", "FILE",

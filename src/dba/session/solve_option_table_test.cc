@@ -51,7 +51,9 @@ TEST(SolveOptionTable, EveryOptionIsInTheHelpAndParses) {
     bool asked = false;
     EXPECT_NO_THROW(ParseSolveArguments(args, &asked)) << s.name << " " << GoodValue(s);
     EXPECT_EQ(s.modes & kModeCommandLine, kModeCommandLine) << s.name;
-    if (!(s.modes & kModePythonArrays)) EXPECT_FALSE(s.not_here.empty()) << s.name;
+    if (!(s.modes & kModePythonArrays)) {
+      EXPECT_FALSE(s.not_here.empty()) << s.name;
+    }
   }
 }
 

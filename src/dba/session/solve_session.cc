@@ -25,23 +25,6 @@
 namespace dba {
 namespace {
 
-// Writes the problem's points into `all` at their loaded positions.
-void ScatterPoints(const Problem& problem, const OriginalIndices& original,
-                   std::vector<double>* all) {
-  for (size_t k = 0; k < original.point.size(); ++k) {
-    for (int d = 0; d < 3; ++d) (*all)[3 * original.point[k] + d] = problem.points[3 * k + d];
-  }
-}
-
-// The points `kept` flags, in their loaded order, from every loaded point.
-std::vector<double> KeptPoints(const KeptObservations& kept, const std::vector<double>& all) {
-  std::vector<double> points;
-  for (size_t k = 0; k < kept.point.size(); ++k) {
-    if (kept.point[k]) points.insert(points.end(), &all[kPointSize * k], &all[kPointSize * k + kPointSize]);
-  }
-  return points;
-}
-
 }  // namespace
 
 SolveInput LoadInput(const SolveOptions& options, const Communicator& comm) {
@@ -50,7 +33,11 @@ SolveInput LoadInput(const SolveOptions& options, const Communicator& comm) {
   // Distributed runs on a binary file: every rank reads its own points;
   // not when georeferencing, which moves the whole block and adds control
   // points before the solve (the main rank reads it all and hands it out).
-  input.ranks_read_file = comm.size() > 1 && IsBinaryProblem(options.input) && !options.geo.any();
+  // Nor when a resume may restart after a rejection round (the main rank
+  // cuts the problem down to what the rounds left before handing it out).
+  input.ranks_read_file = comm.size() > 1 && IsBinaryProblem(options.input) &&
+                          !options.geo.any() &&
+                          !(options.reject_outliers_px > 0 && !options.resume_path.empty());
   if (!comm.is_main()) return input;
   if (input.ranks_read_file) {
     // Checked here, before the solve; every rank holds them fixed in the
@@ -150,16 +137,7 @@ SolveResult SolveSession::Run(SolveInput input) {
     result_.report.load_seconds = load.Seconds();
     PrintStart();
   }
-  if (comm_->size() == 1) {
-    SolveInOneProcess();
-  } else {
-    if (options_.reject_outliers_px > 0 &&
-        (!options_.checkpoint_path.empty() || !options_.resume_path.empty())) {
-      throw UsageError("--checkpoint and --resume with --reject-outliers run in one process: on "
-                       "ranks the kept observations are not gathered into checkpoints yet");
-    }
-    SolveOnRanks();
-  }
+  Solve();
   if (comm_->is_main()) Measure();
   result_.names = std::move(input_.names);
   result_.ranks_read_file = input_.ranks_read_file;
@@ -229,10 +207,10 @@ void SolveSession::ResumeRejection(Checkpoint* c) {
     throw InputError(options_.resume_path, 0, "written for another input: its kept flags "
                                               "do not fit this problem's observations");
   }
-  solve_observations_ = problem.num_observations();
+  loaded_observations_ = problem.num_observations();
   ApplyCheckpoint(std::move(*c), options_.resume_path, &problem);
   result_.all_points = problem.points;
-  original_ = IndicesOf(kept);
+  origin_ = IndicesOf(kept);
   KeepOnly(kept, &problem);
   for (const auto& r : c->rounds) rounds_.push_back({r[0], r[1], r[2], r[3], r[4]});
 }
@@ -283,188 +261,6 @@ void SolveSession::PrintStart() {
   // phase's end).
   if (ranks > 1) out_ << IterationLogHeader();
   out_ << std::flush;
-}
-
-// The log line of every iteration, and the checkpoints after accepted ones
-// (and always the one that ends a solve). A binary input spread over the
-// ranks gets its fingerprint once the ranks hold it.
-SolveSession::IterationHook SolveSession::IterationLog() {
-  if (comm_->is_main() && !options_.checkpoint_path.empty()) {
-    checkpoints_.emplace(options_.checkpoint_path, options_.checkpoint_every_s,
-                         input_.ranks_read_file ? 0 : ProblemFingerprint(result_.problem), setup_,
-                         lm_.accepted_done);
-  }
-  return [this](const IterationSummary& it) {
-    if (!options_.quiet) out_ << IterationLogLine(it) << std::flush;
-    if (comm_->size() == 1 && checkpoints_ && checkpoints_->Due(it.step_accepted, it.ends_solve)) {
-      WriteCheckpoint(it);
-    }
-  };
-}
-
-// One process: the parameters where the workers update them; after a
-// rejection round every loaded point (the kept ones scattered back) and
-// what is left.
-void SolveSession::WriteCheckpoint(const IterationSummary& it) {
-  Checkpoint state;
-  state.iterations = it.iteration;
-  state.lambda = it.next_lambda;
-  state.cost = it.candidate_cost;
-  state.ended = it.ends_solve ? static_cast<int32_t>(it.termination) : -1;
-  state.round = static_cast<int32_t>(rounds_.size());
-  for (const RejectionRound& r : rounds_) {
-    state.rounds.push_back({r.observations_dropped, r.points_dropped, r.points_small_angle,
-                            r.observations_left, r.points_left});
-  }
-  const Problem& problem = result_.problem;
-  if (rounds_.empty()) {
-    checkpoints_->Write(state, problem.cameras, problem.points);
-    return;
-  }
-  ScatterPoints(problem, original_, &result_.all_points);
-  const KeptObservations kept = KeptFlags(original_, solve_observations_,
-                                          static_cast<int64_t>(result_.all_points.size() / kPointSize));
-  checkpoints_->Write(state, problem.cameras, result_.all_points, kept.observation, kept.point);
-}
-
-// After the symbolic phase, before S's values: the peak estimated, and the
-// solve refused where it would not fit.
-std::function<void(const RcsSystem&)> SolveSession::MemoryCheck() {
-  return [this](const RcsSystem& structure) {
-    SolveReport& report = result_.report;
-    report.memory_estimate = EstimateSolveMemory(result_.problem, structure, lm_,
-                                                 CurrentResidentBytes(), PeakResidentBytes());
-    report.available_memory_bytes = AvailableMemoryBytes();
-    if (!options_.quiet) {
-      const int64_t have = report.available_memory_bytes;
-      out_ << "memory estimate " << report.memory_estimate.Describe()
-           << (have > 0 ? "; available " + FormatBytes(have + report.memory_estimate.resident)
-                        : std::string())
-           << "\n" << IterationLogHeader() << std::flush;
-    }
-    if (options_.memory_check) {
-      CheckMemoryFits(report.memory_estimate, report.available_memory_bytes);
-    }
-  };
-}
-
-void SolveSession::SolveInOneProcess() {
-  SolveReport& report = result_.report;
-  Problem& problem = result_.problem;
-  const IterationHook log = IterationLog();
-  std::function<void(const RcsSystem&)> check_memory = MemoryCheck();
-  const bool reject = options_.reject_outliers_px > 0;
-  if (reject && resumed_round_ <= 0) {
-    original_ = OriginalIndices::Identity(problem);
-    solve_observations_ = problem.num_observations();
-  }
-  if (reject && !options_.truth_path.empty()) {  // without the control points' measurements
-    if (resumed_round_ <= 0) {
-      loaded_pixels_.assign(problem.obs_pixel.begin(),
-                            problem.obs_pixel.begin() + 2 * report.num_observations);
-    } else {  // a resumed problem is cut down already
-      loaded_pixels_ = LoadSolveInput(options_.input, options_.unknowns).obs_pixel;
-    }
-  }
-  if (resumed_round_ <= 0) {
-    report.solve.ba = BundleAdjust(lm_, &problem, log, check_memory, &result_.geo.priors);
-    check_memory = {};
-  }
-  if (reject) RejectOutlierRoundsInOneProcess(log, check_memory);
-}
-
-// Rounds of --reject-outliers after the first solve, in one process: what
-// is left and every loaded point (the kept ones adjusted) in the result. A
-// checkpoint written after a round resumes in the solve after it.
-void SolveSession::RejectOutlierRoundsInOneProcess(
-    const IterationHook& log, std::function<void(const RcsSystem&)> check_memory) {
-  SolveReport& report = result_.report;
-  Problem& problem = result_.problem;
-  const RejectionCriteria criteria{options_.reject_outliers_px,
-                                   options_.min_triangulation_angle_deg};
-  std::vector<double>& all_points = result_.all_points;
-  if (resumed_round_ <= 0) all_points = problem.points;
-  bool resumed_round = resumed_round_ > 0;
-  bool first_solve = resumed_round;  // no solve yet in this run
-  report.rejection = RunRejectionRounds(
-      [&] {
-        ScatterPoints(problem, original_, &all_points);
-        rounds_.push_back(DropOutliers(criteria, lm_.num_threads, &problem, &original_));
-        return rounds_.back();
-      },
-      [&] {
-        const LmOptions o = RoundOptions(resumed_round);
-        if (checkpoints_ && !resumed_round) checkpoints_->StartRound();
-        resumed_round = false;
-        const BundleAdjustSummary s =
-            BundleAdjust(o, &problem, log, std::exchange(check_memory, {}), &result_.geo.priors);
-        if (first_solve) {
-          report.solve.ba = s;
-        } else {
-          AppendSolve(s, &report.solve.ba);
-        }
-        first_solve = false;
-        report.final_loss = o.loss;
-      },
-      [&](int r, const RejectionRound& round) {
-        out_ << RejectionRoundLine(criteria, r, round) << std::flush;
-      },
-      rounds_);
-  ScatterPoints(problem, original_, &all_points);
-  result_.kept = KeptFlags(original_, solve_observations_,
-                           static_cast<int64_t>(all_points.size() / kPointSize));
-}
-
-void SolveSession::SolveOnRanks() {
-  SolveReport& report = result_.report;
-  const bool main = comm_->is_main();
-  DistributedOptions distributed = options_.distributed;
-  distributed.memory_check = options_.memory_check;
-  if (input_.ranks_read_file) {
-    distributed.fixings = Fixings{options_.unknowns.fixed_images, {}};
-    for (const IntrinsicFixing& x : options_.unknowns.fixed_intrinsics) {
-      if (!x.names.empty()) distributed.fixings.intrinsics.push_back(x);
-    }
-  }
-  const RejectionCriteria criteria{options_.reject_outliers_px,
-                                   options_.min_triangulation_angle_deg};
-  distributed.reject_outliers = options_.reject_outliers_px > 0;
-  distributed.rejection = criteria;
-  distributed.reject_keep_loss = options_.reject_keep_loss;
-  distributed.priors = result_.geo.priors;
-  DistributedHooks hooks;
-  hooks.on_iteration = IterationLog();
-  hooks.on_rejection_round = [&](int r, const RejectionRound& round) {
-    out_ << RejectionRoundLine(criteria, r, round) << std::flush;
-  };
-  hooks.checkpoints = {checkpoints_ ? &*checkpoints_ : nullptr,
-                       input_.ranks_read_file && resumed_ ? &*resumed_ : nullptr,
-                       options_.resume_path};
-  const bool collect_points = !options_.output.empty() || !options_.truth_path.empty() ||
-                              !options_.ply_path.empty() || !options_.geo.gcps_path.empty();
-  report.solve = DistributedBundleAdjust(comm_, lm_, distributed,
-                                         input_.ranks_read_file ? input_.name : std::string(),
-                                         collect_points, &result_.problem, hooks);
-  report.memory_estimate = report.solve.memory_estimate;
-  if (!main) return;
-  if (distributed.reject_outliers) {
-    // As one process leaves it: the points left in `problem`, every loaded
-    // point in all_points, what is left flagged in kept.
-    report.rejection = report.solve.rejection;
-    if (report.rejection.front().observations_dropped > 0 && !options_.reject_keep_loss) {
-      report.final_loss = RobustLoss();
-    }
-    result_.kept = report.solve.kept;
-    result_.all_points.swap(result_.problem.points);
-    if (!result_.all_points.empty()) {
-      result_.problem.points = KeptPoints(*result_.kept, result_.all_points);
-    }
-  }
-  // The loaded pixels, for the truth (which are mismatches): read again,
-  // the main rank handed its observations out.
-  if (!options_.truth_path.empty()) {
-    loaded_pixels_ = LoadSolveInput(options_.input, options_.unknowns).obs_pixel;
-  }
 }
 
 // Georeferencing measured (the control points, the last points, out again),

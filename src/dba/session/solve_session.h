@@ -29,6 +29,7 @@
 #include "dba/lm/outlier_rejection.h"
 #include "dba/problem/problem.h"
 #include "dba/session/solve_options.h"
+#include "dba/session/point_side.h"
 #include "dba/session/solve_report.h"
 
 namespace dba {
@@ -79,16 +80,18 @@ class SolveSession {
   void ResumeRejection(Checkpoint* checkpoint);
   void PrepareGeoreferencing();
   void PrintStart();
-  void SolveInOneProcess();
-  void SolveOnRanks();
-  void RejectOutlierRoundsInOneProcess(const IterationHook& log,
-                                       std::function<void(const RcsSystem&)> check_memory);
+  void Solve();
+  std::unique_ptr<PointSide> MakePointSide();
+  void RejectionRounds(PointSide* side, const IterationHook& log,
+                       std::function<void(const RcsSystem&)> check_memory);
+  void FinishSolve(PointSide* side);
   std::function<void(const RcsSystem&)> MemoryCheck();
   LmOptions RoundOptions(bool resumed_round) const;
   void Measure();
   void CompareWithTruth();
-  IterationHook IterationLog();
-  void WriteCheckpoint(const IterationSummary& it);
+  IterationHook IterationLog(PointSide* side);
+  void WriteCheckpoint(const IterationSummary& it, PointSide* side);
+  void LoadedKeptAndPoints(PointSide* side, KeptObservations* kept, std::vector<double>* points);
 
   const SolveOptions& options_;
   Communicator* comm_;
@@ -101,8 +104,10 @@ class SolveSession {
   std::optional<CheckpointWriter> checkpoints_;
   int resumed_round_ = -1;             // the rejection round a checkpoint resumed in
   std::vector<RejectionRound> rounds_; // rejection rounds done
-  OriginalIndices original_;           // one process, with rejection
-  int64_t solve_observations_ = 0;     // observations the solve started with
+  // Resumed after rejection rounds: what the point side was given, in the
+  // problem as loaded (empty: the identity), and its observations.
+  OriginalIndices origin_;
+  int64_t loaded_observations_ = 0;
   std::vector<double> loaded_pixels_;  // with rejection and a truth
 };
 

@@ -1,0 +1,84 @@
+// Where a solve's points live while the session runs LM and the rejection
+// rounds over them: in this process (LocalPointSide), or spread over MPI
+// ranks (RankPointSide, over cluster/distributed_solve.h's
+// DistributedPointSide; the other ranks serve theirs meanwhile). The
+// session sees one interface and writes one code path for both.
+//
+// Numbering: what the side was given (the problem as handed to it).
+//
+// Thread safety: one caller (the main rank).
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "dba/cluster/distributed_solve.h"
+#include "dba/lm/bundle_adjust.h"
+#include "dba/lm/outlier_rejection.h"
+#include "dba/rcs/camera_centre_prior.h"
+
+namespace dba {
+
+class PointSide {
+ public:
+  using IterationHook = std::function<void(const IterationSummary&)>;
+  virtual ~PointSide() = default;
+  // LM from the current parameters with `options` (its loss), the priors'
+  // terms added; `before_values` (if any) sees the RCS structure first.
+  virtual BundleAdjustSummary Solve(const LmOptions& options, const CameraPriors& priors,
+                                    const IterationHook& hook,
+                                    const std::function<void(const RcsSystem&)>& before_values) = 0;
+  // One round of rejection at the current parameters; the next Solve works
+  // on what is left (with --loss kept, or the squared one).
+  virtual RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads,
+                                      bool keep_loss) = 0;
+  // Every point the side was given (those dropped with their last values),
+  // and what is left of them and of their observations.
+  virtual void AllPoints(std::vector<double>* points) = 0;
+  virtual KeptObservations Kept() = 0;
+};
+
+// One process: the problem itself (its points and observations are cut
+// down by each rejection round).
+class LocalPointSide : public PointSide {
+ public:
+  explicit LocalPointSide(Problem* problem);
+  BundleAdjustSummary Solve(const LmOptions& options, const CameraPriors& priors,
+                            const IterationHook& hook,
+                            const std::function<void(const RcsSystem&)>& before_values) override;
+  RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads,
+                              bool keep_loss) override;
+  void AllPoints(std::vector<double>* points) override;
+  KeptObservations Kept() override;
+
+ private:
+  Problem* problem_;
+  int64_t observations_, points_;  // as given
+  OriginalIndices original_;       // current -> as given
+  std::vector<double> all_;        // every point as given, the kept ones' last values
+};
+
+// N ranks, as the main rank drives them.
+class RankPointSide : public PointSide {
+ public:
+  explicit RankPointSide(std::unique_ptr<DistributedPointSide> side) : side_(std::move(side)) {}
+  BundleAdjustSummary Solve(const LmOptions& options, const CameraPriors& priors,
+                            const IterationHook& hook,
+                            const std::function<void(const RcsSystem&)>&) override {
+    return side_->Solve(options, priors, hook);
+  }
+  RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads,
+                              bool keep_loss) override {
+    return side_->DropOutliers(criteria, num_threads, keep_loss);
+  }
+  void AllPoints(std::vector<double>* points) override;
+  KeptObservations Kept() override { return side_->Kept(); }
+  DistributedPointSide& distributed() { return *side_; }
+
+ private:
+  std::unique_ptr<DistributedPointSide> side_;
+  std::vector<double> points_;  // collected: dropped points keep their values
+};
+
+}  // namespace dba

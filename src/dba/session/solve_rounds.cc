@@ -1,0 +1,229 @@
+// The solve itself, one code path for every mode: LM, the rounds of outlier
+// rejection and the checkpoints over a point side that is local or spread
+// over MPI ranks (session/point_side.h); see solve_session.h.
+#include <algorithm>
+#include <ostream>
+#include <utility>
+
+#include "dba/common/memory.h"
+#include "dba/lm/memory_estimate.h"
+#include "dba/session/solve_session.h"
+
+namespace dba {
+namespace {
+
+// The points `kept` flags, in their loaded order, from every loaded point.
+std::vector<double> KeptPoints(const KeptObservations& kept, const std::vector<double>& all) {
+  std::vector<double> points;
+  for (size_t k = 0; k < kept.point.size(); ++k) {
+    if (kept.point[k]) points.insert(points.end(), &all[kPointSize * k], &all[kPointSize * k + kPointSize]);
+  }
+  return points;
+}
+
+// The ranks' options: the fixings of a .dba each rank reads itself.
+DistributedOptions RanksOptions(const SolveOptions& options, bool ranks_read_file) {
+  DistributedOptions d = options.distributed;
+  d.memory_check = options.memory_check;
+  if (ranks_read_file) {
+    d.fixings = Fixings{options.unknowns.fixed_images, {}};
+    for (const IntrinsicFixing& x : options.unknowns.fixed_intrinsics) {
+      if (!x.names.empty()) d.fixings.intrinsics.push_back(x);
+    }
+  }
+  return d;
+}
+
+}  // namespace
+
+// Main rank: the side, the first solve (unless a checkpoint resumed after a
+// rejection round), the rounds, the end. Other ranks: their points served.
+void SolveSession::Solve() {
+  // A solve resumed after a rejection round starts with the squared loss
+  // (unless --reject-keep-loss): the ranks hear it from the main rank.
+  int32_t squared = resumed_round_ > 0 && !options_.reject_keep_loss ? 1 : 0;
+  if (comm_->size() > 1) comm_->Broadcast(Traffic::kControl, &squared);
+  if (!comm_->is_main()) {
+    LmOptions o = lm_;
+    if (squared) o.loss = RobustLoss();
+    ServePoints(comm_, o, RanksOptions(options_, input_.ranks_read_file),
+                input_.ranks_read_file ? input_.name : std::string());
+    return;
+  }
+  if (!options_.checkpoint_path.empty()) {
+    checkpoints_.emplace(options_.checkpoint_path, options_.checkpoint_every_s,
+                         input_.ranks_read_file ? 0 : ProblemFingerprint(result_.problem), setup_,
+                         lm_.accepted_done);
+  }
+  const bool reject = options_.reject_outliers_px > 0;
+  if (reject && !options_.truth_path.empty() && comm_->size() == 1 && resumed_round_ <= 0) {
+    // The loaded pixels, for the truth (which are mismatches), without the
+    // control points' measurements.
+    const Problem& p = result_.problem;
+    loaded_pixels_.assign(p.obs_pixel.begin(), p.obs_pixel.begin() + 2 * result_.report.num_observations);
+  }
+  std::unique_ptr<PointSide> side = MakePointSide();
+  const IterationHook log = IterationLog(side.get());
+  std::function<void(const RcsSystem&)> check_memory = MemoryCheck();
+  if (resumed_round_ <= 0) {
+    result_.report.solve.ba = side->Solve(lm_, result_.geo.priors, log, std::exchange(check_memory, {}));
+  }
+  if (reject) RejectionRounds(side.get(), log, std::move(check_memory));
+  FinishSolve(side.get());
+}
+
+std::unique_ptr<PointSide> SolveSession::MakePointSide() {
+  if (comm_->size() == 1) return std::make_unique<LocalPointSide>(&result_.problem);
+  const DistributedCheckpoints checkpoints{
+      checkpoints_ ? &*checkpoints_ : nullptr,
+      input_.ranks_read_file && resumed_ ? &*resumed_ : nullptr, options_.resume_path};
+  return std::make_unique<RankPointSide>(std::make_unique<DistributedPointSide>(
+      comm_, lm_, RanksOptions(options_, input_.ranks_read_file),
+      input_.ranks_read_file ? input_.name : std::string(), &result_.problem, checkpoints));
+}
+
+// The log line of every iteration, and the checkpoints after accepted ones
+// (and always the one that ends a solve).
+SolveSession::IterationHook SolveSession::IterationLog(PointSide* side) {
+  return [this, side](const IterationSummary& it) {
+    if (!options_.quiet) out_ << IterationLogLine(it) << std::flush;
+    if (checkpoints_ && checkpoints_->Due(it.step_accepted, it.ends_solve)) WriteCheckpoint(it, side);
+  };
+}
+
+// The parameters where they are; on ranks the points gathered; after a
+// rejection round every loaded point and what is left.
+void SolveSession::WriteCheckpoint(const IterationSummary& it, PointSide* side) {
+  Checkpoint state;
+  state.iterations = it.iteration;
+  state.lambda = it.next_lambda;
+  state.cost = it.candidate_cost;
+  state.ended = it.ends_solve ? static_cast<int32_t>(it.termination) : -1;
+  state.round = static_cast<int32_t>(rounds_.size());
+  for (const RejectionRound& r : rounds_) {
+    state.rounds.push_back({r.observations_dropped, r.points_dropped, r.points_small_angle,
+                            r.observations_left, r.points_left});
+  }
+  const std::vector<double>& cameras = result_.problem.cameras;
+  if (rounds_.empty()) {
+    if (comm_->size() == 1) {
+      checkpoints_->Write(state, cameras, result_.problem.points);
+      return;
+    }
+    std::vector<double> points;
+    side->AllPoints(&points);
+    checkpoints_->Write(state, cameras, points);
+    return;
+  }
+  KeptObservations kept;
+  std::vector<double> points;
+  LoadedKeptAndPoints(side, &kept, &points);
+  checkpoints_->Write(state, cameras, points, kept.observation, kept.point);
+}
+
+// What the side left and its points, in the problem as loaded (through the
+// origin of a problem a resume had cut down already).
+void SolveSession::LoadedKeptAndPoints(PointSide* side, KeptObservations* kept,
+                                       std::vector<double>* points) {
+  KeptObservations given = side->Kept();
+  std::vector<double> given_points;
+  side->AllPoints(&given_points);
+  if (origin_.point.empty()) {
+    *kept = std::move(given);
+    *points = std::move(given_points);
+    return;
+  }
+  *points = result_.all_points;  // the checkpoint's, for what was dropped before
+  kept->observation.assign(loaded_observations_, 0);
+  kept->point.assign(points->size() / kPointSize, 0);
+  for (size_t o = 0; o < given.observation.size(); ++o) {
+    kept->observation[origin_.observation[o]] = given.observation[o];
+  }
+  for (size_t k = 0; k < given.point.size(); ++k) {
+    kept->point[origin_.point[k]] = given.point[k];
+    std::copy_n(&given_points[kPointSize * k], kPointSize, &(*points)[kPointSize * origin_.point[k]]);
+  }
+}
+
+// One process, after the symbolic phase, before S's values: the peak
+// estimated, and the solve refused where it would not fit. (Each rank
+// checks its own: cluster/distributed_solve.cc.)
+std::function<void(const RcsSystem&)> SolveSession::MemoryCheck() {
+  if (comm_->size() > 1) return {};
+  return [this](const RcsSystem& structure) {
+    SolveReport& report = result_.report;
+    report.memory_estimate = EstimateSolveMemory(result_.problem, structure, lm_,
+                                                 CurrentResidentBytes(), PeakResidentBytes());
+    report.available_memory_bytes = AvailableMemoryBytes();
+    if (!options_.quiet) {
+      const int64_t have = report.available_memory_bytes;
+      out_ << "memory estimate " << report.memory_estimate.Describe()
+           << (have > 0 ? "; available " + FormatBytes(have + report.memory_estimate.resident)
+                        : std::string())
+           << "\n" << IterationLogHeader() << std::flush;
+    }
+    if (options_.memory_check) {
+      CheckMemoryFits(report.memory_estimate, report.available_memory_bytes);
+    }
+  };
+}
+
+// Rounds of --reject-outliers after the first solve. A checkpoint written
+// after a round resumes in the solve after it.
+void SolveSession::RejectionRounds(PointSide* side, const IterationHook& log,
+                                   std::function<void(const RcsSystem&)> check_memory) {
+  SolveReport& report = result_.report;
+  const RejectionCriteria criteria{options_.reject_outliers_px,
+                                   options_.min_triangulation_angle_deg};
+  bool resumed_round = resumed_round_ > 0;
+  bool first_solve = resumed_round;  // no solve yet in this run
+  report.rejection = RunRejectionRounds(
+      [&] {
+        rounds_.push_back(side->DropOutliers(criteria, lm_.num_threads, options_.reject_keep_loss));
+        return rounds_.back();
+      },
+      [&] {
+        const LmOptions o = RoundOptions(resumed_round);
+        if (checkpoints_ && !resumed_round) checkpoints_->StartRound();
+        resumed_round = false;
+        const BundleAdjustSummary s =
+            side->Solve(o, result_.geo.priors, log, std::exchange(check_memory, {}));
+        if (first_solve) {
+          report.solve.ba = s;
+        } else {
+          AppendSolve(s, &report.solve.ba);
+        }
+        first_solve = false;
+        report.final_loss = o.loss;
+      },
+      [&](int r, const RejectionRound& round) {
+        out_ << RejectionRoundLine(criteria, r, round) << std::flush;
+      },
+      rounds_);
+}
+
+// What is left and every loaded point; the ranks ended (their figures and
+// final points collected).
+void SolveSession::FinishSolve(PointSide* side) {
+  SolveReport& report = result_.report;
+  if (options_.reject_outliers_px > 0) {
+    result_.kept.emplace();
+    LoadedKeptAndPoints(side, &*result_.kept, &result_.all_points);
+  }
+  if (auto* ranks = dynamic_cast<RankPointSide*>(side)) {
+    const bool collect = !options_.output.empty() || !options_.truth_path.empty() ||
+                         !options_.ply_path.empty() || !options_.geo.gcps_path.empty();
+    ranks->distributed().Finish(collect && !result_.kept, &report.solve);
+    report.memory_estimate = report.solve.memory_estimate;
+    // The loaded pixels, for the truth: the main rank handed its
+    // observations out.
+    if (!options_.truth_path.empty()) {
+      loaded_pixels_ = LoadSolveInput(options_.input, options_.unknowns).obs_pixel;
+    }
+  }
+  if (result_.kept && comm_->size() > 1) {
+    result_.problem.points = KeptPoints(*result_.kept, result_.all_points);
+  }
+}
+
+}  // namespace dba
