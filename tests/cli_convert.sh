@@ -72,4 +72,10 @@ check "a COLMAP output that would be shadowed is refused" grep -q "other form" "
 "$dba" convert "$fixtures/OPENCV/binary" "$tmp/cm.txt" >"$tmp/err" 2>&1
 check "COLMAP to BAL text is refused" grep -q "cannot hold shared intrinsics" "$tmp/err"
 
+# dba info reads a COLMAP model directory like any problem.
+"$dba" info "$fixtures/OPENCV/binary" >"$tmp/info" 2>&1
+check "info on a COLMAP model exits 0" test $? -eq 0
+check "info names it a COLMAP model" grep -q "(COLMAP model)" "$tmp/info"
+check "info gives its lens model" grep -q "OPENCV" "$tmp/info"
+
 finish

@@ -49,6 +49,125 @@ py::array_t<T> Array(const std::vector<T>& v, std::vector<py::ssize_t> shape) {
 
 }  // namespace
 
+namespace {
+
+// The lens models of a 'photo' problem's groups (RADIAL without them).
+void LensModelsFromArrays(const ProblemArrays& in, int64_t groups, Problem* p) {
+  const py::array& k = *in.intrinsics;
+  if (!in.lens_models) {
+    if (p->intrinsics_size != kPhotoIntrinsicsSize) {
+      throw Bad("intrinsics: expected shape (G, 5) (RADIAL: f, cx, cy, k1, k2) without lens_models, got " +
+                Shape(k));
+    }
+    return;
+  }
+  if (static_cast<int64_t>(in.lens_models->size()) != groups) {
+    throw Bad("lens_models: expected " + std::to_string(groups) +
+              " names (one per intrinsic group), got " + std::to_string(in.lens_models->size()));
+  }
+  for (size_t g = 0; g < in.lens_models->size(); ++g) {
+    const LensModelInfo* m = FindLensModel((*in.lens_models)[g]);
+    if (m == nullptr) {
+      throw Bad("lens_models[" + std::to_string(g) + "] = '" + (*in.lens_models)[g] +
+                "': unknown (known: " + LensModelNames() + ")");
+    }
+    if (m->num_params > p->intrinsics_size) {
+      throw Bad("intrinsics: " + std::string(m->name) + " (group " + std::to_string(g) + ") has " +
+                std::to_string(m->num_params) + " parameters, the array " +
+                std::to_string(p->intrinsics_size) + " columns");
+    }
+    p->group_models.push_back(m->id);
+  }
+}
+
+// A 'photo' problem's intrinsic groups: values (after the poses), each
+// camera's group, the models, what is held fixed.
+void IntrinsicsFromArrays(const ProblemArrays& in, int64_t n, Problem* p) {
+  if (!(in.intrinsics && in.intrinsics->size() > 0) ||
+      !(in.camera_intrinsics && in.camera_intrinsics->size() > 0)) {
+    throw Bad("camera_model 'photo' needs intrinsics (G, S) and camera_intrinsics (N,)");
+  }
+  const py::array& k = *in.intrinsics;
+  if (k.ndim() != 2 || k.shape(1) < 1 || k.shape(1) > kMaxIntrinsics) {
+    throw Bad("intrinsics: expected shape (G, S) with S from 1 to 16, got " + Shape(k));
+  }
+  const int64_t groups = k.shape(0);
+  p->intrinsics_size = static_cast<int32_t>(k.shape(1));
+  LensModelsFromArrays(in, groups, p);
+  if (Length(*in.camera_intrinsics, "camera_intrinsics") != n) {
+    throw Bad("camera_intrinsics: expected " + std::to_string(n) + " entries (one per camera), got " +
+              Shape(*in.camera_intrinsics));
+  }
+  const std::vector<double> intrinsics = Finite(*in.intrinsics, "intrinsics");
+  p->cameras.insert(p->cameras.end(), intrinsics.begin(), intrinsics.end());
+  p->camera_intrinsics.resize(n);
+  for (int64_t i = 0; i < n; ++i) {
+    const int64_t g = in.camera_intrinsics->data()[i];
+    if (g < 0 || g >= groups) {
+      throw Bad("camera_intrinsics[" + std::to_string(i) + "] = " + std::to_string(g) +
+                ": out of range (" + std::to_string(groups) + " intrinsic groups)");
+    }
+    p->camera_intrinsics[i] = static_cast<int32_t>(g);
+  }
+  if (!in.fixed_intrinsics || in.fixed_intrinsics->size() == 0) return;
+  const int s = p->intrinsics_size;
+  if (in.fixed_intrinsics->ndim() != 2 || in.fixed_intrinsics->shape(0) != groups ||
+      in.fixed_intrinsics->shape(1) != s) {
+    throw Bad("fixed_intrinsics: expected shape (" + std::to_string(groups) + ", " +
+              std::to_string(s) + "), got " + Shape(*in.fixed_intrinsics));
+  }
+  p->fixed_intrinsics.assign(groups, 0);
+  for (int64_t g = 0; g < groups; ++g) {
+    for (int d = 0; d < s; ++d) {
+      if (in.fixed_intrinsics->data()[s * g + d]) p->fixed_intrinsics[g] |= static_cast<uint16_t>(1u << d);
+    }
+    // Only the model's own parameters (metadata and unused slots are never
+    // unknowns anyway).
+    p->fixed_intrinsics[g] &= LensModelParamMask(p->group_model(g));
+  }
+}
+
+// The observations in any order, sorted by point (a stable counting sort);
+// every index and pixel checked.
+void ObservationsFromArrays(const ProblemArrays& in, int64_t n, int64_t num_points, int64_t m,
+                            Problem* p) {
+  const int64_t* cam = in.camera_indices.data();
+  const int64_t* pt = in.point_indices.data();
+  const double* px = in.observations.data();
+  p->point_offsets.assign(num_points + 1, 0);
+  for (int64_t o = 0; o < m; ++o) {
+    if (cam[o] < 0 || cam[o] >= n) {
+      throw Bad("camera_indices[" + std::to_string(o) + "] = " + std::to_string(cam[o]) +
+                ": out of range (" + std::to_string(n) + " cameras)");
+    }
+    if (pt[o] < 0 || pt[o] >= num_points) {
+      throw Bad("point_indices[" + std::to_string(o) + "] = " + std::to_string(pt[o]) +
+                ": out of range (" + std::to_string(num_points) + " points)");
+    }
+    if (!std::isfinite(px[2 * o]) || !std::isfinite(px[2 * o + 1])) {
+      throw Bad("observations[" + std::to_string(o) + "]: not finite");
+    }
+    ++p->point_offsets[pt[o] + 1];
+  }
+  for (int64_t k = 0; k < num_points; ++k) {
+    if (p->point_offsets[k + 1] == 0) {
+      throw Bad("point " + std::to_string(k) + " has no observations (remove it)");
+    }
+    p->point_offsets[k + 1] += p->point_offsets[k];
+  }
+  p->obs_camera.resize(m);
+  p->obs_pixel.resize(2 * m);
+  std::vector<int64_t> next(p->point_offsets.begin(), p->point_offsets.end() - 1);
+  for (int64_t o = 0; o < m; ++o) {
+    const int64_t slot = next[pt[o]]++;
+    p->obs_camera[slot] = static_cast<int32_t>(cam[o]);
+    p->obs_pixel[2 * slot] = px[2 * o];
+    p->obs_pixel[2 * slot + 1] = px[2 * o + 1];
+  }
+}
+
+}  // namespace
+
 Problem ProblemFromArrays(const ProblemArrays& in) {
   Problem p;
   if (in.camera_model == "bal") {
@@ -74,82 +193,15 @@ Problem ProblemFromArrays(const ProblemArrays& in) {
   }
   if (n > INT32_MAX) throw Bad("cameras: more than 2^31 - 1 cameras");
   p.cameras = Finite(in.cameras, "cameras");
-
-  int64_t groups = 0;
-  const bool has_intrinsics = in.intrinsics && in.intrinsics->size() > 0;
-  const bool has_groups = in.camera_intrinsics && in.camera_intrinsics->size() > 0;
   if (bal) {
-    if (has_intrinsics || has_groups || (in.fixed_intrinsics && in.fixed_intrinsics->size() > 0)) {
+    if ((in.intrinsics && in.intrinsics->size() > 0) ||
+        (in.camera_intrinsics && in.camera_intrinsics->size() > 0) ||
+        (in.fixed_intrinsics && in.fixed_intrinsics->size() > 0)) {
       throw Bad("intrinsics, camera_intrinsics, fixed_intrinsics: a 'bal' camera holds its own "
                 "f, k1, k2 (use camera_model='photo' for shared intrinsics)");
     }
   } else {
-    if (!has_intrinsics || !has_groups) {
-      throw Bad("camera_model 'photo' needs intrinsics (G, S) and camera_intrinsics (N,)");
-    }
-    const py::array& k = *in.intrinsics;
-    if (k.ndim() != 2 || k.shape(1) < 1 || k.shape(1) > kMaxIntrinsics) {
-      throw Bad("intrinsics: expected shape (G, S) with S from 1 to 16, got " + Shape(k));
-    }
-    groups = k.shape(0);
-    p.intrinsics_size = static_cast<int32_t>(k.shape(1));
-    if (in.lens_models) {
-      if (static_cast<int64_t>(in.lens_models->size()) != groups) {
-        throw Bad("lens_models: expected " + std::to_string(groups) +
-                  " names (one per intrinsic group), got " +
-                  std::to_string(in.lens_models->size()));
-      }
-      for (size_t g = 0; g < in.lens_models->size(); ++g) {
-        const LensModelInfo* m = FindLensModel((*in.lens_models)[g]);
-        if (m == nullptr) {
-          throw Bad("lens_models[" + std::to_string(g) + "] = '" + (*in.lens_models)[g] +
-                    "': unknown (known: " + LensModelNames() + ")");
-        }
-        if (m->num_params > p.intrinsics_size) {
-          throw Bad("intrinsics: " + std::string(m->name) + " (group " + std::to_string(g) +
-                    ") has " + std::to_string(m->num_params) + " parameters, the array " +
-                    std::to_string(p.intrinsics_size) + " columns");
-        }
-        p.group_models.push_back(m->id);
-      }
-    } else if (p.intrinsics_size != kPhotoIntrinsicsSize) {
-      throw Bad("intrinsics: expected shape (G, 5) (RADIAL: f, cx, cy, k1, k2) without lens_models, got " +
-                Shape(k));
-    }
-    if (Length(*in.camera_intrinsics, "camera_intrinsics") != n) {
-      throw Bad("camera_intrinsics: expected " + std::to_string(n) + " entries (one per camera), got " +
-                Shape(*in.camera_intrinsics));
-    }
-    const std::vector<double> intrinsics = Finite(*in.intrinsics, "intrinsics");
-    p.cameras.insert(p.cameras.end(), intrinsics.begin(), intrinsics.end());
-    p.camera_intrinsics.resize(n);
-    for (int64_t i = 0; i < n; ++i) {
-      const int64_t g = in.camera_intrinsics->data()[i];
-      if (g < 0 || g >= groups) {
-        throw Bad("camera_intrinsics[" + std::to_string(i) + "] = " + std::to_string(g) +
-                  ": out of range (" + std::to_string(groups) + " intrinsic groups)");
-      }
-      p.camera_intrinsics[i] = static_cast<int32_t>(g);
-    }
-    if (in.fixed_intrinsics && in.fixed_intrinsics->size() > 0) {
-      const int s = p.intrinsics_size;
-      if (in.fixed_intrinsics->ndim() != 2 || in.fixed_intrinsics->shape(0) != groups ||
-          in.fixed_intrinsics->shape(1) != s) {
-        throw Bad("fixed_intrinsics: expected shape (" + std::to_string(groups) + ", " +
-                  std::to_string(s) + "), got " + Shape(*in.fixed_intrinsics));
-      }
-      p.fixed_intrinsics.assign(groups, 0);
-      for (int64_t g = 0; g < groups; ++g) {
-        for (int d = 0; d < s; ++d) {
-          if (in.fixed_intrinsics->data()[s * g + d]) {
-            p.fixed_intrinsics[g] |= static_cast<uint16_t>(1u << d);
-          }
-        }
-        // Only the model's own parameters (metadata and unused slots are
-        // never unknowns anyway).
-        p.fixed_intrinsics[g] &= LensModelParamMask(p.group_model(g));
-      }
-    }
+    IntrinsicsFromArrays(in, n, &p);
   }
   if (in.fixed_cameras && in.fixed_cameras->size() > 0) {
     if (Length(*in.fixed_cameras, "fixed_cameras") != n) {
@@ -159,41 +211,7 @@ Problem ProblemFromArrays(const ProblemArrays& in) {
     p.fixed_cameras.assign(in.fixed_cameras->data(), in.fixed_cameras->data() + n);
   }
   p.points = Finite(in.points, "points");
-
-  // Observations, stable counting sort by point.
-  const int64_t* cam = in.camera_indices.data();
-  const int64_t* pt = in.point_indices.data();
-  const double* px = in.observations.data();
-  p.point_offsets.assign(num_points + 1, 0);
-  for (int64_t o = 0; o < m; ++o) {
-    if (cam[o] < 0 || cam[o] >= n) {
-      throw Bad("camera_indices[" + std::to_string(o) + "] = " + std::to_string(cam[o]) +
-                ": out of range (" + std::to_string(n) + " cameras)");
-    }
-    if (pt[o] < 0 || pt[o] >= num_points) {
-      throw Bad("point_indices[" + std::to_string(o) + "] = " + std::to_string(pt[o]) +
-                ": out of range (" + std::to_string(num_points) + " points)");
-    }
-    if (!std::isfinite(px[2 * o]) || !std::isfinite(px[2 * o + 1])) {
-      throw Bad("observations[" + std::to_string(o) + "]: not finite");
-    }
-    ++p.point_offsets[pt[o] + 1];
-  }
-  for (int64_t k = 0; k < num_points; ++k) {
-    if (p.point_offsets[k + 1] == 0) {
-      throw Bad("point " + std::to_string(k) + " has no observations (remove it)");
-    }
-    p.point_offsets[k + 1] += p.point_offsets[k];
-  }
-  p.obs_camera.resize(m);
-  p.obs_pixel.resize(2 * m);
-  std::vector<int64_t> next(p.point_offsets.begin(), p.point_offsets.end() - 1);
-  for (int64_t o = 0; o < m; ++o) {
-    const int64_t slot = next[pt[o]]++;
-    p.obs_camera[slot] = static_cast<int32_t>(cam[o]);
-    p.obs_pixel[2 * slot] = px[2 * o];
-    p.obs_pixel[2 * slot + 1] = px[2 * o + 1];
-  }
+  ObservationsFromArrays(in, n, num_points, m, &p);
   return p;
 }
 

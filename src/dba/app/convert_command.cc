@@ -214,7 +214,8 @@ int InfoMain(const std::vector<std::string>& args) {
     (WantsHelp(args) ? std::cout : std::cerr)
         << "Usage: dba info FILE\n"
            "\n"
-           "Prints the camera model and counts of a problem (BAL text or binary;\n"
+           "Prints the camera model and counts of a problem (BAL text or binary, or a\n"
+           "COLMAP model directory;\n"
            "for the photogrammetric model also its intrinsic groups and what is held\n"
            "fixed), the statistics of its track lengths (observations per point) and\n"
            "camera degrees (observations per camera, cameras sharing a point with\n"
@@ -224,7 +225,7 @@ int InfoMain(const std::vector<std::string>& args) {
     return WantsHelp(args) ? 0 : 2;
   }
   try {
-    const Problem p = ReadProblem(args[0]);
+    const Problem p = LoadSolveInput(args[0], UnknownsOptions{});  // COLMAP models too
     const int64_t nc = p.num_images();
     const bool photo = p.model == CameraModel::kPhoto;
     const Stats track = Statistics(p.num_points(), [&](int64_t k) {
@@ -248,7 +249,8 @@ int InfoMain(const std::vector<std::string>& args) {
     const BsmcMatrix& S = structure.S;
     const double rows = layout.num_block_rows();
     const double sparsity = (2.0 * static_cast<double>(rcs.size()) - rows) / (rows * rows);
-    std::printf("%s (%s)\n", args[0].c_str(), IsBinaryProblem(args[0]) ? "dba binary" : "BAL text");
+    std::printf("%s (%s)\n", args[0].c_str(),
+                IsColmapInput(args[0]) ? "COLMAP model" : IsBinaryProblem(args[0]) ? "dba binary" : "BAL text");
     std::printf("  model         %s\n",
                 photo ? "photogrammetric (6-parameter pose per image, shared intrinsic groups)"
                       : "BAL (9 parameters per camera)");
