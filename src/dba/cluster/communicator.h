@@ -1,19 +1,22 @@
-// The transport layer: the only place that talks MPI (docs/design.md §4). Ranks
+// The ranks of a solve and what they exchange (docs/design.md §4). Ranks
 // exchange typed arrays; every transfer is counted, in bytes and seconds, under
 // a traffic category, so the communication cost of a solve is measured (paper
-// Table 5).
-//
-// Messages longer than 2^30 bytes are split into chunks of at most 2^30, so
-// 64-bit sizes are safe with MPI's int counts (tests/mpi/large_message_check).
+// Table 5). The bytes move by a transport (cluster/transport.h): MPI between
+// processes (the only code that talks MPI: mpi_transport.cc, which splits
+// messages past 2^30 bytes, tests/mpi/large_message_check), or threads of one
+// process for tests (thread_transport.h).
 //
 // Thread safety: call from one thread per rank (MPI_THREAD_FUNNELED).
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <type_traits>
 #include <vector>
+
+#include "dba/cluster/transport.h"
 
 namespace dba {
 
@@ -48,6 +51,8 @@ class Communicator {
   // e.g. the Python module, that solves in its own process).
   struct SingleRank {};
   explicit Communicator(SingleRank) {}
+  // A rank over a transport of its own (the in-process one of tests).
+  explicit Communicator(std::unique_ptr<Transport> transport);
   ~Communicator();
   Communicator(const Communicator&) = delete;
   Communicator& operator=(const Communicator&) = delete;
@@ -124,15 +129,12 @@ class Communicator {
   void SendBytes(int dest, Traffic t, const void* data, uint64_t bytes);
   void RecvBytes(int source, Traffic t, void* data, uint64_t bytes);
   void BroadcastBytes(Traffic t, void* data, uint64_t bytes);
-  struct ByteSpan {
-    void* data = nullptr;
-    uint64_t bytes = 0;
-  };
+  using ByteSpan = Transport::Span;
   void ExchangeBytes(Traffic t, const std::vector<ByteSpan>& send,
                      const std::vector<ByteSpan>& recv);
   void Allreduce(Traffic t, void* data, int64_t count, bool is_double, bool max);
 
-  bool mpi_ = false;
+  std::unique_ptr<Transport> transport_;  // none: a single rank
   int rank_ = 0;
   int size_ = 1;
   int ranks_on_node_ = 1;

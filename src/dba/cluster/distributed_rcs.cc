@@ -1,6 +1,8 @@
 // The RCS spread over the ranks; see distributed_rcs.h.
 #include "dba/cluster/distributed_rcs.h"
 
+#include "dba/cluster/rcs_row_plan.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -263,39 +265,20 @@ class GatheredCoarseSolver : public CholeskySolver {
   std::vector<double> rc_;
 };
 
-// The owners as chosen, unless that piles the RCS on a few ranks (the
-// equal partition, or few cameras that every rank sees): past 1.25x the
-// mean load (values of the rows, summed over the ranks' sub-RCSs), the rows
-// go in contiguous ranges of equal load to the ranks with points instead.
-void BalanceOwners(Communicator* comm, bool has_points, std::vector<int64_t> weight,
-                   std::vector<int32_t>* owner) {
+// The owners: each row's by the all-reduced keys (the rank with the most
+// values in it), then balanced over the ranks that form (rcs_row_plan.h).
+std::vector<int32_t> ChooseOwners(Communicator* comm, bool has_points, std::vector<int64_t> weight) {
   const int ranks = comm->size();
-  const int32_t n = static_cast<int32_t>(owner->size());
-  for (int32_t g = 0; g < n; ++g) weight[g] += 1;  // a row nobody sees still counts
+  std::vector<int64_t> key = OwnerKeys(weight, ranks, comm->rank());
+  comm->AllreduceMax(Traffic::kDistribution, key);
+  std::vector<int32_t> owner = OwnersFromKeys(key, ranks);
+  for (int64_t& w : weight) w += 1;  // a row nobody sees still counts
   comm->AllreduceSum(Traffic::kDistribution, weight);
   std::vector<int64_t> forms(ranks, 0);
   forms[comm->rank()] = has_points ? 1 : 0;
   comm->AllreduceSum(Traffic::kDistribution, forms);
-  std::vector<int64_t> load(ranks, 0);
-  int64_t total = 0;
-  for (int32_t g = 0; g < n; ++g) {
-    load[(*owner)[g]] += weight[g];
-    total += weight[g];
-  }
-  std::vector<int> forming;
-  for (int q = 0; q < ranks; ++q) {
-    if (forms[q] != 0) forming.push_back(q);
-  }
-  if (forming.empty()) forming.push_back(0);
-  const double mean = static_cast<double>(total) / static_cast<double>(forming.size());
-  if (*std::max_element(load.begin(), load.end()) <= 1.25 * mean) return;
-  int64_t sum = 0;
-  for (int32_t g = 0; g < n; ++g) {
-    const size_t k = std::min(forming.size() - 1,
-                              static_cast<size_t>(static_cast<double>(sum) / mean));
-    (*owner)[g] = forming[k];
-    sum += weight[g];
-  }
+  BalanceOwnerLoad(weight, forms, &owner);
+  return owner;
 }
 
 }  // namespace
@@ -353,114 +336,56 @@ DistributedRcs::DistributedRcs(Communicator* comm, std::vector<int32_t> global_b
   const int32_t n_global = static_cast<int32_t>(global_sizes_.size());
   global_offset_.assign(n_global + 1, 0);
   for (int32_t g = 0; g < n_global; ++g) global_offset_[g + 1] = global_offset_[g] + global_sizes_[g];
-
-  // Owners: the rank with the most values in the row, ties to the lowest.
-  {
-    std::vector<int64_t> weight(n_global, 0);
-    if (sub_ != nullptr) {
-      for (int32_t i = 0; i < sub_->num_block_rows(); ++i) {
-        for (int64_t b = sub_->row_begin(i); b < sub_->row_end(i); ++b) {
-          weight[sub_rows_[i]] += int64_t{sub_->block_size(i)} * sub_->block_size(sub_->block_col(b));
-        }
-      }
-    }
-    std::vector<int64_t> key(n_global);
-    for (int32_t g = 0; g < n_global; ++g) key[g] = weight[g] * ranks + (ranks - 1 - me);
-    comm->AllreduceMax(Traffic::kDistribution, key);
-    owner_.resize(n_global);
-    for (int32_t g = 0; g < n_global; ++g) {
-      owner_[g] = ranks - 1 - static_cast<int32_t>(key[g] % ranks);
-    }
-    BalanceOwners(comm, sub_ != nullptr, std::move(weight), &owner_);
-  }
+  owner_ = ChooseOwners(comm, sub_ != nullptr, RowValueCounts(sub_, sub_rows_, n_global));
   Plan& plan = *plan_;
   plan.own_rows_of.assign(ranks, {});
   for (int32_t g = 0; g < n_global; ++g) plan.own_rows_of[owner_[g]].push_back(g);
-  const std::vector<int32_t>& own = plan.own_rows_of[me];
+  const std::vector<int32_t> own = plan.own_rows_of[me];
   n_own_ = static_cast<int32_t>(own.size());
-  if (me != 0) {
+  if (me != 0) {  // only the main rank needs every rank's rows
     for (int q = 0; q < ranks; ++q) {
       if (q != me) std::vector<int32_t>().swap(plan.own_rows_of[q]);
     }
   }
 
-  // The sub-RCS's blocks and rows by destination, and their global ids.
-  plan.send_blocks.assign(ranks, {});
-  plan.send_rows.assign(ranks, {});
-  std::vector<std::vector<uint64_t>> send_pattern(ranks);
-  std::vector<std::vector<int32_t>> send_row_ids(ranks);
-  if (sub_ != nullptr) {
-    for (int32_t i = 0; i < sub_->num_block_rows(); ++i) {
-      const int q = owner_[sub_rows_[i]];
-      plan.send_rows[q].push_back(i);
-      send_row_ids[q].push_back(sub_rows_[i]);
-      for (int64_t b = sub_->row_begin(i); b < sub_->row_end(i); ++b) {
-        plan.send_blocks[q].push_back(b);
-        send_pattern[q].push_back(PackBlock(sub_rows_[i], sub_rows_[sub_->block_col(b)]));
-      }
-    }
-  }
-  const auto patterns = ExchangeLists(comm, Traffic::kDistribution, send_pattern);
-  const auto row_ids = ExchangeLists(comm, Traffic::kDistribution, send_row_ids);
-  std::vector<std::vector<uint64_t>>().swap(send_pattern);
+  // The sub-RCS's blocks and rows to their owners; what the others send here.
+  SubRcsSendPlan send = PlanSubRcsSends(sub_, sub_rows_, owner_, ranks);
+  const auto patterns = ExchangeLists(comm, Traffic::kDistribution, send.pattern);
+  const auto row_ids = ExchangeLists(comm, Traffic::kDistribution, send.row_ids);
+  plan.send_size = SendSizes(sub_, send);
+  plan.send_blocks = std::move(send.blocks);
+  plan.send_rows = std::move(send.rows);
+  std::vector<std::vector<uint64_t>>().swap(send.pattern);
 
-  // Local numbering: own rows, then the halo (columns of own blocks owned
-  // elsewhere), each in global order.
-  std::vector<int32_t> halo;
-  for (const auto& p : patterns) {
-    for (uint64_t blk : p) {
-      if (owner_[PackedCol(blk)] != me) halo.push_back(PackedCol(blk));
-    }
-  }
-  std::sort(halo.begin(), halo.end());
-  halo.erase(std::unique(halo.begin(), halo.end()), halo.end());
-  local_rows_ = own;
-  local_rows_.insert(local_rows_.end(), halo.begin(), halo.end());
+  // Local numbering: own rows, then the halo; S over them.
+  local_rows_ = LocalRows(own, patterns, owner_, me);
   std::vector<int32_t> local_of(n_global, -1);
   std::vector<int32_t> sizes(local_rows_.size());
   for (size_t l = 0; l < local_rows_.size(); ++l) {
     local_of[local_rows_[l]] = static_cast<int32_t>(l);
     sizes[l] = global_sizes_[local_rows_[l]];
   }
-  std::vector<uint64_t> pattern;
-  for (int32_t l = 0; l < static_cast<int32_t>(local_rows_.size()); ++l) {
-    pattern.push_back(PackBlock(l, l));
-  }
-  for (const auto& p : patterns) {
-    for (uint64_t blk : p) {
-      pattern.push_back(PackBlock(local_of[PackedRow(blk)], local_of[PackedCol(blk)]));
-    }
-  }
-  std::sort(pattern.begin(), pattern.end());
-  pattern.erase(std::unique(pattern.begin(), pattern.end()), pattern.end());
-  S_ = BsmcMatrix::BuildFromPattern(std::move(sizes), pattern);
+  S_ = BsmcMatrix::BuildFromPattern(
+      std::move(sizes), LocalPattern(static_cast<int32_t>(local_rows_.size()), patterns, local_of));
   S_.ZeroValuesAndReturnPages();  // zero until the sums land
-  std::vector<uint64_t>().swap(pattern);
-  plan.recv_blocks.assign(ranks, {});
-  plan.recv_rows.assign(ranks, {});
-  plan.send_size.assign(ranks, 0);
-  plan.recv_size.assign(ranks, 0);
-  for (int p = 0; p < ranks; ++p) {
-    for (uint64_t blk : patterns[p]) {
-      const int64_t lb = S_.FindBlock(local_of[PackedRow(blk)], local_of[PackedCol(blk)]);
-      plan.recv_blocks[p].push_back(lb);
-      plan.recv_size[p] += S_.value_offset(lb + 1) - S_.value_offset(lb);
-    }
-    for (int32_t g : row_ids[p]) {
-      plan.recv_rows[p].push_back(local_of[g]);
-      plan.recv_size[p] += 3 * global_sizes_[g];
-    }
-    for (int64_t b : plan.send_blocks[p]) {
-      plan.send_size[p] += sub_->value_offset(b + 1) - sub_->value_offset(b);
-    }
-    for (int32_t i : plan.send_rows[p]) plan.send_size[p] += 3 * sub_->block_size(i);
-  }
+  ReceivePlan receive = PlanReceives(S_, patterns, row_ids, local_of, global_sizes_);
+  plan.recv_blocks = std::move(receive.blocks);
+  plan.recv_rows = std::move(receive.rows);
+  plan.recv_size = std::move(receive.size);
   const int64_t own_scalars = S_.scalar_offset(n_own_);
   b_.assign(own_scalars, 0.0);
   gradient_.assign(own_scalars, 0.0);
   jtj_diagonal_.assign(own_scalars, 0.0);
+  PlanHaloAndStep(local_of);
+  MakeSolverStorage(global_bases);
+}
 
-  // Halo: the halo rows by owner; each owner learns which of its rows to send.
+// Halo: the halo rows by owner; each owner learns which of its rows to
+// send. SpreadStep: the sub rows by owner, likewise.
+void DistributedRcs::PlanHaloAndStep(const std::vector<int32_t>& local_of) {
+  const int ranks = comm_->size(), me = comm_->rank();
+  Communicator* comm = comm_;
+  Plan& plan = *plan_;
   std::vector<std::vector<int32_t>> wanted(ranks);
   plan.halo_recv.assign(ranks, {});
   for (size_t l = n_own_; l < local_rows_.size(); ++l) {
@@ -500,8 +425,11 @@ DistributedRcs::DistributedRcs(Communicator* comm, std::vector<int32_t> global_b
   for (int q = 0; q < ranks; ++q) {
     for (int32_t g : step_asked[q]) plan.step_send[q].push_back(local_of[g]);
   }
+}
 
-  // The solver's storage.
+// The solver's storage: the product, the preconditioner, PCG's vectors.
+void DistributedRcs::MakeSolverStorage(const std::vector<CoarseRowBasis>& global_bases) {
+  const int64_t own_scalars = S_.scalar_offset(n_own_);
   multiplier_ = std::make_unique<SymmetricMultiplier>(S_, options_.num_threads,
                                                       options_.pcg.product_precision());
   if (options_.preconditioner == PreconditionerType::kTwoLevel) {

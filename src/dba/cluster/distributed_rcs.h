@@ -99,6 +99,8 @@ class DistributedRcs {
   bool DropDampingFloor() { return dba::DropDampingFloor(options_.pcg.precision, multiplier_.get()); }
   int32_t num_own_rows() const { return n_own_; }
   const BsmcMatrix& own_matrix() const { return S_; }
+  // The global row of each local row of own_matrix() (own, then halo).
+  const std::vector<int32_t>& local_rows() const { return local_rows_; }
   // Bytes this rank holds for its rows (S's structure and values, vectors,
   // preconditioner, product scratch).
   int64_t MemoryBytes() const;
@@ -110,6 +112,8 @@ class DistributedRcs {
   void ExchangeHalo(const std::vector<std::vector<int32_t>>& out_rows,
                     const std::vector<int64_t>& in_scalars, const double* from) const;
   void BuildTwoLevel(const std::vector<CoarseRowBasis>& global_bases);
+  void PlanHaloAndStep(const std::vector<int32_t>& local_of);
+  void MakeSolverStorage(const std::vector<CoarseRowBasis>& global_bases);
   void AddPoseTerms(const std::vector<PoseRowTerm>& pose_terms);
 
   Communicator* comm_;

@@ -21,13 +21,16 @@ struct RankShare {
   std::vector<int64_t> global_point;      // local point -> global point
 };
 
-// The points with point_group[k] == group, in global order.
+// The points with point_group[k] == group, in global order, with only the
+// cameras they touch (KeepTouchedCameras done: not to be done again, the
+// share's camera ids are local then).
 RankShare ExtractShare(const Problem& full, std::span<const int32_t> point_group,
                        int32_t group);
 
 // Keeps only the cameras that `share.problem`'s observations touch (and
 // their intrinsic groups), renumbered in increasing order; fills
-// global_camera and global_intrinsics with the old ids.
+// global_camera and global_intrinsics with the old ids. For a share whose
+// camera ids are global (one read from a .dba); ExtractShare's are not.
 void KeepTouchedCameras(RankShare* share);
 
 }  // namespace dba

@@ -1,0 +1,161 @@
+// The distributed solve in one test binary (ranks as threads: no mpirun):
+// N ranks reach one process's optimum (1e-9 with an exact solve), with the
+// RCS gathered on rank 0 and spread over the ranks, from a whole problem
+// handed out and from a .dba each rank reads itself; the ranks' outlier
+// rejection leaves what one process's does. This drives every file of
+// cluster/: the partition, the shares, the sub-RCS aggregation, the RCS
+// spread over the ranks and its planning, MpiPointWorkers' protocol.
+#include "dba/cluster/distributed_solve.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <mutex>
+
+#include "dba/cluster/thread_transport.h"
+#include "dba/io/binary_problem.h"
+#include "dba/lm/bundle_adjust.h"
+#include "dba/testing/synthetic_bal.h"
+#include "dba/testing/synthetic_photo.h"
+#include "dba/testing/temp_files.h"
+
+namespace dba {
+namespace {
+
+Problem Survey(bool photo) {
+  testing::SyntheticBalOptions g;
+  g.num_cameras = 9;
+  g.num_points = 150;
+  g.pixel_noise = 0.5;
+  g.rotation_perturbation = 1e-3;
+  g.point_perturbation = 0.05;
+  if (!photo) return testing::MakeSyntheticBal(g).problem;
+  testing::SyntheticPhotoOptions o;
+  o.geometry = g;
+  o.focal_perturbation = 1e-3;
+  return testing::MakeSyntheticPhoto(o).problem;
+}
+
+LmOptions Exact(LinearSolverType type) {
+  LmOptions o;
+  o.num_threads = 1;
+  o.linear_solver.type = type;
+  o.linear_solver.pcg.eta = 0;
+  o.linear_solver.pcg.relative_tolerance = 1e-14;
+  o.linear_solver.pcg.max_iterations = 2000;
+  o.function_tolerance = 1e-12;
+  return o;
+}
+
+struct RanksRun {
+  double final_cost = 0;
+  std::vector<double> cameras, points;
+  DistributedSummary summary;
+  KeptObservations kept;
+};
+
+// `problem` (or `binary` read by every rank) solved on `ranks` threads;
+// `reject` > 0: one rejection round and a second solve.
+RanksRun SolveOnRanks(int ranks, const Problem& problem, const std::string& binary,
+                      const LmOptions& o, DistributedOptions d, double reject = 0) {
+  RanksRun run;
+  RunRanksAsThreads(ranks, [&](Communicator& comm) {
+    if (!comm.is_main()) {
+      ServePoints(&comm, o, d, binary);
+      return;
+    }
+    Problem p = binary.empty() ? problem : Problem();
+    DistributedPointSide side(&comm, o, d, binary, &p);
+    BundleAdjustSummary s = side.Solve(o, {}, {});
+    if (reject > 0) {
+      side.DropOutliers({reject, 0.0}, 1, true);
+      s = side.Solve(o, {}, {});
+      run.kept = side.Kept();
+    }
+    side.Finish(true, &run.summary);
+    run.final_cost = s.lm.final_cost;
+    run.cameras = p.cameras;
+    run.points = p.points;
+  });
+  return run;
+}
+
+void ExpectSame(const std::vector<double>& a, const std::vector<double>& b, double rel) {
+  ASSERT_EQ(a.size(), b.size());
+  double scale = 1, diff = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    scale = std::max(scale, std::abs(b[i]));
+    diff = std::max(diff, std::abs(a[i] - b[i]));
+  }
+  EXPECT_LE(diff, rel * scale);
+}
+
+TEST(DistributedSolve, RanksReachOneProcessGathered) {
+  for (bool photo : {false, true}) {
+    const Problem p = Survey(photo);
+    const LmOptions o = Exact(LinearSolverType::kDense);
+    Problem one = p;
+    const double cost = BundleAdjust(o, &one).lm.final_cost;
+    for (int ranks : {2, 3}) {
+      DistributedOptions d;
+      d.rcs = DistributedOptions::Rcs::kGather;
+      const RanksRun run = SolveOnRanks(ranks, p, "", o, d);
+      EXPECT_NEAR(run.final_cost, cost, 1e-9 * cost) << ranks << " ranks, photo " << photo;
+      EXPECT_EQ(run.summary.ranks, ranks);
+      EXPECT_EQ(run.summary.rank_reports.size(), static_cast<size_t>(ranks));
+    }
+  }
+}
+
+TEST(DistributedSolve, RcsSpreadOverRanksReachesOneProcess) {
+  const Problem p = Survey(true);
+  const LmOptions o = Exact(LinearSolverType::kPcg);
+  Problem one = p;
+  const double cost = BundleAdjust(Exact(LinearSolverType::kDense), &one).lm.final_cost;
+  DistributedOptions d;
+  d.rcs = DistributedOptions::Rcs::kDistributed;
+  d.main_role = DistributedOptions::MainRole::kForms;
+  const RanksRun run = SolveOnRanks(3, p, "", o, d);
+  EXPECT_NEAR(run.final_cost, cost, 1e-9 * cost);
+  EXPECT_EQ(run.summary.rcs, RcsPlacement::kDistributed);
+  // Every global row has one owner: the owners' rows add up to them all.
+  int64_t owned = 0;
+  for (const RankReport& r : run.summary.rank_reports) owned += r.owned_rows;
+  EXPECT_EQ(owned, UnknownLayout(p).num_block_rows());
+}
+
+TEST(DistributedSolve, RanksReadingADbaReachTheHandedOutSolve) {
+  const Problem p = Survey(true);
+  const std::string path = testing::TempPath("ranks_read.dba");
+  WriteBinaryProblem(p, path);
+  const LmOptions o = Exact(LinearSolverType::kDense);
+  DistributedOptions d;
+  d.rcs = DistributedOptions::Rcs::kGather;
+  const RanksRun handed = SolveOnRanks(3, p, "", o, d);
+  const RanksRun read = SolveOnRanks(3, p, path, o, d);
+  EXPECT_NEAR(read.final_cost, handed.final_cost, 1e-12 * handed.final_cost);
+  ExpectSame(read.cameras, handed.cameras, 1e-12);
+  ExpectSame(read.points, handed.points, 1e-12);
+}
+
+TEST(DistributedSolve, RanksRejectWhatOneProcessRejects) {
+  Problem p = Survey(false);
+  for (int o = 0; o < p.num_observations(); o += 37) p.obs_pixel[2 * o] += 40.0;  // mismatches
+  const LmOptions o = Exact(LinearSolverType::kDense);
+  Problem one = p;
+  BundleAdjust(o, &one);
+  OriginalIndices original = OriginalIndices::Identity(one);
+  const RejectionRound round = DropOutliers({3.0, 0.0}, 1, &one, &original);
+  ASSERT_GT(round.observations_dropped, 0);
+  const double cost = BundleAdjust(o, &one).lm.final_cost;
+  DistributedOptions d;
+  d.rcs = DistributedOptions::Rcs::kGather;
+  const RanksRun run = SolveOnRanks(3, p, "", o, d, 3.0);
+  EXPECT_NEAR(run.final_cost, cost, 1e-9 * cost);
+  const KeptObservations kept = KeptFlags(original, p.num_observations(), p.num_points());
+  EXPECT_EQ(run.kept.observation, kept.observation);
+  EXPECT_EQ(run.kept.point, kept.point);
+}
+
+}  // namespace
+}  // namespace dba
