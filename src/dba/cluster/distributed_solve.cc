@@ -159,6 +159,79 @@ std::vector<int32_t> BinaryPointGroups(Communicator* comm, const std::string& pa
   return group;
 }
 
+// Collective, ranks reading a .dba: the main rank's alignment (a
+// similarity, or none) moves every forming rank's points, and its cameras
+// (aligned already) replace the ones the ranks read.
+void AlignShares(Communicator* comm, const std::optional<Similarity>& alignment,
+                 Problem* camera_side, RankShare* share) {
+  int32_t aligned = comm->is_main() && alignment.has_value() ? 1 : 0;
+  comm->Broadcast(Traffic::kDistribution, &aligned);
+  if (aligned == 0) return;
+  double packed[13] = {};
+  if (comm->is_main()) {
+    packed[0] = alignment->scale;
+    std::copy_n(alignment->rotation.data(), 9, packed + 1);
+    std::copy_n(alignment->translation.data(), 3, packed + 10);
+  }
+  comm->Broadcast(Traffic::kDistribution, std::span<double>(packed, 13));
+  Similarity s;
+  s.scale = packed[0];
+  std::copy_n(packed + 1, 9, s.rotation.data());
+  std::copy_n(packed + 10, 3, s.translation.data());
+  if (share != nullptr) {
+    std::vector<double>& points = share->problem.points;
+    for (size_t k = 0; k + 2 < points.size(); k += kPointSize) {
+      const Vec3 moved = s.Apply(Vec3(points[k], points[k + 1], points[k + 2]));
+      std::copy_n(moved.data(), 3, &points[k]);
+    }
+  }
+  std::vector<double>& cameras = comm->is_main() ? camera_side->cameras : share->problem.cameras;
+  comm->Broadcast(Traffic::kDistribution, std::span<double>(cameras));
+  if (comm->is_main() && share != nullptr) share->problem.cameras = camera_side->cameras;
+}
+
+// `extra`'s points (global ids from `first_global`; their observations'
+// cameras global) appended to a share read from a .dba.
+void AppendPoints(const Problem& extra, int64_t first_global, RankShare* share) {
+  Problem& p = share->problem;
+  for (int64_t k = 0; k < extra.num_points(); ++k) {
+    if (const PointPrior* prior = extra.point_prior(k)) {
+      p.point_priors.push_back(*prior);
+      p.point_priors.back().point = p.num_points();
+    }
+    share->global_point.push_back(first_global + k);
+    p.points.insert(p.points.end(), extra.point(k), extra.point(k) + kPointSize);
+    for (int64_t o = extra.point_offsets[k]; o < extra.point_offsets[k + 1]; ++o) {
+      p.obs_camera.push_back(extra.obs_camera[o]);
+      p.obs_pixel.insert(p.obs_pixel.end(), &extra.obs_pixel[2 * o], &extra.obs_pixel[2 * o + 2]);
+    }
+    p.point_offsets.push_back(p.num_observations());
+  }
+}
+
+// Collective, ranks reading a .dba: the control points the main rank's
+// camera side holds (its only points) join the first forming rank's share
+// as global points num_file_points.. Returns their count on every rank.
+int64_t HandOutControlPoints(Communicator* comm, const Problem& camera_side,
+                             int64_t num_file_points, int first_rank, RankShare* share) {
+  const Traffic t = Traffic::kDistribution;
+  int64_t count = comm->is_main() ? camera_side.num_points() : 0;
+  comm->Broadcast(t, &count);
+  if (count == 0) return 0;
+  if (comm->is_main() && first_rank == 0) {
+    AppendPoints(camera_side, num_file_points, share);
+  } else if (comm->is_main()) {
+    camera_side.ForEachArray([&](const auto& v) { comm->SendVector(first_rank, t, v); });
+  } else if (comm->rank() == first_rank) {
+    Problem extra;
+    extra.ForEachArray([&](auto& v) {
+      v = comm->RecvVector<typename std::decay_t<decltype(v)>::value_type>(0, t);
+    });
+    AppendPoints(extra, num_file_points, share);
+  }
+  return count;
+}
+
 }  // namespace
 
 RcsPlacement ChooseRcsPlacement(const DistributedOptions& options, const LmOptions& lm, int ranks) {
@@ -201,7 +274,8 @@ RcsPlacement Placement(Communicator* comm, const DistributedOptions& d, const Lm
 DistributedPointSide::DistributedPointSide(Communicator* comm, const LmOptions& options,
                                            const DistributedOptions& distributed,
                                            const std::string& binary_input, Problem* problem,
-                                           const DistributedCheckpoints& checkpoints)
+                                           const DistributedCheckpoints& checkpoints,
+                                           const std::optional<Similarity>& alignment)
     : comm_(comm), distributed_(distributed), problem_(problem) {
   summary_.ranks = comm->size();
   summary_.partition = distributed.partition;
@@ -215,7 +289,7 @@ DistributedPointSide::DistributedPointSide(Communicator* comm, const LmOptions& 
   groups_ = comm->size() - (summary_.main_forms ? 0 : 1);
   mine_ = summary_.main_forms ? &own_ : nullptr;
   Timer distribution;
-  Distribute(binary_input, checkpoints);
+  Distribute(binary_input, checkpoints, alignment);
   summary_.distribution_seconds = distribution.Seconds();
 }
 
@@ -223,36 +297,11 @@ DistributedPointSide::~DistributedPointSide() = default;
 
 // Partition and hand out the shares (or let the ranks read theirs).
 void DistributedPointSide::Distribute(const std::string& binary_input,
-                                      const DistributedCheckpoints& checkpoints) {
+                                      const DistributedCheckpoints& checkpoints,
+                                      const std::optional<Similarity>& alignment) {
   const int first_rank = summary_.main_forms ? 0 : 1;
   if (!binary_input.empty()) {
-    const BinaryProblemHeader header = ReadBinaryProblemHeader(binary_input);
-    const std::vector<int32_t> group =
-        BinaryPointGroups(comm_, binary_input, header, groups_, distributed_.partition);
-    if (mine_ != nullptr) own_ = ReadShare(0, binary_input, group, 0, distributed_);
-    // The main rank keeps the camera side (model, image groups, fixed flags:
-    // its unknowns must be the ranks') and point coordinates, not
-    // observations.
-    *problem_ = Problem(ReadBinaryCameraSide(binary_input));
-    ApplyFixings(distributed_.fixings, problem_);
-    const bool wanted = checkpoints.writer != nullptr || checkpoints.resume != nullptr;
-    if (wanted) {
-      const uint64_t fingerprint =
-          SpreadFingerprint(comm_, mine_, first_rank, *problem_, header.num_points);
-      if (checkpoints.writer != nullptr) checkpoints.writer->set_fingerprint(fingerprint);
-      if (checkpoints.resume != nullptr) {
-        CheckCheckpointFits(*checkpoints.resume, checkpoints.resume_path, fingerprint,
-                            problem_->cameras.size(), kPointSize * header.num_points);
-      }
-    }
-    if (checkpoints.resume != nullptr) {
-      ResumeShares(comm_, checkpoints.resume, mine_, first_rank);
-      problem_->cameras = std::exchange(checkpoints.resume->cameras, {});
-      checkpoints.resume->points = {};  // handed out to the ranks
-    }
-    if (mine_ != nullptr) KeepTouchedCameras(mine_);
-    num_observations_ = header.num_observations;
-    num_points_ = header.num_points;
+    ReadShares(binary_input, checkpoints, alignment);
     return;
   }
   const std::vector<int32_t> group = PartitionPoints(*problem_, groups_, distributed_.partition);
@@ -271,6 +320,46 @@ void DistributedPointSide::Distribute(const std::string& binary_input,
   Release(problem_->point_offsets);
   Release(problem_->obs_camera);
   Release(problem_->obs_pixel);
+}
+
+// Every forming rank reads its points of the .dba; the main rank's camera
+// side (as the caller prepared it) is the ranks' unknowns. Moved by the
+// alignment, joined by the control points, checked against a checkpoint's
+// fingerprint and started from it.
+void DistributedPointSide::ReadShares(const std::string& binary_input,
+                                      const DistributedCheckpoints& checkpoints,
+                                      const std::optional<Similarity>& alignment) {
+  const int first_rank = summary_.main_forms ? 0 : 1;
+  const BinaryProblemHeader header = ReadBinaryProblemHeader(binary_input);
+  const std::vector<int32_t> group =
+      BinaryPointGroups(comm_, binary_input, header, groups_, distributed_.partition);
+  if (mine_ != nullptr) own_ = ReadShare(0, binary_input, group, 0, distributed_);
+  AlignShares(comm_, alignment, problem_, mine_);
+  const int64_t control = HandOutControlPoints(comm_, *problem_, header.num_points, first_rank, mine_);
+  num_points_ = header.num_points + control;
+  num_observations_ = header.num_observations + problem_->num_observations();
+  // The main rank keeps the camera side and, collected at the end, the
+  // points; not the observations.
+  Release(problem_->points);
+  Release(problem_->point_offsets);
+  Release(problem_->obs_camera);
+  Release(problem_->obs_pixel);
+  Release(problem_->point_priors);
+  const bool wanted = checkpoints.writer != nullptr || checkpoints.resume != nullptr;
+  if (wanted) {
+    const uint64_t fingerprint = SpreadFingerprint(comm_, mine_, first_rank, *problem_, num_points_);
+    if (checkpoints.writer != nullptr) checkpoints.writer->set_fingerprint(fingerprint);
+    if (checkpoints.resume != nullptr) {
+      CheckCheckpointFits(*checkpoints.resume, checkpoints.resume_path, fingerprint,
+                          problem_->cameras.size(), kPointSize * num_points_);
+    }
+  }
+  if (checkpoints.resume != nullptr) {
+    ResumeShares(comm_, checkpoints.resume, mine_, first_rank);
+    problem_->cameras = std::exchange(checkpoints.resume->cameras, {});
+    checkpoints.resume->points = {};  // handed out to the ranks
+  }
+  if (mine_ != nullptr) KeepTouchedCameras(mine_);
 }
 
 // The workers: the main rank's own share's (if it forms) and the global RCS
@@ -373,6 +462,8 @@ void ServePoints(Communicator* comm, const LmOptions& options, const Distributed
                                                          comm->size() - first_rank,
                                                          distributed.partition);
     share = ReadShare(comm->rank(), binary_input, group, comm->rank() - first_rank, distributed);
+    AlignShares(comm, std::nullopt, nullptr, &share);
+    HandOutControlPoints(comm, Problem(), header.num_points, first_rank, &share);
     if (flags.fingerprint) SpreadFingerprint(comm, &share, first_rank, {}, 0);
     if (flags.resume) ResumeShares(comm, nullptr, &share, first_rank);
     KeepTouchedCameras(&share);

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@
 #include "dba/cluster/share_outliers.h"
 #include "dba/lm/local_point_workers.h"
 #include "dba/lm/outlier_rejection.h"
+#include "dba/camera/pose_similarity.h"
 #include "dba/problem/fixings.h"
 
 namespace dba {
@@ -86,11 +88,19 @@ struct DistributedCheckpoints {
 //    graph to partition (camera-locality scheme) and reads cameras and point
 //    coordinates into `problem`, never the observations.
 // `problem` then holds the cameras the LM loop updates.
+// With `binary_input`, `problem` is the camera side as the caller prepared
+// it (fixings, and when georeferenced its cameras aligned and the control
+// points appended as its only points); `alignment`, the similarity that
+// moved the cameras, is applied to every rank's points as they are read,
+// and the control points join the main rank's share (rank 1's when the
+// main rank does not form). The main rank never holds the file's
+// observations.
 class DistributedPointSide {
  public:
   DistributedPointSide(Communicator* comm, const LmOptions& options,
                        const DistributedOptions& distributed, const std::string& binary_input,
-                       Problem* problem, const DistributedCheckpoints& checkpoints = {});
+                       Problem* problem, const DistributedCheckpoints& checkpoints = {},
+                       const std::optional<Similarity>& alignment = std::nullopt);
   ~DistributedPointSide();
 
   // LM over every rank's points from the current parameters with `options`
@@ -116,7 +126,10 @@ class DistributedPointSide {
   int64_t num_observations() const { return num_observations_; }
 
  private:
-  void Distribute(const std::string& binary_input, const DistributedCheckpoints& checkpoints);
+  void Distribute(const std::string& binary_input, const DistributedCheckpoints& checkpoints,
+                  const std::optional<Similarity>& alignment);
+  void ReadShares(const std::string& binary_input, const DistributedCheckpoints& checkpoints,
+                  const std::optional<Similarity>& alignment);
   void MakeWorkers(const LmOptions& options);
 
   Communicator* comm_;

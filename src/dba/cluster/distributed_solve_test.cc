@@ -64,7 +64,7 @@ RanksRun SolveOnRanks(int ranks, const Problem& problem, const std::string& bina
       ServePoints(&comm, o, d, binary);
       return;
     }
-    Problem p = binary.empty() ? problem : Problem();
+    Problem p = binary.empty() ? problem : Problem(ReadBinaryCameraSide(binary));
     DistributedPointSide side(&comm, o, d, binary, &p);
     BundleAdjustSummary s = side.Solve(o, {}, {});
     if (reject > 0) {

@@ -92,8 +92,8 @@ void ToLocalFrame(const GeoreferenceOptions& options, Georeference* geo,
 
 // Before LM, the block onto the priors, or else onto the control points,
 // by a robust similarity; what was done in one log line.
-void AlignBlock(const GeoreferenceOptions& options, const Georeference& geo, Problem* problem,
-                std::ostream& out) {
+Similarity AlignBlock(const GeoreferenceOptions& options, const Georeference& geo, Problem* problem,
+                      std::ostream& out) {
   const int64_t control = geo.gcps.CountControl();
   const bool on_priors = geo.priors.priors.size() >= 3 || control == 0;
   SimilarityFit fit;
@@ -123,6 +123,7 @@ void AlignBlock(const GeoreferenceOptions& options, const Georeference& geo, Pro
                                 "is left to the priors inside LM"
                               : "");
   out << line;
+  return fit;
 }
 
 }  // namespace
@@ -157,7 +158,7 @@ Georeference PrepareGeoreference(const GeoreferenceOptions& options, const Image
     OpenCrs("--output-crs", options.output_crs);  // refused now, not after the solve
   }
 
-  if (align) AlignBlock(options, geo, problem, out);
+  if (align) geo.alignment = AlignBlock(options, geo, problem, out);
   AddControlPoints(geo.gcps, problem);
   geo.control_points = geo.gcps.CountControl();
   return geo;

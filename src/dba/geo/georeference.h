@@ -47,6 +47,10 @@ struct Georeference {
   std::vector<std::string> image_names;  // how images are named in the report
   int64_t control_points = 0;  // appended to the problem: its last points
   std::optional<LocalFrame> frame;  // the local ENU frame, when a CRS was given
+  // The similarity that moved the block onto the priors or control points
+  // (none when not aligned: a resumed solve's parameters are aligned
+  // already), for points the caller did not hand over (ranks reading a .dba).
+  std::optional<Similarity> alignment;
   bool empty() const { return priors.empty() && gcps.empty(); }
 };
 

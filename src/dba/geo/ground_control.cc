@@ -152,6 +152,7 @@ SimilarityFit AlignToControlPoints(const GroundControl& gcps,
 }
 
 void AddControlPoints(const GroundControl& gcps, Problem* problem) {
+  if (problem->point_offsets.empty()) problem->point_offsets.push_back(0);  // a camera side alone
   for (const GroundControlPoint& p : gcps.points) {
     if (!p.control) continue;
     PointPrior prior;

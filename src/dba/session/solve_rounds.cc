@@ -79,7 +79,8 @@ std::unique_ptr<PointSide> SolveSession::MakePointSide() {
       input_.ranks_read_file && resumed_ ? &*resumed_ : nullptr, options_.resume_path};
   return std::make_unique<RankPointSide>(std::make_unique<DistributedPointSide>(
       comm_, lm_, RanksOptions(options_, input_.ranks_read_file),
-      input_.ranks_read_file ? input_.name : std::string(), &result_.problem, checkpoints));
+      input_.ranks_read_file ? input_.name : std::string(), &result_.problem, checkpoints,
+      result_.geo.alignment));
 }
 
 // The log line of every iteration, and the checkpoints after accepted ones

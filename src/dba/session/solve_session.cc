@@ -30,19 +30,26 @@ namespace {
 SolveInput LoadInput(const SolveOptions& options, const Communicator& comm) {
   SolveInput input;
   input.name = options.input;
-  // Distributed runs on a binary file: every rank reads its own points;
-  // not when georeferencing, which moves the whole block and adds control
-  // points before the solve (the main rank reads it all and hands it out).
-  // Nor when a resume may restart after a rejection round (the main rank
-  // cuts the problem down to what the rounds left before handing it out).
+  // Distributed runs on a binary file: every rank reads its own points and
+  // the main rank only the camera side (georeferencing aligns it onto the
+  // priors and adds the control points; the ranks move their points by the
+  // same similarity). The main rank reads the whole problem instead when
+  // control points alone align the block (their first triangulation starts
+  // at tie points near their measurements), and when a resume may restart
+  // after a rejection round (it cuts the problem down to what the rounds
+  // left before handing it out).
+  const bool aligned_on_control_points =
+      !options.geo.gcps_path.empty() && options.geo.camera_priors_path.empty() &&
+      options.resume_path.empty();
   input.ranks_read_file = comm.size() > 1 && IsBinaryProblem(options.input) &&
-                          !options.geo.any() &&
+                          !aligned_on_control_points &&
                           !(options.reject_outliers_px > 0 && !options.resume_path.empty());
   if (!comm.is_main()) return input;
   if (input.ranks_read_file) {
     // Checked here, before the solve; every rank holds them fixed in the
     // camera side it reads (the same command line on every rank).
-    CheckedFixings(options.unknowns, ReadBinaryCameraSide(options.input));
+    input.problem = Problem(ReadBinaryCameraSide(options.input));
+    ApplyFixings(options.unknowns, &input.problem);
     return input;
   }
   const bool names = options.geo.any() || !options.geo.camera_centres_path.empty();
@@ -152,6 +159,7 @@ void SolveSession::Start(const SolveInput& input) {
   report.loss = lm_.loss;
   report.final_loss = lm_.loss;
   report.reject_outliers_px = options_.reject_outliers_px;
+  result_.problem = std::move(input_.problem);  // the camera side alone when the ranks read
   if (input.ranks_read_file) {
     const BinaryProblemHeader h = ReadBinaryProblemHeader(input.name);
     report.num_intrinsic_groups = h.num_intrinsics;
@@ -160,7 +168,6 @@ void SolveSession::Start(const SolveInput& input) {
     report.num_observations = h.num_observations;
     return;
   }
-  result_.problem = std::move(input_.problem);
   const Problem& problem = result_.problem;
   report.num_cameras = problem.num_images();
   report.num_intrinsic_groups = problem.num_groups();
