@@ -56,6 +56,18 @@ for k in 1 2; do
     "$(json_value "$tmp/p49_last.full.json" iterations)" = "$(json_value "$tmp/again.json" iterations)"
 done
 
+# The iteration limit: its last step writes a checkpoint even when
+# --checkpoint-every has not passed, and a resume under a higher limit goes
+# on, byte for byte where the uninterrupted solve goes.
+"$dba" solve "$p49" -q -t 2 --max-iterations 3 --checkpoint "$tmp/lim.ckpt" --checkpoint-every 1e9 \
+  --report "$tmp/lim3.json" >/dev/null 2>&1
+check "limit: the first and the last step written" json "$tmp/lim3.json" "d['checkpoints']['written'] == 2"
+"$dba" solve "$p49" -q -t 2 --max-iterations 6 --resume "$tmp/lim.ckpt" -o "$tmp/lim_resumed.txt" \
+  --report "$tmp/lim_resumed.json" >/dev/null 2>&1
+"$dba" solve "$p49" -q -t 2 --max-iterations 6 -o "$tmp/lim6.txt" >/dev/null 2>&1
+check "limit: resumed under a higher one, the same bytes" cmp -s "$tmp/lim6.txt" "$tmp/lim_resumed.txt"
+check "limit: resumed for 3 more iterations" json "$tmp/lim_resumed.json" "d['iterations'] == 6"
+
 # A tight PCG solve: to 1e-9 relative.
 tight_pcg=(--linear-solver pcg --eta 0 --pcg-tolerance 1e-14 --pcg-max-iterations 2000)
 "$dba" solve "$p49" -q -t 2 "${tight_pcg[@]}" --report "$tmp/pcg.json" >/dev/null 2>&1

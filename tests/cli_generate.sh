@@ -18,6 +18,27 @@ done
 check "bad number is named" grep -q -- "--images" "$tmp/err"
 "$dba" generate "$tmp/x.dba" --side-overlap 1.5 >/dev/null 2>&1; check "bad overlap exits 2" test $? -eq 2
 check "nothing written after refusal" test ! -e "$tmp/x.dba"
+for bad in "--images 3000000000" "--images 1" "--features 0" "--forward-overlap 0.9999" "--side-overlap 0.9999" \
+           "--noise -1" "--cameras 0" "--field-of-view 170"; do
+  "$dba" generate "$tmp/x.dba" $bad >"$tmp/err" 2>&1
+  check "generate $bad exits 2" test $? -eq 2
+  check "generate $bad names the option" grep -qF -- "${bad%% *}:" "$tmp/err"
+done
+check "nothing written after the refusals" test ! -e "$tmp/x.dba"
+# Memory and disk are checked before anything is generated.
+DBA_MEMORY_AVAILABLE=1000000 "$dba" generate "$tmp/x.txt" --images 5000 >"$tmp/err" 2>&1
+check "a BAL survey beyond the memory exits 1" test $? -eq 1
+check "it names the need and the room" grep -q "needs about .* of memory but 1.0 MiB is available" "$tmp/err"
+check "nothing written when the memory is short" test ! -e "$tmp/x.txt"
+if [ "$(id -u)" = 0 ] && mkdir -p "$tmp/small" && mount -t tmpfs -o size=1m tmpfs "$tmp/small" 2>/dev/null; then
+  "$dba" generate "$tmp/small/x.dba" --images 2000 >"$tmp/err" 2>&1
+  check "a survey beyond the disk's free space exits 1" test $? -eq 1
+  check "it names the file and the space" grep -q "small/x.dba: the survey's files need about .* but its file system has" "$tmp/err"
+  check "nothing left on the full disk" test -z "$(ls -A "$tmp/small")"
+  umount "$tmp/small"
+else
+  echo "SKIP: a full disk needs root and a tmpfs mount"
+fi
 
 "$dba" generate "$tmp/a.dba" --images 80 --seed 3 --truth "$tmp/a.truth.dba" >"$tmp/out"
 check "generate exits 0" test $? -eq 0
@@ -195,11 +216,12 @@ printf '0 1 2 3 2 4\n0 1 2 3 2 4\n' >"$tmp/dup.priors"
 printf '0 1 2 3\n' >"$tmp/nosigma.priors"
 printf '0 1 2 3 2 4\n# a comment\n\n400 1 2 3 2 4\n' >"$tmp/range.priors"
 printf '0 1 2 3 0 4\n' >"$tmp/zero.priors"
+printf '0 1 2 3 1e-300 4\n' >"$tmp/tiny.priors"
 printf '0 1 x 3\n' >"$tmp/nan.priors"
 for bad in "dup:2: image '0' already has a prior (line 1)" \
            "nosigma:1: no SIGMA_XY SIGMA_Z on the line and no --prior-sigma XY,Z" \
            "range:4: image '400': expected a 0-based camera index below 300" \
-           "zero:1: sigma must be > 0" "nan:1: Y: 'x' is not a finite number"; do
+           "zero:1: sigma must be within [1e-06, 1e+06]" "tiny:1: sigma must be within" "nan:1: Y: 'x' is not a finite number"; do
   name=${bad%%:*}
   "$dba" solve "$tmp/g.dba" -q --camera-priors "$tmp/$name.priors" >"$tmp/gerr" 2>&1
   check "bad priors ($name) exit 1" test $? -eq 1

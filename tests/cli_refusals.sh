@@ -63,4 +63,50 @@ refuse 1 "observation 2 (camera 0, point 1)" "$tmp/nonfinite.txt"
 refuse 1 "$tmp/no_truth.txt" "$bal" --truth "$tmp/no_truth.txt"
 refuse 1 "does not exist" "$bal" -o "$tmp/no_dir/out.txt"
 refuse 1 "does not exist" "$bal" --ply "$tmp/no_dir/p.ply"
+
+# Absurd values and inputs cut short (exit 1 for a file's, 2 for a flag's).
+bzcat "$bal" | head -c -25 >"$tmp/cut.txt"  # inside the last number, no final newline
+refuse 1 "$tmp/cut.txt:$(($(wc -l <"$tmp/cut.txt") + 1)): the file ends inside this line" "$tmp/cut.txt"
+refuse 2 "-o: an empty value" no-o "$bal" -o ''
+refuse 2 "--prior-crs: an empty value" "$bal" --prior-crs ''
+refuse 2 "--loss-scale" "$bal" --loss cauchy --loss-scale 1e20
+refuse 2 "--prior-sigma" "$bal" --camera-priors "$tmp/none.txt" --prior-sigma 1e-300
+# A rejection that leaves nothing: refused, with how much it dropped.
+refuse 1 "outlier rejection dropped every observation (31843 observations and 7776 points" \
+  "$bal" --reject-outliers 1e-6
+refuse 1 "outlier rejection dropped every observation" "$bal" --reject-outliers 1e6 --min-triangulation-angle 179
+# Priors in a CRS: a wrapped longitude, a blunder of a height; a PROJ string
+# that is no CRS is the flag's error, PROJ's own log kept off stderr.
+"$dba" generate "$tmp/geo.dba" --images 20 --priors "$tmp/geo.txt" >/dev/null
+awk '!/^#/ {printf "%s %.9f %.9f %.3f 2 4\n", $1, 47 + $3 / 111000, 8 + $2 / 76000, 500 + $4}' \
+  "$tmp/geo.txt" >"$tmp/wgs84.txt"
+"$dba" solve "$tmp/geo.dba" --camera-priors "$tmp/wgs84.txt" --prior-crs EPSG:4979 --max-iterations 2 >"$tmp/log" 2>&1
+check "the WGS84 priors themselves are taken" contains "$tmp/log" "camera priors: 20"
+awk 'NR == 3 {$3 = 400} {print}' "$tmp/wgs84.txt" >"$tmp/lon400.txt"
+refuse 1 "lon400.txt: image 2: (46.99998446, 400, 609.183)" "$tmp/geo.dba" --camera-priors "$tmp/lon400.txt" --prior-crs EPSG:4979
+check "the wrapped longitude is named" contains "$tmp/log" "is outside the CRS's range"
+awk 'NR == 3 {$4 = 1e20} {print}' "$tmp/wgs84.txt" >"$tmp/high.txt"
+refuse 1 "m from the WGS84 ellipsoid, beyond the 1e7 m dba accepts" "$tmp/geo.dba" --camera-priors "$tmp/high.txt" --prior-crs EPSG:4979
+refuse 2 "--prior-crs: PROJ cannot parse the CRS '+proj=foo'" "$tmp/geo.dba" --camera-priors "$tmp/wgs84.txt" --prior-crs +proj=foo
+check "PROJ's own log stays off stderr" lacks "$tmp/log" "proj_create"
+# COLMAP models with values no camera has, or one name for two images.
+bad_model() {  # bad_model NAME AWK_PROGRAM_ON_FILE FILE: a copy of $colmap with FILE edited
+  mkdir -p "$tmp/$1" && cp "$colmap"/*.txt "$tmp/$1/"
+  awk "$2" "$colmap/$3" >"$tmp/$1/$3"
+}
+bad_model zero_width '/^1 SIMPLE_RADIAL/ {$3 = 0} {print}' cameras.txt
+refuse 1 "cameras.txt:4: camera 1: image size 0 x 720 is outside 1 to 1000000 pixels a side" "$tmp/zero_width"
+bad_model negative_f '/^1 SIMPLE_RADIAL/ {$5 = -700} {print}' cameras.txt
+refuse 1 "SIMPLE_RADIAL's f is -700.000000: a focal length must be > 0" "$tmp/negative_f"
+bad_model same_name '{sub(/ l-212[.]jpg/, " l-115.jpg"); print}' images.txt
+refuse 1 "the name 'l-115.jpg' is also image on line 5's: image names must be unique" "$tmp/same_name"
+printf '# one camera\n1 EQUIRECTANGULAR 1280 720 1280 640\n' >"$tmp/equi_cameras.txt"
+bad_model equi_size 'FNR == 0 {} {print}' images.txt
+cp "$tmp/equi_cameras.txt" "$tmp/equi_size/cameras.txt"
+refuse 1 "EQUIRECTANGULAR's h is 640.000000 but the image is 1280 x 720" "$tmp/equi_size"
+# --fix-intrinsics and --fix-images name COLMAP ids: an unknown one is the
+# flag's error (2), a name not in that camera's model too, naming the camera.
+refuse 2 "--fix-intrinsics: camera 7: $colmap has no camera with that id" "$colmap" --fix-intrinsics 7:f
+refuse 2 "no intrinsic parameter 'f:cx' in COLMAP camera 1's model SIMPLE_RADIAL" "$colmap" --fix-intrinsics 1:f:cx
+refuse 2 "--fix-images: image 99: $colmap has no image with that id" "$colmap" --fix-images 99
 finish

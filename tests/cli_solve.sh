@@ -265,10 +265,10 @@ head -c 70000000 /dev/zero | tr '\0' '7' >"$tmp/noline.txt"
 /usr/bin/time -f "%U %S %M" -o "$tmp/noline.time" "$dba" solve "$tmp/noline.txt" -q >"$tmp/out" 2>&1
 check "a 70 MB line exits 1" test $? -eq 1
 check "a 70 MB line is refused by file and line" contains "$tmp/out" "$tmp/noline.txt:1: line longer than 64 MiB"
-# CPU seconds, not wall time: the bound holds on a loaded machine (ctest -j8)
-# and still catches the old reader (17-27 s, 3 GB).
-check "a 70 MB line is refused in under 3 CPU seconds and 400 MB" \
-  awk 'END { exit !($1 + $2 < 3 && $3 < 400000) }' "$tmp/noline.time"
+# The memory is the deterministic bound (the old reader took 3 GB, and
+# 17-27 s: the time is a benchmark's matter, not a test's).
+check "a 70 MB line is refused in under 400 MB" \
+  awk 'END { exit !($3 < 400000) }' "$tmp/noline.time"
 mkdir -p "$tmp/cut"
 cp "$colmap/mithunnallana_6img/sparse/0/"*.txt "$tmp/cut/"
 cameras_txt=$(cat "$tmp/cut/cameras.txt")

@@ -534,21 +534,21 @@ else
 fi
 
 # A rank that fails stops the whole job: clear message naming the rank, non-zero
-# status, within seconds, no output.
-start=$(date +%s)
-DBA_INJECT_FAULT=2:3 mpirun_n 3 "$dba" solve "$problem" -q "${tight[@]}" -o "$tmp/fault.txt" >"$tmp/fault.out" 2>&1
+# status, no output; a job that hangs instead fails by the timeout (status
+# 124; the healthy job takes seconds, so the limit is no timing claim).
+mpirun_hang_guard() { local n=$1; shift; timeout -k 10 120 mpirun --allow-run-as-root --oversubscribe --bind-to none -np "$n" "$@"; }
+DBA_INJECT_FAULT=2:3 mpirun_hang_guard 3 "$dba" solve "$problem" -q "${tight[@]}" -o "$tmp/fault.txt" >"$tmp/fault.out" 2>&1
 status=$?
-elapsed=$(( $(date +%s) - start ))
 if [ "$status" -ne 0 ] && [ "$status" -ne 124 ] && grep -q "rank 2: error: injected fault" "$tmp/fault.out" \
-   && [ ! -e "$tmp/fault.txt" ] && [ "$elapsed" -lt 60 ]; then
+   && [ ! -e "$tmp/fault.txt" ]; then
   passes=$((passes + 1))
 else
-  fail "injected fault on rank 2: status $status after ${elapsed}s"; cat "$tmp/fault.out" >&2
+  fail "injected fault on rank 2: status $status (124: it hung)"; cat "$tmp/fault.out" >&2
 fi
 # A fault at every protocol step, on the main rank and on another: reading a
 # .dba share, formation, step evaluation, finish, end, and rank 0 writing after
 # the solve. Each: non-zero status, "rank N: error: injected fault", no
-# output, within 60 s.
+# output, no hang (the guard's timeout).
 "$dba" convert "$problem" "$tmp/faults.dba" >/dev/null
 # (Not a rank other than 0 at `end`: there Open MPI's mpirun sometimes
 # hangs, under load, after MPI_Abort of a rank whose peers have already
@@ -557,16 +557,14 @@ for spec in 1:read:1 0:read:1 1:form:2 0:form:1 2:step:2 0:step:1 1:finish:1 0:f
             0:end:1 0:write:1; do
   rank=${spec%%:*}
   rm -f "$tmp/fault.dba"
-  start=$(date +%s)
-  DBA_INJECT_FAULT=$spec mpirun_n 3 "$dba" solve "$tmp/faults.dba" -q "${tight[@]}" \
+  DBA_INJECT_FAULT=$spec mpirun_hang_guard 3 "$dba" solve "$tmp/faults.dba" -q "${tight[@]}" \
     -o "$tmp/fault.dba" >"$tmp/fault.out" 2>&1
   status=$?
-  elapsed=$(( $(date +%s) - start ))
   if [ "$status" -ne 0 ] && [ "$status" -ne 124 ] && grep -q "rank $rank: error: injected fault" "$tmp/fault.out" \
-     && [ ! -e "$tmp/fault.dba" ] && [ -z "$(ls "$tmp" | grep 'fault.dba.tmp')" ] && [ "$elapsed" -lt 60 ]; then
+     && [ ! -e "$tmp/fault.dba" ] && [ -z "$(ls "$tmp" | grep 'fault.dba.tmp')" ]; then
     passes=$((passes + 1)); echo "ok   injected fault $spec"
   else
-    fail "injected fault $spec: status $status after ${elapsed}s"; cat "$tmp/fault.out" >&2
+    fail "injected fault $spec: status $status (124: it hung)"; cat "$tmp/fault.out" >&2
   fi
 done
 # Bad input read by the main rank stops every rank too.

@@ -31,7 +31,7 @@ def test_arrays_round_trip_to_the_files_cost(ladybug_problem):
     before = ladybug_problem.cameras.copy()
     from_file = dba.solve(LADYBUG, threads=1)
     r = solve_problem(ladybug_problem, threads=1)
-    assert r.summary.final_cost == pytest.approx(LADYBUG_EXACT_COST, rel=1e-3)
+    assert r.summary.final_cost == pytest.approx(LADYBUG_EXACT_COST, rel=1e-5)
     assert r.summary.initial_cost == from_file.summary.initial_cost
     assert r.summary.final_cost == from_file.summary.final_cost
     assert r.summary.iterations == from_file.summary.iterations

@@ -15,7 +15,7 @@ from conftest import LADYBUG, LADYBUG_EXACT_COST, LADYBUG_INITIAL_COST, SHARED_D
 def test_reaches_the_exact_final_cost(ladybug_result):
     s = ladybug_result.summary
     assert s.initial_cost == pytest.approx(LADYBUG_INITIAL_COST, rel=1e-6)
-    assert s.final_cost == pytest.approx(LADYBUG_EXACT_COST, rel=1e-3)
+    assert s.final_cost == pytest.approx(LADYBUG_EXACT_COST, rel=1e-5)
     assert s.termination == "function_tolerance"
     assert 0 < s.accepted_iterations <= s.iterations < 100
     # RMS is sqrt(2 F / observations) for the squared loss.

@@ -293,9 +293,11 @@ int InfoMain(const std::vector<std::string>& args) {
     defaults.num_threads = omp_get_num_procs();
     const MemoryEstimate e = EstimateSolveMemory(p, structure, defaults, CurrentResidentBytes(),
                                                  PeakResidentBytes());
+    const int64_t available = AvailableMemoryBytes();
     std::printf("  dba solve's peak memory (defaults, %d threads): about %s; available %s\n",
                 defaults.num_threads, e.Describe().c_str(),
-                FormatBytes(AvailableMemoryBytes() + CurrentResidentBytes()).c_str());
+                available < 0 ? "not known"
+                              : FormatBytes(available + CurrentResidentBytes()).c_str());
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "dba info: error: " << e.what() << "\n";

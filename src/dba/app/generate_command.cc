@@ -13,6 +13,7 @@
 #include "dba/session/run_files.h"
 #include "dba/common/arguments.h"
 #include "dba/common/option_table.h"
+#include "dba/app/generate_budget.h"
 #include "dba/common/memory.h"
 #include "dba/synthetic/uav_generator.h"
 
@@ -221,6 +222,7 @@ int GenerateMain(const std::vector<std::string>& args) {
     return 1;
   }
   try {
+    CheckGenerateFits(EstimateGenerate(a.survey, a.output, a.truth), AvailableMemoryBytes());
     // Every file appears when all are written, or none does.
     OutputTransaction outputs;
     // Progress on a terminal only: a log file gets the summary line.

@@ -245,6 +245,7 @@ class GatheredCoarseSolver : public CholeskySolver {
       for (size_t k = 0; k < sent; ++k) {
         const uint64_t blk = patterns[q][k];
         const int64_t gb = coarse_.FindBlock(PackedRow(blk), PackedCol(blk));
+        if (gb < 0) throw std::logic_error("DistributedRcs: a rank's block is not in the coarse pattern");
         map_[q].push_back(gb);
         sizes_[q] += coarse_.value_offset(gb + 1) - coarse_.value_offset(gb);
       }

@@ -43,7 +43,7 @@ std::function<void(const RcsSystem&)> EstimateAndCheck(const Communicator* comm,
     }
     if (!distributed.memory_check) return;
     const int64_t available = AvailableMemoryBytes();
-    CheckMemoryFits(*estimate, available / std::max(1, comm->ranks_on_node()));
+    CheckMemoryFits(*estimate, available < 0 ? available : available / std::max(1, comm->ranks_on_node()));
   };
 }
 

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace dba {
 
@@ -41,5 +42,12 @@ class UsageError : public std::invalid_argument {
  public:
   using std::invalid_argument::invalid_argument;
 };
+
+// `text` for a message: whole when short, else its start and its length
+// (a 60 MB field is not echoed whole).
+inline std::string Clipped(std::string_view text, size_t max = 80) {
+  if (text.size() <= max) return std::string(text);
+  return std::string(text.substr(0, max)) + "... (" + std::to_string(text.size()) + " bytes)";
+}
 
 }  // namespace dba

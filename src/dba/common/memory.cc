@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <algorithm>
 #include <string>
@@ -15,6 +16,8 @@
 namespace dba {
 namespace {
 
+// The number after `key` at the start of a line of `path` (kB in /proc's
+// files, bytes in a cgroup's memory.stat), 0 if none.
 int64_t ReadKilobytes(const char* path, const char* key) {
   std::FILE* f = std::fopen(path, "r");
   if (f == nullptr) return 0;
@@ -40,38 +43,67 @@ std::pair<uintptr_t, uintptr_t> WholeUnitsInside(const void* data, int64_t bytes
 
 int64_t ReadStatusKilobytes(const char* key) { return ReadKilobytes("/proc/self/status", key); }
 
-// A cgroup limit on this process's memory, 0 if none: v2's memory.max
-// ("max" when unlimited) under the group of the "0::" line of
-// /proc/self/cgroup, or v1's memory.limit_in_bytes under the "memory"
-// controller's group (about 2^63 when unlimited).
-int64_t CgroupLimitBytes() {
-  std::FILE* f = std::fopen("/proc/self/cgroup", "r");
-  if (f == nullptr) return 0;
+// A whole number from a cgroup file, -1 when absent or unlimited ("max",
+// or v1's about 2^63).
+int64_t ReadCgroupNumber(const std::string& path) {
+  std::FILE* m = std::fopen(path.c_str(), "r");
+  if (m == nullptr) return -1;
+  long long v = -1;
+  const int read = std::fscanf(m, "%lld", &v);
+  std::fclose(m);
+  return read == 1 && v >= 0 && v < (1LL << 60) ? v : -1;
+}
+
+}  // namespace
+
+// A limit already below what the group holds leaves no room (0), not an
+// unknown one; the group's other members count.
+int64_t CgroupRoomBytes(const std::string& proc_cgroup, const std::string& cgroup_root) {
+  std::FILE* f = std::fopen(proc_cgroup.c_str(), "r");
+  if (f == nullptr) return -1;
   char line[512];
   std::string v2, v1;
+  bool has_v2 = false;
   while (std::fgets(line, sizeof line, f) != nullptr) {
     std::string l = line;
     while (!l.empty() && (l.back() == '\n' || l.back() == '\r')) l.pop_back();
-    if (l.rfind("0::", 0) == 0) v2 = l.substr(3);
+    if (l.rfind("0::", 0) == 0) v2 = l.substr(3), has_v2 = true;
     const size_t at = l.find(":memory:");
     if (at != std::string::npos) v1 = l.substr(at + 8);
   }
   std::fclose(f);
-  auto read_limit = [](const std::string& path) -> int64_t {
-    std::FILE* m = std::fopen(path.c_str(), "r");
-    if (m == nullptr) return 0;
-    long long limit = 0;
-    const int read = std::fscanf(m, "%lld", &limit);
-    std::fclose(m);
-    return read == 1 && limit > 0 && limit < (1LL << 60) ? limit : 0;
+  int64_t room = -1;
+  auto consider = [&](const std::string& dir, const char* limit_file, const char* usage_file) {
+    const int64_t limit = ReadCgroupNumber(dir + limit_file);
+    if (limit < 0) return;
+    // The group's usage counts its page cache; the inactive part of it is
+    // reclaimed before the limit bites (as `docker stats` counts).
+    const int64_t cache = ReadKilobytes((dir + "/memory.stat").c_str(), "inactive_file ");
+    const int64_t used = std::max<int64_t>(0, ReadCgroupNumber(dir + usage_file) - cache);
+    const int64_t here = std::max<int64_t>(0, limit - used);
+    room = room < 0 ? here : std::min(room, here);
+  };
+  auto each_ancestor = [](std::string group, auto&& visit) {
+    while (true) {
+      visit(group);
+      if (group.empty() || group == "/") return;
+      const size_t slash = group.find_last_of('/');
+      group = slash == 0 || slash == std::string::npos ? std::string() : group.substr(0, slash);
+    }
   };
   if (!v1.empty()) {
-    if (const int64_t limit = read_limit("/sys/fs/cgroup/memory" + v1 + "/memory.limit_in_bytes")) return limit;
+    each_ancestor(v1, [&](const std::string& g) {
+      consider(cgroup_root + "/memory" + g, "/memory.limit_in_bytes", "/memory.usage_in_bytes");
+    });
   }
-  return read_limit("/sys/fs/cgroup" + v2 + "/memory.max");
+  if (has_v2) {
+    each_ancestor(v2, [&](const std::string& g) {
+      consider(cgroup_root + g, "/memory.max", "/memory.current");
+    });
+  }
+  return room;
 }
 
-}  // namespace
 
 int64_t AddressSpaceRoomBytes() {
   struct rlimit limit {};
@@ -84,13 +116,15 @@ int64_t PeakResidentBytes() { return ReadStatusKilobytes("VmHWM:") * 1024; }
 int64_t CurrentResidentBytes() { return ReadStatusKilobytes("VmRSS:") * 1024; }
 
 int64_t AvailableMemoryBytes() {
-  const int64_t machine = ReadKilobytes("/proc/meminfo", "MemAvailable:") * 1024;
-  const int64_t limit = CgroupLimitBytes();
-  if (limit == 0) return machine;
-  // The cgroup's room: its limit less what this process holds already
-  // (other members of the group are not counted).
-  const int64_t room = limit - CurrentResidentBytes();
-  return machine == 0 ? room : std::min(machine, room);
+  // A test hook (README.md, "Test hooks"): the memory available, in bytes.
+  if (const char* v = std::getenv("DBA_MEMORY_AVAILABLE")) return std::atoll(v);
+  int64_t room = ReadKilobytes("/proc/meminfo", "MemAvailable:") * 1024;
+  if (room == 0) room = -1;  // not known
+  for (const int64_t other :
+       {CgroupRoomBytes("/proc/self/cgroup", "/sys/fs/cgroup"), AddressSpaceRoomBytes()}) {
+    if (other >= 0) room = room < 0 ? other : std::min(room, other);
+  }
+  return room;
 }
 
 bool ReturnPages(void* data, int64_t bytes) {

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace dba {
@@ -13,9 +14,20 @@ namespace dba {
 int64_t PeakResidentBytes();
 // Current resident set size (VmRSS) in bytes, 0 if unknown.
 int64_t CurrentResidentBytes();
-// Memory this process may still take: the machine's MemAvailable, or less
-// where a cgroup (v2) limit leaves less room; 0 if unknown.
+// Memory this process may still take: the least of the machine's
+// MemAvailable, the room its cgroups' limits leave (v1 or v2, every
+// ancestor, less what each whole group holds) and the room under its
+// address-space limit (RLIMIT_AS); -1 if none of them is known, 0 when a
+// limit is already reached.
 int64_t AvailableMemoryBytes();
+
+// The room the cgroups named in `proc_cgroup` (/proc/self/cgroup's format)
+// leave under `cgroup_root` (/sys/fs/cgroup): for each group from the
+// process's own up to the root that has a limit (v2's memory.max, v1's
+// memory/…/memory.limit_in_bytes), the limit less what the whole group
+// holds (memory.current or memory.usage_in_bytes, less its inactive page
+// cache); the least of them, at least 0; -1 when no group has a limit.
+int64_t CgroupRoomBytes(const std::string& proc_cgroup, const std::string& cgroup_root);
 
 // Address space this process may still map under its limit (RLIMIT_AS,
 // `ulimit -v`): the limit less the mappings it has (VmSize); -1 when there

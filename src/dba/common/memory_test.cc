@@ -4,7 +4,9 @@
 #include <sys/mman.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -24,6 +26,47 @@ TEST(Memory, PeakGrowsWithATouchedAllocation) {
   // every 64 faults, so the peak may trail the current size by a few pages
   // (seen under AddressSanitizer: 8 KiB).
   EXPECT_LE(current, after + (4 << 20));
+}
+
+// A fake /proc/self/cgroup and /sys/fs/cgroup tree under a temporary root.
+struct FakeCgroups {
+  std::string root = ::testing::TempDir() + "fake_cgroups_" +
+                     ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  FakeCgroups() { std::filesystem::remove_all(root); }
+  void File(const std::string& path, const std::string& text) {
+    std::filesystem::create_directories(std::filesystem::path(root + path).parent_path());
+    std::ofstream(root + path) << text;
+  }
+  int64_t Room() { return CgroupRoomBytes(root + "/proc_cgroup", root + "/sys"); }
+};
+
+TEST(Memory, CgroupRoomIsTheLeastOverEveryLimitedAncestorLessTheGroupsUse) {
+  FakeCgroups v2;
+  v2.File("/proc_cgroup", "0::/a/b\n");
+  EXPECT_EQ(v2.Room(), -1);  // no limit anywhere
+  v2.File("/sys/a/b/memory.max", "max\n");
+  v2.File("/sys/a/b/memory.current", "100\n");
+  v2.File("/sys/a/memory.max", "1000\n");
+  v2.File("/sys/a/memory.current", "700\n");  // the group's other members count
+  EXPECT_EQ(v2.Room(), 300);
+  v2.File("/sys/a/memory.stat", "active_file 5\ninactive_file 200\n");  // reclaimable cache
+  EXPECT_EQ(v2.Room(), 500);
+  v2.File("/sys/a/b/memory.max", "50\n");  // below what the group holds: no room, not unknown
+  EXPECT_EQ(v2.Room(), 0);
+
+  FakeCgroups v1;
+  v1.File("/proc_cgroup", "4:memory:/job\n0::/\n");
+  v1.File("/sys/memory/job/memory.limit_in_bytes", "4096\n");
+  v1.File("/sys/memory/job/memory.usage_in_bytes", "1024\n");
+  v1.File("/sys/memory/memory.limit_in_bytes", "9223372036854771712\n");  // unlimited
+  EXPECT_EQ(v1.Room(), 3072);
+}
+
+TEST(Memory, AvailableIsTheTestHooksFigureWhenSet) {
+  setenv("DBA_MEMORY_AVAILABLE", "12345", 1);
+  EXPECT_EQ(AvailableMemoryBytes(), 12345);
+  unsetenv("DBA_MEMORY_AVAILABLE");
+  EXPECT_GT(AvailableMemoryBytes(), 0);
 }
 
 // Kilobytes of AnonHugePages over this process's mappings.

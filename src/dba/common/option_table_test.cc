@@ -37,6 +37,7 @@ TEST(OptionTable, RefusesWithTheFlagAndTheValue) {
   EXPECT_THROW(OptionInteger("--n", "11", 1, 10), std::invalid_argument);
   EXPECT_THROW(ParseSigmaPair("--s", "0,1"), std::invalid_argument);
   EXPECT_THROW(ParseSigmaPair("--s", "1,1e300"), std::invalid_argument);
+  EXPECT_THROW(ParseSigmaPair("--s", "1e-300,1"), std::invalid_argument);
   try {
     OptionChoice("--mode", "c", {"a", "b"});
     FAIL();

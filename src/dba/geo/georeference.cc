@@ -1,7 +1,11 @@
 // Georeferencing a solve on the main rank; see georeference.h.
 #include "dba/geo/georeference.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
 #include <memory>
 #include <ostream>
 
@@ -24,19 +28,60 @@ std::unique_ptr<CrsToGeocentric> OpenCrs(const char* flag, const std::string& cr
   }
 }
 
-// Geocentric coordinates of `xyz` in `crs`; a failure names the file and
+constexpr double kMaxHeight = 1e7;  // m, ellipsoidal
+
+std::string Figure(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.10g", v);
+  return b;
+}
+
+std::string Figure(const Eigen::Vector3d& v) {
+  return Figure(v.x()) + ", " + Figure(v.y()) + ", " + Figure(v.z());
+}
+
+// Geocentric coordinates of `xyz` in `crs`, refused where PROJ wraps it
+// or it lies beyond any height dba adjusts; a failure names the file and
 // what the position belongs to.
 Eigen::Vector3d Geocentric(const CrsToGeocentric& crs, const Eigen::Vector3d& xyz,
                            const std::string& path, const std::string& what) {
+  Eigen::Vector3d ecef, back;
   try {
-    return crs.Forward(xyz);
+    ecef = crs.Forward(xyz);
+    back = crs.Inverse(ecef);
   } catch (const std::runtime_error& e) {
     throw InputError(path, 0, what + ": " + e.what());
   }
+  // A position PROJ wraps (a longitude of 400°) reads back as another one.
+  if (((back - xyz).array().abs() > 1e-6 * (1.0 + xyz.array().abs())).any()) {
+    throw InputError(path, 0, what + ": (" + Figure(xyz) + ") is outside the CRS's range (it reads back as (" +
+                                  Figure(back) + "))");
+  }
+  // Nothing dba adjusts is 10,000 km off the ellipsoid (a height of 1e20 m
+  // is a blunder, not an orbit).
+  const double height = GeocentricToGeodetic(ecef).z();
+  if (!(std::abs(height) <= kMaxHeight)) {
+    throw InputError(path, 0, what + ": (" + Figure(xyz) + ") is " + Figure(height) +
+                                  " m from the WGS84 ellipsoid, beyond the 1e7 m dba accepts");
+  }
+  return ecef;
+}
+
+// The per-axis median: one blunder among the positions moves it by no
+// more than to a neighbour's value (a mean would follow the blunder).
+Eigen::Vector3d Median(const std::vector<Eigen::Vector3d>& xs) {
+  Eigen::Vector3d m;
+  std::vector<double> axis(xs.size());
+  for (int a = 0; a < 3; ++a) {
+    for (size_t i = 0; i < xs.size(); ++i) axis[i] = xs[i][a];
+    std::nth_element(axis.begin(), axis.begin() + axis.size() / 2, axis.end());
+    m[a] = axis[axis.size() / 2];
+  }
+  return m;
 }
 
 // The priors and ground control from their CRSs into one local
-// east-north-up frame at the centre of them all.
+// east-north-up frame at their median.
 void ToLocalFrame(const GeoreferenceOptions& options, Georeference* geo,
                   GeoreferenceSummary* report, std::ostream& out) {
   const std::string gcp_crs = options.gcp_crs.empty() ? options.prior_crs : options.gcp_crs;
@@ -60,9 +105,7 @@ void ToLocalFrame(const GeoreferenceOptions& options, Georeference* geo,
     }
   }
   if (ecef.empty()) return;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& x : ecef) mean += x / static_cast<double>(ecef.size());
-  const LocalFrame frame = LocalFrame::At(mean);
+  const LocalFrame frame = LocalFrame::At(Median(ecef));
   size_t x = 0;
   if (prior_crs) {
     for (CameraCentrePrior& p : geo->priors.priors) p.centre = frame.ToLocal(ecef[x++]);

@@ -16,12 +16,12 @@ std::optional<int32_t> ResolveImage(const std::string& path, int64_t line, const
     const auto it = names.index.find(image);
     if (it != names.index.end()) return it->second;
     if (names.others.contains(image)) return std::nullopt;  // not adjusted
-    throw InputError(path, line, "unknown image '" + image + "' (not in the COLMAP model)");
+    throw InputError(path, line, "unknown image '" + Clipped(image) + "' (not in the COLMAP model)");
   }
   int64_t i = -1;
   if (ParseInteger(image, &i) != NumberStatus::kOk || i < 0 || i >= num_images) {
     throw InputError(path, line,
-                     "image '" + image + "': expected a 0-based camera index below " +
+                     "image '" + Clipped(image) + "': expected a 0-based camera index below " +
                          std::to_string(num_images) + " (BAL and .dba problems have no names)");
   }
   return static_cast<int32_t>(i);

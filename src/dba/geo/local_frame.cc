@@ -37,6 +37,9 @@ int AxisCount(PJ_CONTEXT* ctx, PJ* crs) {
 CrsToGeocentric::CrsToGeocentric(const std::string& crs) {
   PJ_CONTEXT* ctx = proj_context_create();
   context_ = ctx;
+  // PROJ's own log goes to stderr ("cart: Invalid latitude"); dba words
+  // each failure itself, with PROJ's reason from the context's errno.
+  proj_log_func(ctx, nullptr, [](void*, int, const char*) {});
   PJ* source = proj_create(ctx, crs.c_str());
   if (source == nullptr || !proj_is_crs(source)) {
     const std::string why = ProjError(ctx);

@@ -93,6 +93,14 @@ SimilarityFit FitSimilarity(const std::vector<Vec3>& from_points, const std::vec
   }
   fit.inliers = static_cast<int64_t>(best.size());
   fit.collinear = collinear;
+  // All centres (or all targets) at one place leave the scale undefined.
+  if (!std::isfinite(fit.scale) || !(fit.scale > 0) || !fit.rotation.allFinite() ||
+      !fit.translation.allFinite()) {
+    throw std::invalid_argument(
+        "the similarity onto the " + std::to_string(n) +
+        " positions is not defined (scale " + std::to_string(fit.scale) +
+        "): the positions, or the cameras' centres, are all at one place");
+  }
   return fit;
 }
 

@@ -40,6 +40,11 @@ class Parser {
     while (!tokens_.Next(token)) {
       std::string_view line;
       if (!reader_.ReadLine(&line)) return false;
+      // A file cut short may end inside its last number, which would still
+      // parse: a last value must be followed by a blank or a line end.
+      if (reader_.last_line_unterminated() && !line.empty() && !IsBlank(line.back())) {
+        Fail("the file ends inside this line (no line end after the last value): cut short?");
+      }
       tokens_ = LineTokens(line);
     }
     return true;
@@ -77,10 +82,10 @@ class Parser {
     switch (ParseInteger(t, &v)) {
       case NumberStatus::kOk: return v;
       case NumberStatus::kOutOfRange:
-        Fail("expected " + what() + ", found '" + std::string(t) +
+        Fail("expected " + what() + ", found '" + Clipped(t) +
              "' (out of the 64-bit integer range)");
       default:
-        Fail("expected " + what() + ", found '" + std::string(t) + "' (not an integer)");
+        Fail("expected " + what() + ", found '" + Clipped(t) + "' (not an integer)");
     }
   }
 
@@ -91,11 +96,11 @@ class Parser {
     switch (ParseDouble(t, &v)) {
       case NumberStatus::kOk: return v;
       case NumberStatus::kOutOfRange:
-        Fail("expected " + what() + ", found '" + std::string(t) + "' (out of the double range)");
+        Fail("expected " + what() + ", found '" + Clipped(t) + "' (out of the double range)");
       case NumberStatus::kNotFinite:
-        Fail("expected " + what() + ", found non-finite value '" + std::string(t) + "'");
+        Fail("expected " + what() + ", found non-finite value '" + Clipped(t) + "'");
       default:
-        Fail("expected " + what() + ", found '" + std::string(t) + "' (not a number)");
+        Fail("expected " + what() + ", found '" + Clipped(t) + "' (not a number)");
     }
   }
 
@@ -240,7 +245,7 @@ Problem ReadBal(const std::string& path) {
   std::string_view extra;
   if (in.Next(&extra)) {
     in.Fail("expected end of file after the last point coordinate, found '" +
-            std::string(extra) + "' (do the header counts match the data?)");
+            Clipped(extra) + "' (do the header counts match the data?)");
   }
 
   for (int64_t k = 0; k < num_points; ++k) offsets[k + 1] += offsets[k];

@@ -206,8 +206,10 @@ TEST_P(BalReaderMalformedTest, ThrowsInputErrorWithFileLineAndPhrase) {
 INSTANTIATE_TEST_SUITE_P(
     BalReader, BalReaderMalformedTest,
     ::testing::Values(
-        BadCase{"valid_control", kHead + kObs + kCams + kPts + "x", 9,
+        BadCase{"valid_control", kHead + kObs + kCams + kPts + "x\n", 9,
                 "expected end of file after the last point coordinate, found 'x'"},
+        BadCase{"cut_inside_last_number", kHead + kObs + kCams + "1 2 3\n4 5 6.2", 8,
+                "the file ends inside this line (no line end after the last value): cut short?"},
         BadCase{"empty", "", 1, "expected header 'num_cameras num_points"},
         BadCase{"short_header", "2 2\n", 1, "found end of file"},
         BadCase{"non_numeric_count", "2 two 3\n", 1, "found 'two' (not an integer)"},

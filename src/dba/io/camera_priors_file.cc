@@ -4,6 +4,7 @@
 #include <unordered_map>
 
 #include "dba/common/error.h"
+#include "dba/io/sigma_fields.h"
 #include "dba/io/text_line_reader.h"
 #include "dba/io/text_tokens.h"
 
@@ -28,7 +29,7 @@ std::vector<CameraPriorRow> ReadCameraPriorsFile(const std::string& path) {
     for (size_t k = 1; k < fields.size(); ++k) {
       if (ParseDouble(fields[k], &v[k - 1]) != NumberStatus::kOk) {
         throw InputError(path, line,
-                         std::string(kNames[k - 1]) + ": '" + fields[k] +
+                         std::string(kNames[k - 1]) + ": '" + Clipped(fields[k]) +
                              "' is not a finite number");
       }
     }
@@ -37,15 +38,12 @@ std::vector<CameraPriorRow> ReadCameraPriorsFile(const std::string& path) {
     row.xyz = Eigen::Vector3d(v[0], v[1], v[2]);
     row.line = line;
     if (fields.size() == 6) {
-      if (!(v[3] > 0) || !(v[4] > 0)) {
-        throw InputError(path, line, "sigma must be > 0, got SIGMA_XY " + fields[4] +
-                                         " and SIGMA_Z " + fields[5]);
-      }
+      CheckSigmas(path, line, v[3], v[4], fields[4], fields[5]);
       row.sigma = Eigen::Vector2d(v[3], v[4]);
     }
     const auto [it, fresh] = seen.emplace(row.image, line);
     if (!fresh) {
-      throw InputError(path, line, "image '" + row.image + "' already has a prior (line " +
+      throw InputError(path, line, "image '" + Clipped(row.image) + "' already has a prior (line " +
                                        std::to_string(it->second) + ")");
     }
     rows.push_back(std::move(row));

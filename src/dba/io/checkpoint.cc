@@ -363,9 +363,12 @@ CheckpointWriter::CheckpointWriter(std::string path, double every_s, uint64_t fi
       accepted_(accepted_done) {}
 
 bool CheckpointWriter::Due(bool step_accepted, bool ends) {
-  if (!step_accepted) return false;
-  ++accepted_;
-  return ends || !written_ || SteadySeconds() - last_write_ >= every_s_;
+  if (step_accepted) ++accepted_;
+  // The end of a round is written even when its last step was rejected:
+  // a resume from it is where the solve ended, not a rerun of the steps
+  // after an older checkpoint.
+  if (ends) return true;
+  return step_accepted && (!written_ || SteadySeconds() - last_write_ >= every_s_);
 }
 
 void CheckpointWriter::Write(const Checkpoint& state, std::span<const double> cameras,

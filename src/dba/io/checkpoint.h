@@ -129,8 +129,9 @@ class CheckpointWriter {
   // at zero.
   void StartRound() { accepted_ = 0; }
 
-  // Counts accepted iterations; true when this one is to be written
-  // (`ends`: it ends the round's LM).
+  // Counts accepted iterations; true when this one is to be written: an
+  // accepted one when `every_s` has passed, and the one that ends the
+  // round's LM (`ends`) whether its step was accepted or not.
   bool Due(bool step_accepted, bool ends = false);
   // `state`: iterations, λ, cost, ended, round and rounds (its fingerprint,
   // setup and parameter vectors are not read); the parameters and flags
@@ -142,6 +143,7 @@ class CheckpointWriter {
              std::span<const double> points, std::span<const uint8_t> kept_observations = {},
              std::span<const uint8_t> kept_points = {});
   int64_t accepted() const { return accepted_; }
+  int64_t written() const { return writes_; }
 
  private:
   std::string path_;

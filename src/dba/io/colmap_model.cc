@@ -158,6 +158,34 @@ std::string FirstColmapModelDifference(const ColmapModel& a, const ColmapModel& 
 
 namespace colmap_internal {
 
+// A value no camera has: an image of no pixels (or beyond a million on a
+// side), a focal length ≤ 0, an EQUIRECTANGULAR whose w, h differ from
+// the image's size; empty when none.
+std::string AbsurdCameraValue(const ColmapCamera& c, const ColmapCameraModelInfo& m) {
+  constexpr uint64_t kMaxSide = 1000000;
+  if (c.width < 1 || c.height < 1 || c.width > kMaxSide || c.height > kMaxSide) {
+    return "image size " + std::to_string(c.width) + " x " + std::to_string(c.height) +
+           " is outside 1 to 1000000 pixels a side";
+  }
+  std::string_view names = m.params;
+  for (size_t j = 0; j < c.params.size(); ++j) {
+    const std::string_view name = names.substr(0, names.find(", "));
+    names.remove_prefix(std::min(names.size(), name.size() + 2));
+    const double v = c.params[j];
+    if ((name == "f" || name == "fx" || name == "fy") && !(v > 0)) {
+      return std::string(m.name) + "'s " + std::string(name) + " is " + Clipped(std::to_string(v)) +
+             ": a focal length must be > 0";
+    }
+    const uint64_t side = name == "w" ? c.width : c.height;
+    if ((name == "w" || name == "h") && v != static_cast<double>(side)) {
+      return std::string(m.name) + "'s " + std::string(name) + " is " + std::to_string(v) +
+             " but the image is " + std::to_string(c.width) + " x " + std::to_string(c.height) +
+             " (w and h are the image's size)";
+    }
+  }
+  return {};
+}
+
 void ValidateColmapModel(const ColmapModel& model, const std::string& dir,
                          const std::string& extension, const ColmapSourceLines* lines) {
   const std::string cameras_file = JoinPath(dir, "cameras" + extension);
@@ -205,10 +233,13 @@ void ValidateColmapModel(const ColmapModel& model, const std::string& dir,
     if (!finite(c.params.data(), c.params.size())) {
       throw InputError(cameras_file, line, at() + "non-finite camera parameter");
     }
+    const std::string absurd = AbsurdCameraValue(c, *m);
+    if (!absurd.empty()) throw InputError(cameras_file, line, at() + absurd);
   }
 
   std::unordered_map<uint32_t, size_t> image_index;
   image_index.reserve(model.images.size());
+  std::unordered_map<std::string_view, int64_t> image_name;  // name -> its line (or entry)
   std::vector<size_t> image_offset(model.images.size() + 1, 0);
   for (size_t i = 0; i < model.images.size(); ++i) {
     const ColmapImage& im = model.images[i];
@@ -216,6 +247,14 @@ void ValidateColmapModel(const ColmapModel& model, const std::string& dir,
     auto at = [&] { return entry("image", i, std::to_string(im.image_id)); };
     if (!image_index.emplace(im.image_id, i).second) {
       throw InputError(images_file, line, at() + "image_id appears twice");
+    }
+    // Priors and ground control bind to images by name.
+    const auto [named, fresh] = image_name.emplace(im.name, lines ? line : static_cast<int64_t>(i));
+    if (!fresh) {
+      throw InputError(images_file, line,
+                       at() + "the name '" + Clipped(im.name) + "' is also image " +
+                           (lines ? "on line " : "entry #") + std::to_string(named->second) +
+                           "'s: image names must be unique");
     }
     if (!camera_index.contains(im.camera_id)) {
       throw InputError(images_file, line,

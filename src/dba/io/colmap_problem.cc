@@ -49,12 +49,21 @@ Fixings ColmapFixings(const ColmapModel& model, const ColmapProblem& problem,
       continue;
     }
     // A COLMAP camera id: every group cut from that camera.
-    const bool known = std::any_of(model.cameras.begin(), model.cameras.end(),
-                                   [&](const ColmapCamera& c) { return c.camera_id == x.group; });
-    if (!known) {
-      throw InputError(source, 0,
-                       "fixed intrinsics of camera " + std::to_string(x.group) +
-                           ": the COLMAP model has no camera with that id");
+    const auto camera = std::find_if(model.cameras.begin(), model.cameras.end(),
+                                     [&](const ColmapCamera& c) { return c.camera_id == x.group; });
+    if (camera == model.cameras.end()) {
+      throw UsageError("--fix-intrinsics: camera " + std::to_string(x.group) + ": " + source +
+                       " has no camera with that id");
+    }
+    // Named against the camera's own model (it may have no image in the
+    // problem, and its groups are numbered otherwise).
+    const LensModelInfo& m = *FindLensModel(static_cast<int>(LensModelOfColmapCamera(*camera, source)));
+    for (const std::string& name : x.names) {
+      if (name != "all" && !LensModelParamIndex(m.id, name)) {
+        throw UsageError("--fix-intrinsics: no intrinsic parameter '" + Clipped(name) +
+                         "' in COLMAP camera " + std::to_string(x.group) + "'s model " + m.name +
+                         " (" + m.params + ")");
+      }
     }
     for (size_t g = 0; g < problem.group_camera.size(); ++g) {
       if (model.cameras[problem.group_camera[g]].camera_id == x.group) {
@@ -65,9 +74,8 @@ Fixings ColmapFixings(const ColmapModel& model, const ColmapProblem& problem,
   for (uint32_t id : fixed_image_ids) {
     auto it = problem_image_of_id.find(id);
     if (it == problem_image_of_id.end()) {
-      throw InputError(source, 0,
-                       "fixed image id " + std::to_string(id) +
-                           ": the COLMAP model has no image with that id");
+      throw UsageError("--fix-images: image " + std::to_string(id) + ": " + source +
+                       " has no image with that id");
     }
     if (it->second >= 0) f.images.push_back(it->second);
   }

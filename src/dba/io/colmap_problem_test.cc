@@ -399,11 +399,18 @@ TEST(ColmapProblemTest, FixingsByNameFollowEachGroupsModel) {
   try {
     ApplyFixings(ColmapFixings(m, again, {}, {{7, {"k2"}}}, "small"), &again.problem);
     ADD_FAILURE() << "k2 accepted in camera 7 (SIMPLE_RADIAL)";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("group 0"), std::string::npos) << e.what();
+  } catch (const UsageError& e) {  // named by the camera's id, not a group's index
+    EXPECT_NE(std::string(e.what()).find("'k2' in COLMAP camera 7's model SIMPLE_RADIAL"),
+              std::string::npos)
+        << e.what();
   }
-  ExpectInputError([&] { ColmapFixings(m, again, {}, {{77, {"f"}}}, "/the/model"); },
-                   {"/the/model", "camera 77"});
+  try {
+    ColmapFixings(m, again, {}, {{77, {"f"}}}, "/the/model");
+    ADD_FAILURE() << "camera 77 accepted";
+  } catch (const UsageError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "--fix-intrinsics: camera 77: /the/model has no camera with that id");
+  }
 }
 
 TEST(ColmapProblemTest, FixedImagesAndBadOptions) {
@@ -427,8 +434,26 @@ TEST(ColmapProblemTest, FixedImagesAndBadOptions) {
   for (const ColmapImage& im : model.images) unknown = std::max(unknown, im.image_id);
   unknown += 1000;
   fixed_ids.push_back(unknown);
-  ExpectInputError([&] { ColmapFixings(model, cp, fixed_ids, {}, "/the/model"); },
-                   {"/the/model", "fixed image id " + std::to_string(unknown)});
+  try {
+    ColmapFixings(model, cp, fixed_ids, {}, "/the/model");
+    ADD_FAILURE() << "an unknown image id was taken";
+  } catch (const UsageError& e) {  // exit 2: the flag's value, not the model
+    EXPECT_EQ(std::string(e.what()), "--fix-images: image " + std::to_string(unknown) +
+                                         ": /the/model has no image with that id");
+  }
+  fixed_ids.pop_back();
+  // A camera's names checked against its own model, named by its id.
+  const uint32_t camera = model.cameras[0].camera_id;
+  try {
+    ColmapFixings(model, cp, fixed_ids, {{camera, {"f", "zz"}}}, "/the/model");
+    ADD_FAILURE() << "an unknown parameter name was taken";
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("--fix-intrinsics: no intrinsic parameter 'zz' in COLMAP camera " +
+                                         std::to_string(camera) + "'s model"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(ColmapFixings(model, cp, fixed_ids, {{unknown, {"f"}}}, "/the/model"), UsageError);
 
   ColmapProblemOptions bad;
   bad.min_track_length = 0;

@@ -4,6 +4,7 @@
 #include <unordered_map>
 
 #include "dba/common/error.h"
+#include "dba/io/sigma_fields.h"
 #include "dba/io/text_line_reader.h"
 #include "dba/io/text_tokens.h"
 
@@ -13,7 +14,7 @@ namespace {
 double Number(const std::string& path, int64_t line, const char* what, const std::string& field) {
   double v = 0.0;
   if (ParseDouble(field, &v) != NumberStatus::kOk) {
-    throw InputError(path, line, std::string(what) + ": '" + field + "' is not a finite number");
+    throw InputError(path, line, std::string(what) + ": '" + Clipped(field) + "' is not a finite number");
   }
   return v;
 }
@@ -52,16 +53,14 @@ std::vector<GroundControlRow> ReadGroundControlFile(const std::string& path) {
     p.xyz = {Number(path, line, "X", f[1]), Number(path, line, "Y", f[2]),
              Number(path, line, "Z", f[3])};
     p.sigma = {Number(path, line, "SIGMA_XY", f[4]), Number(path, line, "SIGMA_Z", f[5])};
-    if (!(p.sigma[0] > 0) || !(p.sigma[1] > 0)) {
-      throw InputError(path, line, "sigma must be > 0, got SIGMA_XY " + f[4] + " and SIGMA_Z " + f[5]);
-    }
+    CheckSigmas(path, line, p.sigma[0], p.sigma[1], f[4], f[5]);
     if (f[6] != "control" && f[6] != "check") {
-      throw InputError(path, line, "role '" + f[6] + "': expected control or check");
+      throw InputError(path, line, "role '" + Clipped(f[6]) + "': expected control or check");
     }
     p.control = f[6] == "control";
     const auto [it, fresh] = index.emplace(p.name, points.size());
     if (!fresh) {
-      throw InputError(path, line, "point '" + p.name + "' is already defined (line " +
+      throw InputError(path, line, "point '" + Clipped(p.name) + "' is already defined (line " +
                                        std::to_string(points[it->second].line) + ")");
     }
     points.push_back(std::move(p));
@@ -70,13 +69,13 @@ std::vector<GroundControlRow> ReadGroundControlFile(const std::string& path) {
   for (PendingMeasurement& m : measurements) {
     const auto it = index.find(m.point);
     if (it == index.end()) {
-      throw InputError(path, m.row.line, "measurement of '" + m.point +
+      throw InputError(path, m.row.line, "measurement of '" + Clipped(m.point) +
                                              "', which no line NAME X Y Z SIGMA_XY SIGMA_Z ROLE defines");
     }
     GroundControlRow& p = points[it->second];
     for (const GroundControlMeasurementRow& other : p.measurements) {
       if (other.image == m.row.image) {
-        throw InputError(path, m.row.line, "point '" + m.point + "' is already measured in image '" +
+        throw InputError(path, m.row.line, "point '" + Clipped(m.point) + "' is already measured in image '" +
                                                m.row.image + "' (line " + std::to_string(other.line) + ")");
       }
     }

@@ -57,8 +57,10 @@ TEST(GroundControlFile, RefusesBadInputWithFileAndLine) {
   const Case cases[] = {
       {"A 1 2 3 0.02 control\n", "g.txt:1: expected a point, NAME X Y Z SIGMA_XY SIGMA_Z"},
       {"A 1 2 nan 0.02 0.02 control\n", "g.txt:1: Z: 'nan' is not a finite number"},
-      {"A 1 2 3 0 0.02 control\n", "g.txt:1: sigma must be > 0"},
-      {"A 1 2 3 0.02 -1 control\n", "g.txt:1: sigma must be > 0"},
+      {"A 1 2 3 0 0.02 control\n", "g.txt:1: sigma must be within [1e-06, 1e+06]"},
+      {"A 1 2 3 1e-300 0.02 control\n", "g.txt:1: sigma must be within [1e-06, 1e+06]"},
+      {"A 1 2 3 0.02 1e7 control\n", "g.txt:1: sigma must be within"},
+      {"A 1 2 3 0.02 -1 control\n", "g.txt:1: sigma must be within"},
       {"A 1 2 3 0.02 0.02 tie\n", "g.txt:1: role 'tie': expected control or check"},
       {point + "A 4 5 6 0.02 0.02 check\n", "g.txt:3: point 'A' is already defined (line 1)"},
       {point + "B 0 1 2\n", "g.txt:3: measurement of 'B', which no line"},

@@ -58,6 +58,19 @@ double LmSummary::Rms(double cost) const {
 
 namespace {
 
+// Why the starting cost is nan or inf: a camera parameter that is (after
+// an alignment, say), or else a residual.
+std::string NonFiniteCause(const std::vector<double>& cameras) {
+  for (size_t j = 0; j < cameras.size(); ++j) {
+    if (!std::isfinite(cameras[j])) {
+      return "camera parameter " + std::to_string(j) + " (camera-major) is " +
+             std::to_string(cameras[j]) + " before the first iteration";
+    }
+  }
+  return "a reprojection error or a camera prior's residual is nan or inf at the starting "
+         "parameters (a point at infinity, a camera parameter that overflows its projection)";
+}
+
 // Gain ratios below this mark a poorly modelled step (see AcceptStep).
 constexpr double kPoorModel = 0.25;
 
@@ -102,6 +115,9 @@ class Minimizer {
         case StepOutcome::kAccepted: done = AcceptStep(it); break;
         case StepOutcome::kRejected: done = RejectStep(); break;
       }
+      // The iteration that reaches the limit ends the solve itself, so that
+      // its summary (and a checkpoint written from it) says so.
+      if (!done) done = ReachedIterationLimit();
       // Next linearization: at the new point after an accepted step, with
       // the new λ after a rejected one.
       if (!done) Linearize();
@@ -142,8 +158,8 @@ class Minimizer {
 
   void CheckInitialCost() {
     if (!std::isfinite(cost_)) {
-      throw std::runtime_error("the initial cost is not finite (" + std::to_string(cost_) +
-                               "): some observation's reprojection error is nan or inf");
+      throw std::runtime_error("the initial cost is not finite (" + std::to_string(cost_) + "): " +
+                               NonFiniteCause(*cameras_));
     }
     summary_.initial_cost = cost_;
     summary_.final_cost = cost_;

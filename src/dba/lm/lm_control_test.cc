@@ -287,9 +287,14 @@ TEST(LmControl, LambdaAndNuFollowNielsensUpdate) {
   for (size_t i = 0; i < want.size(); ++i) {
     EXPECT_NEAR(got[i], want[i], 1e-12 * want[i]) << "step " << i + 1;
   }
-  // The system after the last step is formed with the next λ.
+  // The step that reaches the iteration limit ends the solve itself: no
+  // system is formed after it (the last one was formed for it), and it
+  // records the next λ (a checkpoint written from it resumes with that).
   ASSERT_FALSE(w.form_lambdas().empty());
-  EXPECT_NEAR(w.form_lambdas().back(), l11 / 3.0, 1e-12 * l11);
+  EXPECT_NEAR(w.form_lambdas().back(), l11, 1e-12 * l11);
+  EXPECT_TRUE(run.summary.history.back().ends_solve);
+  EXPECT_EQ(run.summary.history.back().termination, TerminationReason::kMaxIterations);
+  EXPECT_NEAR(run.summary.history.back().next_lambda, l11 / 3.0, 1e-12 * l11);
 
   EXPECT_EQ(Accepted(run.summary), (std::vector<bool>{false, false, true, false, true, true,
                                                       false, false, true, true, true}));

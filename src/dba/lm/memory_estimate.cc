@@ -33,7 +33,7 @@ std::string MemoryEstimate::Describe() const {
 
 void CheckMemoryFits(const MemoryEstimate& estimate, int64_t available_bytes) {
   // Only the growth counts: a higher peak so far is behind us.
-  if (available_bytes <= 0 || estimate.growth() <= available_bytes) return;
+  if (available_bytes < 0 || estimate.growth() <= available_bytes) return;
   throw std::runtime_error("the solve needs about " + estimate.Describe() + " but " +
                            FormatBytes(estimate.resident + available_bytes) +
                            " is available; --no-memory-check starts it anyway");

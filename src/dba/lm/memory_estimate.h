@@ -107,7 +107,8 @@ MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& stru
 
 // Throws std::runtime_error (saying both figures and the override) when the
 // estimate's growth beyond `estimate.resident` exceeds `available_bytes`
-// (what the machine or the cgroup has left; 0: unknown, no check).
+// (what the machine, the cgroups or RLIMIT_AS leave; -1: unknown, no check;
+// 0: no room at all).
 void CheckMemoryFits(const MemoryEstimate& estimate, int64_t available_bytes);
 
 // "1.5 GiB", "320.4 MiB".

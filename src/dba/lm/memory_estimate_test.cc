@@ -92,7 +92,8 @@ TEST(MemoryEstimate, CheckRefusesWhatDoesNotFit) {
   MemoryEstimate e;
   e.resident = 100 << 20;
   e.rcs = 300 << 20;
-  EXPECT_NO_THROW(CheckMemoryFits(e, 0));  // unknown: no check
+  EXPECT_NO_THROW(CheckMemoryFits(e, -1));  // unknown: no check
+  EXPECT_THROW(CheckMemoryFits(e, 0), std::runtime_error);  // a limit already reached
   EXPECT_NO_THROW(CheckMemoryFits(e, 300 << 20));
   try {
     CheckMemoryFits(e, 299 << 20);

@@ -24,6 +24,12 @@ struct SolveReport {
   int64_t num_points = 0;
   int64_t num_observations = 0;
   int threads = 1;
+  // The options that shape the linear solve and the run, as given.
+  LinearSolverOptions linear_solver;
+  bool memory_check = true;
+  // --checkpoint: where, and how many this run wrote.
+  std::string checkpoint_path;
+  int64_t checkpoints_written = 0;
   RobustLoss loss;
   // The loss of the final cost: `loss`, or the squared loss when outlier
   // rejection solved again without it.

@@ -3,6 +3,8 @@
 // over MPI ranks (session/point_side.h); see solve_session.h.
 #include <algorithm>
 #include <ostream>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "dba/common/memory.h"
@@ -84,7 +86,7 @@ std::unique_ptr<PointSide> SolveSession::MakePointSide() {
 }
 
 // The log line of every iteration, and the checkpoints after accepted ones
-// (and always the one that ends a solve).
+// (and always the one that ends a solve, its last step accepted or not).
 SolveSession::IterationHook SolveSession::IterationLog(PointSide* side) {
   return [this, side](const IterationSummary& it) {
     if (!options_.quiet) out_ << IterationLogLine(it) << std::flush;
@@ -98,7 +100,9 @@ void SolveSession::WriteCheckpoint(const IterationSummary& it, PointSide* side) 
   Checkpoint state;
   state.iterations = it.iteration;
   state.lambda = it.next_lambda;
-  state.cost = it.candidate_cost;
+  // A rejected last step left the parameters (and the cost) where the
+  // iteration started.
+  state.cost = it.step_accepted ? it.candidate_cost : it.cost;
   state.ended = it.ends_solve ? static_cast<int32_t>(it.termination) : -1;
   state.round = static_cast<int32_t>(rounds_.size());
   for (const RejectionRound& r : rounds_) {
@@ -159,7 +163,7 @@ std::function<void(const RcsSystem&)> SolveSession::MemoryCheck() {
     if (!options_.quiet) {
       const int64_t have = report.available_memory_bytes;
       out_ << "memory estimate " << report.memory_estimate.Describe()
-           << (have > 0 ? "; available " + FormatBytes(have + report.memory_estimate.resident)
+           << (have >= 0 ? "; available " + FormatBytes(have + report.memory_estimate.resident)
                         : std::string())
            << "\n" << IterationLogHeader() << std::flush;
     }
@@ -167,6 +171,25 @@ std::function<void(const RcsSystem&)> SolveSession::MemoryCheck() {
       CheckMemoryFits(report.memory_estimate, report.available_memory_bytes);
     }
   };
+}
+
+// A rejection that left nothing to adjust: refused before any output is
+// written (a BAL file "49 0 0" is one no reader takes).
+static void RefuseAnEmptyProblem(const std::vector<RejectionRound>& rounds) {
+  const RejectionRound& last = rounds.back();
+  if (last.observations_left > 0 && last.points_left > 0) return;
+  int64_t observations = 0, points = 0, for_angle = 0;
+  for (const RejectionRound& r : rounds) {
+    observations += r.observations_dropped;
+    points += r.points_dropped;
+    for_angle += r.points_small_angle;
+  }
+  throw std::runtime_error(
+      "outlier rejection dropped every observation (" + std::to_string(observations) +
+      " observations and " + std::to_string(points) + " points, " + std::to_string(for_angle) +
+      " of them for their triangulation angle, in " + std::to_string(rounds.size()) +
+      " round(s)); nothing is left to adjust and nothing was written: raise "
+      "--reject-outliers or lower --min-triangulation-angle");
 }
 
 // Rounds of --reject-outliers after the first solve. A checkpoint written
@@ -181,6 +204,7 @@ void SolveSession::RejectionRounds(PointSide* side, const IterationHook& log,
   report.rejection = RunRejectionRounds(
       [&] {
         rounds_.push_back(side->DropOutliers(criteria, lm_.num_threads, options_.reject_keep_loss));
+        RefuseAnEmptyProblem(rounds_);
         return rounds_.back();
       },
       [&] {
@@ -207,6 +231,7 @@ void SolveSession::RejectionRounds(PointSide* side, const IterationHook& log,
 // final points collected).
 void SolveSession::FinishSolve(PointSide* side) {
   SolveReport& report = result_.report;
+  if (checkpoints_) report.checkpoints_written = checkpoints_->written();
   if (options_.reject_outliers_px > 0) {
     result_.kept.emplace();
     LoadedKeptAndPoints(side, &*result_.kept, &result_.all_points);

@@ -159,6 +159,9 @@ void SolveSession::Start(const SolveInput& input) {
   report.loss = lm_.loss;
   report.final_loss = lm_.loss;
   report.reject_outliers_px = options_.reject_outliers_px;
+  report.linear_solver = lm_.linear_solver;
+  report.memory_check = options_.memory_check;
+  report.checkpoint_path = options_.checkpoint_path;
   result_.problem = std::move(input_.problem);  // the camera side alone when the ranks read
   if (input.ranks_read_file) {
     const BinaryProblemHeader h = ReadBinaryProblemHeader(input.name);
@@ -233,8 +236,12 @@ LmOptions SolveSession::RoundOptions(bool resumed_round) const {
     o.initial_lambda = resumed_->lambda;
     o.iterations_done = static_cast<int>(resumed_->iterations);
     o.accepted_done = static_cast<int>(resumed_->accepted);
-    if (resumed_->ended >= 0) {
-      o.ended = LmOptions::Ended{static_cast<TerminationReason>(resumed_->ended), resumed_->cost};
+    // A solve the iteration limit ended goes on under a higher limit.
+    const auto ended = static_cast<TerminationReason>(resumed_->ended);
+    const bool more_iterations =
+        ended == TerminationReason::kMaxIterations && o.max_iterations > o.iterations_done;
+    if (resumed_->ended >= 0 && !more_iterations) {
+      o.ended = LmOptions::Ended{ended, resumed_->cost};
     }
   }
   return o;

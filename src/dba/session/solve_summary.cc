@@ -68,6 +68,20 @@ void SolverFigures(const SolveReport& r, Json& j) {
                          {{"pcg", c.estimated_pcg_seconds},
                           {"dense", c.estimated_dense_seconds},
                           {"sparse", c.estimated_sparse_seconds}}}};
+  const LinearSolverOptions& o = r.linear_solver;
+  j["linear_solver"]["options"] = {{"type", LinearSolverName(o.type)},
+                                   {"preconditioner", PreconditionerName(o.preconditioner)},
+                                   {"coarse_size", o.coarse_aggregate_size},
+                                   {"coarse_basis", CoarseBasisName(o.coarse_basis)},
+                                   {"eta", o.pcg.eta},
+                                   {"pcg_tolerance", o.pcg.relative_tolerance},
+                                   {"pcg_min_iterations", o.pcg.min_iterations},
+                                   {"pcg_max_iterations", o.pcg.max_iterations},
+                                   {"pcg_precision", PcgPrecisionName(o.pcg.precision)}};
+  j["memory_check"] = r.memory_check;
+  if (!r.checkpoint_path.empty()) {
+    j["checkpoints"] = {{"path", r.checkpoint_path}, {"written", r.checkpoints_written}};
+  }
   j["termination"] = TerminationReasonName(lm.termination);
   j["termination_message"] = lm.termination_message;
   j["seconds"] = {{"load", r.load_seconds},

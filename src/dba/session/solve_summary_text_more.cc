@@ -71,7 +71,9 @@ void PrintIntrinsicsErrors(const Json& groups, std::ostream& out) {
     }
     worst_f = std::max(worst_f, g["f_relative"].get<double>());
   }
-  PrintIntrinsicsLine("(" + std::to_string(groups.size()) + " groups) largest", worst, worst_f, out);
+  char what[64];
+  std::snprintf(what, sizeof what, "(%zu groups) largest", groups.size());
+  PrintIntrinsicsLine(what, worst, worst_f, out);
 }
 
 void PrintRank(const Json& k, bool spread, std::ostream& out) {
