@@ -23,6 +23,17 @@ for opt in --output --report --threads --max-iterations --function-tolerance \
   check "solve --help lists $opt" contains "$tmp/solve_help" "$opt"
 done
 
+# README's figure: with the default options the estimate is within 11% of
+# the measured peak (generated surveys whose peak is set by the solve, BAL
+# and photogrammetric; one thread count, so the peak is deterministic).
+"$dba" generate "$tmp/m_bal.dba" --images 800 --seed 2 >/dev/null
+"$dba" generate "$tmp/m_photo.dba" --images 800 --model photo --cameras 2 --seed 2 >/dev/null
+for m in bal photo; do
+  "$dba" solve "$tmp/m_$m.dba" -q -t 2 --max-iterations 2 --report "$tmp/m_$m.json" >/dev/null 2>&1
+  check "the memory estimate ($m survey) is within README's 11% of the peak" json "$tmp/m_$m.json" \
+    'abs(d["memory"]["estimate"]["total_bytes"] / d["memory"]["peak_bytes"] - 1) <= 0.11'
+done
+
 # Bad arguments: exit 2 and a message naming the argument.
 "$dba" solve >"$tmp/out" 2>&1; check "missing input exits 2" test $? -eq 2
 check "missing input is named" contains "$tmp/out" "missing INPUT"

@@ -113,7 +113,9 @@ EFFECTS = {
     "pcg_tolerance": (lambda d: dict(linear_solver="pcg", eta=0, pcg_tolerance=0.5),
                       lambda r, b, d: np.median(linear(r)) < 20),  # about 120 at eta=0 alone
     "pcg_min_iterations": (lambda d: dict(linear_solver="pcg", eta=0.9, pcg_min_iterations=25),
-                           lambda r, b, d: min(linear(r)) >= 25),
+                           lambda r, b, d: all(  # unless the residual is at rounding
+                               it.linear_iterations >= 25 or it.linear_relative_residual < 1e-9
+                               for it in r.summary.history)),
     "pcg_max_iterations": (lambda d: dict(linear_solver="pcg", pcg_max_iterations=2),
                            lambda r, b, d: max(linear(r)) <= 2),
     "pcg_precision": (lambda d: dict(linear_solver="pcg", pcg_precision="double"),

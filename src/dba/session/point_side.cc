@@ -1,38 +1,100 @@
 // Where a solve's points live; see point_side.h.
 #include "dba/session/point_side.h"
 
+#include <algorithm>
+#include <utility>
+
+#include "dba/problem/point_order.h"
+
 namespace dba {
 
-LocalPointSide::LocalPointSide(Problem* problem)
+LocalPointSide::LocalPointSide(Problem* problem, std::vector<int64_t> walk)
     : problem_(problem),
       observations_(problem->num_observations()),
       points_(problem->num_points()),
-      original_(OriginalIndices::Identity(*problem)),
-      all_(problem->points) {}
+      walk_(std::move(walk)) {}
 
 BundleAdjustSummary LocalPointSide::Solve(const LmOptions& options, const CameraPriors& priors,
                                           const IterationHook& hook,
                                           const std::function<void(const RcsSystem&)>& before_values) {
-  return BundleAdjust(options, problem_, hook, before_values, &priors);
+  WalkOrder();
+  BundleAdjustSummary s;
+  try {
+    s = BundleAdjust(options, problem_, hook, before_values, &priors);
+  } catch (...) {
+    GivenOrder();
+    throw;
+  }
+  GivenOrder();
+  return s;
+}
+
+// The problem's points into the walk's order: the walk itself, or after a
+// rejection round the kept points in the walk's order.
+void LocalPointSide::WalkOrder() {
+  if (walk_.empty()) return;
+  if (!cut_) {
+    order_.swap(walk_);
+  } else {
+    const std::vector<int64_t> place = InversePermutation(walk_);
+    const int64_t n = problem_->num_points();
+    std::vector<std::pair<int64_t, int64_t>> keyed(n);
+    for (int64_t k = 0; k < n; ++k) keyed[k] = {place[original_.point[k]], k};
+    std::sort(keyed.begin(), keyed.end());
+    order_.resize(n);
+    for (int64_t k = 0; k < n; ++k) order_[k] = keyed[k].second;
+  }
+  PermutePoints(order_, problem_);
+}
+
+void LocalPointSide::GivenOrder() {
+  if (order_.empty()) return;
+  PermutePoints(InversePermutation(order_), problem_);
+  if (walk_.empty()) walk_.swap(order_);
+  order_.clear();
 }
 
 RejectionRound LocalPointSide::DropOutliers(const RejectionCriteria& criteria, int num_threads,
                                             bool) {
-  AllPoints(&all_);
+  if (!cut_) {
+    original_ = OriginalIndices::Identity(*problem_);
+    all_ = problem_->points;
+    cut_ = true;
+  } else {
+    AllPoints(&all_);
+  }
   return dba::DropOutliers(criteria, num_threads, problem_, &original_);
 }
 
 void LocalPointSide::AllPoints(std::vector<double>* points) {
+  // Inside a solve the points are in the walk's order: as the solve was
+  // given them first.
+  std::vector<double> given;
+  const std::vector<double>* now = &problem_->points;
+  if (!order_.empty()) {
+    given.resize(problem_->points.size());
+    for (size_t k = 0; k < order_.size(); ++k) {
+      std::copy_n(&problem_->points[kPointSize * k], kPointSize, &given[kPointSize * order_[k]]);
+    }
+    now = &given;
+  }
+  if (!cut_) {
+    *points = *now;
+    return;
+  }
   if (points != &all_) *points = all_;
   for (size_t k = 0; k < original_.point.size(); ++k) {
     for (int d = 0; d < kPointSize; ++d) {
-      (*points)[kPointSize * original_.point[k] + d] = problem_->points[kPointSize * k + d];
+      (*points)[kPointSize * original_.point[k] + d] = (*now)[kPointSize * k + d];
     }
   }
   if (points != &all_) all_ = *points;
 }
 
-KeptObservations LocalPointSide::Kept() { return KeptFlags(original_, observations_, points_); }
+KeptObservations LocalPointSide::Kept() {
+  if (!cut_) return KeptFlags(OriginalIndices::Identity(*problem_), observations_, points_);
+  return KeptFlags(original_, observations_, points_);
+}
 
 void RankPointSide::AllPoints(std::vector<double>* points) {
   side_->CollectPoints(&points_);

@@ -43,7 +43,11 @@ class PointSide {
 // down by each rejection round).
 class LocalPointSide : public PointSide {
  public:
-  explicit LocalPointSide(Problem* problem);
+  // `walk`: the order the solves walk the points in (problem/point_order.h;
+  // walk[k] the point of `problem` walked k-th), fixed at the load so that
+  // a resumed solve walks them as the uninterrupted one did (8 bytes per
+  // point, the only table the order keeps); empty: the problem's own order.
+  LocalPointSide(Problem* problem, std::vector<int64_t> walk);
   BundleAdjustSummary Solve(const LmOptions& options, const CameraPriors& priors,
                             const IterationHook& hook,
                             const std::function<void(const RcsSystem&)>& before_values) override;
@@ -55,8 +59,18 @@ class LocalPointSide : public PointSide {
  private:
   Problem* problem_;
   int64_t observations_, points_;  // as given
+  // From the first rejection round on (until then the problem is as given,
+  // and a solve without rejection pays nothing for them: 8 bytes per
+  // observation and 32 per point):
+  bool cut_ = false;
   OriginalIndices original_;       // current -> as given
   std::vector<double> all_;        // every point as given, the kept ones' last values
+  std::vector<int64_t> walk_;      // over the points as given (moved to order_ in a solve)
+  // During a solve: the problem's points in the walk's order, order_[k] the
+  // point (as the solve was given it) now at k; empty between solves.
+  std::vector<int64_t> order_;
+  void WalkOrder();
+  void GivenOrder();
 };
 
 // N ranks, as the main rank drives them.

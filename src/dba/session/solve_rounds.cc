@@ -9,6 +9,7 @@
 
 #include "dba/common/memory.h"
 #include "dba/lm/memory_estimate.h"
+#include "dba/problem/point_order.h"
 #include "dba/session/solve_session.h"
 
 namespace dba {
@@ -74,8 +75,37 @@ void SolveSession::Solve() {
   FinishSolve(side.get());
 }
 
+// The walk over the problem as the point side gets it (problem/point_order.h),
+// from the order taken at the load: through the origin of a problem a
+// resume cut down; points added since (control points) last, in their order.
+std::vector<int64_t> SolveSession::PointWalk() {
+  const int64_t n = result_.problem.num_points();
+  const int64_t loaded = static_cast<int64_t>(load_order_.size());
+  if (loaded == 0) return {};
+  std::vector<int64_t> walk;
+  if (origin_.point.empty()) {
+    walk = std::move(load_order_);
+  } else {
+    const std::vector<int64_t> place = InversePermutation(load_order_);
+    std::vector<std::pair<int64_t, int64_t>> keyed;
+    for (int64_t k = 0; k < n; ++k) {
+      const int64_t given = origin_.point[k];
+      if (given < loaded) keyed.emplace_back(place[given], k);
+    }
+    std::sort(keyed.begin(), keyed.end());
+    for (const auto& [place_of, k] : keyed) walk.push_back(k);
+  }
+  std::vector<int64_t>().swap(load_order_);
+  std::vector<uint8_t> walked(n, 0);
+  for (int64_t k : walk) walked[k] = 1;
+  for (int64_t k = 0; k < n; ++k) {
+    if (!walked[k]) walk.push_back(k);
+  }
+  return walk;
+}
+
 std::unique_ptr<PointSide> SolveSession::MakePointSide() {
-  if (comm_->size() == 1) return std::make_unique<LocalPointSide>(&result_.problem);
+  if (comm_->size() == 1) return std::make_unique<LocalPointSide>(&result_.problem, PointWalk());
   const DistributedCheckpoints checkpoints{
       checkpoints_ ? &*checkpoints_ : nullptr,
       input_.ranks_read_file && resumed_ ? &*resumed_ : nullptr, options_.resume_path};
@@ -111,11 +141,7 @@ void SolveSession::WriteCheckpoint(const IterationSummary& it, PointSide* side) 
   }
   const std::vector<double>& cameras = result_.problem.cameras;
   if (rounds_.empty()) {
-    if (comm_->size() == 1) {
-      checkpoints_->Write(state, cameras, result_.problem.points);
-      return;
-    }
-    std::vector<double> points;
+    std::vector<double> points;  // in the input's order (a solve walks its own)
     side->AllPoints(&points);
     checkpoints_->Write(state, cameras, points);
     return;

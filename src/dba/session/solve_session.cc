@@ -1,6 +1,8 @@
 // One solve in every mode; see solve_session.h.
 #include "dba/session/solve_session.h"
 
+#include "dba/problem/point_order.h"
+
 #include <omp.h>
 
 #include <algorithm>
@@ -137,6 +139,9 @@ SolveResult SolveSession::Run(SolveInput input) {
     Timer load;
     Start(input_);
     if (!input_.ranks_read_file) RefuseNonFiniteResiduals(input_.name, result_.problem);
+    // The walk's order from the positions as loaded (before an alignment or
+    // a resume moves them): the same for a solve and its resume.
+    if (comm_->size() == 1) load_order_ = SpatialPointOrder(result_.problem);
     if (options_.geo.any()) PrepareGeoreferencing();
     setup_ = SolveSetup(options_, result_.geo);
     Resume();

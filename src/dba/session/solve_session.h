@@ -107,6 +107,10 @@ class SolveSession {
   // Resumed after rejection rounds: what the point side was given, in the
   // problem as loaded (empty: the identity), and its observations.
   OriginalIndices origin_;
+  // The order the solves walk the loaded points in (one process), taken at
+  // the load and handed to the point side.
+  std::vector<int64_t> load_order_;
+  std::vector<int64_t> PointWalk();
   int64_t loaded_observations_ = 0;
   std::vector<double> loaded_pixels_;  // with rejection and a truth
 };

@@ -1,0 +1,118 @@
+// The walk's point order: a permutation, the same for the same positions
+// whatever their numbering, spatially compact; PermutePoints and its
+// inverse give the problem back bit for bit, priors following their points.
+#include "dba/problem/point_order.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+#include <random>
+
+namespace dba {
+namespace {
+
+// n points on a 2D grid (z small), point k seen by cameras k % 7 and
+// (k + 1) % 7, with a prior on every fifth point.
+Problem Grid(int64_t side) {
+  Problem p;
+  p.point_offsets.push_back(0);
+  for (int64_t i = 0; i < side; ++i) {
+    for (int64_t j = 0; j < side; ++j) {
+      const int64_t k = i * side + j;
+      p.points.insert(p.points.end(), {double(i), double(j), 0.01 * double(k % 3)});
+      for (int c : {int(k % 7), int((k + 1) % 7)}) {
+        p.obs_camera.push_back(c);
+        p.obs_pixel.insert(p.obs_pixel.end(), {double(k), double(-k)});
+      }
+      if (k % 5 == 0) {
+        PointPrior prior;
+        prior.point = k;
+        prior.position[0] = double(k);
+        p.point_priors.push_back(prior);
+      }
+      p.point_offsets.push_back(static_cast<int64_t>(p.obs_camera.size()));
+    }
+  }
+  return p;
+}
+
+TEST(PointOrder, IsAPermutationAndTheInverseRestoresTheProblemBitForBit) {
+  const Problem given = Grid(20);
+  Problem p = given;
+  const std::vector<int64_t> order = SpatialPointOrder(p);
+  std::vector<int64_t> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<int64_t> identity(order.size());
+  std::iota(identity.begin(), identity.end(), int64_t{0});
+  ASSERT_EQ(sorted, identity);
+  ASSERT_NE(order, identity);  // the grid's row order is not the curve's
+
+  PermutePoints(order, &p);
+  for (size_t k = 0; k < order.size(); ++k) {
+    const int64_t g = order[k];
+    EXPECT_EQ(p.points[3 * k], given.points[3 * g]);
+    EXPECT_EQ(p.point_offsets[k + 1] - p.point_offsets[k], 2);
+    EXPECT_EQ(p.obs_pixel[2 * p.point_offsets[k]], given.obs_pixel[2 * given.point_offsets[g]]);
+    EXPECT_EQ(p.obs_camera[p.point_offsets[k] + 1], given.obs_camera[given.point_offsets[g] + 1]);
+  }
+  for (size_t q = 0; q + 1 < p.point_priors.size(); ++q) {
+    EXPECT_LT(p.point_priors[q].point, p.point_priors[q + 1].point);  // sorted again
+  }
+  for (const PointPrior& prior : p.point_priors) {
+    EXPECT_EQ(prior.position[0], double(order[prior.point]));  // follows its point
+  }
+
+  PermutePoints(InversePermutation(order), &p);
+  EXPECT_EQ(p.points, given.points);
+  EXPECT_EQ(p.point_offsets, given.point_offsets);
+  EXPECT_EQ(p.obs_camera, given.obs_camera);
+  EXPECT_EQ(p.obs_pixel, given.obs_pixel);
+  ASSERT_EQ(p.point_priors.size(), given.point_priors.size());
+  for (size_t q = 0; q < p.point_priors.size(); ++q) {
+    EXPECT_EQ(p.point_priors[q].point, given.point_priors[q].point);
+  }
+}
+
+TEST(PointOrder, TheSamePositionsGiveTheSameWalkWhateverTheirNumbering) {
+  const Problem given = Grid(30);
+  std::vector<int64_t> shuffle(given.num_points());
+  std::iota(shuffle.begin(), shuffle.end(), int64_t{0});
+  std::shuffle(shuffle.begin(), shuffle.end(), std::mt19937_64(7));
+  Problem shuffled = given;
+  PermutePoints(shuffle, &shuffled);
+  const std::vector<int64_t> a = SpatialPointOrder(given), b = SpatialPointOrder(shuffled);
+  for (size_t k = 0; k < a.size(); ++k) {
+    // The k-th point walked is the same point (positions are distinct).
+    EXPECT_EQ(shuffle[b[k]], a[k]) << k;
+  }
+}
+
+TEST(PointOrder, ConsecutiveRangesAreSpatiallyCompact) {
+  // A quarter of the walk covers a quarter of the grid: its bounding box is
+  // far smaller than the grid's (a row-major quarter would span all of it).
+  const Problem p = Grid(64);
+  const std::vector<int64_t> order = SpatialPointOrder(p);
+  const size_t quarter = order.size() / 4;
+  double lo[2] = {1e9, 1e9}, hi[2] = {-1e9, -1e9};
+  for (size_t k = 0; k < quarter; ++k) {
+    for (int d = 0; d < 2; ++d) {
+      lo[d] = std::min(lo[d], p.points[3 * order[k] + d]);
+      hi[d] = std::max(hi[d], p.points[3 * order[k] + d]);
+    }
+  }
+  EXPECT_LE((hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1), 0.3 * 64 * 64);
+}
+
+TEST(PointOrder, PointsFarOutAndNonFiniteOnesAreClampedNotLost) {
+  Problem p = Grid(10);
+  p.points[0] = 1e300;
+  p.points[4] = -1e300;
+  const std::vector<int64_t> order = SpatialPointOrder(p);
+  std::vector<int64_t> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (size_t k = 0; k < sorted.size(); ++k) EXPECT_EQ(sorted[k], int64_t(k));
+}
+
+}  // namespace
+}  // namespace dba
