@@ -2,7 +2,8 @@
 # Every refusal of `dba solve` as a table: the arguments, the exit status
 # (2: arguments, also those that do not fit the input; 1: input or
 # environment), a part of the message (naming the flag or the file), and
-# that nothing is left behind (no -o output, no report, no temporary).
+# that nothing is left behind or changed (no -o output, no report, no
+# temporary; the input files' bytes as they were).
 # Usage: cli_refusals.sh PATH_TO_DBA PROJECT_ROOT
 set -uo pipefail
 source "$(dirname "$0")/lib/check.sh"
@@ -26,8 +27,15 @@ refuse() {
   local extra=(-o "$out")
   for a in "$@"; do [ "$a" = "-o" ] && extra=(); done
   if [ "$1" = "no-o" ]; then extra=(); shift; fi
+  local inputs=() a
+  for a in "$@"; do [ -f "$a" ] && inputs+=("$a"); [ -d "$a" ] && inputs+=("$a"/*); done
+  local before=""
+  [ ${#inputs[@]} -gt 0 ] && before=$(cksum "${inputs[@]}" 2>/dev/null)
   "$dba" solve "$@" "${extra[@]}" --report "$report" >"$tmp/log" 2>&1
   local got=$?
+  if [ ${#inputs[@]} -gt 0 ]; then
+    check "[$n]: the inputs' bytes unchanged" test "$before" = "$(cksum "${inputs[@]}" 2>/dev/null)"
+  fi
   local name="[$n] dba solve $*"
   check "$name: exit $status (got $got)" test "$got" -eq "$status"
   check "$name: says '$message'" contains "$tmp/log" "$message"

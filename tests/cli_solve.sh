@@ -34,6 +34,33 @@ for m in bal photo; do
     'abs(d["memory"]["estimate"]["total_bytes"] / d["memory"]["peak_bytes"] - 1) <= 0.11'
 done
 
+# The libraries' environment (tools/dba_main.cc): libgomp's threads spin
+# GOMP_SPINCOUNT=10000 rounds at a barrier unless the user chose (a spin
+# count or a wait policy), and the program started again keeps its name.
+# `dba info` on a FIFO waits for its input: its environment is read then.
+mkfifo "$tmp/wait.fifo"
+env_of_waiting_dba() {  # env_of_waiting_dba [VAR=VALUE...]: dba's GOMP_/OMP_ entries and its name
+  env "$@" timeout 20 "$dba" info "$tmp/wait.fifo" >/dev/null 2>&1 &
+  local waiter=$! child="" k
+  for k in $(seq 100); do
+    child=$(pgrep -P "$waiter" | head -1)
+    [ -n "$child" ] && break
+    sleep 0.1
+  done
+  sleep 1  # past its start again (milliseconds), waiting on the FIFO
+  [ -n "$child" ] && { cat "/proc/$child/comm"; tr '\0' '\n' <"/proc/$child/environ" | grep -E '^(GOMP_SPINCOUNT|OMP_WAIT_POLICY)=' | sort; }
+  timeout 5 sh -c ": >\"$tmp/wait.fifo\""
+  wait "$waiter" 2>/dev/null
+}
+env_of_waiting_dba -u GOMP_SPINCOUNT -u OMP_WAIT_POLICY >"$tmp/env.default"
+check "dba runs with GOMP_SPINCOUNT=10000 by default, named dba" \
+  test "$(cat "$tmp/env.default")" = "$(printf 'dba\nGOMP_SPINCOUNT=10000')"
+env_of_waiting_dba GOMP_SPINCOUNT=500 >"$tmp/env.user"
+check "a user's GOMP_SPINCOUNT is kept" test "$(cat "$tmp/env.user")" = "$(printf 'dba\nGOMP_SPINCOUNT=500')"
+env_of_waiting_dba -u GOMP_SPINCOUNT OMP_WAIT_POLICY=active >"$tmp/env.policy"
+check "a user's OMP_WAIT_POLICY is kept, no spin count added" \
+  test "$(cat "$tmp/env.policy")" = "$(printf 'dba\nOMP_WAIT_POLICY=active')"
+
 # Bad arguments: exit 2 and a message naming the argument.
 "$dba" solve >"$tmp/out" 2>&1; check "missing input exits 2" test $? -eq 2
 check "missing input is named" contains "$tmp/out" "missing INPUT"

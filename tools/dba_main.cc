@@ -44,35 +44,60 @@ void PrintUsage(std::ostream& out) {
   out << "\nRun 'dba COMMAND --help' for the options of a command.\n";
 }
 
-// Before any library's constructor (the executable's .preinit_array):
-// OpenBLAS starts one thread per core when it loads, each mapping a 128 MiB
-// buffer, and under a limit on the address space (ulimit -v) a refused
-// buffer is retried forever, so every command hung before main. Under such
-// a limit the program starts again at once with OPENBLAS_NUM_THREADS=1
-// (glibc sets the environment up again after this function, so only a new
-// exec passes it to OpenBLAS): then no thread starts at load, and the sparse
-// factorization takes the threads that fit (common/blas_threads.h).
-void OneBlasThreadUnderAddressLimit(int, char** argv, char** envp) {
+// Before any library's constructor (the executable's .preinit_array), the
+// environment two libraries read once, when they load (glibc sets the
+// environment up again after this function, so only a new exec passes a
+// change on; tools/dba_main.cc starts again at most once):
+// - OpenBLAS starts one thread per core when it loads, each mapping a 128
+//   MiB buffer, and under a limit on the address space (ulimit -v) a refused
+//   buffer is retried forever, so every command hung before main. Under such
+//   a limit: OPENBLAS_NUM_THREADS=1 (no thread at load; the sparse
+//   factorization takes the threads that fit, common/blas_threads.h).
+// - libgomp's threads spin at a barrier for GOMP_SPINCOUNT rounds (300,000
+//   by default, milliseconds) before they sleep: on a machine another
+//   process keeps busy a thread spins while its partner waits for the core,
+//   and PCG, with seven parallel regions per iteration, slowed 8x under
+//   three busy processes (issue 44). Unless the user chose (GOMP_SPINCOUNT
+//   or OMP_WAIT_POLICY set): GOMP_SPINCOUNT=kSpinCount.
+constexpr const char* kSpinCount = "GOMP_SPINCOUNT=10000";
+
+bool Named(const char* entry, const char* name) {
+  const size_t n = std::strlen(name);
+  return std::strncmp(entry, name, n) == 0 && entry[n] == '=';
+}
+
+void StartWithTheLibrariesEnvironment(int, char** argv, char** envp) {
   struct rlimit limit {};
-  if (::getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return;
-  static char one[] = "OPENBLAS_NUM_THREADS=1";
+  const bool address_limit = ::getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY;
+  static char one_blas[] = "OPENBLAS_NUM_THREADS=1";
+  static char spin[64];
+  std::strncpy(spin, kSpinCount, sizeof spin - 1);
+  bool add_blas = address_limit, add_spin = true;
   static char* env[4096];
   size_t n = 0;
   for (char** e = envp; *e != nullptr; ++e) {
-    if (std::strcmp(*e, one) == 0) return;  // started again already, or set so
-    if (std::strncmp(*e, one, sizeof "OPENBLAS_NUM_THREADS=" - 1) == 0) continue;
-    if (n + 2 >= sizeof env / sizeof env[0]) return;
+    if (std::strcmp(*e, one_blas) == 0) add_blas = false;
+    if (Named(*e, "GOMP_SPINCOUNT") || Named(*e, "OMP_WAIT_POLICY")) add_spin = false;
+    if (address_limit && Named(*e, "OPENBLAS_NUM_THREADS") && std::strcmp(*e, one_blas) != 0) continue;
+    if (n + 3 >= sizeof env / sizeof env[0]) return;
     env[n++] = *e;
   }
-  env[n++] = one;
+  if (!add_blas && !add_spin) return;
+  if (add_blas) env[n++] = one_blas;
+  if (add_spin) env[n++] = spin;
   env[n] = nullptr;
-  ::execve("/proc/self/exe", argv, env);  // returns only where it failed: go on
+  // The program's own path, not /proc/self/exe: ps and top show "dba".
+  static char self[4096];
+  const ssize_t len = ::readlink("/proc/self/exe", self, sizeof self - 1);
+  if (len <= 0) return;
+  self[len] = '\0';
+  ::execve(self, argv, env);  // returns only where it failed: go on
 }
 
 }  // namespace
 
-__attribute__((section(".preinit_array"), used)) static void (*const kOneBlasThread)(
-    int, char**, char**) = OneBlasThreadUnderAddressLimit;
+__attribute__((section(".preinit_array"), used)) static void (*const kLibrariesEnvironment)(
+    int, char**, char**) = StartWithTheLibrariesEnvironment;
 
 int main(int argc, char** argv) {
   // An interrupted write leaves no temporary behind.

@@ -70,6 +70,27 @@ std::vector<int64_t> SpatialPointOrder(const Problem& problem) {
   return order;
 }
 
+double MeanStep(const Problem& problem, std::span<const int64_t> order) {
+  const int64_t n = problem.num_points();
+  const auto at = [&](int64_t k) { return order.empty() ? k : order[k]; };
+  double sum = 0.0;
+  int64_t steps = 0;
+  for (int64_t k = 1; k < n; ++k) {
+    const double* a = &problem.points[kPointSize * at(k - 1)];
+    const double* b = &problem.points[kPointSize * at(k)];
+    const double d = std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                               (a[2] - b[2]) * (a[2] - b[2]));
+    if (std::isfinite(d)) sum += d, ++steps;
+  }
+  return steps > 0 ? sum / static_cast<double>(steps) : 0.0;
+}
+
+std::vector<int64_t> PointWalk(const Problem& problem) {
+  std::vector<int64_t> walk = SpatialPointOrder(problem);
+  if (MeanStep(problem) <= 1.5 * MeanStep(problem, walk)) walk.clear();
+  return walk;
+}
+
 std::vector<int64_t> InversePermutation(std::span<const int64_t> order) {
   std::vector<int64_t> inverse(order.size());
   for (size_t k = 0; k < order.size(); ++k) inverse[order[k]] = static_cast<int64_t>(k);

@@ -28,6 +28,16 @@ namespace dba {
 // near infinity, clamped to its faces); ties in their input order.
 std::vector<int64_t> SpatialPointOrder(const Problem& problem);
 
+// The mean distance between consecutive points of `order` (empty: the
+// problem's own order), over the finite ones: how far a walk jumps.
+double MeanStep(const Problem& problem, std::span<const int64_t> order = {});
+
+// The walk the solves should take: SpatialPointOrder, or empty (the
+// problem's own order) where that is already as local (its mean step at
+// most 1.5 times the spatial order's: a generated survey's strips,
+// incremental SfM's growth), which then costs no table and no copy.
+std::vector<int64_t> PointWalk(const Problem& problem);
+
 // Moves point `order[k]` (with its observations, in their order, and its
 // prior) to position k. `order` is a permutation of the points. Transient
 // memory: one array at a time (at most 16 bytes per observation).

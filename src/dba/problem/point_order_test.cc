@@ -116,3 +116,22 @@ TEST(PointOrder, PointsFarOutAndNonFiniteOnesAreClampedNotLost) {
 
 }  // namespace
 }  // namespace dba
+
+namespace dba {
+namespace {
+
+TEST(PointOrder, AWalkIsTakenOnlyWhereTheInputsOrderIsScattered) {
+  const Problem rows = Grid(40);  // row by row: already local
+  EXPECT_TRUE(PointWalk(rows).empty());
+  std::vector<int64_t> shuffle(rows.num_points());
+  std::iota(shuffle.begin(), shuffle.end(), int64_t{0});
+  std::shuffle(shuffle.begin(), shuffle.end(), std::mt19937_64(3));
+  Problem shuffled = rows;
+  PermutePoints(shuffle, &shuffled);
+  const std::vector<int64_t> walk = PointWalk(shuffled);
+  ASSERT_EQ(walk, SpatialPointOrder(shuffled));
+  EXPECT_LT(MeanStep(shuffled, walk), 0.1 * MeanStep(shuffled));
+}
+
+}  // namespace
+}  // namespace dba

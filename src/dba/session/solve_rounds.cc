@@ -78,7 +78,7 @@ void SolveSession::Solve() {
 // The walk over the problem as the point side gets it (problem/point_order.h),
 // from the order taken at the load: through the origin of a problem a
 // resume cut down; points added since (control points) last, in their order.
-std::vector<int64_t> SolveSession::PointWalk() {
+std::vector<int64_t> SolveSession::WalkOverSide() {
   const int64_t n = result_.problem.num_points();
   const int64_t loaded = static_cast<int64_t>(load_order_.size());
   if (loaded == 0) return {};
@@ -105,7 +105,7 @@ std::vector<int64_t> SolveSession::PointWalk() {
 }
 
 std::unique_ptr<PointSide> SolveSession::MakePointSide() {
-  if (comm_->size() == 1) return std::make_unique<LocalPointSide>(&result_.problem, PointWalk());
+  if (comm_->size() == 1) return std::make_unique<LocalPointSide>(&result_.problem, WalkOverSide());
   const DistributedCheckpoints checkpoints{
       checkpoints_ ? &*checkpoints_ : nullptr,
       input_.ranks_read_file && resumed_ ? &*resumed_ : nullptr, options_.resume_path};

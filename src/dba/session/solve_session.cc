@@ -141,7 +141,13 @@ SolveResult SolveSession::Run(SolveInput input) {
     if (!input_.ranks_read_file) RefuseNonFiniteResiduals(input_.name, result_.problem);
     // The walk's order from the positions as loaded (before an alignment or
     // a resume moves them): the same for a solve and its resume.
-    if (comm_->size() == 1) load_order_ = SpatialPointOrder(result_.problem);
+    if (comm_->size() == 1) {
+      load_order_ = PointWalk(result_.problem);
+      if (!load_order_.empty() && !options_.quiet) {
+        out_ << "points walked in a spatial order (the input's order is scattered); outputs keep "
+                "the input's\n";
+      }
+    }
     if (options_.geo.any()) PrepareGeoreferencing();
     setup_ = SolveSetup(options_, result_.geo);
     Resume();

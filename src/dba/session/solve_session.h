@@ -110,7 +110,7 @@ class SolveSession {
   // The order the solves walk the loaded points in (one process), taken at
   // the load and handed to the point side.
   std::vector<int64_t> load_order_;
-  std::vector<int64_t> PointWalk();
+  std::vector<int64_t> WalkOverSide();
   int64_t loaded_observations_ = 0;
   std::vector<double> loaded_pixels_;  // with rejection and a truth
 };
