@@ -78,4 +78,18 @@ check "info on a COLMAP model exits 0" test $? -eq 0
 check "info names it a COLMAP model" grep -q "(COLMAP model)" "$tmp/info"
 check "info gives its lens model" grep -q "OPENCV" "$tmp/info"
 
+
+# info's refusals: the exit status and what was wrong, before the usage.
+for bad in ":2:missing FILE" "--bogus:2:unknown option '--bogus'" "a b:2:one FILE, not 2 arguments" \
+           "$tmp/none.txt:1:$tmp/none.txt: cannot open"; do
+  args=${bad%%:*}; rest=${bad#*:}; status=${rest%%:*}; says=${rest#*:}
+  "$dba" info $args >"$tmp/ierr" 2>&1
+  check "info $args: exit $status" test $? -eq "$status"
+  check "info $args: says '$says'" grep -qF -- "$says" "$tmp/ierr"
+done
+printf '2 1 2\n0 0 1.0 2.0\n1 0 1.0 2.5' >"$tmp/cut_info.txt"
+"$dba" info "$tmp/cut_info.txt" >"$tmp/ierr" 2>&1
+check "info on a cut file: exit 1, file and line" test $? -eq 1
+check "info on a cut file says so" grep -qF "$tmp/cut_info.txt:3: the file ends inside this line" "$tmp/ierr"
+
 finish

@@ -210,7 +210,15 @@ int ConvertMain(const std::vector<std::string>& all_args) {
 }
 
 int InfoMain(const std::vector<std::string>& args) {
-  if (WantsHelp(args) || args.size() != 1) {
+  const bool option = args.size() == 1 && args[0].size() > 1 && args[0][0] == '-';
+  if (WantsHelp(args) || args.size() != 1 || option) {
+    if (!WantsHelp(args)) {
+      std::cerr << "dba info: "
+                << (args.empty() ? std::string("missing FILE")
+                    : option     ? "unknown option '" + args[0] + "'"
+                                 : "one FILE, not " + std::to_string(args.size()) + " arguments")
+                << "\n\n";
+    }
     (WantsHelp(args) ? std::cout : std::cerr)
         << "Usage: dba info FILE\n"
            "\n"
