@@ -209,6 +209,19 @@ int ConvertMain(const std::vector<std::string>& all_args) {
   }
 }
 
+static void PrintInfoUsage(std::ostream& out) {
+  out << "Usage: dba info FILE\n"
+           "\n"
+           "Prints the camera model and counts of a problem (BAL text or binary, or a\n"
+           "COLMAP model directory;\n"
+           "for the photogrammetric model also its intrinsic groups and what is held\n"
+           "fixed), the statistics of its track lengths (observations per point) and\n"
+           "camera degrees (observations per camera, cameras sharing a point with\n"
+           "it), the size of its reduced camera system in BSMC next to CSR, and the\n"
+           "peak memory dba solve would take with its defaults on this node's cores\n"
+           "(one process; the estimate dba solve prints before its first iteration).\n";
+}
+
 int InfoMain(const std::vector<std::string>& args) {
   const bool option = args.size() == 1 && args[0].size() > 1 && args[0][0] == '-';
   if (WantsHelp(args) || args.size() != 1 || option) {
@@ -219,17 +232,7 @@ int InfoMain(const std::vector<std::string>& args) {
                                  : "one FILE, not " + std::to_string(args.size()) + " arguments")
                 << "\n\n";
     }
-    (WantsHelp(args) ? std::cout : std::cerr)
-        << "Usage: dba info FILE\n"
-           "\n"
-           "Prints the camera model and counts of a problem (BAL text or binary, or a\n"
-           "COLMAP model directory;\n"
-           "for the photogrammetric model also its intrinsic groups and what is held\n"
-           "fixed), the statistics of its track lengths (observations per point) and\n"
-           "camera degrees (observations per camera, cameras sharing a point with\n"
-           "it), the size of its reduced camera system in BSMC next to CSR, and the\n"
-           "peak memory dba solve would take with its defaults on this node's cores\n"
-           "(one process; the estimate dba solve prints before its first iteration).\n";
+    PrintInfoUsage(WantsHelp(args) ? std::cout : std::cerr);
     return WantsHelp(args) ? 0 : 2;
   }
   try {

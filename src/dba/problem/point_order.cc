@@ -70,24 +70,31 @@ std::vector<int64_t> SpatialPointOrder(const Problem& problem) {
   return order;
 }
 
-double MeanStep(const Problem& problem, std::span<const int64_t> order) {
+double SharedCameraFraction(const Problem& problem, std::span<const int64_t> order) {
   const int64_t n = problem.num_points();
+  if (n < 2) return 1.0;
   const auto at = [&](int64_t k) { return order.empty() ? k : order[k]; };
-  double sum = 0.0;
-  int64_t steps = 0;
+  const auto& off = problem.point_offsets;
+  int64_t shared = 0;
   for (int64_t k = 1; k < n; ++k) {
-    const double* a = &problem.points[kPointSize * at(k - 1)];
-    const double* b = &problem.points[kPointSize * at(k)];
-    const double d = std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                               (a[2] - b[2]) * (a[2] - b[2]));
-    if (std::isfinite(d)) sum += d, ++steps;
+    const int64_t a = at(k - 1), b = at(k);
+    bool common = false;
+    for (int64_t i = off[a]; i < off[a + 1] && !common; ++i) {
+      for (int64_t j = off[b]; j < off[b + 1]; ++j) {
+        if (problem.obs_camera[i] == problem.obs_camera[j]) {
+          common = true;
+          break;
+        }
+      }
+    }
+    shared += common;
   }
-  return steps > 0 ? sum / static_cast<double>(steps) : 0.0;
+  return static_cast<double>(shared) / static_cast<double>(n - 1);
 }
 
 std::vector<int64_t> PointWalk(const Problem& problem) {
   std::vector<int64_t> walk = SpatialPointOrder(problem);
-  if (MeanStep(problem) <= 1.5 * MeanStep(problem, walk)) walk.clear();
+  if (SharedCameraFraction(problem) >= 0.8 * SharedCameraFraction(problem, walk)) walk.clear();
   return walk;
 }
 

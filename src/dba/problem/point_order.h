@@ -28,14 +28,18 @@ namespace dba {
 // near infinity, clamped to its faces); ties in their input order.
 std::vector<int64_t> SpatialPointOrder(const Problem& problem);
 
-// The mean distance between consecutive points of `order` (empty: the
-// problem's own order), over the finite ones: how far a walk jumps.
-double MeanStep(const Problem& problem, std::span<const int64_t> order = {});
+// The fraction of consecutive points of `order` (empty: the problem's own
+// order) seen by at least one common camera: how often the next point
+// writes where the last one did.
+double SharedCameraFraction(const Problem& problem, std::span<const int64_t> order = {});
 
 // The walk the solves should take: SpatialPointOrder, or empty (the
-// problem's own order) where that is already as local (its mean step at
-// most 1.5 times the spatial order's: a generated survey's strips,
-// incremental SfM's growth), which then costs no table and no copy.
+// problem's own order) where that already shares cameras between
+// consecutive points at least 0.8 times as often as the spatial order (a
+// generated survey's footprints, incremental SfM's growth): then it costs
+// no table and no copy. (Distance is no guide: a generator that lists a
+// footprint's points at random across it is local in cameras, and faster
+// than the Morton walk at a million images.)
 std::vector<int64_t> PointWalk(const Problem& problem);
 
 // Moves point `order[k]` (with its observations, in their order, and its

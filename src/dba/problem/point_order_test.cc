@@ -120,17 +120,35 @@ TEST(PointOrder, PointsFarOutAndNonFiniteOnesAreClampedNotLost) {
 namespace dba {
 namespace {
 
+// A 40 x 40 grid of points in tiles of 5 x 5, each tile an image (64),
+// each point seen by its tile's image and the next tile's: neighbours in
+// space share images, as in a survey.
+Problem Tiles() {
+  Problem p = Grid(40);
+  p.obs_camera.clear();
+  for (int64_t i = 0; i < 40; ++i) {
+    for (int64_t j = 0; j < 40; ++j) {
+      const int c = static_cast<int>((i / 5) * 8 + j / 5);
+      p.obs_camera.push_back(c);
+      p.obs_camera.push_back((c + 1) % 64);
+    }
+  }
+  return p;
+}
+
 TEST(PointOrder, AWalkIsTakenOnlyWhereTheInputsOrderIsScattered) {
-  const Problem rows = Grid(40);  // row by row: already local
+  const Problem rows = Tiles();  // row by row: consecutive points share images
+  EXPECT_GT(SharedCameraFraction(rows), 0.7);
   EXPECT_TRUE(PointWalk(rows).empty());
   std::vector<int64_t> shuffle(rows.num_points());
   std::iota(shuffle.begin(), shuffle.end(), int64_t{0});
   std::shuffle(shuffle.begin(), shuffle.end(), std::mt19937_64(3));
   Problem shuffled = rows;
   PermutePoints(shuffle, &shuffled);
+  EXPECT_LT(SharedCameraFraction(shuffled), 0.1);
   const std::vector<int64_t> walk = PointWalk(shuffled);
   ASSERT_EQ(walk, SpatialPointOrder(shuffled));
-  EXPECT_LT(MeanStep(shuffled, walk), 0.1 * MeanStep(shuffled));
+  EXPECT_GT(SharedCameraFraction(shuffled, walk), 0.7);
 }
 
 }  // namespace
