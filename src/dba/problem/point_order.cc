@@ -94,7 +94,9 @@ double SharedCameraFraction(const Problem& problem, std::span<const int64_t> ord
 
 std::vector<int64_t> PointWalk(const Problem& problem) {
   std::vector<int64_t> walk = SpatialPointOrder(problem);
-  if (SharedCameraFraction(problem) >= 0.8 * SharedCameraFraction(problem, walk)) walk.clear();
+  // (Returned empty with its memory given back: clear() would keep 8 bytes
+  // a point of capacity for the whole solve.)
+  if (SharedCameraFraction(problem) >= 0.8 * SharedCameraFraction(problem, walk)) return {};
   return walk;
 }
 
