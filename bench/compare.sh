@@ -62,6 +62,17 @@
 #     --loss NAME, --loss-scale A   a robust loss for dba (--loss) and Ceres
 #                        (its own loss of that name; default: none); costs
 #                        are then the robust ½ Σ ρ
+#     --shuffle SEED     every problem renumbered (points and cameras) by a
+#                        random permutation seeded by SEED, its observations
+#                        sorted camera by camera, and written as a new BAL
+#                        text input (bench/shuffle_bal.py; a .dba is first
+#                        converted to BAL text): an order dba did not choose.
+#                        Named <problem>-shuffled<SEED>
+#     --busy N           N busy processes (shell loops at normal priority)
+#                        run beside every solver, dba and Ceres alike, from
+#                        the first run to the last; the wait for an idle
+#                        machine and the "others' load" column do not count
+#                        them
 #     --timeout S        stop any run after S seconds (default 1800); the
 #                        configuration is left out of that problem
 #     --prune X          stop a Ceres run once it takes X times (default 3;
@@ -93,6 +104,8 @@ function_tolerance=""
 loss="" loss_scale=1
 timeout=1800
 prune=3
+shuffle=""
+busy=0
 prune_floor=60  # no run is stopped by --prune before this many seconds
 problems=()
 while [ $# -gt 0 ]; do
@@ -114,6 +127,8 @@ while [ $# -gt 0 ]; do
     --loss-scale) loss_scale=$2; shift 2 ;;
     --timeout) timeout=$2; shift 2 ;;
     --prune) prune=$2; shift 2 ;;
+    --shuffle) shuffle=$2; shift 2 ;;
+    --busy) busy=$2; shift 2 ;;
     -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d'; exit 0 ;;
     -*) echo "compare.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) problems+=("$1"); shift ;;
@@ -123,6 +138,8 @@ if [ "$quick" = 1 ]; then
   repeats=1
   [ "$synthetic_set" = 1 ] || synthetic="uav:1000"
 fi
+[[ "$busy" =~ ^[0-9]+$ ]] || { echo "compare.sh: --busy takes a count of processes, not '$busy'" >&2; exit 2; }
+[ -z "$shuffle" ] || [[ "$shuffle" =~ ^[0-9]+$ ]] || { echo "compare.sh: --shuffle takes an integer seed, not '$shuffle'" >&2; exit 2; }
 case " $ceres_versions " in *" 2.2 "*) ;; *) echo "compare.sh: --ceres must include 2.2 (the yardstick)" >&2; exit 2 ;; esac
 for v in $ceres_versions; do
   case "$v" in 2.2|2.1) ;; *) echo "compare.sh: unknown Ceres version '$v' (2.2 or 2.1)" >&2; exit 2 ;; esac
@@ -139,7 +156,9 @@ if [ -n "$function_tolerance" ]; then dba_args+=(--function-tolerance "$function
 if [ -n "$loss" ]; then dba_args+=(--loss "$loss" --loss-scale "$loss_scale"); ceres_args+=(--loss "$loss" --loss-scale "$loss_scale"); fi
 
 work=$(mktemp -d /tmp/dba-compare.XXXXXX)
-trap 'rm -rf "$work"' EXIT
+busy_pids=()
+stop_busy() { [ ${#busy_pids[@]} -eq 0 ] || kill "${busy_pids[@]}" 2>/dev/null || true; }
+trap 'stop_busy; rm -rf "$work"' EXIT
 mkdir -p "$out"
 
 problem_name() { local n; n=$(basename "$1"); n=${n%.bz2}; n=${n%.txt}; n=${n%.dba}; echo "$n"; }
@@ -179,7 +198,7 @@ wait_quiet() {
   local waited=0
   while :; do
     background
-    awk -v x="$bg_cores" 'BEGIN {exit !(x < 0.3)}' && return 0
+    awk -v x="$bg_cores" -v n="$busy" 'BEGIN {exit !(x - n < 0.3)}' && return 0
     [ "$waited" -ge "$max_wait" ] && { echo "  (machine busy: $bg_cores cores in use by others; running anyway)"; return 0; }
     sleep 4; waited=$((waited + 5))
   done
@@ -229,8 +248,8 @@ run() {
   # last quiet check (one idle second) to the end of the run, minus the
   # solver's own, per second of that window.
   awk -v a="$sample_jiffies" -v b="$(busy_jiffies)" -v hz="$hz" -v own="$(cpu_of "$work/$tag.time")" \
-      -v t0="$sample_time" -v t1="$(date +%s.%N)" \
-    'BEGIN {x = ((b - a) / hz - own) / (t1 - t0); printf "%.2f\n", x < 0 ? 0 : x}' >"$work/$tag.bg"
+      -v t0="$sample_time" -v t1="$(date +%s.%N)" -v n="$busy" \
+    'BEGIN {x = ((b - a) / hz - own) / (t1 - t0) - n; printf "%.2f\n", x < 0 ? 0 : x}' >"$work/$tag.bg"
 }
 
 # Time (s since the program started, loading included) at which a report's
@@ -368,6 +387,30 @@ for s in $synthetic; do
     *) echo "compare.sh: unknown synthetic problem '$s'" >&2; exit 2 ;;
   esac
 done
+
+# --shuffle: each problem renumbered, as a new BAL text input.
+if [ -n "$shuffle" ]; then
+  shuffled=()
+  for p in "${problems[@]}"; do
+    name=$(problem_name "$p")-shuffled$shuffle
+    src=$p
+    if [[ "$p" == *.dba ]]; then
+      $dba convert "$p" "$work/$name.in.txt" >/dev/null
+      src=$work/$name.in.txt
+    fi
+    echo "compare.sh: $name (bench/shuffle_bal.py, seed $shuffle)"
+    /usr/bin/python3 bench/shuffle_bal.py "$src" "$work/$name.txt" "$shuffle"
+    rm -f "$work/$name.in.txt"
+    shuffled+=("$work/$name.txt")
+  done
+  problems=("${shuffled[@]}")
+fi
+# --busy: the busy processes, from here to the end.
+for ((i = 0; i < busy; ++i)); do
+  bash -c 'while :; do :; done' &
+  busy_pids+=($!)
+done
+[ "$busy" = 0 ] || echo "compare.sh: $busy busy processes beside every run (pids ${busy_pids[*]})"
 
 cpu=$(awk -F': ' '/model name/ {print $2; exit}' /proc/cpuinfo)
 mem=$(awk '/MemTotal/ {printf "%.0f", $2 / 1048576}' /proc/meminfo)
@@ -573,6 +616,8 @@ ceres_options="iteration limit 100, function tolerance 1e-6"; [ ${#ceres_args[@]
   echo "(DENSE_SCHUR under $dense_max_cameras cameras only); per problem and version the fastest whose final cost is within $gap_label of the"
   echo "best cost of all runs is compared. Runs were stopped after $timeout s (\`--timeout\`), Ceres runs also after"
   [ "$prune" = 0 ] && echo "no other limit." || echo "$prune times the fastest run of the same version that reached the best cost, if over $prune_floor s (\`--prune\`); see the notes."
+  [ -z "$shuffle" ] || echo "Inputs shuffled (\`--shuffle $shuffle\`): points and cameras renumbered at random, observations sorted by camera."
+  [ "$busy" = 0 ] || echo "With $busy busy processes at normal priority beside every run (\`--busy $busy\`; not counted in others' load)."
   echo "Generated by \`bash bench/compare.sh\`."
   echo
   echo "| problem | cameras | points | observations | dba final cost | Ceres 2.2 final cost | agree (0.1%) | dba time (s) | Ceres 2.2 time (s) | fastest Ceres 2.2 | Ceres 2.2/dba time | dba to best+$gap_label (s) | Ceres 2.2 to best+$gap_label (s) | Ceres 2.2/dba to best+$gap_label | dba peak (MiB) | Ceres 2.2 peak (MiB) | Ceres 2.2/dba memory | Ceres 2.1 time (s) | fastest Ceres 2.1 | Ceres 2.1/dba time | others' load dba / Ceres 2.2 (cores) |"

@@ -11,6 +11,7 @@ packages=(
   libsuitesparse-dev libopenblas0-pthread
   libproj-dev libxxhash-dev
   time
+  colmap
   python3-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
 )
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "dba/app/colmap_adjuster_command.h"
 #include "dba/app/convert_command.h"
 #include "dba/app/generate_command.h"
 #include "dba/app/solve_command.h"
@@ -31,6 +32,10 @@ const Command kCommands[] = {
      dba::InfoMain},
     {"generate", "generate OUTPUT [--images N] [--truth FILE]    a synthetic UAV survey with ground truth",
      dba::GenerateMain},
+    {"colmap-bundle-adjuster",
+     "colmap-bundle-adjuster --input_path DIR --output_path DIR [...]\n"
+     "                                                a drop-in for colmap bundle_adjuster",
+     dba::ColmapBundleAdjusterMain},
 };
 
 void PrintUsage(std::ostream& out) {

@@ -20,10 +20,13 @@ def survey(tmp_path_factory):
     return dba.read_problem(d / "s.dba")
 
 
+# The free gauge: renumbering the cameras makes another image the first,
+# which the held gauge keeps where it was given (tests/cli_gauge.sh).
 def solve(cameras, points, observations, camera_indices, point_indices, **options):
     return dba.solve_arrays(cameras, points, observations, camera_indices, point_indices,
                             camera_model="bal", threads=2, linear_solver="sparse",
-                            max_iterations=15, function_tolerance=1e-12, quiet=True, **options)
+                            max_iterations=15, function_tolerance=1e-12, quiet=True,
+                            gauge="free", **options)
 
 
 def test_a_shuffled_survey_solves_to_the_ordered_ones_parameters(survey):

@@ -38,7 +38,8 @@ def solve(d, **options):
     return dba.solve_arrays(p.cameras, p.points, p.observations, p.camera_indices,
                             p.point_indices, camera_model=p.camera_model, intrinsics=p.intrinsics,
                             camera_intrinsics=p.camera_intrinsics, fixed_cameras=p.fixed_cameras,
-                            fixed_intrinsics=p.fixed_intrinsics, lens_models=p.lens_models,
+                            fixed_intrinsics=options.pop("fixed_intrinsics", p.fixed_intrinsics),
+                            lens_models=p.lens_models,
                             threads=options.pop("threads", 2), **options)
 
 
@@ -66,6 +67,18 @@ EFFECTS = {
                                                       dba.read_problem(d / "s.dba").intrinsics[:, 0])),
     "fix_images": (lambda d: dict(fix_images=[3]),
                    lambda r, b, d: np.array_equal(r.cameras[3], dba.read_problem(d / "s.dba").cameras[3])),
+    # The generated survey holds its principal points fixed itself: here
+    # without, they are fixed by default and refined when asked.
+    "refine_principal_point": (
+        lambda d: dict(refine_principal_point=True, fixed_intrinsics=np.zeros((2, 5), bool)),
+        lambda r, b, d: np.array_equal(
+            solve(d, fixed_intrinsics=np.zeros((2, 5), bool), quiet=True).intrinsics[:, 1:3],
+            dba.read_problem(d / "s.dba").intrinsics[:, 1:3])
+        and not np.array_equal(r.intrinsics[:, 1:3], dba.read_problem(d / "s.dba").intrinsics[:, 1:3])),
+    "gauge": (lambda d: dict(gauge="free"),
+              lambda r, b, d: rep(r)["gauge"].startswith("free")
+              and np.array_equal(b.cameras[0], dba.read_problem(d / "s.dba").cameras[0])
+              and not np.array_equal(r.cameras[0], b.cameras[0])),
     "threads": (lambda d: dict(threads=1), lambda r, b, d: rep(r)["threads"] == 1),
     "max_iterations": (lambda d: dict(max_iterations=2), lambda r, b, d: r.summary.iterations == 2),
     "function_tolerance": (lambda d: dict(function_tolerance=0.5),

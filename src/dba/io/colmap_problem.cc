@@ -7,6 +7,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <numeric>
 #include <unordered_map>
 
 #include "dba/camera/observation_residual.h"
@@ -35,6 +36,7 @@ std::array<double, 4> AngleAxisToQuaternion(const Vec3& omega) {
 
 Fixings ColmapFixings(const ColmapModel& model, const ColmapProblem& problem,
                       const std::vector<uint32_t>& fixed_image_ids,
+                      const std::vector<std::string>& fixed_image_names,
                       const std::vector<IntrinsicFixing>& fixed_intrinsics,
                       const std::string& source) {
   std::unordered_map<uint32_t, int64_t> problem_image_of_id;  // -1: not in the problem
@@ -59,7 +61,7 @@ Fixings ColmapFixings(const ColmapModel& model, const ColmapProblem& problem,
     // problem, and its groups are numbered otherwise).
     const LensModelInfo& m = *FindLensModel(static_cast<int>(LensModelOfColmapCamera(*camera, source)));
     for (const std::string& name : x.names) {
-      if (name != "all" && !LensModelParamIndex(m.id, name)) {
+      if (name != "all" && !LensModelKindMask(m.id, name) && !LensModelParamIndex(m.id, name)) {
         throw UsageError("--fix-intrinsics: no intrinsic parameter '" + Clipped(name) +
                          "' in COLMAP camera " + std::to_string(x.group) + "'s model " + m.name +
                          " (" + m.params + ")");
@@ -78,6 +80,15 @@ Fixings ColmapFixings(const ColmapModel& model, const ColmapProblem& problem,
                        " has no image with that id");
     }
     if (it->second >= 0) f.images.push_back(it->second);
+  }
+  for (const std::string& name : fixed_image_names) {
+    const auto im = std::find_if(model.images.begin(), model.images.end(),
+                                 [&](const ColmapImage& m) { return m.name == name; });
+    if (im == model.images.end()) {
+      throw UsageError("--fix-images: " + source + " has no image named '" + Clipped(name) + "'");
+    }
+    const int64_t i = problem_image_of_id[im->image_id];
+    if (i >= 0) f.images.push_back(i);
   }
   return f;
 }
@@ -118,9 +129,15 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
     }
   }
 
-  // Problem cameras: the used images in model order.
+  // Problem cameras: the used images in image-id order (COLMAP writes its
+  // images in no particular order; the first, the lowest id, holds the gauge).
+  std::vector<int64_t> by_id(num_images);
+  std::iota(by_id.begin(), by_id.end(), int64_t{0});
+  std::sort(by_id.begin(), by_id.end(), [&](int64_t a, int64_t b) {
+    return model.images[a].image_id < model.images[b].image_id;
+  });
   std::vector<int32_t> problem_camera(num_images, -1);
-  for (int64_t j = 0; j < num_images; ++j) {
+  for (int64_t j : by_id) {
     if (!image_used[j]) continue;
     if (out.image_index.size() >= static_cast<size_t>(std::numeric_limits<int32_t>::max())) {
       throw InputError(source, 0, "more than 2^31 - 1 images");

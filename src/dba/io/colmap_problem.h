@@ -3,7 +3,8 @@
 // adjusted parameters written back into the model.
 //
 // Mapping (COLMAP's conventions are the photo model's, so no sign flips):
-//   problem camera i   an image of the model, in model order; only images
+//   problem camera i   an image of the model, in image-id order (the
+//                      first, the lowest id, holds the gauge); only images
 //                      with at least one observation of an adjusted point
 //                      (others are not in the problem and stay unchanged)
 //   pose               ω = angle-axis of the normalised quaternion (qw, qx,
@@ -79,7 +80,7 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
                                 const std::string& source);
 
 // What is held fixed, in the problem's numbering (problem/fixings.h): the
-// images with these COLMAP ids, and the intrinsics `fixed_intrinsics` names,
+// images with these COLMAP ids or names, and the intrinsics `fixed_intrinsics` names,
 // in every group (group -1) or in the groups cut from the COLMAP camera
 // whose id is `group`. An image or camera id the model does not have is
 // refused (dba::InputError naming `source` and the id); an image or camera
@@ -87,6 +88,7 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
 // point) is simply not adjusted.
 Fixings ColmapFixings(const ColmapModel& model, const ColmapProblem& problem,
                       const std::vector<uint32_t>& fixed_image_ids,
+                      const std::vector<std::string>& fixed_image_names,
                       const std::vector<IntrinsicFixing>& fixed_intrinsics,
                       const std::string& source);
 

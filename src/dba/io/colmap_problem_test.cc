@@ -262,7 +262,11 @@ TEST(ColmapProblemTest, ObservationsAreTheTracksOfKeptPoints) {
       ASSERT_EQ(static_cast<int64_t>(p.point_offsets.size()), kept + 1);
       EXPECT_EQ(p.point_offsets.back(), observations);
       EXPECT_EQ(std::set<int64_t>(cp.image_index.begin(), cp.image_index.end()), observing);
-      EXPECT_TRUE(std::is_sorted(cp.image_index.begin(), cp.image_index.end()));
+      // Images in image-id order (the first, the lowest id, holds the gauge).
+      EXPECT_TRUE(std::is_sorted(cp.image_index.begin(), cp.image_index.end(),
+                                 [&](int64_t a, int64_t b) {
+                                   return model.images[a].image_id < model.images[b].image_id;
+                                 }));
       EXPECT_TRUE(std::is_sorted(cp.point_index.begin(), cp.point_index.end()));
       // Each observation is its track element's 2D point, seen by its image.
       for (int64_t k = 0; k < p.num_points(); ++k) {
@@ -299,7 +303,7 @@ TEST(ColmapProblemTest, SharedAndPerImageGroups) {
     const ColmapProblem shared = ProblemFromColmap(model, options, "m");
     options.shared_intrinsics = false;
     ColmapProblem per_image = ProblemFromColmap(model, options, "m");
-    ApplyFixings(ColmapFixings(model, per_image, {}, {{-1, {"cx", "cy"}}}, "m"),
+    ApplyFixings(ColmapFixings(model, per_image, {}, {}, {{-1, {"cx", "cy"}}}, "m"),
                  &per_image.problem);
     EXPECT_EQ(shared.problem.num_images(), c.images);
     EXPECT_EQ(shared.problem.num_groups(), c.shared_groups);
@@ -381,13 +385,13 @@ TEST(ColmapProblemTest, FixingsByNameFollowEachGroupsModel) {
   m.cameras[1].params = {600, 601, 400, 300, 0.01, 0.02, 0.001, 0.002};
   ColmapProblem cp = ProblemFromColmap(m, {}, "small");
   // k2 only in OPENCV's group; cx in both; fx in camera 2 only.
-  ApplyFixings(ColmapFixings(m, cp, {}, {{-1, {"k2", "cx"}}, {2, {"fx"}}}, "small"),
+  ApplyFixings(ColmapFixings(m, cp, {}, {}, {{-1, {"k2", "cx"}}, {2, {"fx"}}}, "small"),
                &cp.problem);
   EXPECT_EQ(cp.problem.fixed_intrinsics, (std::vector<uint16_t>{0x2, 0x1 | 0x4 | 0x20}));
   // A name no model has, with the models' names; an unknown camera id.
   ColmapProblem again = ProblemFromColmap(m, {}, "small");
   try {
-    ApplyFixings(ColmapFixings(m, again, {}, {{-1, {"k3"}}}, "small"), &again.problem);
+    ApplyFixings(ColmapFixings(m, again, {}, {}, {{-1, {"k3"}}}, "small"), &again.problem);
     ADD_FAILURE() << "k3 accepted";
   } catch (const std::invalid_argument& e) {
     const std::string what = e.what();
@@ -397,7 +401,7 @@ TEST(ColmapProblemTest, FixingsByNameFollowEachGroupsModel) {
   }
   EXPECT_TRUE(again.problem.fixed_intrinsics.empty());  // nothing half-applied
   try {
-    ApplyFixings(ColmapFixings(m, again, {}, {{7, {"k2"}}}, "small"), &again.problem);
+    ApplyFixings(ColmapFixings(m, again, {}, {}, {{7, {"k2"}}}, "small"), &again.problem);
     ADD_FAILURE() << "k2 accepted in camera 7 (SIMPLE_RADIAL)";
   } catch (const UsageError& e) {  // named by the camera's id, not a group's index
     EXPECT_NE(std::string(e.what()).find("'k2' in COLMAP camera 7's model SIMPLE_RADIAL"),
@@ -405,7 +409,7 @@ TEST(ColmapProblemTest, FixingsByNameFollowEachGroupsModel) {
         << e.what();
   }
   try {
-    ColmapFixings(m, again, {}, {{77, {"f"}}}, "/the/model");
+    ColmapFixings(m, again, {}, {}, {{77, {"f"}}}, "/the/model");
     ADD_FAILURE() << "camera 77 accepted";
   } catch (const UsageError& e) {
     EXPECT_EQ(std::string(e.what()),
@@ -420,7 +424,7 @@ TEST(ColmapProblemTest, FixedImagesAndBadOptions) {
   std::vector<uint32_t> fixed_ids(fixed.begin(), fixed.end());
   ColmapProblem cp = ProblemFromColmap(model, options, "m");
   EXPECT_TRUE(cp.problem.fixed_cameras.empty());
-  ApplyFixings(ColmapFixings(model, cp, fixed_ids, {}, "m"), &cp.problem);
+  ApplyFixings(ColmapFixings(model, cp, fixed_ids, {}, {}, "m"), &cp.problem);
   ASSERT_EQ(cp.problem.fixed_cameras.size(), 40u);
   int count = 0;
   for (int64_t i = 0; i < 40; ++i) {
@@ -435,7 +439,7 @@ TEST(ColmapProblemTest, FixedImagesAndBadOptions) {
   unknown += 1000;
   fixed_ids.push_back(unknown);
   try {
-    ColmapFixings(model, cp, fixed_ids, {}, "/the/model");
+    ColmapFixings(model, cp, fixed_ids, {}, {}, "/the/model");
     ADD_FAILURE() << "an unknown image id was taken";
   } catch (const UsageError& e) {  // exit 2: the flag's value, not the model
     EXPECT_EQ(std::string(e.what()), "--fix-images: image " + std::to_string(unknown) +
@@ -445,7 +449,7 @@ TEST(ColmapProblemTest, FixedImagesAndBadOptions) {
   // A camera's names checked against its own model, named by its id.
   const uint32_t camera = model.cameras[0].camera_id;
   try {
-    ColmapFixings(model, cp, fixed_ids, {{camera, {"f", "zz"}}}, "/the/model");
+    ColmapFixings(model, cp, fixed_ids, {}, {{camera, {"f", "zz"}}}, "/the/model");
     ADD_FAILURE() << "an unknown parameter name was taken";
   } catch (const UsageError& e) {
     EXPECT_NE(std::string(e.what()).find("--fix-intrinsics: no intrinsic parameter 'zz' in COLMAP camera " +
@@ -453,7 +457,7 @@ TEST(ColmapProblemTest, FixedImagesAndBadOptions) {
               std::string::npos)
         << e.what();
   }
-  EXPECT_THROW(ColmapFixings(model, cp, fixed_ids, {{unknown, {"f"}}}, "/the/model"), UsageError);
+  EXPECT_THROW(ColmapFixings(model, cp, fixed_ids, {}, {{unknown, {"f"}}}, "/the/model"), UsageError);
 
   ColmapProblemOptions bad;
   bad.min_track_length = 0;

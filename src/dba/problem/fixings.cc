@@ -44,6 +44,9 @@ std::vector<uint16_t> FixedIntrinsicsAfter(const Fixings& f, const CameraSide& s
         if (name == "all") {
           fixed[g] |= LensModelParamMask(m);
           found = true;
+        } else if (const std::optional<uint16_t> kind = LensModelKindMask(m, name)) {
+          fixed[g] |= *kind;
+          found = true;
         } else if (const std::optional<int> j = LensModelParamIndex(m, name)) {
           fixed[g] |= static_cast<uint16_t>(1u << *j);
           found = true;
@@ -58,6 +61,12 @@ std::vector<uint16_t> FixedIntrinsicsAfter(const Fixings& f, const CameraSide& s
       }
     }
   }
+  if (f.principal_point && side.model == CameraModel::kPhoto) {
+    fixed.resize(groups, 0);
+    for (int64_t g = 0; g < groups; ++g) {
+      fixed[g] |= *LensModelKindMask(side.group_model(g), "principal_point");
+    }
+  }
   return fixed;
 }
 
@@ -69,9 +78,10 @@ void ApplyFixings(const Fixings& f, CameraSide* problem) {
     }
   }
   std::vector<uint16_t> fixed = FixedIntrinsicsAfter(f, *problem);
-  if (!f.images.empty()) {
+  if (!f.images.empty() || f.all_images) {
     problem->fixed_cameras.resize(problem->num_images(), 0);
     for (int64_t i : f.images) problem->fixed_cameras[i] = 1;
+    if (f.all_images) std::fill(problem->fixed_cameras.begin(), problem->fixed_cameras.end(), 1);
   }
   problem->fixed_intrinsics = std::move(fixed);
 }

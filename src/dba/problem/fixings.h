@@ -2,8 +2,9 @@
 // parameters, a pose's 6) by their 0-based index in the problem, and
 // intrinsic parameters by name, in every group or in one (photogrammetric
 // model). Names are each group's lens model's (problem/lens_model.h: COLMAP's
-// own names, e.g. k0…k5 and p0, p1 for RAD_TAN_THIN_PRISM_FISHEYE), or
-// "all". Fixed parameters are not unknowns (rcs/unknown_layout.h).
+// own names, e.g. k0…k5 and p0, p1 for RAD_TAN_THIN_PRISM_FISHEYE), the
+// kinds every model has (focal, principal_point, extra: LensModelKindMask),
+// or "all". Fixed parameters are not unknowns (rcs/unknown_layout.h).
 //
 // The command line's fixings (session/solve_input.h) become these after they are
 // checked against the input; the ranks of a distributed solve that read a
@@ -29,7 +30,13 @@ struct IntrinsicFixing {
 struct Fixings {
   std::vector<int64_t> images;  // 0-based image indices
   std::vector<IntrinsicFixing> intrinsics;
-  bool empty() const { return images.empty() && intrinsics.empty(); }
+  bool all_images = false;       // every image (--fix-images all)
+  // Every group's principal point (kPhoto; nothing in a BAL problem): the
+  // default unless --refine-principal-point.
+  bool principal_point = false;
+  bool empty() const {
+    return images.empty() && intrinsics.empty() && !all_images && !principal_point;
+  }
 };
 
 // Adds `f` to what the camera side already holds fixed: each name to the

@@ -83,6 +83,19 @@ std::optional<int> LensModelParamIndex(LensModel m, std::string_view name) {
   return std::nullopt;
 }
 
+std::optional<uint16_t> LensModelKindMask(LensModel m, std::string_view kind) {
+  uint16_t focal = 0, principal = 0;
+  for (int j = 0; j < Info(m).num_params; ++j) {
+    const std::string_view name = NthName(Info(m).params, j);
+    if (name == "f" || name == "fx" || name == "fy") focal |= static_cast<uint16_t>(1u << j);
+    if (name == "cx" || name == "cy") principal |= static_cast<uint16_t>(1u << j);
+  }
+  if (kind == "focal") return focal;
+  if (kind == "principal_point") return principal;
+  if (kind == "extra") return static_cast<uint16_t>(LensModelParamMask(m) & ~focal & ~principal);
+  return std::nullopt;
+}
+
 std::string LensModelParamName(LensModel m, int j) {
   return std::string(NthName(Info(m).params, j));
 }

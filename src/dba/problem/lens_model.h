@@ -66,6 +66,11 @@ inline int LensModelParams(LensModel m) { return Info(m).num_params; }
 uint16_t LensModelParamMask(LensModel m);
 // Index of the parameter called `name` in the model, if it has one.
 std::optional<int> LensModelParamIndex(LensModel m, std::string_view name);
+// The bits of a kind of parameter, by the kind's name (every model has
+// these names): "focal" (f, fx, fy), "principal_point" (cx, cy), "extra"
+// (every other parameter that can be an unknown: distortion, FOV's ω, EUCM's
+// α and β; COLMAP's refine_extra_params); nullopt for another name.
+std::optional<uint16_t> LensModelKindMask(LensModel m, std::string_view kind);
 // The name of parameter j.
 std::string LensModelParamName(LensModel m, int j);
 // "SIMPLE_PINHOLE, PINHOLE, ..." : every model's name.

@@ -1,6 +1,7 @@
 // dba solve's inputs and outputs; see solve_input.h.
 #include "dba/session/solve_input.h"
 
+#include <numeric>
 #include <unordered_map>
 
 
@@ -86,9 +87,37 @@ std::vector<int64_t> ParseIdList(const std::string& flag, const std::string& val
   return ids;
 }
 
+void ParseImageFixing(const std::string& flag, const std::string& value, UnknownsOptions* u) {
+  if (value == "all") {
+    u->fix_all_images = true;
+    return;
+  }
+  for (const std::string& item : SplitCommas(value)) {
+    if (item.empty()) throw UsageError(flag + ": an empty item in '" + Clipped(value) + "'");
+    if (item.find_first_not_of("0123456789") == std::string::npos) {
+      u->fixed_images.push_back(ParseIdList(flag, item).front());
+    } else if (item[0] == '-' && item.find_first_not_of("0123456789", 1) == std::string::npos) {
+      throw UsageError(flag + ": '" + item + "' is not a non-negative integer or an image name");
+    } else {
+      u->fixed_image_names.push_back(item);
+    }
+  }
+  if (value.empty()) throw UsageError(flag + ": empty list");
+}
+
 bool IsColmapInput(const std::string& path) {
   std::error_code ec;
   return std::filesystem::is_directory(path, ec) && DetectColmapFormat(path).has_value();
+}
+
+Fixings FixingsOf(const UnknownsOptions& u) {
+  Fixings f{u.fixed_images, {}};
+  for (const IntrinsicFixing& x : u.fixed_intrinsics) {
+    if (!x.names.empty()) f.intrinsics.push_back(x);
+  }
+  f.all_images = u.fix_all_images;
+  f.principal_point = !u.refine_principal_point;
+  return f;
 }
 
 void ApplyFixings(const UnknownsOptions& u, Problem* p) {
@@ -108,10 +137,11 @@ Fixings CheckedFixings(const UnknownsOptions& u, const CameraSide& side) {
                        " cameras, 0-based)");
     }
   }
-  Fixings f{u.fixed_images, {}};
-  for (const IntrinsicFixing& x : u.fixed_intrinsics) {
-    if (!x.names.empty()) f.intrinsics.push_back(x);
+  if (!u.fixed_image_names.empty()) {
+    throw UsageError("--fix-images: '" + Clipped(u.fixed_image_names.front()) +
+                     "': images have names in COLMAP models only; give 0-based indices");
   }
+  const Fixings f = FixingsOf(u);
   if (!f.intrinsics.empty() && side.model != CameraModel::kPhoto) {
     throw UsageError(
         "--fix-intrinsics needs the photogrammetric model (a COLMAP model, or a .dba "
@@ -188,8 +218,10 @@ ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unkn
   in.format = *DetectColmapFormat(path);
   in.model = ReadColmapModel(path);
   in.source = ProblemFromColmap(in.model, ColmapOptions(unknowns), path);
-  const Fixings fixings =
-      ColmapFixings(in.model, in.source, fixed_ids, unknowns.fixed_intrinsics, path);
+  Fixings fixings = ColmapFixings(in.model, in.source, fixed_ids, unknowns.fixed_image_names,
+                                  unknowns.fixed_intrinsics, path);
+  fixings.all_images = unknowns.fix_all_images;
+  fixings.principal_point = !unknowns.refine_principal_point;
   try {
     ApplyFixings(fixings, &in.source.problem);
   } catch (const std::invalid_argument& e) {

@@ -38,7 +38,18 @@ struct UnknownsOptions {
   // Images whose pose (BAL: whole camera) is held fixed: COLMAP image ids for
   // a COLMAP input, 0-based camera indices otherwise.
   std::vector<int64_t> fixed_images;
+  // --fix-images all, and images named (COLMAP input: its image names).
+  bool fix_all_images = false;
+  std::vector<std::string> fixed_image_names;
+  // The photogrammetric model's principal points are held fixed unless
+  // asked (COLMAP's refine_principal_point 0, photogrammetric practice
+  // without a calibration target).
+  bool refine_principal_point = false;
 };
+
+// --fix-images's value into `u`: all, or comma-separated ids and (COLMAP)
+// image names. UsageError naming the flag for an empty item.
+void ParseImageFixing(const std::string& flag, const std::string& value, UnknownsOptions* u);
 
 // "[GROUP:]NAMES" -> the names (a comma-separated list, or all; none gives
 // no names) in group GROUP, or in every group. The names are checked
@@ -64,6 +75,9 @@ Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
 // an image or group that does not exist, intrinsics of a BAL problem, or a
 // name no targeted group's model has.
 Fixings CheckedFixings(const UnknownsOptions& unknowns, const CameraSide& side);
+// The command line's fixings as data, unchecked (a rank reading its share
+// of a .dba applies them).
+Fixings FixingsOf(const UnknownsOptions& unknowns);
 // CheckedFixings, then marks them in `problem`.
 void ApplyFixings(const UnknownsOptions& unknowns, Problem* problem);
 

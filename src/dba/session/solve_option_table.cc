@@ -85,6 +85,15 @@ std::vector<Spec> OutputOptions() {
       [](const SolveOptions&) { return std::string(); }));
   t.back().modes = kNotArrays;
   t.back().not_here = kColmapOnly;
+  t.push_back(Choice(
+      "--colmap-version", {"newest", "3.8"},
+      "the COLMAP a COLMAP output is for: 3.8 (Debian 12's) refuses, before the solve, a model "
+      "using a lens model COLMAP 3.8 cannot read (ids above 10, e.g. RAD_TAN_THIN_PRISM_FISHEYE); "
+      "newest writes it with a warning",
+      [](SolveOptions& o, size_t i) { o.colmap_38 = i == 1; },
+      [](const SolveOptions& o) { return std::string(o.colmap_38 ? "3.8" : "newest"); }));
+  t.back().modes = kNotArrays;
+  t.back().not_here = kColmapOnly;
   t.push_back(Path("--ply", "FILE",
                    "write the adjusted points as a binary PLY point cloud, with the COLMAP "
                    "colours, else coloured by height z from blue (low) to red (high)",
@@ -130,21 +139,41 @@ std::vector<Spec> FixingOptions() {
   Spec fix = Base("--fix-intrinsics", OptionKind::kText, "[GROUP:]NAMES",
                   "hold intrinsics fixed by name: all, or a comma-separated list of the groups' "
                   "lens models' names (COLMAP's: f, fx, fy, cx, cy, k1, k2, p1, p2, ...; see dba "
-                  "solve --list-camera-models), in every group whose model has the name, or in "
+                  "solve --list-camera-models) or kinds (focal, principal_point, extra: every "
+                  "other parameter), in every group whose model has the name, or in "
                   "GROUP only (a COLMAP camera id, or a 0-based group of a .dba problem); "
-                  "repeatable (photogrammetric model only)");
+                  "repeatable (photogrammetric model only; the principal point is fixed unless "
+                  "--refine-principal-point)");
   fix.repeatable = true;
   fix.set = [](SolveOptions& o, const std::string& v) {
     o.unknowns.fixed_intrinsics.push_back(ParseIntrinsicFixing("--fix-intrinsics", v));
   };
   t.push_back(fix);
+  t.push_back(Flag("--refine-principal-point",
+                   "photogrammetric model: the principal point (cx, cy) is an unknown; by default "
+                   "it is held fixed, as COLMAP does (refine_principal_point 0) and as "
+                   "photogrammetry does without a calibration target",
+                   DBA_FIELD(unknowns.refine_principal_point)));
   Spec images = Base("--fix-images", OptionKind::kList, "LIST",
-                     "hold these images' poses fixed (gauge): COLMAP image ids for a COLMAP "
-                     "input, 0-based camera indices otherwise (a BAL camera is then fixed whole)");
+                     "hold these images' poses fixed: all, or COLMAP image ids or names for a "
+                     "COLMAP input, 0-based camera indices otherwise (a BAL camera is then "
+                     "fixed whole)");
   images.set = [](SolveOptions& o, const std::string& v) {
-    o.unknowns.fixed_images = ParseIdList("--fix-images", v);
+    o.unknowns.fixed_images.clear();
+    o.unknowns.fixed_image_names.clear();
+    o.unknowns.fix_all_images = false;
+    ParseImageFixing("--fix-images", v, &o.unknowns);
   };
   t.push_back(images);
+  t.push_back(Choice(
+      "--gauge", {"hold", "free"},
+      "hold: what nothing else holds of the 7 degrees of freedom of the world (rotation, "
+      "translation, scale) stays as loaded: the first image (a COLMAP model's lowest image id; "
+      "the first image held fixed, if any) keeps its pose and its distance to the next image "
+      "(the optimum is mapped back by a similarity; the cost is unchanged); camera priors, "
+      "control points or two fixed images hold it themselves. free: the optimum where LM ends",
+      [](SolveOptions& o, size_t i) { o.free_gauge = i == 1; },
+      [](const SolveOptions& o) { return std::string(o.free_gauge ? "free" : "hold"); }));
   return t;
 }
 

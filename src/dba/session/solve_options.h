@@ -30,6 +30,10 @@ struct SolveOptions {
   double checkpoint_every_s = 0.0;
   std::string resume_path;
   std::optional<ColmapFormat> colmap_format;  // COLMAP output; default: the input's
+  // --colmap-version 3.8: a COLMAP output must load in COLMAP 3.8 (its
+  // camera models only); false: a lens model it lacks is written with a
+  // warning.
+  bool colmap_38 = false;
   UnknownsOptions unknowns; // what is held fixed, shared intrinsics
   bool quiet = false;       // no per-iteration log
   bool progress = true;     // progress of long phases on a terminal (not with quiet)
@@ -43,6 +47,9 @@ struct SolveOptions {
   // One process: refuse to start when the memory estimate exceeds what the
   // machine (or the cgroup) has available; false: --no-memory-check.
   bool memory_check = true;
+  // The 7 degrees of freedom nothing else holds are held (camera/gauge_hold.h);
+  // true: --gauge free, the optimum where LM ends.
+  bool free_gauge = false;
   LmOptions lm;             // num_threads 0: the node's cores / its ranks
   DistributedOptions distributed;
 };

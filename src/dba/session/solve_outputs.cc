@@ -1,9 +1,11 @@
 // What a solve writes; see solve_outputs.h.
 #include "dba/session/solve_outputs.h"
 
+#include <iostream>
 #include <ostream>
 
 #include "dba/cluster/mpi_point_workers.h"
+#include "dba/common/error.h"
 #include "dba/common/memory.h"
 #include "dba/common/timer.h"
 #include "dba/io/atomic_output_file.h"
@@ -69,6 +71,22 @@ void WriteAdjustedProblem(const SolveOptions& options, int ranks, SolveResult* r
   WriteProblem(problem, options.output);
 }
 
+// A lens model COLMAP 3.8 cannot read (it knows ids 0-10, up to
+// THIN_PRISM_FISHEYE): refused for --colmap-version 3.8, else a warning.
+void CheckColmapVersion(const SolveOptions& options, const CameraSide& side) {
+  constexpr int kLastOf38 = static_cast<int>(LensModel::kThinPrismFisheye);
+  for (int64_t g = 0; g < side.num_groups(); ++g) {
+    const LensModel m = side.group_model(g);
+    if (static_cast<int>(m) <= kLastOf38) continue;
+    const std::string what = "-o " + options.output + ": intrinsic group " + std::to_string(g) +
+                             " is " + Info(m).name + ", which COLMAP 3.8 (Debian 12's) cannot read";
+    if (options.colmap_38) throw UsageError(what + " (--colmap-version 3.8)");
+    std::cerr << "dba solve: warning: " << what
+              << "; a newer COLMAP reads it (--colmap-version 3.8 refuses such an output)\n";
+    return;
+  }
+}
+
 }  // namespace
 
 void CheckSolveFiles(const SolveOptions& o) {
@@ -98,7 +116,10 @@ void CheckSolveOutputs(const SolveOptions& options, const SolveInput& input,
   if (!comm.is_main() || options.output.empty()) return;
   const CameraModel model = input.ranks_read_file ? ReadBinaryProblemHeader(input.name).model
                                                   : input.problem.model;
-  CheckOutput(options.input, options.output, model, options.colmap_format);
+  if (CheckOutput(options.input, options.output, model, options.colmap_format) ==
+      OutputKind::kColmap) {
+    CheckColmapVersion(options, input.problem);
+  }
 }
 
 void WriteSolveOutputs(const SolveOptions& options, int ranks, SolveResult* result,

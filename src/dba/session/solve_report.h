@@ -19,7 +19,7 @@ namespace dba {
 
 struct SolveReport {
   std::string input;
-  int64_t num_cameras = 0;
+  int64_t num_cameras = 0;  // images (the report's num_images; num_cameras is deprecated)
   int64_t num_intrinsic_groups = 0;  // photogrammetric model; 0 for BAL
   int64_t num_points = 0;
   int64_t num_observations = 0;
@@ -55,6 +55,8 @@ struct SolveReport {
   // --camera-priors and --gcps: the adjusted block against the survey, and
   // the frame the solve ran in.
   GeoreferenceSummary geo;
+  // What held the gauge (camera/gauge_hold.h), as the summary says it.
+  std::string gauge;
   bool has_truth = false;
   GroundTruthErrors truth;        // against a generated problem's ground truth
 

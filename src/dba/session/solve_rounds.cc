@@ -28,12 +28,7 @@ std::vector<double> KeptPoints(const KeptObservations& kept, const std::vector<d
 DistributedOptions RanksOptions(const SolveOptions& options, bool ranks_read_file) {
   DistributedOptions d = options.distributed;
   d.memory_check = options.memory_check;
-  if (ranks_read_file) {
-    d.fixings = Fixings{options.unknowns.fixed_images, {}};
-    for (const IntrinsicFixing& x : options.unknowns.fixed_intrinsics) {
-      if (!x.names.empty()) d.fixings.intrinsics.push_back(x);
-    }
-  }
+  if (ranks_read_file) d.fixings = FixingsOf(options.unknowns);
   return d;
 }
 

@@ -148,7 +148,12 @@ SolveResult SolveSession::Run(SolveInput input) {
                 "the input's\n";
       }
     }
+    // The gauge's reference as loaded (before an alignment or a resume).
+    if (!options_.free_gauge) gauge_ = TakeGaugeReference(result_.problem, false);
     if (options_.geo.any()) PrepareGeoreferencing();
+    if (!options_.free_gauge && (!result_.geo.priors.empty() || result_.geo.control_points > 0)) {
+      gauge_.hold = GaugeHold::kExternal;
+    }
     setup_ = SolveSetup(options_, result_.geo);
     Resume();
     if (!options_.truth_path.empty()) CheckTruthFile(options_.truth_path, result_.report);
@@ -156,7 +161,10 @@ SolveResult SolveSession::Run(SolveInput input) {
     PrintStart();
   }
   Solve();
-  if (comm_->is_main()) Measure();
+  if (comm_->is_main()) {
+    HoldGauge();
+    Measure();
+  }
   result_.names = std::move(input_.names);
   result_.ranks_read_file = input_.ranks_read_file;
   return std::move(result_);
@@ -286,6 +294,17 @@ void SolveSession::PrintStart() {
   // phase's end).
   if (ranks > 1) out_ << IterationLogHeader();
   out_ << std::flush;
+}
+
+// The optimum mapped back onto the input's frame where nothing else holds
+// the gauge (camera/gauge_hold.h): the cameras, the points left, and with
+// rejection every loaded point kept.
+void SolveSession::HoldGauge() {
+  const Similarity s = GaugeMapping(gauge_, result_.problem);
+  MoveCameras(s, gauge_, &result_.problem);
+  MovePoints(s, &result_.problem.points);
+  if (result_.kept) MovePoints(s, &result_.all_points, result_.kept->point);
+  result_.report.gauge = DescribeGauge(gauge_, s);
 }
 
 // Georeferencing measured (the control points, the last points, out again),

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "dba/camera/gauge_hold.h"
 #include "dba/cluster/communicator.h"
 #include "dba/geo/georeference.h"
 #include "dba/io/checkpoint.h"
@@ -87,6 +88,7 @@ class SolveSession {
   void FinishSolve(PointSide* side);
   std::function<void(const RcsSystem&)> MemoryCheck();
   LmOptions RoundOptions(bool resumed_round) const;
+  void HoldGauge();
   void Measure();
   void CompareWithTruth();
   IterationHook IterationLog(PointSide* side);
@@ -110,6 +112,7 @@ class SolveSession {
   // The order the solves walk the loaded points in (one process), taken at
   // the load and handed to the point side.
   std::vector<int64_t> load_order_;
+  GaugeReference gauge_;  // taken at the load (camera/gauge_hold.h)
   std::vector<int64_t> WalkOverSide();
   int64_t loaded_observations_ = 0;
   std::vector<double> loaded_pixels_;  // with rejection and a truth

@@ -202,7 +202,8 @@ Json SolveSummary(const SolveReport& r) {
   const RcsFootprint& rcs = r.solve.ba.rcs;
   Json j;
   j["input"] = r.input;
-  j["num_cameras"] = r.num_cameras;
+  j["num_images"] = r.num_cameras;
+  j["num_cameras"] = r.num_cameras;  // deprecated: images, as num_images
   j["num_intrinsic_groups"] = r.num_intrinsic_groups;
   j["camera_unknowns"] = rcs.camera_unknowns;
   j["unknowns"] = rcs.camera_unknowns + 3 * r.num_points;
@@ -211,6 +212,7 @@ Json SolveSummary(const SolveReport& r) {
   j["threads"] = r.threads;
   j["ranks"] = r.solve.ranks;
   CostFigures(r, j);
+  j["gauge"] = r.gauge;
   SolverFigures(r, j);
   MemoryFigures(r, j);
   RejectionFigures(r, j);

@@ -185,6 +185,7 @@ void PrintRanks(const Json& j, std::ostream& out);
 void PrintSolveSummary(const Json& j, std::ostream& out) {
   out << "\nSummary\n";
   PrintCosts(j, out);
+  out << "  gauge held by       " << j["gauge"].get<std::string>() << "\n";
   PrintSolver(j, out);
   PrintSizes(j, out);
   PrintRejection(j, out);

@@ -1,0 +1,25 @@
+// `dba colmap-bundle-adjuster`: a drop-in for `colmap bundle_adjuster`. It
+// takes COLMAP's command line (3.8's option names and 3.12's), with COLMAP's
+// defaults (100 iterations, tolerances 0, principal point fixed), maps each
+// option onto `dba solve`'s and runs that solve (one process, or every rank
+// under mpirun); an option dba cannot honour is refused by name (exit 2).
+// The gauge is held as dba holds it (the first image's pose and its distance
+// to the next; COLMAP holds the first image and one coordinate of the
+// second): the optimum and its cost are COLMAP's.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace dba {
+
+// `colmap bundle_adjuster`'s arguments (--name value or --name=value) as
+// `dba solve`'s. Throws UsageError naming an unknown or refused option, a
+// missing --input_path / --output_path, or a bad value.
+std::vector<std::string> SolveArgumentsOfColmap(const std::vector<std::string>& args);
+
+// `dba colmap-bundle-adjuster ARGS...`: the exit status (0 success, 1
+// failure, 2 bad arguments).
+int ColmapBundleAdjusterMain(const std::vector<std::string>& args);
+
+}  // namespace dba
