@@ -15,6 +15,11 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -31,6 +36,41 @@ std::string Num(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.17g", v);
   return buf;
+}
+
+// COLMAP >= 3.12's rigs and frames beside a model: read only when trivial
+// (one sensor per rig, one image per frame: then each image's pose in
+// images.* is its frame's); a rig of several cameras is refused until rigs
+// are modelled, and so are binary rigs and frames, which dba does not parse.
+// Text: rigs.txt "RIG_ID NUM_SENSORS ...", frames.txt "FRAME_ID RIG_ID QW QX
+// QY QZ TX TY TZ NUM_DATA_IDS ...".
+void CheckRigsAndFrames(const std::string& dir) {
+  std::error_code ec;
+  for (const char* binary : {"rigs.bin", "frames.bin"}) {
+    const std::string path = colmap_internal::JoinPath(dir, binary);
+    if (std::filesystem::exists(path, ec)) {
+      throw InputError(path, 0, "COLMAP >= 3.12 binary rigs and frames are not read yet; "
+                                "convert the model to text (colmap model_converter "
+                                "--output_type TXT) or remove them if every rig has one camera");
+    }
+  }
+  const struct { const char* name; size_t field; const char* what; } text[] = {
+      {"rigs.txt", 1, "sensors: a rig of several cameras"},
+      {"frames.txt", 9, "images: a frame of several images"}};
+  for (const auto& t : text) {
+    const std::string path = colmap_internal::JoinPath(dir, t.name);
+    std::ifstream in(path);
+    std::string line;
+    for (int64_t n = 1; in && std::getline(in, line); ++n) {
+      std::istringstream tokens(line);
+      std::vector<std::string> v{std::istream_iterator<std::string>(tokens), {}};
+      if (v.empty() || v[0][0] == '#') continue;
+      if (v.size() <= t.field || v[t.field] != "1") {
+        throw InputError(path, n, (v.size() <= t.field ? std::string("too few fields") : v[t.field] + " " + t.what) +
+                                      " is not modelled yet (one camera per rig, one image per frame)");
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -427,6 +467,7 @@ ColmapModel ReadColmapModel(const std::string& dir) {
     RecoverStaleTemporaries(colmap_internal::JoinPath(dir, name));
   }
   const std::optional<ColmapFormat> format = DetectColmapFormat(dir);
+  if (format.has_value()) CheckRigsAndFrames(dir);
   if (format == ColmapFormat::kBinary) return ReadColmapBinary(dir);
   if (format == ColmapFormat::kText) return ReadColmapText(dir);
 

@@ -50,6 +50,17 @@ void RunFiles::ModelOutput(const std::string& flag, const std::string& dir, Colm
     throw UsageError(flag + " " + dir + ": is not a directory (a COLMAP model is written into "
                      "a directory, made when missing)");
   }
+  // COLMAP >= 3.12 takes each image's pose from its frame: rigs and frames
+  // files left beside the model written would give it the old poses.
+  for (const char* stale : {"rigs.txt", "rigs.bin", "frames.txt", "frames.bin"}) {
+    if (fs::exists(Join(dir, stale), ec)) {
+      throw UsageError(flag + " " + dir + ": holds " + stale +
+                       " (COLMAP >= 3.12 rigs and frames), which would give the images written "
+                       "their old poses; write into another directory, or remove the rigs and "
+                       "frames files (COLMAP >= 3.12 makes one rig per camera and one frame per "
+                       "image for a model without them)");
+    }
+  }
   const std::string ext = format == ColmapFormat::kText ? ".txt" : ".bin";
   for (const char* stem : kModelStems) Output(flag, Join(dir, stem + ext), true);
 }
