@@ -50,6 +50,19 @@ for m in mithunnallana_6img statue_of_liberty_small_txt; do
   done
 done
 
+# FOV from small ω: COLMAP switches formula at ω = 0.01; dba's FOV is
+# continuous and reaches COLMAP's optimum from either side of it.
+for omega in 0.001 0.01 0.1; do
+  mkdir -p "$tmp/fov$omega" "$tmp/fc$omega" "$tmp/fd$omega"
+  cp "$colmap_data/mithunnallana_6img/sparse/0/"{images,points3D}.txt "$tmp/fov$omega/"
+  echo "1 FOV 1280 720 700.241 700.241 640 360 $omega" >"$tmp/fov$omega/cameras.txt"
+  colmap bundle_adjuster --input_path "$tmp/fov$omega" --output_path "$tmp/fc$omega" >"$tmp/fc.log" 2>&1
+  "$dba" colmap-bundle-adjuster --input_path "$tmp/fov$omega" --output_path "$tmp/fd$omega" >"$tmp/fd.log" 2>&1
+  c=$(cost "$tmp/fc$omega"); d=$(cost "$tmp/fd$omega")
+  check "FOV from omega $omega: COLMAP's final cost ($d vs $c)" \
+    python3 -c "import sys; c, d = float(sys.argv[1]), float(sys.argv[2]); sys.exit(abs(d - c) > 1e-6 * c)" "${c:-nan}" "${d:-nan}"
+done
+
 # A lens model COLMAP 3.8 cannot read: written with a warning (and COLMAP
 # 3.8 indeed refuses the model), refused before the solve with
 # --colmap-version 3.8.

@@ -34,6 +34,7 @@ const std::map<std::string, Mapping>& ValueOptions() {
       {"--BundleAdjustment.function_tolerance", {"--function-tolerance", "default 0"}},
       {"--BundleAdjustment.gradient_tolerance", {"--gradient-tolerance", "default 0"}},
       {"--BundleAdjustment.parameter_tolerance", {"--parameter-tolerance", "default 0"}},
+      {"--threads", {"--threads", "dba's own (not COLMAP's): threads (default: every core)"}},
   };
   return m;
 }

@@ -33,6 +33,30 @@ Vec2 ObservationResidual(const CameraSide& side, const double* cameras, Rotation
                                    nullptr, nullptr);
 }
 
+int64_t CountBehindCameras(const Problem& problem) {
+  const bool bal = problem.model == CameraModel::kBal;
+  const int64_t n = problem.num_images();
+  std::vector<Mat3> R(static_cast<size_t>(n));
+  std::vector<uint8_t> sees_all(static_cast<size_t>(n), 0);
+  for (int64_t i = 0; i < n; ++i) {
+    const double* c = problem.camera(i);
+    R[i] = AngleAxisToRotation(Vec3(c[0], c[1], c[2]));
+    sees_all[i] = !bal && problem.group_model(problem.camera_intrinsics[i]) == LensModel::kEquirectangular;
+  }
+  int64_t behind = 0;
+#pragma omp parallel for schedule(static) reduction(+ : behind)
+  for (int64_t k = 0; k < problem.num_points(); ++k) {
+    const Vec3 X(problem.point(k)[0], problem.point(k)[1], problem.point(k)[2]);
+    for (int64_t o = problem.point_offsets[k]; o < problem.point_offsets[k + 1]; ++o) {
+      const int32_t i = problem.obs_camera[o];
+      if (sees_all[i]) continue;
+      const double z = R[i].row(2).dot(X) + problem.camera(i)[5];
+      behind += bal ? z >= 0 : z <= 0;
+    }
+  }
+  return behind;
+}
+
 NonFiniteResiduals FindNonFiniteResiduals(const Problem& problem, int keep) {
   // Each thread a contiguous range of points, its finds appended in thread
   // order: the first `keep` are the first in observation order.

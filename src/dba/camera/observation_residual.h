@@ -38,4 +38,10 @@ struct NonFiniteResiduals {
 };
 NonFiniteResiduals FindNonFiniteResiduals(const Problem& problem, int keep = 5);
 
+// Observations whose point is behind its camera: camera-frame depth z <= 0
+// (photogrammetric model; EQUIRECTANGULAR sees every direction and is left
+// out), z >= 0 for a BAL camera (it looks down -z). COLMAP drops them before
+// adjusting; dba counts them (the report's observations_behind_cameras).
+int64_t CountBehindCameras(const Problem& problem);
+
 }  // namespace dba

@@ -1,6 +1,7 @@
 // dba solve's inputs and outputs; see solve_input.h.
 #include "dba/session/solve_input.h"
 
+#include <algorithm>
 #include <numeric>
 #include <unordered_map>
 
@@ -156,9 +157,16 @@ Fixings CheckedFixings(const UnknownsOptions& u, const CameraSide& side) {
 }
 
 Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
-                       ImageNames* names) {
+                       ImageNames* names, ColmapCameraCounts* cameras) {
   if (IsColmapInput(path)) {
     ColmapInput in = ReadColmapInput(path, unknowns);
+    if (cameras != nullptr) {
+      cameras->all = static_cast<int64_t>(in.model.cameras.size());
+      std::vector<int64_t> used;
+      for (int64_t j : in.source.image_index) used.push_back(in.model.images[j].camera_id);
+      std::sort(used.begin(), used.end());
+      cameras->used = std::unique(used.begin(), used.end()) - used.begin();
+    }
     if (names != nullptr) {
       for (const ColmapImage& im : in.model.images) names->others.insert(im.name);
       const Problem& p = in.source.problem;

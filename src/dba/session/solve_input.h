@@ -67,8 +67,13 @@ bool IsColmapInput(const std::string& path);
 // fixings that do not fit the problem (an index out of range, intrinsics of
 // a BAL problem). `names` (optional): a COLMAP input's image names (left
 // empty for other inputs).
+// A COLMAP input's cameras as COLMAP counts them: all the model's, and
+// those the problem's images use.
+struct ColmapCameraCounts {
+  int64_t all = 0, used = 0;
+};
 Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
-                       ImageNames* names = nullptr);
+                       ImageNames* names = nullptr, ColmapCameraCounts* cameras = nullptr);
 
 // The command line's fixings of a problem read from a file (not COLMAP) as
 // data (problem/fixings.h), checked against its camera side: UsageError for

@@ -21,8 +21,14 @@ struct SolveReport {
   std::string input;
   int64_t num_cameras = 0;  // images (the report's num_images; num_cameras is deprecated)
   int64_t num_intrinsic_groups = 0;  // photogrammetric model; 0 for BAL
+  // A COLMAP input: the model's cameras as COLMAP counts them, and those in
+  // use by the images adjusted (0 for other inputs).
+  int64_t num_colmap_cameras = 0, num_colmap_cameras_used = 0;
   int64_t num_points = 0;
   int64_t num_observations = 0;
+  // At the start: observations whose point is behind its camera (-1: not
+  // counted, the ranks held the observations).
+  int64_t observations_behind_cameras = -1;
   int threads = 1;
   // The options that shape the linear solve and the run, as given.
   LinearSolverOptions linear_solver;

@@ -55,7 +55,8 @@ SolveInput LoadInput(const SolveOptions& options, const Communicator& comm) {
     return input;
   }
   const bool names = options.geo.any() || !options.geo.camera_centres_path.empty();
-  input.problem = LoadSolveInput(options.input, options.unknowns, names ? &input.names : nullptr);
+  input.problem = LoadSolveInput(options.input, options.unknowns, names ? &input.names : nullptr,
+                                 &input.colmap_cameras);
   return input;
 }
 
@@ -138,7 +139,10 @@ SolveResult SolveSession::Run(SolveInput input) {
   if (comm_->is_main()) {
     Timer load;
     Start(input_);
-    if (!input_.ranks_read_file) RefuseNonFiniteResiduals(input_.name, result_.problem);
+    if (!input_.ranks_read_file) {
+      RefuseNonFiniteResiduals(input_.name, result_.problem);
+      result_.report.observations_behind_cameras = CountBehindCameras(result_.problem);
+    }
     // The walk's order from the positions as loaded (before an alignment or
     // a resume moves them): the same for a solve and its resume.
     if (comm_->size() == 1) {
@@ -191,6 +195,8 @@ void SolveSession::Start(const SolveInput& input) {
     return;
   }
   const Problem& problem = result_.problem;
+  report.num_colmap_cameras = input.colmap_cameras.all;
+  report.num_colmap_cameras_used = input.colmap_cameras.used;
   report.num_cameras = problem.num_images();
   report.num_intrinsic_groups = problem.num_groups();
   report.num_points = problem.num_points();

@@ -43,6 +43,7 @@ struct SolveInput {
   Problem problem;
   bool ranks_read_file = false;
   ImageNames names;  // a COLMAP input's image names (empty otherwise)
+  ColmapCameraCounts colmap_cameras;  // a COLMAP input's (zero otherwise)
 };
 
 // Reads options.input on the main rank: the whole problem, or, when every

@@ -205,10 +205,15 @@ Json SolveSummary(const SolveReport& r) {
   j["num_images"] = r.num_cameras;
   j["num_cameras"] = r.num_cameras;  // deprecated: images, as num_images
   j["num_intrinsic_groups"] = r.num_intrinsic_groups;
+  if (r.num_colmap_cameras > 0) {
+    j["num_colmap_cameras"] = r.num_colmap_cameras;
+    j["num_colmap_cameras_used"] = r.num_colmap_cameras_used;
+  }
   j["camera_unknowns"] = rcs.camera_unknowns;
   j["unknowns"] = rcs.camera_unknowns + 3 * r.num_points;
   j["num_points"] = r.num_points;
   j["num_observations"] = r.num_observations;
+  if (r.observations_behind_cameras >= 0) j["observations_behind_cameras"] = r.observations_behind_cameras;
   j["threads"] = r.threads;
   j["ranks"] = r.solve.ranks;
   CostFigures(r, j);

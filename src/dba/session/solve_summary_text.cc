@@ -186,6 +186,11 @@ void PrintSolveSummary(const Json& j, std::ostream& out) {
   out << "\nSummary\n";
   PrintCosts(j, out);
   out << "  gauge held by       " << j["gauge"].get<std::string>() << "\n";
+  if (j.value("observations_behind_cameras", int64_t{0}) > 0) {
+    out << "  behind cameras      " << j["observations_behind_cameras"].get<int64_t>()
+        << " observations had their point behind the camera at the start (kept; COLMAP drops "
+           "them before adjusting)\n";
+  }
   PrintSolver(j, out);
   PrintSizes(j, out);
   PrintRejection(j, out);
