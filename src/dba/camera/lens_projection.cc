@@ -118,18 +118,12 @@ struct Factor {
   double sigma, dsigma_dr2, dsigma_dk[2];
 };
 
-// FOV (Devernay–Faugeras): σ = atan(2ρ tan(ω/2)) / (ρω), continuous in ω.
-// For ω² < 1e-8 its own series σ = 1 + ω² (1/12 − ρ²/3) + O(ω⁴) (exact to
-// rounding there; the closed form's dσ/dω cancels). COLMAP switches at
-// ω² < 1e-4 to the inverse map's series (signs flipped), which jumps by up
-// to 5e-5 relative at ω = 0.01 and stalled LM at that boundary
-// (docs/camera_models.md); for ρ² < 1e-4, COLMAP's series of the same map.
+// FOV (Devernay–Faugeras), COLMAP's three branches.
 Factor FovFactor(double omega, double r2) {
-  constexpr double kEpsilon = 1e-4, kOmegaEpsilon = 1e-8;
+  constexpr double kEpsilon = 1e-4;
   const double w2 = omega * omega;
-  if (w2 < kOmegaEpsilon) {
-    const double c = 1.0 / 12.0 - r2 / 3.0;
-    return {1.0 + w2 * c, -w2 / 3.0, {2.0 * omega * c, 0}};
+  if (w2 < kEpsilon) {
+    return {w2 * r2 / 3.0 - w2 / 12.0 + 1.0, w2 / 3.0, {2.0 * omega * r2 / 3.0 - omega / 6.0, 0}};
   }
   const double t = std::tan(omega / 2.0);
   const double dt = 0.5 * (1.0 + t * t);  // dt/dω
