@@ -161,12 +161,18 @@ def _value(name, spec, value):
         if not isinstance(value, (str, os.PathLike)):
             raise TypeError(f"{name}: expected a path (str or os.PathLike), got {value!r}")
         return os.fspath(value)
-    if kind == "list":
+    if kind == "list":  # ids, COLMAP image names (never digits alone), or "all"
+        if isinstance(value, str) and value == "all":
+            return value
         if isinstance(value, (str, bytes)) or not isinstance(value, (list, tuple, np.ndarray)):
-            raise TypeError(f"{name}: expected a sequence of integers, got {value!r}")
-        if not all(_is_int(v) for v in value):
-            raise TypeError(f"{name}: expected integers, got {list(value)!r}")
-        return ",".join(str(int(v)) for v in value)
+            raise TypeError(f"{name}: expected a sequence of integers (or image names), or 'all', got {value!r}")
+        def item(v):
+            if _is_int(v):
+                return str(int(v))
+            if isinstance(v, str) and v and not v.isdigit() and "," not in v:
+                return v
+            raise TypeError(f"{name}: expected integers or image names, got {list(value)!r}")
+        return ",".join(item(v) for v in value)
     if not isinstance(value, str):  # text, choice
         raise TypeError(f"{name}: expected a str, got {value!r}")
     return value

@@ -117,6 +117,13 @@ def test_colmap_model_directory():
     assert r.problem.lens_models == ["SIMPLE_RADIAL"]
     # As tests/cli_solve.sh: COLMAP 3.8's final RMS (principal point fixed).
     assert r.summary.final_rms_px == pytest.approx(0.531650, rel=1e-5)
+    # Images fixed by name, and all of them: their poses do not move.
+    named = dba.solve(model, threads=2, fix_images=["l-537.jpg", 3], quiet=True)
+    assert named.summary.report["gauge"] == "the images held fixed"
+    every = dba.solve(model, threads=2, fix_images="all", quiet=True)
+    # (to 1e-15: the fixed poses differ from a run without iterations in the last bit, unexplained)
+    np.testing.assert_allclose(every.cameras, dba.solve(model, max_iterations=0, gauge="free", quiet=True).cameras,
+                               rtol=0, atol=1e-15)
 
 
 def test_the_gil_is_released_during_the_solve():
