@@ -47,7 +47,7 @@ def plot_report(report, output, title=None):
     cameras = r.get("ground_truth", {}).get("cameras")
     columns = 3 if cameras else 2
     fig, axes = plt.subplots(2, columns, figsize=(6 * columns, 8))
-    fig.suptitle(title or f'{r.get("input", "")}: {r.get("num_cameras")} cameras, '
+    fig.suptitle(title or f'{r.get("input", "")}: {r.get("num_images", r.get("num_cameras"))} images, '
                  f'{r.get("num_points")} points, {r.get("num_observations")} observations, '
                  f'{r.get("threads")} threads x {r.get("ranks")} ranks')
 
