@@ -62,7 +62,7 @@ void CheckConvertFiles(const std::string& in, const std::string& out,
   RunFiles files;
   files.Input("INPUT", in);
   if (IsColmapInput(in) && KindOfPath(out) == PathKind::kOther) {
-    files.ModelOutput("OUTPUT", out, format.value_or(*DetectColmapFormat(in)));
+    files.ModelOutput("OUTPUT", out, format.value_or(*DetectColmapFormat(in)), HasRigsOrFrames(in));
   } else {
     files.Output("OUTPUT", out);
   }

@@ -183,6 +183,10 @@ ColmapModel ReadColmapBinary(const std::string& dir) {
 
 void WriteColmapBinary(const ColmapModel& model, const std::string& dir) {
   colmap_internal::CheckWritable(model, false);
+  if (!model.frames.empty() || !model.rig_lines.empty()) {
+    throw UsageError(dir + ": the model has COLMAP >= 3.12 rigs and frames, which dba writes as "
+                     "text only (--colmap-format text)");
+  }
   colmap_internal::EnsureDirectory(dir);
   BinaryOut cameras(JoinPath(dir, "cameras.bin")), images(JoinPath(dir, "images.bin")),
       points(JoinPath(dir, "points3D.bin"));

@@ -95,10 +95,22 @@ struct ColmapPoint3D {
 };
 
 // Entries in file order; ids need not be sorted or contiguous.
+// COLMAP >= 3.12's frames, when trivial (one camera per rig, one image per
+// frame; io/colmap_model.cc reads only those): each frame's pose is its
+// image's, so only the ids are kept and the pose is written from the image.
+struct ColmapFrame {
+  uint32_t frame_id = 0, rig_id = 0, camera_id = 0, image_id = 0;
+  bool operator==(const ColmapFrame&) const = default;
+};
+
 struct ColmapModel {
   std::vector<ColmapCamera> cameras;
   std::vector<ColmapImage> images;
   std::vector<ColmapPoint3D> points3D;
+  // A 3.12 text model's rigs.txt data lines (trivial rigs: no pose), as
+  // read, and its frames; both empty for older models.
+  std::vector<std::string> rig_lines;
+  std::vector<ColmapFrame> frames;
 
   // Sum of track lengths (the residual pairs of bundle adjustment).
   int64_t NumObservations() const;
@@ -138,6 +150,9 @@ std::optional<ColmapFormat> DetectColmapFormat(const std::string& dir);
 // validates it. Throws dba::InputError when `dir` holds no complete model
 // (naming what is missing) or on any malformed content.
 ColmapModel ReadColmapModel(const std::string& dir);
+
+// True when `dir` holds COLMAP >= 3.12 rigs or frames files (text or binary).
+bool HasRigsOrFrames(const std::string& dir);
 
 // ---------------------------------------------------------------------------
 // COLMAP cameras as intrinsic groups: COLMAP's model ids are dba's LensModel

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <unordered_map>
 
 #include "dba/common/error.h"
 
@@ -278,6 +279,32 @@ void WriteImages(const ColmapModel& model, TextOut& out) {
   }
 }
 
+// COLMAP >= 3.12's trivial rigs as read, and each frame with its image's
+// pose (one camera per rig: the rig's pose is its camera's).
+void WriteRigs(const ColmapModel& model, TextOut& out) {
+  out << "# Rig calib list with one line of data per calib:\n"
+      << "#   RIG_ID, NUM_SENSORS, REF_SENSOR_TYPE, REF_SENSOR_ID, SENSORS[] as (SENSOR_TYPE, "
+         "SENSOR_ID, HAS_POSE, [QW, QX, QY, QZ, TX, TY, TZ])\n"
+      << "# Number of rigs: " << uint64_t{model.rig_lines.size()} << '\n';
+  for (const std::string& line : model.rig_lines) out << std::string_view(line) << '\n';
+}
+
+void WriteFrames(const ColmapModel& model, TextOut& out) {
+  std::unordered_map<uint32_t, const ColmapImage*> image_of_id;
+  for (const ColmapImage& im : model.images) image_of_id.emplace(im.image_id, &im);
+  out << "# Frame list with one line of data per frame:\n"
+      << "#   FRAME_ID, RIG_ID, QW, QX, QY, QZ, TX, TY, TZ, NUM_DATA_IDS, DATA_IDS[] as "
+         "(SENSOR_TYPE, SENSOR_ID, DATA_ID)\n"
+      << "# Number of frames: " << uint64_t{model.frames.size()} << '\n';
+  for (const ColmapFrame& f : model.frames) {
+    const ColmapImage& im = *image_of_id.at(f.image_id);
+    out << f.frame_id << ' ' << f.rig_id;
+    for (double q : im.qvec) out << ' ' << q;
+    for (double v : im.tvec) out << ' ' << v;
+    out << " 1 CAMERA " << f.camera_id << ' ' << f.image_id << '\n';
+  }
+}
+
 void WritePoints3D(const ColmapModel& model, TextOut& out) {
   out << "# 3D point list with one line of data per point:\n"
       << "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, TRACK[] as (IMAGE_ID, POINT2D_IDX)\n"
@@ -313,6 +340,13 @@ void WriteColmapText(const ColmapModel& model, const std::string& dir) {
   WriteCameras(model, cameras);
   WriteImages(model, images);
   WritePoints3D(model, points);
+  if (!model.frames.empty() || !model.rig_lines.empty()) {
+    TextOut rigs(JoinPath(dir, "rigs.txt")), frames(JoinPath(dir, "frames.txt"));
+    WriteRigs(model, rigs);
+    WriteFrames(model, frames);
+    CommitTogether({&cameras.file(), &images.file(), &points.file(), &rigs.file(), &frames.file()});
+    return;
+  }
   // All three on disk before any replaces a file of the old model.
   CommitTogether({&cameras.file(), &images.file(), &points.file()});
 }

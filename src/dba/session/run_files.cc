@@ -43,7 +43,8 @@ void RunFiles::Output(const std::string& flag, const std::string& path, bool mak
   if (!path.empty()) outputs_.push_back({flag, path, make_directory});
 }
 
-void RunFiles::ModelOutput(const std::string& flag, const std::string& dir, ColmapFormat format) {
+void RunFiles::ModelOutput(const std::string& flag, const std::string& dir, ColmapFormat format,
+                           bool with_rigs) {
   std::error_code ec;
   if (dir.empty()) throw UsageError(flag + ": an empty path names no directory");
   if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
@@ -51,9 +52,14 @@ void RunFiles::ModelOutput(const std::string& flag, const std::string& dir, Colm
                      "a directory, made when missing)");
   }
   // COLMAP >= 3.12 takes each image's pose from its frame: rigs and frames
-  // files left beside the model written would give it the old poses.
+  // files left beside the model written would give it the old poses. A
+  // model read with (trivial, text) rigs and frames writes them anew.
+  if (with_rigs && format == ColmapFormat::kBinary) {
+    throw UsageError(flag + " " + dir + ": the input has COLMAP >= 3.12 rigs and frames, which "
+                     "dba writes as text only (--colmap-format text)");
+  }
   for (const char* stale : {"rigs.txt", "rigs.bin", "frames.txt", "frames.bin"}) {
-    if (fs::exists(Join(dir, stale), ec)) {
+    if ((!with_rigs || std::string(stale).ends_with(".bin")) && fs::exists(Join(dir, stale), ec)) {
       throw UsageError(flag + " " + dir + ": holds " + stale +
                        " (COLMAP >= 3.12 rigs and frames), which would give the images written "
                        "their old poses; write into another directory, or remove the rigs and "

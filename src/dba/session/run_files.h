@@ -28,7 +28,10 @@ class RunFiles {
   void Output(const std::string& flag, const std::string& path, bool make_directory = false);
   // A COLMAP model written into the directory `dir` (made when missing):
   // its cameras, images and points3D files in `format`.
-  void ModelOutput(const std::string& flag, const std::string& dir, ColmapFormat format);
+  // `with_rigs`: the model written holds COLMAP >= 3.12 rigs and frames
+  // (text only); otherwise a directory holding such files is refused.
+  void ModelOutput(const std::string& flag, const std::string& dir, ColmapFormat format,
+                   bool with_rigs = false);
   // The output `output_flag` may name what `input_flag` reads: it is
   // replaced when the run is done, after all reading.
   void AllowInPlace(const std::string& output_flag, const std::string& input_flag);

@@ -97,7 +97,8 @@ void CheckSolveFiles(const SolveOptions& o) {
   files.Input("--camera-priors", o.geo.camera_priors_path);
   files.Input("--gcps", o.geo.gcps_path);
   if (!o.output.empty() && KindOfPath(o.output) == PathKind::kOther && IsColmapInput(o.input)) {
-    files.ModelOutput("-o", o.output, o.colmap_format.value_or(*DetectColmapFormat(o.input)));
+    files.ModelOutput("-o", o.output, o.colmap_format.value_or(*DetectColmapFormat(o.input)),
+                      HasRigsOrFrames(o.input));
   } else {
     files.Output("-o", o.output);
   }
