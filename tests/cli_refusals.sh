@@ -105,13 +105,33 @@ bad_model() {  # bad_model NAME AWK_PROGRAM_ON_FILE FILE: a copy of $colmap with
 bad_model zero_width '/^1 SIMPLE_RADIAL/ {$3 = 0} {print}' cameras.txt
 refuse 1 "cameras.txt:4: camera 1: image size 0 x 720 is outside 1 to 1000000 pixels a side" "$tmp/zero_width"
 bad_model negative_f '/^1 SIMPLE_RADIAL/ {$5 = -700} {print}' cameras.txt
-refuse 1 "SIMPLE_RADIAL's f is -700.000000: a focal length must be > 0" "$tmp/negative_f"
+refuse 1 "camera 1: SIMPLE_RADIAL's f is -700: it must be > 0 (a focal length)" "$tmp/negative_f"
 bad_model same_name '{sub(/ l-212[.]jpg/, " l-115.jpg"); print}' images.txt
 refuse 1 "the name 'l-115.jpg' is also image on line 5's: image names must be unique" "$tmp/same_name"
 printf '# one camera\n1 EQUIRECTANGULAR 1280 720 1280 640\n' >"$tmp/equi_cameras.txt"
 bad_model equi_size 'FNR == 0 {} {print}' images.txt
 cp "$tmp/equi_cameras.txt" "$tmp/equi_size/cameras.txt"
-refuse 1 "EQUIRECTANGULAR's h is 640.000000 but the image is 1280 x 720" "$tmp/equi_size"
+refuse 1 "EQUIRECTANGULAR's w, h are 1280, 640 but the image is 1280 x 720" "$tmp/equi_size"
+# Every lens model's physical range, in any input: one case per rule.
+lens_model() {  # lens_model NAME CAMERA_LINE: a copy of $colmap with camera 1 replaced
+  mkdir -p "$tmp/$1" && cp "$colmap"/*.txt "$tmp/$1/"
+  printf '# one camera\n%s\n' "$2" >"$tmp/$1/cameras.txt"
+}
+lens_model zero_fy "1 PINHOLE 1280 720 700 0 640 360"
+refuse 1 "cameras.txt:2: camera 1: PINHOLE's fy is 0: it must be > 0 (a focal length)" "$tmp/zero_fy"
+lens_model fov_pi "1 FOV 1280 720 700 700 640 360 3.2"
+refuse 1 "camera 1: FOV's omega is 3.2000000000000002: it must be within (-pi, pi)" "$tmp/fov_pi"
+lens_model eucm_alpha "1 EUCM 1280 720 700 700 640 360 1.5 1"
+refuse 1 "camera 1: EUCM's alpha is 1.5: it must be within [0, 1]" "$tmp/eucm_alpha"
+lens_model eucm_beta "1 EUCM 1280 720 700 700 640 360 0.5 -1"
+refuse 1 "camera 1: EUCM's beta is -1: it must be > 0" "$tmp/eucm_beta"
+lens_model equi_negative "1 EQUIRECTANGULAR 1280 720 -1280 720"
+refuse 1 "camera 1: EQUIRECTANGULAR's w is -1280: it must be >= 1" "$tmp/equi_negative"
+# dba convert reads through the same check (a .dba's groups are checked by
+# its reader: io/binary_problem_test.cc; Python's arrays: test_arrays.py).
+"$dba" convert "$tmp/eucm_beta" "$tmp/eucm_beta.dba" >"$tmp/log" 2>&1
+check "dba convert refuses it too" test $? -eq 1
+check "and writes nothing" test ! -e "$tmp/eucm_beta.dba"
 # --fix-intrinsics and --fix-images name COLMAP ids: an unknown one is the
 # flag's error (2), a name not in that camera's model too, naming the camera.
 refuse 2 "--fix-intrinsics: camera 7: $colmap has no camera with that id" "$colmap" --fix-intrinsics 7:f

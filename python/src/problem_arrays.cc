@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "dba/problem/lens_ranges.h"
+
 namespace dba::python {
 namespace {
 
@@ -108,6 +110,11 @@ void IntrinsicsFromArrays(const ProblemArrays& in, int64_t n, Problem* p) {
                 ": out of range (" + std::to_string(groups) + " intrinsic groups)");
     }
     p->camera_intrinsics[i] = static_cast<int32_t>(g);
+  }
+  for (int64_t g = 0; g < groups; ++g) {
+    const std::string out_of_range =
+        LensValueOutOfRange(p->group_model(g), intrinsics.data() + p->intrinsics_size * g);
+    if (!out_of_range.empty()) throw Bad("intrinsics[" + std::to_string(g) + "]: " + out_of_range);
   }
   if (!in.fixed_intrinsics || in.fixed_intrinsics->size() == 0) return;
   const int s = p->intrinsics_size;

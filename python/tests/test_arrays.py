@@ -100,6 +100,13 @@ def test_photo_model_with_intrinsic_groups():
         dba.solve_arrays(p.cameras, p.points, p.observations, p.camera_indices,
                          p.point_indices, camera_model="photo", intrinsics=p.intrinsics,
                          camera_intrinsics=p.camera_intrinsics, lens_models=["OPENCV"])
+    # A value no camera has (a focal length of 0) is refused by name.
+    zero_f = p.intrinsics.copy()
+    zero_f[0, 0] = 0.0
+    with pytest.raises(ValueError, match=r"intrinsics\[0\]: SIMPLE_RADIAL's f is 0: it must be > 0"):
+        dba.solve_arrays(p.cameras, p.points, p.observations, p.camera_indices,
+                         p.point_indices, camera_model="photo", intrinsics=zero_f,
+                         camera_intrinsics=p.camera_intrinsics, lens_models=p.lens_models)
 
 
 def test_bad_arrays_are_refused(ladybug_problem):

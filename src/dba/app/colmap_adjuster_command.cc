@@ -22,8 +22,8 @@ struct Mapping {
   const char* help;
 };
 
-// COLMAP's options with a value, in the order `colmap bundle_adjuster -h`
-// lists them (3.8), then 3.12's names.
+// COLMAP's options with a value (3.8's names and 3.12's), by name: --help
+// lists them alphabetically.
 const std::map<std::string, Mapping>& ValueOptions() {
   static const std::map<std::string, Mapping> m = {
       {"--input_path", {"", "the model to adjust (dba solve's INPUT)"}},

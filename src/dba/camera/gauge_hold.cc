@@ -73,6 +73,9 @@ Similarity GaugeMapping(const GaugeReference& ref, const CameraSide& side) {
     s.translation = (1.0 - s.scale) * CameraCentre(a);
     return s;
   }
+  // An anchor that did not move (no iteration, or it was held): the identity
+  // exactly, so that nothing is rewritten to rounding.
+  if (std::equal(ref.pose.begin(), ref.pose.end(), a) && s.scale == 1.0) return s;
   const Mat3 R_in = AngleAxisToRotation(Vec3(ref.pose[0], ref.pose[1], ref.pose[2]));
   const Mat3 R = AngleAxisToRotation(Vec3(a[0], a[1], a[2]));
   s.rotation = R_in.transpose() * R;

@@ -52,7 +52,8 @@ GaugeReference TakeGaugeReference(const CameraSide& side, bool external);
 
 // The similarity bringing the solved `side` back onto the reference's frame
 // (the identity when nothing is to be held, or the solve moved a fixed
-// anchor's partner onto it).
+// anchor's partner onto it; exactly the identity when the anchor and its
+// distance are bit for bit as taken, so an unmoved model is not rewritten).
 Similarity GaugeMapping(const GaugeReference& ref, const CameraSide& side);
 
 // Moves every image that is not held fixed by `s`; the anchor is then

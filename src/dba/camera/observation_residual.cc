@@ -33,57 +33,53 @@ Vec2 ObservationResidual(const CameraSide& side, const double* cameras, Rotation
                                    nullptr, nullptr);
 }
 
-int64_t CountBehindCameras(const Problem& problem) {
-  const bool bal = problem.model == CameraModel::kBal;
-  const int64_t n = problem.num_images();
-  std::vector<Mat3> R(static_cast<size_t>(n));
-  std::vector<uint8_t> sees_all(static_cast<size_t>(n), 0);
-  for (int64_t i = 0; i < n; ++i) {
-    const double* c = problem.camera(i);
-    R[i] = AngleAxisToRotation(Vec3(c[0], c[1], c[2]));
-    sees_all[i] = !bal && problem.group_model(problem.camera_intrinsics[i]) == LensModel::kEquirectangular;
-  }
-  int64_t behind = 0;
-#pragma omp parallel for schedule(static) reduction(+ : behind)
-  for (int64_t k = 0; k < problem.num_points(); ++k) {
-    const Vec3 X(problem.point(k)[0], problem.point(k)[1], problem.point(k)[2]);
-    for (int64_t o = problem.point_offsets[k]; o < problem.point_offsets[k + 1]; ++o) {
-      const int32_t i = problem.obs_camera[o];
-      if (sees_all[i]) continue;
-      const double z = R[i].row(2).dot(X) + problem.camera(i)[5];
-      behind += bal ? z >= 0 : z <= 0;
-    }
-  }
-  return behind;
+namespace {
+
+// Whether a point at camera-frame depth z is behind the camera: z <= 0 in the
+// photogrammetric model, z >= 0 for a BAL camera (it looks down -z);
+// EQUIRECTANGULAR sees every direction.
+bool Behind(const CameraSide& side, int32_t i, double z) {
+  if (side.model == CameraModel::kBal) return z >= 0;
+  if (side.group_model(side.camera_intrinsics[i]) == LensModel::kEquirectangular) return false;
+  return z <= 0;
 }
 
-NonFiniteResiduals FindNonFiniteResiduals(const Problem& problem, int keep) {
+}  // namespace
+
+ResidualScan ScanResiduals(const Problem& problem, int keep) {
   // Each thread a contiguous range of points, its finds appended in thread
   // order: the first `keep` are the first in observation order.
-  std::vector<NonFiniteResiduals> parts(static_cast<size_t>(omp_get_max_threads()));
+  std::vector<ResidualScan> parts(static_cast<size_t>(omp_get_max_threads()));
 #pragma omp parallel num_threads(static_cast<int>(parts.size()))
   {
-    NonFiniteResiduals& bad = parts[static_cast<size_t>(omp_get_thread_num())];
+    ResidualScan& scan = parts[static_cast<size_t>(omp_get_thread_num())];
     RotationFrameCache frames;  // the trigonometry once per camera, not per observation
 #pragma omp for schedule(static)
     for (int64_t k = 0; k < problem.num_points(); ++k) {
+      const Vec3 X(problem.point(k)[0], problem.point(k)[1], problem.point(k)[2]);
       for (int64_t o = problem.point_offsets[k]; o < problem.point_offsets[k + 1]; ++o) {
         const int32_t i = problem.obs_camera[o];
+        const double* camera = problem.camera(i);
+        const double z = frames.Get(i, camera).R.row(2).dot(X) + camera[5];
+        scan.behind_cameras += Behind(problem, i, z);
         if (std::isfinite(ObservationResidual(problem, problem.cameras.data(), &frames, i,
                                               problem.point(k), problem.pixel(o))
                               .squaredNorm())) {
           continue;
         }
-        if (static_cast<int>(bad.first.size()) < keep) bad.first.push_back({o, k, i});
-        ++bad.count;
+        if (static_cast<int>(scan.first_non_finite.size()) < keep) {
+          scan.first_non_finite.push_back({o, k, i});
+        }
+        ++scan.non_finite;
       }
     }
   }
-  NonFiniteResiduals all;
-  for (const NonFiniteResiduals& part : parts) {
-    all.count += part.count;
-    for (const auto& where : part.first) {
-      if (static_cast<int>(all.first.size()) < keep) all.first.push_back(where);
+  ResidualScan all;
+  for (const ResidualScan& part : parts) {
+    all.non_finite += part.non_finite;
+    all.behind_cameras += part.behind_cameras;
+    for (const auto& where : part.first_non_finite) {
+      if (static_cast<int>(all.first_non_finite.size()) < keep) all.first_non_finite.push_back(where);
     }
   }
   return all;

@@ -25,23 +25,22 @@ Vec2 ObservationResidual(const CameraSide& side, const double* cameras, int32_t 
 Vec2 ObservationResidual(const CameraSide& side, const double* cameras, RotationFrameCache* frames,
                          int32_t i, const double* X, const double* pixel);
 
-// Observations whose squared residual at the problem's current parameters is
-// not finite (a point at a camera centre, an overflowing value): how many,
-// and the first `keep` of them with their camera and point.
-struct NonFiniteResiduals {
-  int64_t count = 0;
+// One pass over the observations at the problem's current parameters:
+// those whose squared residual is not finite (a point at a camera centre, an
+// overflowing value) — how many, and the first `keep` with their camera and
+// point — and those whose point is behind its camera (camera-frame depth
+// z <= 0; z >= 0 for a BAL camera, which looks down -z; EQUIRECTANGULAR sees
+// every direction and is left out). COLMAP drops the latter before
+// adjusting; dba counts them (the report's observations_behind_cameras).
+struct ResidualScan {
+  int64_t non_finite = 0;
   struct Where {
     int64_t observation, point;
     int32_t camera;
   };
-  std::vector<Where> first;
+  std::vector<Where> first_non_finite;
+  int64_t behind_cameras = 0;
 };
-NonFiniteResiduals FindNonFiniteResiduals(const Problem& problem, int keep = 5);
-
-// Observations whose point is behind its camera: camera-frame depth z <= 0
-// (photogrammetric model; EQUIRECTANGULAR sees every direction and is left
-// out), z >= 0 for a BAL camera (it looks down -z). COLMAP drops them before
-// adjusting; dba counts them (the report's observations_behind_cameras).
-int64_t CountBehindCameras(const Problem& problem);
+ResidualScan ScanResiduals(const Problem& problem, int keep = 5);
 
 }  // namespace dba

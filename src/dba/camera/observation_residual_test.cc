@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "dba/camera/photo_camera.h"
+#include "dba/camera/rotation.h"
 #include "dba/testing/synthetic_photo.h"
 
 namespace dba {
@@ -48,12 +49,12 @@ TEST(ObservationResidual, PhotoModelUsesTheImagesGroup) {
 // The search runs over the threads in contiguous ranges of points: the
 // count is every bad observation, and the ones kept are the first in
 // observation order, whichever thread found them.
-TEST(FindNonFiniteResiduals, CountsAllAndKeepsTheFirstInObservationOrder) {
+TEST(ScanResiduals, CountsAllNonFiniteAndKeepsTheFirstInObservationOrder) {
   testing::SyntheticBalOptions o;
   o.pixel_noise = 1.0;
   Problem p = testing::MakeSyntheticBal(o).problem;
   ASSERT_GE(p.num_points(), 20);
-  EXPECT_EQ(FindNonFiniteResiduals(p).count, 0);
+  EXPECT_EQ(ScanResiduals(p).non_finite, 0);
   // Points of no finite position, one early and several late in the point
   // order: every observation of theirs is bad.
   const std::vector<int64_t> bad_points = {3, p.num_points() - 9, p.num_points() - 5,
@@ -76,16 +77,57 @@ TEST(FindNonFiniteResiduals, CountsAllAndKeepsTheFirstInObservationOrder) {
   const int before = omp_get_max_threads();
   for (const int threads : {1, 2, 3, 8}) {
     omp_set_num_threads(threads);
-    const NonFiniteResiduals bad = FindNonFiniteResiduals(p, keep);
-    EXPECT_EQ(bad.count, bad_observations) << threads;
-    ASSERT_EQ(bad.first.size(), expected.size()) << threads;
+    const ResidualScan bad = ScanResiduals(p, keep);
+    EXPECT_EQ(bad.non_finite, bad_observations) << threads;
+    ASSERT_EQ(bad.first_non_finite.size(), expected.size()) << threads;
     for (size_t x = 0; x < expected.size(); ++x) {
-      EXPECT_EQ(bad.first[x].observation, expected[x]) << threads << " " << x;
-      EXPECT_EQ(bad.first[x].camera, p.obs_camera[expected[x]]) << threads << " " << x;
+      EXPECT_EQ(bad.first_non_finite[x].observation, expected[x]) << threads << " " << x;
+      EXPECT_EQ(bad.first_non_finite[x].camera, p.obs_camera[expected[x]]) << threads << " " << x;
     }
-    EXPECT_EQ(bad.first[0].point, 3) << threads;
+    EXPECT_EQ(bad.first_non_finite[0].point, 3) << threads;
   }
   omp_set_num_threads(before);
+}
+
+// Points moved behind their cameras are counted once per observation, in
+// both camera models (a BAL camera looks down -z), whatever the threads.
+int64_t BehindByHand(const Problem& p) {
+  int64_t behind = 0;
+  for (int64_t k = 0; k < p.num_points(); ++k) {
+    const Vec3 X(p.point(k)[0], p.point(k)[1], p.point(k)[2]);
+    for (int64_t o = p.point_offsets[k]; o < p.point_offsets[k + 1]; ++o) {
+      const double* c = p.camera(p.obs_camera[o]);
+      const double z = (AngleAxisToRotation(Vec3(c[0], c[1], c[2])) * X)(2) + c[5];
+      behind += p.model == CameraModel::kBal ? z >= 0 : z <= 0;
+    }
+  }
+  return behind;
+}
+
+TEST(ScanResiduals, CountsObservationsBehindTheirCameras) {
+  testing::SyntheticBalOptions bal_options;
+  testing::SyntheticPhotoOptions photo_options;
+  for (Problem p : {testing::MakeSyntheticBal(bal_options).problem,
+                    testing::MakeSyntheticPhoto(photo_options).problem}) {
+    EXPECT_EQ(ScanResiduals(p).behind_cameras, 0);
+    // Mirror some points through their first camera's centre: behind it.
+    for (int64_t k = 0; k < p.num_points(); k += 7) {
+      const double* c = p.camera(p.obs_camera[p.point_offsets[k]]);
+      const Mat3 R = AngleAxisToRotation(Vec3(c[0], c[1], c[2]));
+      const Vec3 centre = -R.transpose() * Vec3(c[3], c[4], c[5]);
+      const Vec3 X(p.point(k)[0], p.point(k)[1], p.point(k)[2]);
+      const Vec3 mirrored = 2 * centre - X;
+      for (int j = 0; j < 3; ++j) p.point(k)[j] = mirrored(j);
+    }
+    const int64_t expected = BehindByHand(p);
+    ASSERT_GE(expected, p.num_points() / 7);
+    const int before = omp_get_max_threads();
+    for (const int threads : {1, 3}) {
+      omp_set_num_threads(threads);
+      EXPECT_EQ(ScanResiduals(p).behind_cameras, expected) << threads;
+    }
+    omp_set_num_threads(before);
+  }
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // Distributed bundle adjustment; see distributed_solve.h.
 #include "dba/cluster/distributed_solve.h"
 
+#include "dba/camera/fov_series_start.h"
+
 #include "dba/common/memory.h"
 
 #include "dba/common/timer.h"
@@ -76,6 +78,7 @@ RankShare ReadShare(int rank, const std::string& path, const std::vector<int32_t
   MaybeInjectFault(rank, "read", 1);
   share.problem = ReadBinaryPoints(path, group, g, &share.global_point);
   ApplyFixings(options.fixings, &share.problem);
+  StartFovOutsideSeries(&share.problem);  // as the main rank's camera side (SolveSession::Run)
   return share;
 }
 

@@ -13,6 +13,7 @@
 #include "dba/common/error.h"
 #include "dba/io/atomic_output_file.h"
 #include "dba/io/binary_file.h"
+#include "dba/problem/lens_ranges.h"
 
 namespace dba {
 namespace {
@@ -176,6 +177,12 @@ CameraSide ReadCameraSide(const BinaryFile& f, const BinaryProblemHeader& h) {
                          "intrinsic group " + std::to_string(g) + " of image " +
                              std::to_string(i) + " is out of range [0, " +
                              std::to_string(h.num_intrinsics) + ")");
+      }
+    }
+    for (int64_t g = 0; g < h.num_intrinsics; ++g) {
+      const std::string out_of_range = LensValueOutOfRange(p.group_model(g), p.intrinsics(g));
+      if (!out_of_range.empty()) {
+        throw InputError(f.path(), 0, "intrinsic group " + std::to_string(g) + ": " + out_of_range);
       }
     }
   }

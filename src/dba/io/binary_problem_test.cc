@@ -667,5 +667,24 @@ TEST(BinaryProblem, Version3RefusesModelsCountsAndMasksThatDoNotFit) {
   EXPECT_FALSE(std::filesystem::exists(Tmp("never.dba")));
 }
 
+// Values no camera has (problem/lens_ranges.h) are refused by every reader,
+// naming the group, the parameter and the value.
+TEST(BinaryProblem, ParametersOutOfTheirLensRangeAreRefused) {
+  Problem p = MixedLensProblem();
+  p.intrinsics(1)[1] = 0.0;  // THIN_PRISM_FISHEYE's fy
+  const std::string path = Tmp("zero_fy.dba");
+  WriteBinaryProblem(p, path);
+  const std::string phrase = "intrinsic group 1: THIN_PRISM_FISHEYE's fy is 0: it must be > 0";
+  for (int reader = 0; reader < 2; ++reader) {
+    try {
+      if (reader == 0) ReadBinaryProblem(path);
+      else ReadBinaryCameraSide(path);
+      ADD_FAILURE() << "accepted by reader " << reader;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace dba

@@ -27,6 +27,7 @@
 #include "dba/common/error.h"
 #include "dba/io/colmap_binary.h"
 #include "dba/io/colmap_text.h"
+#include "dba/problem/lens_ranges.h"
 
 namespace dba {
 namespace {
@@ -217,29 +218,20 @@ std::string FirstColmapModelDifference(const ColmapModel& a, const ColmapModel& 
 namespace colmap_internal {
 
 // A value no camera has: an image of no pixels (or beyond a million on a
-// side), a focal length ≤ 0, an EQUIRECTANGULAR whose w, h differ from
-// the image's size; empty when none.
+// side), a parameter out of its lens model's range (problem/lens_ranges.h),
+// an EQUIRECTANGULAR whose w, h differ from the image's size; empty when none.
 std::string AbsurdCameraValue(const ColmapCamera& c, const ColmapCameraModelInfo& m) {
   constexpr uint64_t kMaxSide = 1000000;
   if (c.width < 1 || c.height < 1 || c.width > kMaxSide || c.height > kMaxSide) {
     return "image size " + std::to_string(c.width) + " x " + std::to_string(c.height) +
            " is outside 1 to 1000000 pixels a side";
   }
-  std::string_view names = m.params;
-  for (size_t j = 0; j < c.params.size(); ++j) {
-    const std::string_view name = names.substr(0, names.find(", "));
-    names.remove_prefix(std::min(names.size(), name.size() + 2));
-    const double v = c.params[j];
-    if ((name == "f" || name == "fx" || name == "fy") && !(v > 0)) {
-      return std::string(m.name) + "'s " + std::string(name) + " is " + Clipped(std::to_string(v)) +
-             ": a focal length must be > 0";
-    }
-    const uint64_t side = name == "w" ? c.width : c.height;
-    if ((name == "w" || name == "h") && v != static_cast<double>(side)) {
-      return std::string(m.name) + "'s " + std::string(name) + " is " + std::to_string(v) +
-             " but the image is " + std::to_string(c.width) + " x " + std::to_string(c.height) +
-             " (w and h are the image's size)";
-    }
+  const std::string out_of_range = LensValueOutOfRange(m.id, c.params.data());
+  if (!out_of_range.empty()) return out_of_range;
+  if (m.id == LensModel::kEquirectangular &&
+      (c.params[0] != static_cast<double>(c.width) || c.params[1] != static_cast<double>(c.height))) {
+    return "EQUIRECTANGULAR's w, h are " + Num(c.params[0]) + ", " + Num(c.params[1]) + " but the image is " + std::to_string(c.width) + " x " +
+           std::to_string(c.height) + " (w and h are the image's size)";
   }
   return {};
 }

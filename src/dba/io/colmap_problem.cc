@@ -32,6 +32,13 @@ std::array<double, 4> AngleAxisToQuaternion(const Vec3& omega) {
   return {q.w(), q.x(), q.y(), q.z()};
 }
 
+// Whether q is as AngleAxisToQuaternion writes one: w >= 0, unit to a few
+// ulps.
+bool IsWrittenForm(const std::array<double, 4>& q) {
+  const double norm2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+  return q[0] >= 0 && std::abs(norm2 - 1.0) <= 8 * std::numeric_limits<double>::epsilon();
+}
+
 }  // namespace
 
 Fixings ColmapFixings(const ColmapModel& model, const ColmapProblem& problem,
@@ -315,7 +322,13 @@ void UpdateColmapModel(const ColmapProblem& source, const Problem& adjusted,
   for (int64_t i = 0; i < n; ++i) {
     ColmapImage& im = model->images[source.image_index[i]];
     const double* pose = adjusted.camera(i);
-    im.qvec = AngleAxisToQuaternion(Vec3(pose[0], pose[1], pose[2]));
+    // A rotation the solve did not change keeps its quaternion bit for bit
+    // when that is already in the written form (unit to rounding, w >= 0):
+    // the round trip through angle-axis is exact only to rounding.
+    const Vec3 omega(pose[0], pose[1], pose[2]);
+    if (!IsWrittenForm(im.qvec) || QuaternionToAngleAxis(im.qvec) != omega) {
+      im.qvec = AngleAxisToQuaternion(omega);
+    }
     im.tvec = {pose[3], pose[4], pose[5]};
     im.camera_id = group_id[adjusted.camera_intrinsics[i]];
   }

@@ -2,7 +2,6 @@
 #include "dba/session/solve_input.h"
 
 #include <algorithm>
-#include <numeric>
 #include <unordered_map>
 
 

@@ -11,6 +11,7 @@
 #include <ostream>
 #include <stdexcept>
 
+#include "dba/camera/fov_series_start.h"
 #include "dba/camera/observation_residual.h"
 #include "dba/cluster/distributed_solve.h"
 #include "dba/common/error.h"
@@ -76,16 +77,16 @@ std::string RejectionRoundLine(const RejectionCriteria& criteria, int r,
   return line;
 }
 
-void RefuseNonFiniteResiduals(const std::string& input, const Problem& problem) {
-  const NonFiniteResiduals bad = FindNonFiniteResiduals(problem);
-  if (bad.count == 0) return;
+int64_t RefuseNonFiniteResiduals(const std::string& input, const Problem& problem) {
+  const ResidualScan scan = ScanResiduals(problem);
+  if (scan.non_finite == 0) return scan.behind_cameras;
   std::string where;
-  for (const NonFiniteResiduals::Where& w : bad.first) {
+  for (const ResidualScan::Where& w : scan.first_non_finite) {
     where += (where.empty() ? "" : "; ") + std::string("observation ") +
              std::to_string(w.observation) + " (camera " + std::to_string(w.camera) +
              ", point " + std::to_string(w.point) + ")";
   }
-  throw std::runtime_error(input + ": " + std::to_string(bad.count) +
+  throw std::runtime_error(input + ": " + std::to_string(scan.non_finite) +
                            " observation(s) have a non-finite reprojection error (nan or inf) at "
                            "the initial parameters, e.g. " + where +
                            "; correct or remove them (a point at a camera centre, or values "
@@ -139,9 +140,12 @@ SolveResult SolveSession::Run(SolveInput input) {
   if (comm_->is_main()) {
     Timer load;
     Start(input_);
+    // Every rank that reads the file moves its own copy alike (ReadShare).
+    const std::vector<FovStartMove> fov = StartFovOutsideSeries(&result_.problem);
+    if (!options_.quiet) out_ << DescribeFovStartMoves(fov);
     if (!input_.ranks_read_file) {
-      RefuseNonFiniteResiduals(input_.name, result_.problem);
-      result_.report.observations_behind_cameras = CountBehindCameras(result_.problem);
+      result_.report.observations_behind_cameras =
+          RefuseNonFiniteResiduals(input_.name, result_.problem);
     }
     // The walk's order from the positions as loaded (before an alignment or
     // a resume moves them): the same for a solve and its resume.
@@ -307,9 +311,12 @@ void SolveSession::PrintStart() {
 // rejection every loaded point kept.
 void SolveSession::HoldGauge() {
   const Similarity s = GaugeMapping(gauge_, result_.problem);
-  MoveCameras(s, gauge_, &result_.problem);
-  MovePoints(s, &result_.problem.points);
-  if (result_.kept) MovePoints(s, &result_.all_points, result_.kept->point);
+  const bool identity = s.scale == 1.0 && s.rotation == Mat3::Identity() && s.translation.isZero(0);
+  if (!identity) {
+    MoveCameras(s, gauge_, &result_.problem);
+    MovePoints(s, &result_.problem.points);
+    if (result_.kept) MovePoints(s, &result_.all_points, result_.kept->point);
+  }
   result_.report.gauge = DescribeGauge(gauge_, s);
 }
 

@@ -130,7 +130,8 @@ std::string RejectionRoundLine(const RejectionCriteria& criteria, int r,
                                const RejectionRound& round);
 
 // Refuses (std::runtime_error naming `input` and the first observations) a
-// problem whose initial cost is not finite.
-void RefuseNonFiniteResiduals(const std::string& input, const Problem& problem);
+// problem whose initial cost is not finite; returns how many observations
+// are behind their cameras (from the same pass, ScanResiduals).
+int64_t RefuseNonFiniteResiduals(const std::string& input, const Problem& problem);
 
 }  // namespace dba
