@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # COLMAP >= 3.12's rigs and frames: a model with trivial ones (one camera
-# per rig, one image per frame, text) is read and written back with each
-# frame at its image's solved pose, in place too; a rig of several cameras
-# and binary rigs/frames are refused naming the file; a model without rigs
-# is never written into a directory holding rigs or frames files (they
-# would give COLMAP >= 3.12 the old poses with the new points).
+# per rig, one image per frame, text or binary) is read and written back
+# with each frame at its image's solved pose, in place too, in either
+# format; a rig of several cameras is refused naming the file and line (or
+# byte); a model without rigs is never written into a directory holding
+# rigs or frames files (they would give COLMAP >= 3.12 the old poses with
+# the new points), nor a model with them beside the other format's.
 # Usage: cli_colmap_rigs.sh PATH_TO_DBA PROJECT_ROOT
 set -uo pipefail
 source "$(dirname "$0")/lib/check.sh"
@@ -39,10 +40,30 @@ check "... the poses did move" differ "$tmp/m/frames.txt" "$tmp/out/frames.txt"
 check "... the rigs as they were" diff <(grep -v '^#' "$tmp/m/rigs.txt") <(grep -v '^#' "$tmp/out/rigs.txt")
 "$dba" solve "$tmp/m" -q -o "$tmp/m" >"$tmp/log" 2>&1
 check "in place, the frames are written anew" consistent "$tmp/m"
-"$dba" solve "$tmp/before" -q -o "$tmp/bin" --colmap-format binary >"$tmp/log" 2>&1
-check "binary output of rigs and frames is refused (exit 2)" test $? -eq 2
-check "... naming why" contains "$tmp/log" "which dba writes as text only"
-check "... and writes nothing" test ! -e "$tmp/bin"
+"$dba" solve "$tmp/before" -q -o "$tmp/bin" --colmap-format binary --report "$tmp/rb.json" >"$tmp/log" 2>&1
+check "binary output of rigs and frames" test $? -eq 0 -a -s "$tmp/bin/rigs.bin" -a -s "$tmp/bin/frames.bin"
+# COLMAP's layout (colmap_rigs.cc): 8 + 16 bytes a rig, 8 + 84 a frame.
+check "... rigs.bin in COLMAP's layout (one rig)" test "$(stat -c %s "$tmp/bin/rigs.bin")" -eq 24
+check "... frames.bin in COLMAP's layout (six frames)" test "$(stat -c %s "$tmp/bin/frames.bin")" -eq $((8 + 6 * 84))
+"$dba" solve "$tmp/bin" -q --max-iterations 0 -o "$tmp/bin2txt" --colmap-format text >"$tmp/log" 2>&1
+check "... read back and written as text: each frame at its image's pose" consistent "$tmp/bin2txt"
+check "... the rigs as they were" diff <(grep -v '^#' "$tmp/m/rigs.txt") <(grep -v '^#' "$tmp/bin2txt/rigs.txt")
+check "... the frames' ids as they were" \
+  diff <(awk '!/^#/ {print $1, $2, $10, $11, $12, $13}' "$tmp/before/frames.txt") \
+       <(awk '!/^#/ {print $1, $2, $10, $11, $12, $13}' "$tmp/bin2txt/frames.txt")
+"$dba" solve "$tmp/bin2txt" -q --max-iterations 0 --report "$tmp/c.json" >/dev/null 2>&1
+check "... at the binary solve's final cost" json "$tmp/rb.json" \
+  "near(d['final_cost'], $(json_value "$tmp/c.json" initial_cost), 1e-9)"
+"$dba" convert "$tmp/before" "$tmp/binin" --colmap-format binary >"$tmp/log" 2>&1
+check "dba convert carries the rigs and frames" test $? -eq 0 -a -s "$tmp/binin/frames.bin"
+cp "$tmp/binin/frames.bin" "$tmp/frames.before"
+"$dba" solve "$tmp/binin" -q -o "$tmp/binin" >"$tmp/log" 2>&1
+check "binary in place exits 0" test $? -eq 0
+check "... the frames written anew" differ "$tmp/frames.before" "$tmp/binin/frames.bin"
+check "... the same as the binary solve's" cmp -s "$tmp/bin/frames.bin" "$tmp/binin/frames.bin"
+"$dba" solve "$tmp/before" -q -o "$tmp/bin" --colmap-format text >"$tmp/log" 2>&1
+check "text rigs beside binary ones are refused (exit 2)" test $? -eq 2
+check "... naming the stale file" contains "$tmp/log" "holds rigs.bin"
 mkdir -p "$tmp/old"
 touch "$tmp/old/rigs.bin"
 "$dba" solve "$src" -q -o "$tmp/old" >"$tmp/log" 2>&1
@@ -55,7 +76,24 @@ echo "1 2 CAMERA 1 CAMERA 2 1 1 0 0 0 0.1 0 0" >"$tmp/m/rigs.txt"
 "$dba" solve "$tmp/m" -q >"$tmp/log" 2>&1
 check "a rig of two cameras exits 1" test $? -eq 1
 check "... naming the file and line" contains "$tmp/log" "$tmp/m/rigs.txt:1: 2 sensors: a rig of several cameras is not modelled yet"
-rm "$tmp/m/rigs.txt"; touch "$tmp/m/frames.bin"
+rm "$tmp/m/rigs.txt"
 "$dba" solve "$tmp/m" -q >"$tmp/log" 2>&1
-check "binary frames are refused by name" contains "$tmp/log" "frames.bin: COLMAP >= 3.12 binary rigs and frames are not read yet"
+check "frames without rigs are refused by name" contains "$tmp/log" "rigs.txt: missing: COLMAP >= 3.12 writes rigs and frames together"
+# Binary: a rig of two sensors (num_sensors at byte 12), a frame of two
+# images (num_data_ids at byte 8 + 64), a truncated frames.bin.
+cp -r "$tmp/before" "$tmp/b2"
+rm "$tmp/b2/"*.txt
+"$dba" convert "$tmp/before" "$tmp/b2" --colmap-format binary >/dev/null 2>&1
+patch_u32() { python3 -c "import struct, sys; f = open(sys.argv[1], 'r+b'); f.seek(int(sys.argv[2])); f.write(struct.pack('<I', int(sys.argv[3])))" "$@"; }
+cp -r "$tmp/b2" "$tmp/b3"; cp -r "$tmp/b2" "$tmp/b4"
+patch_u32 "$tmp/b2/rigs.bin" 12 2
+"$dba" solve "$tmp/b2" -q >"$tmp/log" 2>&1
+check "binary: a rig of two sensors exits 1" test $? -eq 1
+check "... naming the file, the byte and the rig" contains "$tmp/log" "rigs.bin: at byte 16: rig #0 (id 1) 2 sensors: a rig of several cameras"
+patch_u32 "$tmp/b3/frames.bin" 72 2
+"$dba" solve "$tmp/b3" -q >"$tmp/log" 2>&1
+check "binary: a frame of two images is refused by name" contains "$tmp/log" "2 images: a frame of several images"
+truncate -s -3 "$tmp/b4/frames.bin"
+"$dba" solve "$tmp/b4" -q >"$tmp/log" 2>&1
+check "binary: a truncated frames.bin is refused" contains "$tmp/log" "frames.bin: at byte"
 finish

@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <string_view>
+#include <unordered_map>
 
 #include "dba/common/error.h"
 #include "dba/io/atomic_output_file.h"
@@ -170,6 +171,36 @@ void WritePoints3D(const ColmapModel& model, BinaryOut& out) {
   }
 }
 
+// COLMAP >= 3.12's trivial rigs (one camera, the reference sensor) and
+// frames (one image, at its solved pose), in COLMAP's binary layout
+// (colmap_rigs.cc).
+void WriteRigs(const ColmapModel& model, BinaryOut& out) {
+  out.Put<uint64_t>(model.rigs.size());
+  for (const ColmapRig& r : model.rigs) {
+    out.Put<uint32_t>(r.rig_id);
+    out.Put<uint32_t>(1);  // sensors
+    out.Put<int32_t>(0);   // a camera
+    out.Put<uint32_t>(r.camera_id);
+  }
+}
+
+void WriteFrames(const ColmapModel& model, BinaryOut& out) {
+  std::unordered_map<uint32_t, const ColmapImage*> image_of_id;
+  for (const ColmapImage& im : model.images) image_of_id.emplace(im.image_id, &im);
+  out.Put<uint64_t>(model.frames.size());
+  for (const ColmapFrame& f : model.frames) {
+    const ColmapImage& im = *image_of_id.at(f.image_id);
+    out.Put<uint32_t>(f.frame_id);
+    out.Put<uint32_t>(f.rig_id);
+    out.Bytes(im.qvec.data(), sizeof im.qvec);
+    out.Bytes(im.tvec.data(), sizeof im.tvec);
+    out.Put<uint32_t>(1);  // data ids
+    out.Put<int32_t>(0);   // a camera
+    out.Put<uint32_t>(f.camera_id);
+    out.Put<uint64_t>(f.image_id);
+  }
+}
+
 }  // namespace
 
 ColmapModel ReadColmapBinary(const std::string& dir) {
@@ -183,16 +214,19 @@ ColmapModel ReadColmapBinary(const std::string& dir) {
 
 void WriteColmapBinary(const ColmapModel& model, const std::string& dir) {
   colmap_internal::CheckWritable(model, false);
-  if (!model.frames.empty() || !model.rig_lines.empty()) {
-    throw UsageError(dir + ": the model has COLMAP >= 3.12 rigs and frames, which dba writes as "
-                     "text only (--colmap-format text)");
-  }
   colmap_internal::EnsureDirectory(dir);
   BinaryOut cameras(JoinPath(dir, "cameras.bin")), images(JoinPath(dir, "images.bin")),
       points(JoinPath(dir, "points3D.bin"));
   WriteCameras(model, cameras);
   WriteImages(model, images);
   WritePoints3D(model, points);
+  if (!model.frames.empty() || !model.rigs.empty()) {
+    BinaryOut rigs(JoinPath(dir, "rigs.bin")), frames(JoinPath(dir, "frames.bin"));
+    WriteRigs(model, rigs);
+    WriteFrames(model, frames);
+    CommitTogether({&cameras.file(), &images.file(), &points.file(), &rigs.file(), &frames.file()});
+    return;
+  }
   // All three on disk before any replaces a file of the old model.
   CommitTogether({&cameras.file(), &images.file(), &points.file()});
 }

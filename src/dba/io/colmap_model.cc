@@ -40,58 +40,6 @@ std::string Num(double v) {
   return buf;
 }
 
-// COLMAP >= 3.12's rigs and frames beside a model: read only when trivial
-// (one sensor per rig, one image per frame: then each image's pose in
-// images.* is its frame's) and text; a rig of several cameras is refused
-// until rigs are modelled, and so are binary rigs and frames, which dba does
-// not parse. rigs.txt "RIG_ID NUM_SENSORS REF_SENSOR_TYPE REF_SENSOR_ID",
-// frames.txt "FRAME_ID RIG_ID QW QX QY QZ TX TY TZ NUM_DATA_IDS SENSOR_TYPE
-// SENSOR_ID DATA_ID".
-void ReadTrivialRigsAndFrames(const std::string& dir, ColmapModel* model) {
-  std::error_code ec;
-  for (const char* binary : {"rigs.bin", "frames.bin"}) {
-    const std::string path = colmap_internal::JoinPath(dir, binary);
-    if (std::filesystem::exists(path, ec)) {
-      throw InputError(path, 0, "COLMAP >= 3.12 binary rigs and frames are not read yet; "
-                                "convert the model to text (colmap model_converter "
-                                "--output_type TXT) or remove them if every rig has one camera");
-    }
-  }
-  const struct { const char* name; size_t field, size; const char* what; } text[] = {
-      {"rigs.txt", 1, 4, "sensors: a rig of several cameras"},
-      {"frames.txt", 9, 13, "images: a frame of several images"}};
-  for (const auto& t : text) {
-    const std::string path = colmap_internal::JoinPath(dir, t.name);
-    std::ifstream in(path);
-    std::string line;
-    for (int64_t n = 1; in && std::getline(in, line); ++n) {
-      std::istringstream tokens(line);
-      std::vector<std::string> v{std::istream_iterator<std::string>(tokens), {}};
-      if (v.empty() || v[0][0] == '#') continue;
-      if (v.size() <= t.field || v[t.field] != "1") {
-        throw InputError(path, n, (v.size() <= t.field ? std::string("too few fields") : v[t.field] + " " + t.what) +
-                                      " is not modelled yet (one camera per rig, one image per frame)");
-      }
-      if (v.size() != t.size || (t.size == 13 && v[10] != "CAMERA")) {
-        throw InputError(path, n, "expected " + std::to_string(t.size) + " fields, a camera's");
-      }
-      if (t.size == 4) {
-        model->rig_lines.push_back(line);
-        continue;
-      }
-      auto id = [&](size_t k) {
-        uint32_t x = 0;
-        const auto [end, err] = std::from_chars(v[k].data(), v[k].data() + v[k].size(), x);
-        if (err != std::errc() || end != v[k].data() + v[k].size()) {
-          throw InputError(path, n, "'" + Clipped(v[k]) + "' is not an id");
-        }
-        return x;
-      };
-      model->frames.push_back({id(0), id(1), id(11), id(12)});
-    }
-  }
-}
-
 }  // namespace
 
 std::span<const ColmapCameraModelInfo> ColmapCameraModels() {
@@ -486,17 +434,18 @@ ColmapModel ReadColmapModel(const std::string& dir) {
   }
   const std::optional<ColmapFormat> format = DetectColmapFormat(dir);
   if (format.has_value()) {
+    const bool binary = format == ColmapFormat::kBinary;
     ColmapModel rigs;
-    ReadTrivialRigsAndFrames(dir, &rigs);
-    ColmapModel model = format == ColmapFormat::kBinary ? ReadColmapBinary(dir) : ReadColmapText(dir);
-    model.rig_lines = std::move(rigs.rig_lines);
+    colmap_internal::ReadTrivialRigsAndFrames(dir, binary, &rigs);
+    ColmapModel model = binary ? ReadColmapBinary(dir) : ReadColmapText(dir);
+    model.rigs = std::move(rigs.rigs);
     model.frames = std::move(rigs.frames);
     std::unordered_map<uint32_t, uint32_t> camera_of_image;
     for (const ColmapImage& im : model.images) camera_of_image.emplace(im.image_id, im.camera_id);
     for (const ColmapFrame& f : model.frames) {
       const auto it = camera_of_image.find(f.image_id);
       if (it == camera_of_image.end() || it->second != f.camera_id) {
-        throw InputError(colmap_internal::JoinPath(dir, "frames.txt"), 0,
+        throw InputError(colmap_internal::JoinPath(dir, binary ? "frames.bin" : "frames.txt"), 0,
                          "frame " + std::to_string(f.frame_id) + " names image " +
                              std::to_string(f.image_id) + " with camera " +
                              std::to_string(f.camera_id) + ", which the model does not hold");

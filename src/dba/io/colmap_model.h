@@ -103,13 +103,20 @@ struct ColmapFrame {
   bool operator==(const ColmapFrame&) const = default;
 };
 
+// COLMAP >= 3.12's rigs, when trivial: one sensor, a camera (the rig's
+// reference sensor, at the rig's origin).
+struct ColmapRig {
+  uint32_t rig_id = 0, camera_id = 0;
+  bool operator==(const ColmapRig&) const = default;
+};
+
 struct ColmapModel {
   std::vector<ColmapCamera> cameras;
   std::vector<ColmapImage> images;
   std::vector<ColmapPoint3D> points3D;
-  // A 3.12 text model's rigs.txt data lines (trivial rigs: no pose), as
-  // read, and its frames; both empty for older models.
-  std::vector<std::string> rig_lines;
+  // A 3.12 model's (trivial) rigs and frames, text or binary, in file
+  // order; both empty for older models.
+  std::vector<ColmapRig> rigs;
   std::vector<ColmapFrame> frames;
 
   // Sum of track lengths (the residual pairs of bundle adjustment).

@@ -279,14 +279,14 @@ void WriteImages(const ColmapModel& model, TextOut& out) {
   }
 }
 
-// COLMAP >= 3.12's trivial rigs as read, and each frame with its image's
+// COLMAP >= 3.12's trivial rigs, and each frame with its image's
 // pose (one camera per rig: the rig's pose is its camera's).
 void WriteRigs(const ColmapModel& model, TextOut& out) {
   out << "# Rig calib list with one line of data per calib:\n"
       << "#   RIG_ID, NUM_SENSORS, REF_SENSOR_TYPE, REF_SENSOR_ID, SENSORS[] as (SENSOR_TYPE, "
          "SENSOR_ID, HAS_POSE, [QW, QX, QY, QZ, TX, TY, TZ])\n"
-      << "# Number of rigs: " << uint64_t{model.rig_lines.size()} << '\n';
-  for (const std::string& line : model.rig_lines) out << std::string_view(line) << '\n';
+      << "# Number of rigs: " << uint64_t{model.rigs.size()} << '\n';
+  for (const ColmapRig& r : model.rigs) out << r.rig_id << " 1 CAMERA " << r.camera_id << '\n';
 }
 
 void WriteFrames(const ColmapModel& model, TextOut& out) {
@@ -340,7 +340,7 @@ void WriteColmapText(const ColmapModel& model, const std::string& dir) {
   WriteCameras(model, cameras);
   WriteImages(model, images);
   WritePoints3D(model, points);
-  if (!model.frames.empty() || !model.rig_lines.empty()) {
+  if (!model.frames.empty() || !model.rigs.empty()) {
     TextOut rigs(JoinPath(dir, "rigs.txt")), frames(JoinPath(dir, "frames.txt"));
     WriteRigs(model, rigs);
     WriteFrames(model, frames);

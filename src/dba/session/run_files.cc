@@ -53,13 +53,11 @@ void RunFiles::ModelOutput(const std::string& flag, const std::string& dir, Colm
   }
   // COLMAP >= 3.12 takes each image's pose from its frame: rigs and frames
   // files left beside the model written would give it the old poses. A
-  // model read with (trivial, text) rigs and frames writes them anew.
-  if (with_rigs && format == ColmapFormat::kBinary) {
-    throw UsageError(flag + " " + dir + ": the input has COLMAP >= 3.12 rigs and frames, which "
-                     "dba writes as text only (--colmap-format text)");
-  }
+  // model read with (trivial) rigs and frames writes them anew, in its
+  // output's format; the other format's are stale.
+  const std::string ext = format == ColmapFormat::kText ? ".txt" : ".bin";
   for (const char* stale : {"rigs.txt", "rigs.bin", "frames.txt", "frames.bin"}) {
-    if ((!with_rigs || std::string(stale).ends_with(".bin")) && fs::exists(Join(dir, stale), ec)) {
+    if ((!with_rigs || !std::string(stale).ends_with(ext)) && fs::exists(Join(dir, stale), ec)) {
       throw UsageError(flag + " " + dir + ": holds " + stale +
                        " (COLMAP >= 3.12 rigs and frames), which would give the images written "
                        "their old poses; write into another directory, or remove the rigs and "
@@ -67,7 +65,6 @@ void RunFiles::ModelOutput(const std::string& flag, const std::string& dir, Colm
                        "image for a model without them)");
     }
   }
-  const std::string ext = format == ColmapFormat::kText ? ".txt" : ".bin";
   for (const char* stem : kModelStems) Output(flag, Join(dir, stem + ext), true);
 }
 

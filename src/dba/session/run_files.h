@@ -29,7 +29,8 @@ class RunFiles {
   // A COLMAP model written into the directory `dir` (made when missing):
   // its cameras, images and points3D files in `format`.
   // `with_rigs`: the model written holds COLMAP >= 3.12 rigs and frames
-  // (text only); otherwise a directory holding such files is refused.
+  // (in `format`; the other format's files there are refused); otherwise a
+  // directory holding such files is refused.
   void ModelOutput(const std::string& flag, const std::string& dir, ColmapFormat format,
                    bool with_rigs = false);
   // The output `output_flag` may name what `input_flag` reads: it is
