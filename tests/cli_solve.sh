@@ -35,7 +35,7 @@ for m in bal photo; do
 done
 
 # The libraries' environment (tools/dba_main.cc): libgomp's threads spin
-# GOMP_SPINCOUNT=10000 rounds at a barrier unless the user chose (a spin
+# GOMP_SPINCOUNT=1000 rounds at a barrier unless the user chose (a spin
 # count or a wait policy), and the program started again keeps its name.
 # `dba info` on a FIFO waits for its input: its environment is read then.
 mkfifo "$tmp/wait.fifo"
@@ -53,8 +53,8 @@ env_of_waiting_dba() {  # env_of_waiting_dba [VAR=VALUE...]: dba's GOMP_/OMP_ en
   wait "$waiter" 2>/dev/null
 }
 env_of_waiting_dba -u GOMP_SPINCOUNT -u OMP_WAIT_POLICY >"$tmp/env.default"
-check "dba runs with GOMP_SPINCOUNT=10000 by default, named dba" \
-  test "$(cat "$tmp/env.default")" = "$(printf 'dba\nGOMP_SPINCOUNT=10000')"
+check "dba runs with GOMP_SPINCOUNT=1000 by default, named dba" \
+  test "$(cat "$tmp/env.default")" = "$(printf 'dba\nGOMP_SPINCOUNT=1000')"
 env_of_waiting_dba GOMP_SPINCOUNT=500 >"$tmp/env.user"
 check "a user's GOMP_SPINCOUNT is kept" test "$(cat "$tmp/env.user")" = "$(printf 'dba\nGOMP_SPINCOUNT=500')"
 env_of_waiting_dba -u GOMP_SPINCOUNT OMP_WAIT_POLICY=active >"$tmp/env.policy"

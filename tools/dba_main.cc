@@ -63,8 +63,13 @@ void PrintUsage(std::ostream& out) {
 //   process keeps busy a thread spins while its partner waits for the core,
 //   and PCG, with seven parallel regions per iteration, slowed 8x under
 //   three busy processes (issue 44). Unless the user chose (GOMP_SPINCOUNT
-//   or OMP_WAIT_POLICY set): GOMP_SPINCOUNT=kSpinCount.
-constexpr const char* kSpinCount = "GOMP_SPINCOUNT=10000";
+//   or OMP_WAIT_POLICY set): GOMP_SPINCOUNT=kSpinCount. 1000 rather than
+//   10,000: under three busy processes PCG slowed 4.36x where formation
+//   slowed 2.79x with 10,000, 3.54x against 2.58x with 1000 (uavtxt-2500
+//   shuffled); idle the same within noise (alternating, medians of 5-7:
+//   0.996-1.036x on uavtxt-2500/10000 and problems 49, 16); passive waiting
+//   (OMP_WAIT_POLICY=passive) cost 18% idle. bench/README.md, bench/busy.sh.
+constexpr const char* kSpinCount = "GOMP_SPINCOUNT=1000";
 
 bool Named(const char* entry, const char* name) {
   const size_t n = std::strlen(name);

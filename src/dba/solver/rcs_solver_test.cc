@@ -209,6 +209,26 @@ TEST(AutoSolver, NeverExceedsTheMemoryBudget) {
 }
 
 #ifdef DBA_HAVE_CHOLMOD
+// auto, with its default options, picks each solver on a system made for it
+// (issue 44): a small one is factorized densely, a long band (whose factor
+// has no fill) sparsely, and a large one whose factor fills in is solved by
+// PCG.
+TEST(AutoSolver, PicksEachSolverOnASystemMadeForIt) {
+  struct Case {
+    BsmcMatrix S;
+    LinearSolverType expected;
+  };
+  Case cases[] = {{Spd(30, 0.8, 0, 3), LinearSolverType::kDense},
+                  {Spd(3000, 0.5, 3, 5), LinearSolverType::kSparse},
+                  {Spd(3000, 0.02, 0, 7), LinearSolverType::kPcg}};
+  for (const Case& c : cases) {
+    RcsSolverChoice choice;
+    MakeRcsSolver(c.S, LinearSolverOptions{}, &choice);
+    EXPECT_EQ(LinearSolverName(choice.type), LinearSolverName(c.expected))
+        << c.S.num_block_rows() << " block rows: " << choice.reason;
+  }
+}
+
 // The block-graph estimate against the analysed scalar factor: a band
 // (no fill beyond it) within the supernodes' explicit zeros (40%).
 TEST(SparseCholesky, BlockEstimateMatchesTheFactor) {
