@@ -82,6 +82,19 @@ void ReadText(const std::string& dir, ColmapModel* model) {
   });
 }
 
+// A count (a rig's sensors, a frame's data) that must be 1, then the sensor
+// type that must be a camera's; `what` names what else the count would mean.
+void ReadOneCamera(BinaryFile& in, const char* count_name, const char* what) {
+  const uint32_t count = in.Get<uint32_t>(count_name);
+  if (count != 1) {
+    in.Fail(in.Entry() + std::to_string(count) + " " + what +
+            " is not modelled yet (one camera per rig, one image per frame)");
+  }
+  if (in.Get<int32_t>("the sensor's type") != kCameraSensor) {
+    in.Fail(in.Entry() + "a sensor that is not a camera is not modelled yet");
+  }
+}
+
 void ReadBinaryRigs(const std::string& path, ColmapModel* model) {
   BinaryFile in(path);
   const uint64_t n = in.Count("the number of rigs", 8);
@@ -90,15 +103,7 @@ void ReadBinaryRigs(const std::string& path, ColmapModel* model) {
     ColmapRig rig;
     rig.rig_id = in.Get<uint32_t>("rig_id");
     in.SetEntryId(rig.rig_id);
-    const uint32_t sensors = in.Get<uint32_t>("num_sensors");
-    if (sensors != 1) {
-      in.Fail(in.Entry() + std::to_string(sensors) +
-              " sensors: a rig of several cameras (or none) is not modelled yet (one camera "
-              "per rig)");
-    }
-    if (in.Get<int32_t>("the reference sensor's type") != kCameraSensor) {
-      in.Fail(in.Entry() + "a sensor that is not a camera is not modelled yet");
-    }
+    ReadOneCamera(in, "num_sensors", "sensors: a rig of several cameras (or none)");
     rig.camera_id = in.Get<uint32_t>("the reference sensor's id");
     model->rigs.push_back(rig);
   }
@@ -116,15 +121,7 @@ void ReadBinaryFrames(const std::string& path, ColmapModel* model) {
     frame.rig_id = in.Get<uint32_t>("rig_id");
     double pose[7];
     in.Read(pose, sizeof pose, "rig_from_world");  // the image's (one image per frame)
-    const uint32_t data = in.Get<uint32_t>("num_data_ids");
-    if (data != 1) {
-      in.Fail(in.Entry() + std::to_string(data) +
-              " images: a frame of several images (or none) is not modelled yet (one image per "
-              "frame)");
-    }
-    if (in.Get<int32_t>("the sensor's type") != kCameraSensor) {
-      in.Fail(in.Entry() + "a sensor that is not a camera is not modelled yet");
-    }
+    ReadOneCamera(in, "num_data_ids", "images: a frame of several images (or none)");
     frame.camera_id = in.Get<uint32_t>("the sensor's id");
     const uint64_t image = in.Get<uint64_t>("the image id");
     if (image > UINT32_MAX) in.Fail(in.Entry() + "image id " + std::to_string(image) + " is beyond 32 bits");
