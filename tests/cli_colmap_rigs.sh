@@ -79,6 +79,21 @@ check "... naming the file and line" contains "$tmp/log" "$tmp/m/rigs.txt:1: 2 s
 rm "$tmp/m/rigs.txt"
 "$dba" solve "$tmp/m" -q >"$tmp/log" 2>&1
 check "frames without rigs are refused by name" contains "$tmp/log" "rigs.txt: missing: COLMAP >= 3.12 writes rigs and frames together"
+# Frames that do not match the model: a rig that is missing, an image in two
+# frames, an image in none.
+frames_case() {  # frames_case NAME AWK: $tmp/before with frames.txt edited
+  cp -r "$tmp/before" "$tmp/$1"
+  awk "$2" "$tmp/before/frames.txt" >"$tmp/$1/frames.txt"
+}
+frames_case no_rig '!/^#/ && ++n == 2 {$2 = 9} {print}'
+"$dba" solve "$tmp/no_rig" -q >"$tmp/log" 2>&1
+check "a frame naming a missing rig is refused" contains "$tmp/log" "names rig 9, which the rigs do not hold"
+frames_case twice '!/^#/ && ++n == 2 {$13 = first} !/^#/ && n == 1 {first = $13} {print}'
+"$dba" solve "$tmp/twice" -q >"$tmp/log" 2>&1
+check "an image in two frames is refused" contains "$tmp/log" "is also in frame"
+frames_case none '!/^#/ && ++n == 3 {next} {print}'
+"$dba" solve "$tmp/none" -q >"$tmp/log" 2>&1
+check "an image in no frame is refused" contains "$tmp/log" "is in no frame"
 # Binary: a rig of two sensors (num_sensors at byte 12), a frame of two
 # images (num_data_ids at byte 8 + 64), a truncated frames.bin.
 cp -r "$tmp/before" "$tmp/b2"

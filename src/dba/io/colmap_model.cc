@@ -40,6 +40,49 @@ std::string Num(double v) {
   return buf;
 }
 
+// The frames against the model: each names a rig of its camera and an image
+// of the model with that camera, no image is in two frames, and (when there
+// are frames) every image is in one: COLMAP >= 3.12 takes each image's pose
+// from its frame and cannot load an image without one.
+void CheckTrivialFrames(const ColmapModel& model, const std::string& dir, bool binary) {
+  if (model.frames.empty() && model.rigs.empty()) return;
+  const std::string frames = colmap_internal::JoinPath(dir, binary ? "frames.bin" : "frames.txt");
+  std::unordered_map<uint32_t, uint32_t> camera_of_rig, camera_of_image;
+  for (const ColmapRig& r : model.rigs) {
+    if (!camera_of_rig.emplace(r.rig_id, r.camera_id).second) {
+      throw InputError(colmap_internal::JoinPath(dir, binary ? "rigs.bin" : "rigs.txt"), 0,
+                       "rig " + std::to_string(r.rig_id) + " appears twice");
+    }
+  }
+  for (const ColmapImage& im : model.images) camera_of_image.emplace(im.image_id, im.camera_id);
+  std::unordered_map<uint32_t, uint32_t> frame_of_image;
+  for (const ColmapFrame& f : model.frames) {
+    const std::string frame = "frame " + std::to_string(f.frame_id) + ": ";
+    const auto image = camera_of_image.find(f.image_id);
+    if (image == camera_of_image.end() || image->second != f.camera_id) {
+      throw InputError(frames, 0, frame + "names image " + std::to_string(f.image_id) + " with camera " +
+                                      std::to_string(f.camera_id) + ", which the model does not hold");
+    }
+    const auto rig = camera_of_rig.find(f.rig_id);
+    if (rig == camera_of_rig.end() || rig->second != f.camera_id) {
+      throw InputError(frames, 0, frame + "names rig " + std::to_string(f.rig_id) +
+                                      (rig == camera_of_rig.end() ? ", which the rigs do not hold"
+                                                                  : ", whose camera is another"));
+    }
+    if (!frame_of_image.emplace(f.image_id, f.frame_id).second) {
+      throw InputError(frames, 0, frame + "image " + std::to_string(f.image_id) + " is also in frame " +
+                                      std::to_string(frame_of_image[f.image_id]));
+    }
+  }
+  for (const ColmapImage& im : model.images) {
+    if (!frame_of_image.count(im.image_id)) {
+      throw InputError(frames, 0, "image " + std::to_string(im.image_id) +
+                                      " is in no frame (COLMAP >= 3.12 takes each image's pose "
+                                      "from its frame)");
+    }
+  }
+}
+
 }  // namespace
 
 std::span<const ColmapCameraModelInfo> ColmapCameraModels() {
@@ -440,17 +483,7 @@ ColmapModel ReadColmapModel(const std::string& dir) {
     ColmapModel model = binary ? ReadColmapBinary(dir) : ReadColmapText(dir);
     model.rigs = std::move(rigs.rigs);
     model.frames = std::move(rigs.frames);
-    std::unordered_map<uint32_t, uint32_t> camera_of_image;
-    for (const ColmapImage& im : model.images) camera_of_image.emplace(im.image_id, im.camera_id);
-    for (const ColmapFrame& f : model.frames) {
-      const auto it = camera_of_image.find(f.image_id);
-      if (it == camera_of_image.end() || it->second != f.camera_id) {
-        throw InputError(colmap_internal::JoinPath(dir, binary ? "frames.bin" : "frames.txt"), 0,
-                         "frame " + std::to_string(f.frame_id) + " names image " +
-                             std::to_string(f.image_id) + " with camera " +
-                             std::to_string(f.camera_id) + ", which the model does not hold");
-      }
-    }
+    CheckTrivialFrames(model, dir, binary);
     return model;
   }
 
