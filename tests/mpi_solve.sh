@@ -248,6 +248,24 @@ for n in 2 3; do
   done
 done
 
+# A FOV camera started inside COLMAP's series branch (camera/fov_series_start.h):
+# every rank that reads the .dba starts its omega where the main rank does,
+# so the initial and final costs are one process's.
+mkdir -p "$tmp/fov"
+cp "$root/../shared/data/colmap/statue_of_liberty_small_txt/sparse/0/"{images,points3D}.txt "$tmp/fov/"
+echo "1 FOV 800 1200 2395.65 2395.65 400 600 0.001" >"$tmp/fov/cameras.txt"
+"$dba" convert "$tmp/fov" "$tmp/fov.dba" >/dev/null 2>&1
+"$dba" solve "$tmp/fov.dba" -q "${tight[@]}" --report "$tmp/fov_single.json" >/dev/null 2>&1
+mpirun_n 3 "$dba" solve "$tmp/fov.dba" -q "${tight[@]}" --report "$tmp/fov_mpi.json" >/dev/null 2>&1 \
+  || fail "FOV .dba -np 3 exited non-zero"
+if same_cost "$tmp/fov_single.json" "$tmp/fov_mpi.json" &&
+   awk -v a="$(initial_cost "$tmp/fov_single.json")" -v b="$(initial_cost "$tmp/fov_mpi.json")" \
+     -v f="$(final_cost "$tmp/fov_single.json")" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-12 * a && f < 8200) }'; then
+  passes=$((passes + 1)); echo "ok   FOV from omega 0.001, .dba read by 3 ranks"
+else
+  fail "FOV .dba -np 3: initial $(initial_cost "$tmp/fov_mpi.json") vs $(initial_cost "$tmp/fov_single.json"), final $(final_cost "$tmp/fov_mpi.json") vs $(final_cost "$tmp/fov_single.json")"
+fi
+
 # Fixings given on the command line apply on every rank that reads the file.
 fix=(--fix-images 0,7 --fix-intrinsics cx,cy)
 "$dba" solve "$tmp/photo.dba" -q "${tight[@]}" "${fix[@]}" --report "$tmp/fix_single.json" >"$tmp/fix.out" 2>&1
