@@ -9,12 +9,13 @@ LocalPointWorkers::LocalPointWorkers(Problem* problem,
                                      const DampingBounds& bounds,
                                      int num_threads, const RobustLoss& loss,
                                      const std::function<void(const RcsSystem&)>& before_values,
-                                     bool values_at_first_form)
+                                     bool values_at_first_form,
+                                     std::span<const int64_t> camera_order)
     : problem_(problem),
       bounds_(bounds),
       num_threads_(num_threads),
       loss_(loss),
-      system_(RcsSystem::ForProblem(*problem, before_values, !values_at_first_form)) {}
+      system_(RcsSystem::ForProblem(*problem, before_values, !values_at_first_form, camera_order)) {}
 
 RcsSystem& LocalPointWorkers::FormRcs(double lambda) {
   if (!system_.S.has_values()) system_.AllocateValues();

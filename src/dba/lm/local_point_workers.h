@@ -4,6 +4,8 @@
 // Thread safety: one caller; the work inside uses `num_threads` threads.
 #pragma once
 
+#include <span>
+
 #include "dba/lm/point_workers.h"
 #include "dba/problem/problem.h"
 
@@ -21,7 +23,8 @@ class LocalPointWorkers : public PointWorkers {
   LocalPointWorkers(Problem* problem, const DampingBounds& bounds,
                     int num_threads, const RobustLoss& loss = RobustLoss(),
                     const std::function<void(const RcsSystem&)>& before_values = {},
-                    bool values_at_first_form = false);
+                    bool values_at_first_form = false,
+                    std::span<const int64_t> camera_order = {});
 
   RcsSystem& FormRcs(double lambda) override;
   StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,

@@ -100,6 +100,21 @@ std::vector<int64_t> PointWalk(const Problem& problem) {
   return walk;
 }
 
+std::vector<int64_t> CamerasInPointOrder(const Problem& problem) {
+  const int64_t n = problem.num_images();
+  std::vector<int64_t> order;
+  order.reserve(static_cast<size_t>(n));
+  std::vector<uint8_t> seen(static_cast<size_t>(n), 0);
+  for (int64_t o = 0; o < problem.num_observations(); ++o) {
+    const int32_t i = problem.obs_camera[o];
+    if (!seen[i]) seen[i] = 1, order.push_back(i);
+  }
+  for (int64_t i = 0; i < n; ++i) {
+    if (!seen[i]) order.push_back(i);
+  }
+  return order;
+}
+
 std::vector<int64_t> InversePermutation(std::span<const int64_t> order) {
   std::vector<int64_t> inverse(order.size());
   for (size_t k = 0; k < order.size(); ++k) inverse[order[k]] = static_cast<int64_t>(k);

@@ -42,6 +42,13 @@ double SharedCameraFraction(const Problem& problem, std::span<const int64_t> ord
 // than the Morton walk at a million images.)
 std::vector<int64_t> PointWalk(const Problem& problem);
 
+// new position -> camera: the cameras in the order the points (as stored)
+// first observe them, then the cameras no point observes. After a walk, rows
+// of the RCS next to each other are then cameras seen by the same points, so
+// S's blocks, the preconditioner's aggregates and the PCG's products touch
+// nearby memory whatever the input's camera numbering (issue 44).
+std::vector<int64_t> CamerasInPointOrder(const Problem& problem);
+
 // Moves point `order[k]` (with its observations, in their order, and its
 // prior) to position k. `order` is a permutation of the points. Transient
 // memory: one array at a time (at most 16 bytes per observation).

@@ -18,9 +18,12 @@ BundleAdjustSummary LocalPointSide::Solve(const LmOptions& options, const Camera
                                           const IterationHook& hook,
                                           const std::function<void(const RcsSystem&)>& before_values) {
   WalkOrder();
+  // A walked (scattered) input's cameras in the walk's order too; a given
+  // order that is local already keeps its camera numbering.
+  const std::vector<int64_t> cameras = order_.empty() ? std::vector<int64_t>() : CamerasInPointOrder(*problem_);
   BundleAdjustSummary s;
   try {
-    s = BundleAdjust(options, problem_, hook, before_values, &priors);
+    s = BundleAdjust(options, problem_, hook, before_values, &priors, cameras);
   } catch (...) {
     GivenOrder();
     throw;
