@@ -37,6 +37,14 @@ Problem Grid(int64_t side) {
   return p;
 }
 
+// Cameras in the order the points first observe them, unseen ones last.
+TEST(CamerasInPointOrder, FirstObservedFirstThenTheUnseen) {
+  Problem p = Grid(3);  // point k sees cameras k % 7 and (k + 1) % 7: 0..7 seen, 7 cameras
+  p.cameras.assign(9 * 9, 0.0);  // 9 BAL cameras: 7 and 8 seen by no point
+  std::swap(p.obs_camera[0], p.obs_camera[1]);  // point 0 sees camera 1 first
+  EXPECT_EQ(CamerasInPointOrder(p), (std::vector<int64_t>{1, 0, 2, 3, 4, 5, 6, 7, 8}));
+}
+
 TEST(PointOrder, IsAPermutationAndTheInverseRestoresTheProblemBitForBit) {
   const Problem given = Grid(20);
   Problem p = given;
