@@ -84,6 +84,16 @@ killed_and_resumed priors 3 .dba "$tmp/s.dba" --camera-priors "$tmp/s.priors"
 killed_and_resumed gcps 3 .dba "$tmp/s.dba" --gcps "$tmp/s.gcps"
 killed_and_resumed both 4 .dba "$tmp/s.dba" --camera-priors "$tmp/s.priors" --gcps "$tmp/s.gcps"
 
+# A scattered input (points and cameras renumbered at random) is solved in
+# the walk's order, cameras renumbered: its checkpoints still hold the
+# input's order, so the resume ends on the same bytes, rejection included.
+"$dba" generate "$tmp/g.txt" --images 40 --seed 6 >/dev/null
+/usr/bin/python3 "$root/bench/shuffle_bal.py" "$tmp/g.txt" "$tmp/shuffled.txt" 3
+"$dba" solve "$tmp/shuffled.txt" -t 2 --max-iterations 0 >"$tmp/walk.log" 2>&1
+check "shuffled: the solve walks it" contains "$tmp/walk.log" "points walked in a spatial order"
+killed_and_resumed shuffled 3 .txt "$tmp/shuffled.txt"
+killed_and_resumed shuffled_rej 4 .txt "$tmp/shuffled.txt" --reject-outliers 2
+
 # Outlier rejection: killed inside the first solve, and inside a later
 # round's (the N-th checkpoint counts every accepted step of every round).
 "$dba" solve "$tmp/s.dba" -q -t 2 --reject-outliers 3 --report "$tmp/rej.json" >/dev/null 2>&1

@@ -9,12 +9,11 @@ namespace dba {
 BundleAdjustSummary BundleAdjust(
     const LmOptions& options, Problem* problem,
     const std::function<void(const IterationSummary&)>& on_iteration,
-    const std::function<void(const RcsSystem&)>& before_values, const CameraPriors* priors,
-    std::span<const int64_t> camera_order) {
+    const std::function<void(const RcsSystem&)>& before_values, const CameraPriors* priors) {
   BundleAdjustSummary summary;
   Timer symbolic;
   LocalPointWorkers workers(problem, options.damping, options.num_threads, options.loss,
-                            before_values, false, camera_order);
+                            before_values);
   summary.symbolic_seconds = symbolic.Seconds();
   summary.rcs = RcsFootprint::Of(workers.system().S);
   std::vector<double> cameras = problem->cameras;

@@ -3,7 +3,6 @@
 #pragma once
 
 #include <functional>
-#include <span>
 
 #include "dba/bsmc/bsmc_matrix.h"
 #include "dba/lm/levenberg_marquardt.h"
@@ -33,13 +32,12 @@ struct BundleAdjustSummary {
 // with the RCS structure before its values are allocated (RcsSystem::
 // ForProblem): to estimate the solve's memory, or refuse it by throwing.
 // `priors` (optional): camera-centre priors in the solve (lm/prior_workers.h);
-// the costs then include theirs. `camera_order`: the RCS's camera rows in
-// that order (UnknownLayout; empty: camera order).
+// the costs then include theirs.
 BundleAdjustSummary BundleAdjust(
     const LmOptions& options, Problem* problem,
     const std::function<void(const IterationSummary&)>& on_iteration = {},
     const std::function<void(const RcsSystem&)>& before_values = {},
-    const CameraPriors* priors = nullptr, std::span<const int64_t> camera_order = {});
+    const CameraPriors* priors = nullptr);
 
 // `total` followed by `next` (a solve after a rejection round): iterations,
 // times and the log add up; the final state is next's.

@@ -9,13 +9,12 @@ LocalPointWorkers::LocalPointWorkers(Problem* problem,
                                      const DampingBounds& bounds,
                                      int num_threads, const RobustLoss& loss,
                                      const std::function<void(const RcsSystem&)>& before_values,
-                                     bool values_at_first_form,
-                                     std::span<const int64_t> camera_order)
+                                     bool values_at_first_form)
     : problem_(problem),
       bounds_(bounds),
       num_threads_(num_threads),
       loss_(loss),
-      system_(RcsSystem::ForProblem(*problem, before_values, !values_at_first_form, camera_order)) {}
+      system_(RcsSystem::ForProblem(*problem, before_values, !values_at_first_form)) {}
 
 RcsSystem& LocalPointWorkers::FormRcs(double lambda) {
   if (!system_.S.has_values()) system_.AllocateValues();

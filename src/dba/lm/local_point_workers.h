@@ -4,8 +4,6 @@
 // Thread safety: one caller; the work inside uses `num_threads` threads.
 #pragma once
 
-#include <span>
-
 #include "dba/lm/point_workers.h"
 #include "dba/problem/problem.h"
 
@@ -23,8 +21,7 @@ class LocalPointWorkers : public PointWorkers {
   LocalPointWorkers(Problem* problem, const DampingBounds& bounds,
                     int num_threads, const RobustLoss& loss = RobustLoss(),
                     const std::function<void(const RcsSystem&)>& before_values = {},
-                    bool values_at_first_form = false,
-                    std::span<const int64_t> camera_order = {});
+                    bool values_at_first_form = false);
 
   RcsSystem& FormRcs(double lambda) override;
   StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,

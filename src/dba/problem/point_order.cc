@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <type_traits>
 
 namespace dba {
 namespace {
@@ -119,6 +120,27 @@ std::vector<int64_t> InversePermutation(std::span<const int64_t> order) {
   std::vector<int64_t> inverse(order.size());
   for (size_t k = 0; k < order.size(); ++k) inverse[order[k]] = static_cast<int64_t>(k);
   return inverse;
+}
+
+void PermuteCameras(std::span<const int64_t> order, Problem* problem) {
+  const int64_t n = problem->num_images();
+  const int size = problem->camera_size();
+  std::vector<double> cameras(problem->cameras.size());
+  for (int64_t k = 0; k < n; ++k) {
+    std::copy_n(problem->camera(order[k]), size, cameras.begin() + size * k);
+  }
+  std::copy(problem->cameras.begin() + size * n, problem->cameras.end(), cameras.begin() + size * n);
+  problem->cameras.swap(cameras);
+  auto permute = [&](auto* flags) {
+    if (flags->empty()) return;
+    std::remove_reference_t<decltype(*flags)> moved(flags->size());
+    for (int64_t k = 0; k < n; ++k) moved[k] = (*flags)[order[k]];
+    flags->swap(moved);
+  };
+  permute(&problem->camera_intrinsics);
+  permute(&problem->fixed_cameras);
+  const std::vector<int64_t> inverse = InversePermutation(order);
+  for (int32_t& i : problem->obs_camera) i = static_cast<int32_t>(inverse[i]);
 }
 
 void PermutePoints(std::span<const int64_t> order, Problem* problem) {

@@ -49,6 +49,14 @@ std::vector<int64_t> PointWalk(const Problem& problem);
 // nearby memory whatever the input's camera numbering (issue 44).
 std::vector<int64_t> CamerasInPointOrder(const Problem& problem);
 
+// Moves camera (image) `order[k]` to position k: its parameters (a BAL
+// camera or a pose; intrinsic groups stay), its group, its fixed flag, and
+// every observation's camera index. `order` is a permutation of the images.
+// A walk's solve runs on cameras in CamerasInPointOrder: the cameras of
+// neighbouring points are then neighbours in memory and in the rotation
+// cache, not scattered over the input's numbering.
+void PermuteCameras(std::span<const int64_t> order, Problem* problem);
+
 // Moves point `order[k]` (with its observations, in their order, and its
 // prior) to position k. `order` is a permutation of the points. Transient
 // memory: one array at a time (at most 16 bytes per observation).

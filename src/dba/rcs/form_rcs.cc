@@ -379,10 +379,10 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
 
 RcsSystem RcsSystem::ForProblem(const Problem& problem,
                                 const std::function<void(const RcsSystem&)>& before_values,
-                                bool with_values, std::span<const int64_t> camera_order) {
+                                bool with_values) {
   RcsSystem sys;
   {
-    UnknownLayout layout(problem, camera_order);
+    UnknownLayout layout(problem);
     const std::vector<uint64_t> pattern = RcsBlockPattern(problem, layout);
     sys = ForPattern(std::move(layout), pattern, false);
   }

@@ -52,11 +52,9 @@ struct RcsSystem {
   // structure but before any value is allocated (the pattern freed): to size
   // the solve, or refuse it by throwing. `with_values` false: the structure
   // alone (AllocateValues to finish).
-  // `camera_order`: the camera rows' order (UnknownLayout).
   static RcsSystem ForProblem(const Problem& problem,
                               const std::function<void(const RcsSystem&)>& before_values = {},
-                              bool with_values = true,
-                              std::span<const int64_t> camera_order = {});
+                              bool with_values = true);
   // Symbolic phase from a block pattern over the layout's rows (sorted packed
   // blocks, see PackBlock); `with_values` false: the structure alone
   // (AllocateValues to finish).

@@ -9,9 +9,7 @@
 
 namespace dba {
 
-UnknownLayout::UnknownLayout(const CameraSide& problem) : UnknownLayout(problem, {}) {}
-
-UnknownLayout::UnknownLayout(const CameraSide& problem, std::span<const int64_t> camera_order) {
+UnknownLayout::UnknownLayout(const CameraSide& problem) {
   const int64_t num_cameras = problem.num_images();
   if (num_cameras + problem.num_groups() > std::numeric_limits<int32_t>::max()) {
     // Block rows are 32-bit ids (docs/design.md §2).
@@ -20,11 +18,7 @@ UnknownLayout::UnknownLayout(const CameraSide& problem, std::span<const int64_t>
   const int cs = problem.camera_size();
   num_parameters_ = static_cast<int64_t>(problem.cameras.size());
   camera_row_.assign(num_cameras, -1);
-  if (!camera_order.empty() && static_cast<int64_t>(camera_order.size()) != num_cameras) {
-    throw std::invalid_argument("a camera order that is not a permutation of the cameras");
-  }
-  for (int64_t n = 0; n < num_cameras; ++n) {
-    const int64_t i = camera_order.empty() ? n : camera_order[n];
+  for (int64_t i = 0; i < num_cameras; ++i) {
     if (problem.camera_fixed(i)) continue;
     camera_row_[i] = static_cast<int32_t>(block_sizes_.size());
     block_sizes_.push_back(cs);

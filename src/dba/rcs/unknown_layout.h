@@ -2,9 +2,8 @@
 // solve moves, and where they sit in the RCS (docs/design.md §2).
 //
 // Block rows of the RCS, in this order:
-//   1. every camera (image) that is not held fixed, in camera order or in
-//      a given order (a walk's: rows next to each other are cameras that
-//      see the same points): 9 unknowns (kBal) or a 6-unknown pose (kPhoto);
+//   1. every camera (image) that is not held fixed, in camera order:
+//      9 unknowns (kBal) or a 6-unknown pose (kPhoto);
 //   2. (kPhoto) every intrinsic group with at least one free parameter, in
 //      group order: as many unknowns as it has free parameters (≤
 //      kMaxIntrinsics).
@@ -23,7 +22,6 @@
 
 #include <array>
 #include <cstdint>
-#include <span>
 #include <vector>
 
 #include "dba/problem/problem.h"
@@ -34,9 +32,6 @@ class UnknownLayout {
  public:
   UnknownLayout() = default;
   explicit UnknownLayout(const CameraSide& side);
-  // Camera rows in `camera_order` (a permutation of the cameras; empty: in
-  // camera order).
-  UnknownLayout(const CameraSide& side, std::span<const int64_t> camera_order);
 
   int32_t num_block_rows() const { return static_cast<int32_t>(block_sizes_.size()); }
   int64_t num_unknowns() const { return row_offset_.back(); }

@@ -5,10 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <cmath>
-#include <vector>
-
 #include "dba/camera/pose_step.h"
 
 namespace dba {
@@ -56,36 +52,6 @@ TEST(UnknownLayout, PhotoRowsPosesThenFreeIntrinsics) {
   EXPECT_EQ(l.param_offset(5), 5 * 6 + 2 * 5);
   EXPECT_EQ(l.intrinsics_free_index(2)[0], 0);
   EXPECT_EQ(l.intrinsics_free_index(2)[1], 4);
-}
-
-// A camera order puts the free cameras' rows in that order (fixed ones
-// skipped), each row still stepping its own camera's parameters; intrinsic
-// rows follow as before; an order of the wrong length is refused.
-TEST(UnknownLayout, CameraRowsFollowAGivenOrder) {
-  Problem p = PhotoCameras(5, 2);
-  p.fixed_cameras = {0, 0, 1, 0, 0};
-  const std::vector<int64_t> order = {3, 2, 0, 4, 1};
-  const UnknownLayout l(p, order);
-  ASSERT_EQ(l.num_camera_rows(), 4);
-  EXPECT_EQ(l.camera_row(3), 0);
-  EXPECT_EQ(l.camera_row(2), -1);
-  EXPECT_EQ(l.camera_row(0), 1);
-  EXPECT_EQ(l.camera_row(4), 2);
-  EXPECT_EQ(l.camera_row(1), 3);
-  EXPECT_EQ(l.param_offset(0), 6 * 3);
-  EXPECT_EQ(l.param_offset(3), 6 * 1);
-  EXPECT_EQ(l.intrinsics_row(0), 4);
-  EXPECT_EQ(l.intrinsics_row(1), 5);
-  // x ⊞ δ moves each camera by its own row's step, whatever the order.
-  std::vector<double> delta(l.num_unknowns(), 0.0), out(p.cameras.size());
-  delta[l.row_offset(l.camera_row(4)) + 5] = 1.0;  // camera 4's centre, z
-  l.Plus(p.cameras.data(), delta.data(), out.data());
-  for (int64_t i = 0; i < 5; ++i) {
-    double change = 0;  // a zero step rounds a pose (through its centre): not a move
-    for (int j = 0; j < 6; ++j) change = std::max(change, std::abs(out[6 * i + j] - p.cameras[6 * i + j]));
-    EXPECT_EQ(change > 1e-9, i == 4) << i << ": " << change;
-  }
-  EXPECT_THROW(UnknownLayout(p, std::vector<int64_t>{0, 1}), std::invalid_argument);
 }
 
 TEST(UnknownLayout, PlusMovesOnlyFreeParameters) {

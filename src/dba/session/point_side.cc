@@ -17,13 +17,10 @@ LocalPointSide::LocalPointSide(Problem* problem, std::vector<int64_t> walk)
 BundleAdjustSummary LocalPointSide::Solve(const LmOptions& options, const CameraPriors& priors,
                                           const IterationHook& hook,
                                           const std::function<void(const RcsSystem&)>& before_values) {
-  WalkOrder();
-  // A walked (scattered) input's cameras in the walk's order too; a given
-  // order that is local already keeps its camera numbering.
-  const std::vector<int64_t> cameras = order_.empty() ? std::vector<int64_t>() : CamerasInPointOrder(*problem_);
+  WalkOrder(priors);
   BundleAdjustSummary s;
   try {
-    s = BundleAdjust(options, problem_, hook, before_values, &priors, cameras);
+    s = BundleAdjust(options, problem_, hook, before_values, cameras_.empty() ? &priors : &walked_priors_);
   } catch (...) {
     GivenOrder();
     throw;
@@ -34,7 +31,10 @@ BundleAdjustSummary LocalPointSide::Solve(const LmOptions& options, const Camera
 
 // The problem's points into the walk's order: the walk itself, or after a
 // rejection round the kept points in the walk's order.
-void LocalPointSide::WalkOrder() {
+// A walked (scattered) input's cameras too, in the order the walked points
+// first see them, with the priors' images; a given order that is local
+// already keeps its camera numbering.
+void LocalPointSide::WalkOrder(const CameraPriors& priors) {
   if (walk_.empty()) return;
   if (!cut_) {
     order_.swap(walk_);
@@ -48,10 +48,18 @@ void LocalPointSide::WalkOrder() {
     for (int64_t k = 0; k < n; ++k) order_[k] = keyed[k].second;
   }
   PermutePoints(order_, problem_);
+  cameras_ = CamerasInPointOrder(*problem_);
+  PermuteCameras(cameras_, problem_);
+  walked_priors_ = priors;
+  const std::vector<int64_t> place = InversePermutation(cameras_);
+  for (CameraCentrePrior& p : walked_priors_.priors) p.image = static_cast<int32_t>(place[p.image]);
 }
 
 void LocalPointSide::GivenOrder() {
   if (order_.empty()) return;
+  PermuteCameras(InversePermutation(cameras_), problem_);
+  std::vector<int64_t>().swap(cameras_);
+  walked_priors_ = CameraPriors();
   PermutePoints(InversePermutation(order_), problem_);
   if (walk_.empty()) walk_.swap(order_);
   order_.clear();
@@ -92,6 +100,14 @@ void LocalPointSide::AllPoints(std::vector<double>* points) {
     }
   }
   if (points != &all_) all_ = *points;
+}
+
+void LocalPointSide::AllCameras(std::vector<double>* cameras) {
+  *cameras = problem_->cameras;
+  const int size = problem_->camera_size();
+  for (size_t i = 0; i < cameras_.size(); ++i) {
+    std::copy_n(problem_->camera(static_cast<int64_t>(i)), size, cameras->data() + size * cameras_[i]);
+  }
 }
 
 KeptObservations LocalPointSide::Kept() {

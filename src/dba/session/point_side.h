@@ -37,6 +37,9 @@ class PointSide {
   // and what is left of them and of their observations.
   virtual void AllPoints(std::vector<double>* points) = 0;
   virtual KeptObservations Kept() = 0;
+  // The camera-side parameters as the side was given them (inside a solve
+  // too: a checkpoint's).
+  virtual void AllCameras(std::vector<double>* cameras) = 0;
 };
 
 // One process: the problem itself (its points and observations are cut
@@ -55,6 +58,7 @@ class LocalPointSide : public PointSide {
                               bool keep_loss) override;
   void AllPoints(std::vector<double>* points) override;
   KeptObservations Kept() override;
+  void AllCameras(std::vector<double>* cameras) override;
 
  private:
   Problem* problem_;
@@ -69,14 +73,20 @@ class LocalPointSide : public PointSide {
   // During a solve: the problem's points in the walk's order, order_[k] the
   // point (as the solve was given it) now at k; empty between solves.
   std::vector<int64_t> order_;
-  void WalkOrder();
+  // During a walked solve: the cameras in the order the walked points first
+  // see them (problem/point_order.h), cameras_[i] the camera (as given) now
+  // at i; empty otherwise. 8 bytes per camera.
+  std::vector<int64_t> cameras_;
+  CameraPriors walked_priors_;  // the priors' images renumbered alike
+  void WalkOrder(const CameraPriors& priors);
   void GivenOrder();
 };
 
 // N ranks, as the main rank drives them.
 class RankPointSide : public PointSide {
  public:
-  explicit RankPointSide(std::unique_ptr<DistributedPointSide> side) : side_(std::move(side)) {}
+  RankPointSide(std::unique_ptr<DistributedPointSide> side, const Problem* problem)
+      : side_(std::move(side)), problem_(problem) {}
   BundleAdjustSummary Solve(const LmOptions& options, const CameraPriors& priors,
                             const IterationHook& hook,
                             const std::function<void(const RcsSystem&)>&) override {
@@ -88,10 +98,12 @@ class RankPointSide : public PointSide {
   }
   void AllPoints(std::vector<double>* points) override;
   KeptObservations Kept() override { return side_->Kept(); }
+  void AllCameras(std::vector<double>* cameras) override { *cameras = problem_->cameras; }
   DistributedPointSide& distributed() { return *side_; }
 
  private:
   std::unique_ptr<DistributedPointSide> side_;
+  const Problem* problem_;  // the main rank's: its cameras
   std::vector<double> points_;  // collected: dropped points keep their values
 };
 

@@ -107,7 +107,7 @@ std::unique_ptr<PointSide> SolveSession::MakePointSide() {
   return std::make_unique<RankPointSide>(std::make_unique<DistributedPointSide>(
       comm_, lm_, RanksOptions(options_, input_.ranks_read_file),
       input_.ranks_read_file ? input_.name : std::string(), &result_.problem, checkpoints,
-      result_.geo.alignment));
+      result_.geo.alignment), &result_.problem);
 }
 
 // The log line of every iteration, and the checkpoints after accepted ones
@@ -134,7 +134,8 @@ void SolveSession::WriteCheckpoint(const IterationSummary& it, PointSide* side) 
     state.rounds.push_back({r.observations_dropped, r.points_dropped, r.points_small_angle,
                             r.observations_left, r.points_left});
   }
-  const std::vector<double>& cameras = result_.problem.cameras;
+  std::vector<double> cameras;  // in the input's order (a walked solve renumbers them)
+  side->AllCameras(&cameras);
   if (rounds_.empty()) {
     std::vector<double> points;  // in the input's order (a solve walks its own)
     side->AllPoints(&points);
