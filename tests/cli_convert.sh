@@ -26,6 +26,29 @@ done
 
 check "info shows the BAL model" grep -qF "model         BAL" "$tmp/info"
 
+differ() { ! cmp -s "$1" "$2"; }
+
+# --shuffle SEED: the same problem renumbered (the same initial cost, the
+# same final cost to rounding), the same seed the same bytes, another seed
+# other bytes; a COLMAP input is refused (its ids are its own).
+"$dba" convert "$tmp/p.dba" "$tmp/s1.dba" --shuffle 7 >"$tmp/sconv"; check "shuffle exits 0" test $? -eq 0
+check "shuffle says so" grep -q "(renumbered at random)" "$tmp/sconv"
+"$dba" convert "$tmp/p.dba" "$tmp/s2.dba" --shuffle 7 >/dev/null
+"$dba" convert "$tmp/p.dba" "$tmp/s3.dba" --shuffle 8 >/dev/null
+check "shuffle: the same seed, the same bytes" cmp -s "$tmp/s1.dba" "$tmp/s2.dba"
+check "shuffle: another seed, other bytes" differ "$tmp/s1.dba" "$tmp/s3.dba"
+check "shuffle: other bytes than the input" differ "$tmp/s1.dba" "$tmp/p.dba"
+"$dba" solve "$tmp/s1.dba" -q --max-iterations 0 >"$tmp/s1log"
+check "shuffled: the same initial cost" grep -q "initial cost        8.509125e+05" "$tmp/s1log"
+"$dba" solve "$tmp/p.dba" -q -t 2 --linear-solver dense --report "$tmp/po.json" >/dev/null
+"$dba" solve "$tmp/s1.dba" -q -t 2 --linear-solver dense --report "$tmp/ps.json" >/dev/null
+check "shuffled: the same final cost (1e-9)" json "$tmp/ps.json" \
+  "near(d['final_cost'], $(json_value "$tmp/po.json" final_cost), 1e-9)"
+"$dba" convert "$root/tests/data/colmap_models/PINHOLE/text" "$tmp/colmap_shuffled" --shuffle 1 >"$tmp/err" 2>&1
+check "shuffle of a COLMAP model: exit 2" test $? -eq 2
+check "shuffle of a COLMAP model: says why" grep -q "applies to a BAL or .dba input" "$tmp/err"
+check "shuffle of a COLMAP model: nothing written" test ! -e "$tmp/colmap_shuffled"
+
 # A photogrammetric .dba: info shows the model and groups; it converts to
 # .dba (byte-identical) but not to BAL text.
 "$dba" generate "$tmp/photo.dba" --model photo --images 40 --cameras 3 --seed 5 >/dev/null

@@ -21,6 +21,7 @@
 #include "dba/common/timer.h"
 #include "dba/lm/memory_estimate.h"
 #include "dba/io/read_problem.h"
+#include "dba/problem/random_renumbering.h"
 #include "dba/rcs/rcs_pattern.h"
 #include "dba/rcs/unknown_layout.h"
 
@@ -111,19 +112,31 @@ int ConvertColmap(const std::string& in, const std::string& out, std::optional<C
 struct ConvertArgs {
   std::vector<std::string> files;  // INPUT OUTPUT
   std::optional<ColmapFormat> colmap_format;
+  int64_t shuffle_seed = -1;  // -1: keep the input's order
 };
+
+OptionSpec<ConvertArgs> ShuffleOption() {
+  OptionSpec<ConvertArgs> s = IntegerOption<ConvertArgs>(
+      "--shuffle", "SEED",
+      "renumber the points and cameras by a random permutation drawn from SEED (a BAL or .dba "
+      "input; the same problem in an order nobody chose)",
+      [](auto& a) -> auto& { return a.shuffle_seed; }, 0, int64_t{1} << 62);
+  s.default_text = [](const ConvertArgs&) { return std::string(); };
+  return s;
+}
 
 const std::vector<OptionSpec<ConvertArgs>>& ConvertOptionTable() {
   static const std::vector<OptionSpec<ConvertArgs>> table = {ChoiceOption<ConvertArgs>(
       "--colmap-format", {"text", "binary"},
       "a COLMAP output's form (default: the input's)",
       [](ConvertArgs& a, size_t i) { a.colmap_format = i == 0 ? ColmapFormat::kText : ColmapFormat::kBinary; },
-      [](const ConvertArgs&) { return std::string(); })};
+      [](const ConvertArgs&) { return std::string(); }),
+      ShuffleOption()};
   return table;
 }
 
 void PrintConvertHelp(std::ostream& out) {
-  out << "Usage: dba convert INPUT OUTPUT [--colmap-format text|binary]\n"
+  out << "Usage: dba convert INPUT OUTPUT [--colmap-format text|binary] [--shuffle SEED]\n"
          "\n"
          "Converts between BAL text (plain or .bz2) and the dba binary format,\n"
          "losslessly. The input kind is detected by content; the output kind by\n"
@@ -171,6 +184,11 @@ int ConvertMain(const std::vector<std::string>& all_args) {
     std::cerr << "dba convert: --colmap-format applies to a COLMAP input\n";
     return 2;
   }
+  if (IsColmapInput(args[0]) && parsed.shuffle_seed >= 0) {
+    std::cerr << "dba convert: --shuffle applies to a BAL or .dba input (a COLMAP model's ids "
+                 "are its own)\n";
+    return 2;
+  }
   try {
     CheckConvertFiles(args[0], args[1], colmap_format);
     if (IsColmapInput(args[0])) return ConvertColmap(args[0], args[1], colmap_format);
@@ -180,7 +198,8 @@ int ConvertMain(const std::vector<std::string>& all_args) {
       throw UsageError(out + ": expected a .txt or .bz2 (BAL text) or .dba file name (a COLMAP "
                        "model directory is written only from a COLMAP model)");
     }
-    const Problem problem = ReadProblem(args[0]);
+    Problem problem = ReadProblem(args[0]);
+    if (parsed.shuffle_seed >= 0) RenumberAtRandom(static_cast<uint64_t>(parsed.shuffle_seed), &problem);
     if (problem.model == CameraModel::kPhoto &&
         KindOfPath(out) != PathKind::kBinary) {
       throw std::invalid_argument(
@@ -195,8 +214,9 @@ int ConvertMain(const std::vector<std::string>& all_args) {
             ? std::to_string(problem.num_images()) + " images, " +
                   std::to_string(problem.num_groups()) + " intrinsic groups"
             : std::to_string(problem.num_images()) + " cameras";
-    std::printf("%s -> %s: %s, %ld points, %ld observations, %.2f s\n",
-                args[0].c_str(), args[1].c_str(), cameras.c_str(),
+    std::printf("%s -> %s%s: %s, %ld points, %ld observations, %.2f s\n",
+                args[0].c_str(), args[1].c_str(),
+                parsed.shuffle_seed >= 0 ? " (renumbered at random)" : "", cameras.c_str(),
                 static_cast<long>(problem.num_points()),
                 static_cast<long>(problem.num_observations()), timer.Seconds());
     return 0;

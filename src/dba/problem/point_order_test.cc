@@ -45,6 +45,41 @@ TEST(CamerasInPointOrder, FirstObservedFirstThenTheUnseen) {
   EXPECT_EQ(CamerasInPointOrder(p), (std::vector<int64_t>{1, 0, 2, 3, 4, 5, 6, 7, 8}));
 }
 
+// Poses move with their groups and fixed flags, observations name the new
+// numbers, the intrinsic groups stay; the inverse gives the problem back.
+TEST(PermuteCameras, MovesPosesGroupsFlagsAndObservationsAndTheInverseRestores) {
+  Problem p = Grid(3);  // observations of cameras 0..6
+  p.model = CameraModel::kPhoto;
+  p.intrinsics_size = kPhotoIntrinsicsSize;
+  for (int i = 0; i < 7; ++i) {
+    for (int j = 0; j < kPhotoPoseSize; ++j) p.cameras.push_back(10.0 * i + j);
+    p.camera_intrinsics.push_back(i % 2);
+    p.fixed_cameras.push_back(i == 3 ? 1 : 0);
+  }
+  for (int g = 0; g < 2; ++g) {
+    for (int j = 0; j < kPhotoIntrinsicsSize; ++j) p.cameras.push_back(1000.0 + 10.0 * g + j);
+  }
+  const Problem given = p;
+  const std::vector<int64_t> order{3, 6, 0, 1, 5, 2, 4};
+  PermuteCameras(order, &p);
+  for (int64_t k = 0; k < 7; ++k) {
+    EXPECT_EQ(p.camera(k)[0], given.camera(order[k])[0]);
+    EXPECT_EQ(p.camera(k)[5], given.camera(order[k])[5]);
+    EXPECT_EQ(p.camera_intrinsics[k], given.camera_intrinsics[order[k]]);
+    EXPECT_EQ(p.fixed_cameras[k], given.fixed_cameras[order[k]]);
+  }
+  EXPECT_EQ(p.fixed_cameras[0], 1);
+  for (int g = 0; g < 2; ++g) EXPECT_EQ(p.intrinsics(g)[0], given.intrinsics(g)[0]);
+  for (int64_t o = 0; o < p.num_observations(); ++o) {
+    EXPECT_EQ(order[p.obs_camera[o]], given.obs_camera[o]);
+  }
+  PermuteCameras(InversePermutation(order), &p);
+  EXPECT_EQ(p.cameras, given.cameras);
+  EXPECT_EQ(p.camera_intrinsics, given.camera_intrinsics);
+  EXPECT_EQ(p.fixed_cameras, given.fixed_cameras);
+  EXPECT_EQ(p.obs_camera, given.obs_camera);
+}
+
 TEST(PointOrder, IsAPermutationAndTheInverseRestoresTheProblemBitForBit) {
   const Problem given = Grid(20);
   Problem p = given;
