@@ -1,6 +1,7 @@
 // The LM loop; see levenberg_marquardt.h.
 #include "dba/lm/levenberg_marquardt.h"
 
+#include "dba/rcs/aggregation_order.h"
 #include "dba/rcs/rigid_motion_basis.h"
 
 #include <algorithm>
@@ -215,6 +216,9 @@ class Minimizer {
         linear.preconditioner == PreconditionerType::kTwoLevel) {
       linear.coarse_row_bases = RigidMotionBases(sys_->layout, cameras_->data(),
                                                  linear.coarse_basis == CoarseBasis::kSimilarity);
+    }
+    if (linear.preconditioner == PreconditionerType::kTwoLevel) {
+      linear.aggregation_order = AggregationOrder(sys_->layout, cameras_->data());
     }
     std::unique_ptr<DampedRcsSolver> solver =
         workers_->MakeDampedRcsSolver(*sys_, linear, &summary_.linear_solver);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <tuple>
 #include <type_traits>
 
 namespace dba {
@@ -23,7 +24,7 @@ uint64_t Spread(uint64_t v) {
 }
 
 // The [1st, 99th] percentile of axis `d` over (a sample of) the points.
-std::pair<double, double> PercentileBox(const std::vector<double>& points, int d) {
+std::pair<double, double> PercentileBox(std::span<const double> points, int d) {
   const int64_t n = static_cast<int64_t>(points.size()) / kPointSize;
   const int64_t step = std::max<int64_t>(1, n / 100000);
   std::vector<double> v;
@@ -42,14 +43,16 @@ std::pair<double, double> PercentileBox(const std::vector<double>& points, int d
 
 }  // namespace
 
-std::vector<int64_t> SpatialPointOrder(const Problem& problem) {
-  const int64_t n = problem.num_points();
+std::vector<int64_t> SpatialPointOrder(const Problem& problem) { return MortonOrder(problem.points); }
+
+std::vector<int64_t> MortonOrder(std::span<const double> xyz) {
+  const int64_t n = static_cast<int64_t>(xyz.size()) / kPointSize;
   // One cell size on every axis (a cube around the box): a flat survey's
   // heights must not take the code's top bits.
   std::pair<double, double> box[kPointSize];
   double side = 0.0;
   for (int d = 0; d < kPointSize; ++d) {
-    box[d] = PercentileBox(problem.points, d);
+    box[d] = PercentileBox(xyz, d);
     side = std::max(side, box[d].second - box[d].first);
   }
   for (int d = 0; d < kPointSize; ++d) box[d].second = box[d].first + side;
@@ -58,7 +61,7 @@ std::vector<int64_t> SpatialPointOrder(const Problem& problem) {
   for (int64_t k = 0; k < n; ++k) {
     uint64_t code = 0;
     for (int d = 0; d < kPointSize; ++d) {
-      const double x = problem.points[kPointSize * k + d];
+      const double x = xyz[kPointSize * k + d];
       double t = (x - box[d].first) / (box[d].second - box[d].first);
       t = std::isfinite(t) ? std::clamp(t, 0.0, 1.0) : 0.0;
       code |= Spread(static_cast<uint64_t>(t * cells)) << d;
@@ -93,27 +96,37 @@ double SharedCameraFraction(const Problem& problem, std::span<const int64_t> ord
   return static_cast<double>(shared) / static_cast<double>(n - 1);
 }
 
-std::vector<int64_t> PointWalk(const Problem& problem) {
+LoadOrder ChooseLoadOrder(const Problem& problem) {
+  LoadOrder o;
   std::vector<int64_t> walk = SpatialPointOrder(problem);
-  // (Returned empty with its memory given back: clear() would keep 8 bytes
-  // a point of capacity for the whole solve.)
-  if (SharedCameraFraction(problem) >= 0.8 * SharedCameraFraction(problem, walk)) return {};
-  return walk;
+  if (SharedCameraFraction(problem) >= 0.8 * SharedCameraFraction(problem, walk)) return o;
+  o.cameras = CamerasInPointOrder(problem, walk);
+  o.points = std::move(walk);
+  return o;
 }
 
-std::vector<int64_t> CamerasInPointOrder(const Problem& problem) {
+std::vector<int64_t> CamerasInPointOrder(const Problem& problem, std::span<const int64_t> order) {
   const int64_t n = problem.num_images();
-  std::vector<int64_t> order;
-  order.reserve(static_cast<size_t>(n));
+  std::vector<int64_t> cameras;
+  cameras.reserve(static_cast<size_t>(n));
   std::vector<uint8_t> seen(static_cast<size_t>(n), 0);
-  for (int64_t o = 0; o < problem.num_observations(); ++o) {
-    const int32_t i = problem.obs_camera[o];
-    if (!seen[i]) seen[i] = 1, order.push_back(i);
+  // A point's new cameras by where it appears in their images (the pixel):
+  // the order of its observations is the input's.
+  std::vector<std::tuple<double, double, int32_t>> fresh;
+  for (int64_t k = 0; k < problem.num_points(); ++k) {
+    const int64_t point = order.empty() ? k : order[k];
+    fresh.clear();
+    for (int64_t o = problem.point_offsets[point]; o < problem.point_offsets[point + 1]; ++o) {
+      const int32_t i = problem.obs_camera[o];
+      if (!seen[i]) seen[i] = 1, fresh.emplace_back(problem.pixel(o)[0], problem.pixel(o)[1], i);
+    }
+    std::sort(fresh.begin(), fresh.end());
+    for (const auto& f : fresh) cameras.push_back(std::get<2>(f));
   }
   for (int64_t i = 0; i < n; ++i) {
-    if (!seen[i]) order.push_back(i);
+    if (!seen[i]) cameras.push_back(i);
   }
-  return order;
+  return cameras;
 }
 
 std::vector<int64_t> InversePermutation(std::span<const int64_t> order) {

@@ -22,6 +22,10 @@
 
 namespace dba {
 
+// new position -> item: the n = xyz.size() / 3 positions sorted by their
+// Morton code, quantized as SpatialPointOrder says; ties in their order.
+std::vector<int64_t> MortonOrder(std::span<const double> xyz);
+
 // new position -> point in `problem`: the points sorted by the Morton code
 // of their positions quantized to 2^21 cells per axis over the cube that
 // holds the 1st to 99th percentile on every axis (points beyond it, e.g.
@@ -33,28 +37,40 @@ std::vector<int64_t> SpatialPointOrder(const Problem& problem);
 // writes where the last one did.
 double SharedCameraFraction(const Problem& problem, std::span<const int64_t> order = {});
 
-// The walk the solves should take: SpatialPointOrder, or empty (the
-// problem's own order) where that already shares cameras between
-// consecutive points at least 0.8 times as often as the spatial order (a
-// generated survey's footprints, incremental SfM's growth): then it costs
-// no table and no copy. (Distance is no guide: a generator that lists a
-// footprint's points at random across it is local in cameras, and faster
-// than the Morton walk at a million images.)
-std::vector<int64_t> PointWalk(const Problem& problem);
+// The orders a one-process solve works in, chosen once at the load (so a
+// resumed solve takes the same ones):
+//  - points: SpatialPointOrder, or empty (the problem's own order) where
+//    that already shares cameras between consecutive points at least 0.8
+//    times as often as the spatial order (a generated survey's footprints,
+//    incremental SfM's growth): then it costs no table and no copy.
+//    (Distance is no guide: a generator that lists a footprint's points at
+//    random across it is local in cameras, and faster than the Morton walk
+//    at a million images.)
+//  - cameras: with a walk, in the order it first sees them (the cameras of
+//    neighbouring points are then neighbours in memory, in S's rows and in
+//    the rotation cache); else empty: the problem's own numbering, which
+//    the points' order follows already. (Numbering every input by the walk
+//    made the same PCG iterations for any order, but formation 8-10%
+//    slower on a survey in the generator's order: the aggregates take a
+//    canonical order of their own, rcs/aggregation_order.h.)
+struct LoadOrder {
+  std::vector<int64_t> points;
+  std::vector<int64_t> cameras;
+};
+LoadOrder ChooseLoadOrder(const Problem& problem);
 
-// new position -> camera: the cameras in the order the points (as stored)
-// first observe them, then the cameras no point observes. After a walk, rows
-// of the RCS next to each other are then cameras seen by the same points, so
-// S's blocks, the preconditioner's aggregates and the PCG's products touch
-// nearby memory whatever the input's camera numbering (issue 44).
-std::vector<int64_t> CamerasInPointOrder(const Problem& problem);
+// new position -> camera: the cameras in the order the points, walked in
+// `order` (empty: as stored), first observe them (the new cameras of one
+// point by the pixel it is seen at, not by the input's order of its
+// observations), then the cameras no point observes.
+std::vector<int64_t> CamerasInPointOrder(const Problem& problem, std::span<const int64_t> order = {});
 
 // Moves camera (image) `order[k]` to position k: its parameters (a BAL
 // camera or a pose; intrinsic groups stay), its group, its fixed flag, and
 // every observation's camera index. `order` is a permutation of the images.
-// A walk's solve runs on cameras in CamerasInPointOrder: the cameras of
-// neighbouring points are then neighbours in memory and in the rotation
-// cache, not scattered over the input's numbering.
+// A solve runs on cameras in LoadOrder's: the cameras of neighbouring
+// points are then neighbours in memory and in the rotation cache, not
+// scattered over the input's numbering.
 void PermuteCameras(std::span<const int64_t> order, Problem* problem);
 
 // Moves point `order[k]` (with its observations, in their order, and its

@@ -37,12 +37,21 @@ Problem Grid(int64_t side) {
   return p;
 }
 
-// Cameras in the order the points first observe them, unseen ones last.
+// Cameras in the order the points first observe them (one point's by the
+// pixel, whatever the order of its observations), unseen ones last.
 TEST(CamerasInPointOrder, FirstObservedFirstThenTheUnseen) {
   Problem p = Grid(3);  // point k sees cameras k % 7 and (k + 1) % 7: 0..7 seen, 7 cameras
   p.cameras.assign(9 * 9, 0.0);  // 9 BAL cameras: 7 and 8 seen by no point
-  std::swap(p.obs_camera[0], p.obs_camera[1]);  // point 0 sees camera 1 first
-  EXPECT_EQ(CamerasInPointOrder(p), (std::vector<int64_t>{1, 0, 2, 3, 4, 5, 6, 7, 8}));
+  p.obs_pixel[0] = 5.0;  // point 0 is seen at x 5 by camera 0 and x 0 by camera 1
+  const std::vector<int64_t> want{1, 0, 2, 3, 4, 5, 6, 7, 8};
+  EXPECT_EQ(CamerasInPointOrder(p), want);
+  std::swap(p.obs_camera[0], p.obs_camera[1]);
+  std::swap(p.obs_pixel[0], p.obs_pixel[2]);
+  std::swap(p.obs_pixel[1], p.obs_pixel[3]);
+  EXPECT_EQ(CamerasInPointOrder(p), want);
+  // Along a given order of the points: point 4 (cameras 4, 5) first.
+  std::vector<int64_t> order{4, 0, 1, 2, 3, 5, 6, 7, 8};
+  EXPECT_EQ(CamerasInPointOrder(p, order), (std::vector<int64_t>{4, 5, 1, 0, 2, 3, 6, 7, 8}));
 }
 
 // Poses move with their groups and fixed flags, observations name the new
@@ -168,6 +177,7 @@ namespace {
 // space share images, as in a survey.
 Problem Tiles() {
   Problem p = Grid(40);
+  p.cameras.assign(64 * kBalCameraSize, 0.0);
   p.obs_camera.clear();
   for (int64_t i = 0; i < 40; ++i) {
     for (int64_t j = 0; j < 40; ++j) {
@@ -182,16 +192,23 @@ Problem Tiles() {
 TEST(PointOrder, AWalkIsTakenOnlyWhereTheInputsOrderIsScattered) {
   const Problem rows = Tiles();  // row by row: consecutive points share images
   EXPECT_GT(SharedCameraFraction(rows), 0.7);
-  EXPECT_TRUE(PointWalk(rows).empty());
+  const LoadOrder kept = ChooseLoadOrder(rows);
+  EXPECT_TRUE(kept.points.empty());
   std::vector<int64_t> shuffle(rows.num_points());
   std::iota(shuffle.begin(), shuffle.end(), int64_t{0});
   std::shuffle(shuffle.begin(), shuffle.end(), std::mt19937_64(3));
   Problem shuffled = rows;
   PermutePoints(shuffle, &shuffled);
   EXPECT_LT(SharedCameraFraction(shuffled), 0.1);
-  const std::vector<int64_t> walk = PointWalk(shuffled);
+  const LoadOrder walked = ChooseLoadOrder(shuffled);
+  const std::vector<int64_t>& walk = walked.points;
   ASSERT_EQ(walk, SpatialPointOrder(shuffled));
   EXPECT_GT(SharedCameraFraction(shuffled, walk), 0.7);
+  // Kept: the cameras keep their numbers; walked: in the order the walk
+  // first sees them, the same whichever order the points came in.
+  EXPECT_TRUE(kept.cameras.empty());
+  EXPECT_EQ(walked.cameras, CamerasInPointOrder(shuffled, walk));
+  EXPECT_EQ(CamerasInPointOrder(shuffled, walk), CamerasInPointOrder(rows, SpatialPointOrder(rows)));
 }
 
 }  // namespace

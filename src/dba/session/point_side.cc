@@ -8,11 +8,13 @@
 
 namespace dba {
 
-LocalPointSide::LocalPointSide(Problem* problem, std::vector<int64_t> walk)
+LocalPointSide::LocalPointSide(Problem* problem, std::vector<int64_t> walk,
+                               std::vector<int64_t> cameras)
     : problem_(problem),
       observations_(problem->num_observations()),
       points_(problem->num_points()),
-      walk_(std::move(walk)) {}
+      walk_(std::move(walk)),
+      camera_order_(std::move(cameras)) {}
 
 BundleAdjustSummary LocalPointSide::Solve(const LmOptions& options, const CameraPriors& priors,
                                           const IterationHook& hook,
@@ -20,7 +22,8 @@ BundleAdjustSummary LocalPointSide::Solve(const LmOptions& options, const Camera
   WalkOrder(priors);
   BundleAdjustSummary s;
   try {
-    s = BundleAdjust(options, problem_, hook, before_values, cameras_.empty() ? &priors : &walked_priors_);
+    s = BundleAdjust(options, problem_, hook, before_values,
+                     cameras_walked_ ? &walked_priors_ : &priors);
   } catch (...) {
     GivenOrder();
     throw;
@@ -29,12 +32,17 @@ BundleAdjustSummary LocalPointSide::Solve(const LmOptions& options, const Camera
   return s;
 }
 
-// The problem's points into the walk's order: the walk itself, or after a
-// rejection round the kept points in the walk's order.
-// A walked (scattered) input's cameras too, in the order the walked points
-// first see them, with the priors' images; a given order that is local
-// already keeps its camera numbering.
+// The problem's points into the walk's order (the walk itself, or after a
+// rejection round the kept points in the walk's order), and its cameras
+// into theirs, with the priors' images.
 void LocalPointSide::WalkOrder(const CameraPriors& priors) {
+  if (!camera_order_.empty()) {
+    PermuteCameras(camera_order_, problem_);
+    walked_priors_ = priors;
+    const std::vector<int64_t> place = InversePermutation(camera_order_);
+    for (CameraCentrePrior& p : walked_priors_.priors) p.image = static_cast<int32_t>(place[p.image]);
+    cameras_walked_ = true;
+  }
   if (walk_.empty()) return;
   if (!cut_) {
     order_.swap(walk_);
@@ -48,18 +56,15 @@ void LocalPointSide::WalkOrder(const CameraPriors& priors) {
     for (int64_t k = 0; k < n; ++k) order_[k] = keyed[k].second;
   }
   PermutePoints(order_, problem_);
-  cameras_ = CamerasInPointOrder(*problem_);
-  PermuteCameras(cameras_, problem_);
-  walked_priors_ = priors;
-  const std::vector<int64_t> place = InversePermutation(cameras_);
-  for (CameraCentrePrior& p : walked_priors_.priors) p.image = static_cast<int32_t>(place[p.image]);
 }
 
 void LocalPointSide::GivenOrder() {
+  if (cameras_walked_) {
+    PermuteCameras(InversePermutation(camera_order_), problem_);
+    walked_priors_ = CameraPriors();
+    cameras_walked_ = false;
+  }
   if (order_.empty()) return;
-  PermuteCameras(InversePermutation(cameras_), problem_);
-  std::vector<int64_t>().swap(cameras_);
-  walked_priors_ = CameraPriors();
   PermutePoints(InversePermutation(order_), problem_);
   if (walk_.empty()) walk_.swap(order_);
   order_.clear();
@@ -104,9 +109,11 @@ void LocalPointSide::AllPoints(std::vector<double>* points) {
 
 void LocalPointSide::AllCameras(std::vector<double>* cameras) {
   *cameras = problem_->cameras;
+  if (!cameras_walked_) return;
   const int size = problem_->camera_size();
-  for (size_t i = 0; i < cameras_.size(); ++i) {
-    std::copy_n(problem_->camera(static_cast<int64_t>(i)), size, cameras->data() + size * cameras_[i]);
+  for (size_t i = 0; i < camera_order_.size(); ++i) {
+    std::copy_n(problem_->camera(static_cast<int64_t>(i)), size,
+                cameras->data() + size * camera_order_[i]);
   }
 }
 

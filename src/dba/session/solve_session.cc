@@ -150,8 +150,8 @@ SolveResult SolveSession::Run(SolveInput input) {
     // The walk's order from the positions as loaded (before an alignment or
     // a resume moves them): the same for a solve and its resume.
     if (comm_->size() == 1) {
-      load_order_ = PointWalk(result_.problem);
-      if (!load_order_.empty() && !options_.quiet) {
+      load_order_ = ChooseLoadOrder(result_.problem);
+      if (!load_order_.points.empty() && !options_.quiet) {
         out_ << "points walked in a spatial order (the input's order is scattered); outputs keep "
                 "the input's\n";
       }

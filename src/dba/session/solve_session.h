@@ -27,6 +27,7 @@
 #include "dba/geo/georeference.h"
 #include "dba/io/checkpoint.h"
 #include "dba/io/image_names.h"
+#include "dba/problem/point_order.h"
 #include "dba/lm/outlier_rejection.h"
 #include "dba/problem/problem.h"
 #include "dba/session/solve_options.h"
@@ -110,9 +111,9 @@ class SolveSession {
   // Resumed after rejection rounds: what the point side was given, in the
   // problem as loaded (empty: the identity), and its observations.
   OriginalIndices origin_;
-  // The order the solves walk the loaded points in (one process), taken at
-  // the load and handed to the point side.
-  std::vector<int64_t> load_order_;
+  // The orders the solves walk the loaded points and number the cameras in
+  // (one process), taken at the load and handed to the point side.
+  LoadOrder load_order_;
   GaugeReference gauge_;  // taken at the load (camera/gauge_hold.h)
   std::vector<int64_t> WalkOverSide();
   int64_t loaded_observations_ = 0;

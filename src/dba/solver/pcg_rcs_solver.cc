@@ -13,9 +13,9 @@ PcgRcsSolver::PcgRcsSolver(const BsmcMatrix& S, const LinearSolverOptions& optio
     : options_(options.pcg),
       multiplier_(S, options.pcg.num_threads, options.pcg.product_precision()) {
   if (options.preconditioner == PreconditionerType::kTwoLevel) {
-    preconditioner_ = std::make_unique<TwoLevelPreconditioner>(S, options.coarse_aggregate_size,
-                                                               options.pcg.num_threads,
-                                                               options.coarse_row_bases);
+    preconditioner_ = std::make_unique<TwoLevelPreconditioner>(
+        S, options.coarse_aggregate_size, options.pcg.num_threads, options.coarse_row_bases,
+        options.aggregation_order);
   } else {
     preconditioner_ = std::make_unique<BlockJacobiPreconditioner>(S, options.pcg.num_threads);
   }

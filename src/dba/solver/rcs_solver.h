@@ -67,6 +67,9 @@ struct LinearSolverOptions {
   // (filled by the caller, who knows the cameras, unless kParameters);
   // empty: the identity for all.
   std::vector<CoarseRowBasis> coarse_row_bases;
+  // two-level: S's block rows in the order the aggregation visits them
+  // (rcs/aggregation_order.h); empty: row order.
+  std::vector<int32_t> aggregation_order;
   // auto: a factorization is chosen only while its factor stays within this
   // multiple of what a PCG solve holds: S, preconditioner, PCG vectors and
   // `problem_bytes`.

@@ -66,8 +66,22 @@ void LeftTransform(const CoarseRowBasis& Ni, const double* sn, int r, int cc, do
 
 }  // namespace
 
+// Each row's neighbours (neighbour[begin[i]..begin[i+1])) in the order of
+// their places in `order`, which lists the first n rows (a rank's own: it
+// may list more).
+static void SortByPlace(const std::vector<int32_t>& order, int32_t n,
+                        const std::vector<int64_t>& begin, std::vector<int32_t>* neighbour) {
+  std::vector<int32_t> place(static_cast<size_t>(n));
+  for (int32_t k = 0; k < n; ++k) place[order[k]] = k;
+  for (int32_t i = 0; i < n; ++i) {
+    std::sort(neighbour->begin() + begin[i], neighbour->begin() + begin[i + 1],
+              [&](int32_t a, int32_t b) { return place[a] < place[b]; });
+  }
+}
+
 std::vector<int32_t> AggregateBlockRows(const BsmcMatrix& S, int target,
-                                        const std::vector<uint8_t>& kind, int32_t num_block_rows) {
+                                        const std::vector<uint8_t>& kind, int32_t num_block_rows,
+                                        const std::vector<int32_t>& order) {
   auto same_kind = [&](int32_t i, int32_t j) {
     return S.block_size(i) == S.block_size(j) && (kind.empty() || kind[i] == kind[j]);
   };
@@ -90,12 +104,14 @@ std::vector<int32_t> AggregateBlockRows(const BsmcMatrix& S, int target,
       neighbour[fill[j]++] = i;
     }
   }
+  if (!order.empty()) SortByPlace(order, n, begin, &neighbour);
   // Greedy: a seed row, then breadth-first over its not yet aggregated
   // neighbours of the same size until the aggregate is full.
   std::vector<int32_t> aggregate(n, -1);
   std::vector<int32_t> queue;
   int32_t count = 0;
-  for (int32_t seed = 0; seed < n; ++seed) {
+  for (int32_t s = 0; s < n; ++s) {
+    const int32_t seed = order.empty() ? s : order[s];
     if (aggregate[seed] >= 0) continue;
     const int32_t a = count++;
     aggregate[seed] = a;
@@ -182,11 +198,12 @@ void SettleScaleColumns(const std::vector<int32_t>& aggregate, int32_t num_aggre
 }
 
 TwoLevelPreconditioner::TwoLevelPreconditioner(const BsmcMatrix& S, int aggregate_size,
-                                               int num_threads, std::vector<CoarseRowBasis> bases)
+                                               int num_threads, std::vector<CoarseRowBasis> bases,
+                                               const std::vector<int32_t>& aggregation_order)
     : S_(S),
       n_(S.num_block_rows()),
       jacobi_(S, num_threads),
-      aggregate_(AggregateBlockRows(S, aggregate_size, BasisKinds(S, bases))),
+      aggregate_(AggregateBlockRows(S, aggregate_size, BasisKinds(S, bases), -1, aggregation_order)),
       bases_(std::move(bases)) {
   const int32_t num_aggregates =
       aggregate_.empty() ? 0 : *std::max_element(aggregate_.begin(), aggregate_.end()) + 1;

@@ -44,10 +44,14 @@ namespace dba {
 // rows of equal size (and equal `kind[i]`, when given) connected in S's
 // block graph, about `target` rows each.
 // `num_block_rows` >= 0: the first rows only, joined by the blocks among
-// them (a rank's own rows).
+// them (a rank's own rows). `order` (empty: row order): the rows in the
+// order the aggregation meets them, as seeds and as neighbours; the
+// aggregates are then the same sets under any numbering of the rows that
+// keeps that order.
 std::vector<int32_t> AggregateBlockRows(const BsmcMatrix& S, int target,
                                         const std::vector<uint8_t>& kind = {},
-                                        int32_t num_block_rows = -1);
+                                        int32_t num_block_rows = -1,
+                                        const std::vector<int32_t>& order = {});
 
 // The two-level space's per-row bases as the preconditioner uses them:
 // checked against S (one per row of `kind`), and the scale columns settled
@@ -68,7 +72,8 @@ class TwoLevelPreconditioner : public Preconditioner {
   // blocks, the coarse solver's analysis. S must outlive this object.
   // `bases`: one per block row of S; empty: identity for all.
   TwoLevelPreconditioner(const BsmcMatrix& S, int aggregate_size, int num_threads,
-                         std::vector<CoarseRowBasis> bases = {});
+                         std::vector<CoarseRowBasis> bases = {},
+                         const std::vector<int32_t>& aggregation_order = {});
   // A rank's part: S's first `num_own_rows` rows are preconditioned (the
   // rest is halo); `aggregate` gives every row of S its aggregate in the
   // global numbering, `coarse_sizes` every aggregate's coarse size, `bases`

@@ -10,6 +10,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <map>
+#include <numeric>
+#include <random>
 #include <memory>
 #include <set>
 #include <stdexcept>
@@ -86,6 +88,57 @@ TEST(AggregateBlockRows, GroupsConnectedRowsOfOneSize) {
     }
   }
   EXPECT_LT(members.size(), 200u);  // some aggregation happened
+}
+
+// A 12 x 12 grid of 6-unknown rows (each joined to its right and lower
+// neighbours), row i being cell `cell[i]`.
+BsmcMatrix Grid(const std::vector<int32_t>& cell) {
+  const int32_t n = static_cast<int32_t>(cell.size());
+  std::vector<int32_t> row_of(n);
+  for (int32_t i = 0; i < n; ++i) row_of[cell[i]] = i;
+  std::vector<uint64_t> blocks;
+  for (int32_t c = 0; c < n; ++c) {
+    const int32_t x = c % 12, y = c / 12;
+    const int32_t i = row_of[c];
+    blocks.push_back(PackBlock(i, i));
+    for (int32_t d : {x + 1 < 12 ? c + 1 : -1, y + 1 < 12 ? c + 12 : -1}) {
+      if (d < 0) continue;
+      const int32_t j = row_of[d];
+      blocks.push_back(PackBlock(std::min(i, j), std::max(i, j)));
+    }
+  }
+  std::sort(blocks.begin(), blocks.end());
+  return BsmcMatrix::BuildFromPattern(std::vector<int32_t>(n, 6), blocks);
+}
+
+// The aggregates as sets of cells.
+std::set<std::set<int32_t>> CellSets(const std::vector<int32_t>& aggregate,
+                                     const std::vector<int32_t>& cell) {
+  std::map<int32_t, std::set<int32_t>> members;
+  for (size_t i = 0; i < aggregate.size(); ++i) members[aggregate[i]].insert(cell[i]);
+  std::set<std::set<int32_t>> sets;
+  for (auto& [a, cells] : members) sets.insert(cells);
+  return sets;
+}
+
+// Rows met in a given order (the cells' order, as rcs/aggregation_order.h
+// gives the cameras' places): the same aggregates however the rows are
+// numbered; in row order they follow the numbering.
+TEST(AggregateBlockRows, InAGivenOrderTheAggregatesDoNotDependOnTheNumbering) {
+  std::vector<int32_t> cell(144), shuffled(144);
+  std::iota(cell.begin(), cell.end(), 0);
+  std::iota(shuffled.begin(), shuffled.end(), 0);
+  std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(4));
+  auto order_of = [](const std::vector<int32_t>& cells) {  // rows by cell
+    std::vector<int32_t> order(cells.size());
+    for (size_t i = 0; i < cells.size(); ++i) order[cells[i]] = static_cast<int32_t>(i);
+    return order;
+  };
+  const BsmcMatrix S = Grid(cell), T = Grid(shuffled);
+  const auto by_cell = CellSets(AggregateBlockRows(S, 9, {}, -1, order_of(cell)), cell);
+  EXPECT_EQ(CellSets(AggregateBlockRows(T, 9, {}, -1, order_of(shuffled)), shuffled), by_cell);
+  EXPECT_EQ(CellSets(AggregateBlockRows(S, 9), cell), by_cell);  // row order is cell order
+  EXPECT_NE(CellSets(AggregateBlockRows(T, 9), shuffled), by_cell);
 }
 
 class TwoLevelDefinition : public ::testing::TestWithParam<bool> {};
