@@ -5,6 +5,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -51,23 +52,34 @@ bool Behind(const CameraSide& side, int32_t i, double z) {
   return z <= 0;
 }
 
+// `where` into `first` (the `keep` smallest observations, in order).
+void KeepFirst(const ResidualScan::Where& where, int keep, std::vector<ResidualScan::Where>* first) {
+  const auto at = std::lower_bound(
+      first->begin(), first->end(), where,
+      [](const ResidualScan::Where& a, const ResidualScan::Where& b) { return a.observation < b.observation; });
+  if (at - first->begin() >= keep) return;
+  first->insert(at, where);
+  if (static_cast<int>(first->size()) > keep) first->pop_back();
+}
+
 }  // namespace
 
-ResidualScan ScanResiduals(const Problem& problem, int keep) {
+ResidualScan ScanResiduals(const Problem& problem, std::span<const int64_t> order, int keep) {
   // Every camera's frame first (the trigonometry once per camera: in an
   // input whose observations come in no camera order a cache would miss on
   // most of them; 144 bytes per camera while the scan runs).
   std::vector<RotationFrame> frames(static_cast<size_t>(problem.num_images()));
 #pragma omp parallel for schedule(static)
   for (int64_t i = 0; i < problem.num_images(); ++i) frames[i] = MakeRotationFrame(problem.camera(i));
-  // Each thread a contiguous range of points, its finds appended in thread
-  // order: the first `keep` are the first in observation order.
+  // Each thread a contiguous range of the walk, keeping the first `keep`
+  // finds in observation order.
   std::vector<ResidualScan> parts(static_cast<size_t>(omp_get_max_threads()));
 #pragma omp parallel num_threads(static_cast<int>(parts.size()))
   {
     ResidualScan& scan = parts[static_cast<size_t>(omp_get_thread_num())];
 #pragma omp for schedule(static)
-    for (int64_t k = 0; k < problem.num_points(); ++k) {
+    for (int64_t at = 0; at < problem.num_points(); ++at) {
+      const int64_t k = order.empty() ? at : order[at];
       const Vec3 X(problem.point(k)[0], problem.point(k)[1], problem.point(k)[2]);
       for (int64_t o = problem.point_offsets[k]; o < problem.point_offsets[k + 1]; ++o) {
         const int32_t i = problem.obs_camera[o];
@@ -78,9 +90,7 @@ ResidualScan ScanResiduals(const Problem& problem, int keep) {
                               .squaredNorm())) {
           continue;
         }
-        if (static_cast<int>(scan.first_non_finite.size()) < keep) {
-          scan.first_non_finite.push_back({o, k, i});
-        }
+        KeepFirst({o, k, i}, keep, &scan.first_non_finite);
         ++scan.non_finite;
       }
     }
@@ -89,9 +99,7 @@ ResidualScan ScanResiduals(const Problem& problem, int keep) {
   for (const ResidualScan& part : parts) {
     all.non_finite += part.non_finite;
     all.behind_cameras += part.behind_cameras;
-    for (const auto& where : part.first_non_finite) {
-      if (static_cast<int>(all.first_non_finite.size()) < keep) all.first_non_finite.push_back(where);
-    }
+    for (const auto& where : part.first_non_finite) KeepFirst(where, keep, &all.first_non_finite);
   }
   return all;
 }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "dba/camera/bal_camera.h"
@@ -41,6 +42,9 @@ struct ResidualScan {
   std::vector<Where> first_non_finite;
   int64_t behind_cameras = 0;
 };
-ResidualScan ScanResiduals(const Problem& problem, int keep = 5);
+// `order` (empty: the problem's own): the order to walk the points in (a
+// walk's: the cameras of consecutive points then stay in cache); the finds
+// kept are the first `keep` in observation order all the same.
+ResidualScan ScanResiduals(const Problem& problem, std::span<const int64_t> order = {}, int keep = 5);
 
 }  // namespace dba

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <vector>
 
 #include "dba/camera/photo_camera.h"
@@ -75,9 +76,12 @@ TEST(ScanResiduals, CountsAllNonFiniteAndKeepsTheFirstInObservationOrder) {
     }
   }
   const int before = omp_get_max_threads();
-  for (const int threads : {1, 2, 3, 8}) {
-    omp_set_num_threads(threads);
-    const ResidualScan bad = ScanResiduals(p, keep);
+  // Walked in reverse too: the first in observation order all the same.
+  std::vector<int64_t> reversed(static_cast<size_t>(p.num_points()));
+  for (int64_t k = 0; k < p.num_points(); ++k) reversed[k] = p.num_points() - 1 - k;
+  for (const int threads : {1, 2, 3, 8, -2}) {
+    omp_set_num_threads(std::abs(threads));
+    const ResidualScan bad = threads > 0 ? ScanResiduals(p, {}, keep) : ScanResiduals(p, reversed, keep);
     EXPECT_EQ(bad.non_finite, bad_observations) << threads;
     ASSERT_EQ(bad.first_non_finite.size(), expected.size()) << threads;
     for (size_t x = 0; x < expected.size(); ++x) {

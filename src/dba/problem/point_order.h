@@ -34,30 +34,24 @@ std::vector<int64_t> SpatialPointOrder(const Problem& problem);
 
 // The fraction of consecutive points of `order` (empty: the problem's own
 // order) seen by at least one common camera: how often the next point
-// writes where the last one did.
+// writes where the last one did. Over at most about a million pairs, evenly
+// spread (a million-image survey has 83 million points).
 double SharedCameraFraction(const Problem& problem, std::span<const int64_t> order = {});
 
-// The orders a one-process solve works in, chosen once at the load (so a
-// resumed solve takes the same ones):
-//  - points: SpatialPointOrder, or empty (the problem's own order) where
-//    that already shares cameras between consecutive points at least 0.8
-//    times as often as the spatial order (a generated survey's footprints,
-//    incremental SfM's growth): then it costs no table and no copy.
-//    (Distance is no guide: a generator that lists a footprint's points at
-//    random across it is local in cameras, and faster than the Morton walk
-//    at a million images.)
-//  - cameras: with a walk, in the order it first sees them (the cameras of
-//    neighbouring points are then neighbours in memory, in S's rows and in
-//    the rotation cache); else empty: the problem's own numbering, which
-//    the points' order follows already. (Numbering every input by the walk
-//    made the same PCG iterations for any order, but formation 8-10%
-//    slower on a survey in the generator's order: the aggregates take a
-//    canonical order of their own, rcs/aggregation_order.h.)
-struct LoadOrder {
-  std::vector<int64_t> points;
-  std::vector<int64_t> cameras;
-};
-LoadOrder ChooseLoadOrder(const Problem& problem);
+// The walk the solves should take: SpatialPointOrder, or empty (the
+// problem's own order) where that already shares cameras between
+// consecutive points at least 0.8 times as often as the spatial order (a
+// generated survey's footprints, incremental SfM's growth): then it costs
+// no table and no copy. (Distance is no guide: a generator that lists a
+// footprint's points at random across it is local in cameras, and faster
+// than the Morton walk at a million images.) A walked solve numbers the
+// cameras as the walk first sees them (CamerasInPointOrder over the walked
+// points): the cameras of neighbouring points are then neighbours in
+// memory, in S's rows and in the rotation cache. An input whose order is
+// local keeps its numbering (numbering it by the walk too cost an ordered
+// survey's formation 8-10%); the preconditioner's aggregates take a
+// canonical order of their own (rcs/aggregation_order.h).
+std::vector<int64_t> PointWalk(const Problem& problem);
 
 // new position -> camera: the cameras in the order the points, walked in
 // `order` (empty: as stored), first observe them (the new cameras of one
@@ -68,7 +62,7 @@ std::vector<int64_t> CamerasInPointOrder(const Problem& problem, std::span<const
 // Moves camera (image) `order[k]` to position k: its parameters (a BAL
 // camera or a pose; intrinsic groups stay), its group, its fixed flag, and
 // every observation's camera index. `order` is a permutation of the images.
-// A solve runs on cameras in LoadOrder's: the cameras of neighbouring
+// A walked solve runs on cameras in CamerasInPointOrder: the cameras of neighbouring
 // points are then neighbours in memory and in the rotation cache, not
 // scattered over the input's numbering.
 void PermuteCameras(std::span<const int64_t> order, Problem* problem);

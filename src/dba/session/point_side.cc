@@ -8,13 +8,11 @@
 
 namespace dba {
 
-LocalPointSide::LocalPointSide(Problem* problem, std::vector<int64_t> walk,
-                               std::vector<int64_t> cameras)
+LocalPointSide::LocalPointSide(Problem* problem, std::vector<int64_t> walk)
     : problem_(problem),
       observations_(problem->num_observations()),
       points_(problem->num_points()),
-      walk_(std::move(walk)),
-      camera_order_(std::move(cameras)) {}
+      walk_(std::move(walk)) {}
 
 BundleAdjustSummary LocalPointSide::Solve(const LmOptions& options, const CameraPriors& priors,
                                           const IterationHook& hook,
@@ -23,7 +21,7 @@ BundleAdjustSummary LocalPointSide::Solve(const LmOptions& options, const Camera
   BundleAdjustSummary s;
   try {
     s = BundleAdjust(options, problem_, hook, before_values,
-                     cameras_walked_ ? &walked_priors_ : &priors);
+                     camera_order_.empty() ? &priors : &walked_priors_);
   } catch (...) {
     GivenOrder();
     throw;
@@ -34,15 +32,9 @@ BundleAdjustSummary LocalPointSide::Solve(const LmOptions& options, const Camera
 
 // The problem's points into the walk's order (the walk itself, or after a
 // rejection round the kept points in the walk's order), and its cameras
-// into theirs, with the priors' images.
+// into the order the walked points first see them (a sequential pass), with
+// the priors' images.
 void LocalPointSide::WalkOrder(const CameraPriors& priors) {
-  if (!camera_order_.empty()) {
-    PermuteCameras(camera_order_, problem_);
-    walked_priors_ = priors;
-    const std::vector<int64_t> place = InversePermutation(camera_order_);
-    for (CameraCentrePrior& p : walked_priors_.priors) p.image = static_cast<int32_t>(place[p.image]);
-    cameras_walked_ = true;
-  }
   if (walk_.empty()) return;
   if (!cut_) {
     order_.swap(walk_);
@@ -56,15 +48,18 @@ void LocalPointSide::WalkOrder(const CameraPriors& priors) {
     for (int64_t k = 0; k < n; ++k) order_[k] = keyed[k].second;
   }
   PermutePoints(order_, problem_);
+  camera_order_ = CamerasInPointOrder(*problem_);
+  PermuteCameras(camera_order_, problem_);
+  walked_priors_ = priors;
+  const std::vector<int64_t> place = InversePermutation(camera_order_);
+  for (CameraCentrePrior& p : walked_priors_.priors) p.image = static_cast<int32_t>(place[p.image]);
 }
 
 void LocalPointSide::GivenOrder() {
-  if (cameras_walked_) {
-    PermuteCameras(InversePermutation(camera_order_), problem_);
-    walked_priors_ = CameraPriors();
-    cameras_walked_ = false;
-  }
   if (order_.empty()) return;
+  PermuteCameras(InversePermutation(camera_order_), problem_);
+  std::vector<int64_t>().swap(camera_order_);
+  walked_priors_ = CameraPriors();
   PermutePoints(InversePermutation(order_), problem_);
   if (walk_.empty()) walk_.swap(order_);
   order_.clear();
@@ -109,7 +104,6 @@ void LocalPointSide::AllPoints(std::vector<double>* points) {
 
 void LocalPointSide::AllCameras(std::vector<double>* cameras) {
   *cameras = problem_->cameras;
-  if (!cameras_walked_) return;
   const int size = problem_->camera_size();
   for (size_t i = 0; i < camera_order_.size(); ++i) {
     std::copy_n(problem_->camera(static_cast<int64_t>(i)), size,

@@ -50,10 +50,8 @@ class LocalPointSide : public PointSide {
   // walk[k] the point of `problem` walked k-th), fixed at the load so that
   // a resumed solve walks them as the uninterrupted one did (8 bytes per
   // point); empty: the problem's own order.
-  // `cameras`: the order the solves number the cameras in (LoadOrder's;
-  // cameras[i] the camera of `problem` numbered i; 8 bytes per camera);
-  // empty: the problem's own.
-  LocalPointSide(Problem* problem, std::vector<int64_t> walk, std::vector<int64_t> cameras);
+  // A walked solve numbers the cameras as the walked points first see them.
+  LocalPointSide(Problem* problem, std::vector<int64_t> walk);
   BundleAdjustSummary Solve(const LmOptions& options, const CameraPriors& priors,
                             const IterationHook& hook,
                             const std::function<void(const RcsSystem&)>& before_values) override;
@@ -76,10 +74,10 @@ class LocalPointSide : public PointSide {
   // During a solve: the problem's points in the walk's order, order_[k] the
   // point (as the solve was given it) now at k; empty between solves.
   std::vector<int64_t> order_;
+  // During a walked solve: the cameras in the order the walked points first
+  // see them, camera_order_[i] the camera (as given) numbered i (8 bytes per
+  // camera), and the priors' images renumbered alike; empty otherwise.
   std::vector<int64_t> camera_order_;
-  // During a solve with camera_order_: the cameras so numbered, and the
-  // priors' images renumbered alike.
-  bool cameras_walked_ = false;
   CameraPriors walked_priors_;
   void WalkOrder(const CameraPriors& priors);
   void GivenOrder();

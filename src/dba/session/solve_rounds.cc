@@ -75,13 +75,13 @@ void SolveSession::Solve() {
 // resume cut down; points added since (control points) last, in their order.
 std::vector<int64_t> SolveSession::WalkOverSide() {
   const int64_t n = result_.problem.num_points();
-  const int64_t loaded = static_cast<int64_t>(load_order_.points.size());
+  const int64_t loaded = static_cast<int64_t>(load_order_.size());
   if (loaded == 0) return {};
   std::vector<int64_t> walk;
   if (origin_.point.empty()) {
-    walk = std::move(load_order_.points);
+    walk = std::move(load_order_);
   } else {
-    const std::vector<int64_t> place = InversePermutation(load_order_.points);
+    const std::vector<int64_t> place = InversePermutation(load_order_);
     std::vector<std::pair<int64_t, int64_t>> keyed;
     for (int64_t k = 0; k < n; ++k) {
       const int64_t given = origin_.point[k];
@@ -90,7 +90,7 @@ std::vector<int64_t> SolveSession::WalkOverSide() {
     std::sort(keyed.begin(), keyed.end());
     for (const auto& [place_of, k] : keyed) walk.push_back(k);
   }
-  std::vector<int64_t>().swap(load_order_.points);
+  std::vector<int64_t>().swap(load_order_);
   std::vector<uint8_t> walked(n, 0);
   for (int64_t k : walk) walked[k] = 1;
   for (int64_t k = 0; k < n; ++k) {
@@ -100,11 +100,7 @@ std::vector<int64_t> SolveSession::WalkOverSide() {
 }
 
 std::unique_ptr<PointSide> SolveSession::MakePointSide() {
-  if (comm_->size() == 1) {
-    std::vector<int64_t> walk = WalkOverSide();
-    return std::make_unique<LocalPointSide>(&result_.problem, std::move(walk),
-                                            std::move(load_order_.cameras));
-  }
+  if (comm_->size() == 1) return std::make_unique<LocalPointSide>(&result_.problem, WalkOverSide());
   const DistributedCheckpoints checkpoints{
       checkpoints_ ? &*checkpoints_ : nullptr,
       input_.ranks_read_file && resumed_ ? &*resumed_ : nullptr, options_.resume_path};

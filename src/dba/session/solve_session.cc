@@ -77,8 +77,9 @@ std::string RejectionRoundLine(const RejectionCriteria& criteria, int r,
   return line;
 }
 
-int64_t RefuseNonFiniteResiduals(const std::string& input, const Problem& problem) {
-  const ResidualScan scan = ScanResiduals(problem);
+int64_t RefuseNonFiniteResiduals(const std::string& input, const Problem& problem,
+                                 std::span<const int64_t> walk) {
+  const ResidualScan scan = ScanResiduals(problem, walk);
   if (scan.non_finite == 0) return scan.behind_cameras;
   std::string where;
   for (const ResidualScan::Where& w : scan.first_non_finite) {
@@ -143,18 +144,18 @@ SolveResult SolveSession::Run(SolveInput input) {
     // Every rank that reads the file moves its own copy alike (ReadShare).
     const std::vector<FovStartMove> fov = StartFovOutsideSeries(&result_.problem);
     if (!options_.quiet) out_ << DescribeFovStartMoves(fov);
-    if (!input_.ranks_read_file) {
-      result_.report.observations_behind_cameras =
-          RefuseNonFiniteResiduals(input_.name, result_.problem);
-    }
     // The walk's order from the positions as loaded (before an alignment or
     // a resume moves them): the same for a solve and its resume.
     if (comm_->size() == 1) {
-      load_order_ = ChooseLoadOrder(result_.problem);
-      if (!load_order_.points.empty() && !options_.quiet) {
+      load_order_ = PointWalk(result_.problem);
+      if (!load_order_.empty() && !options_.quiet) {
         out_ << "points walked in a spatial order (the input's order is scattered); outputs keep "
                 "the input's\n";
       }
+    }
+    if (!input_.ranks_read_file) {
+      result_.report.observations_behind_cameras =
+          RefuseNonFiniteResiduals(input_.name, result_.problem, load_order_);
     }
     // The gauge's reference as loaded (before an alignment or a resume).
     if (!options_.free_gauge) gauge_ = TakeGaugeReference(result_.problem, false);

@@ -27,7 +27,6 @@
 #include "dba/geo/georeference.h"
 #include "dba/io/checkpoint.h"
 #include "dba/io/image_names.h"
-#include "dba/problem/point_order.h"
 #include "dba/lm/outlier_rejection.h"
 #include "dba/problem/problem.h"
 #include "dba/session/solve_options.h"
@@ -111,9 +110,9 @@ class SolveSession {
   // Resumed after rejection rounds: what the point side was given, in the
   // problem as loaded (empty: the identity), and its observations.
   OriginalIndices origin_;
-  // The orders the solves walk the loaded points and number the cameras in
-  // (one process), taken at the load and handed to the point side.
-  LoadOrder load_order_;
+  // The order the solves walk the loaded points in (one process), taken at
+  // the load and handed to the point side.
+  std::vector<int64_t> load_order_;
   GaugeReference gauge_;  // taken at the load (camera/gauge_hold.h)
   std::vector<int64_t> WalkOverSide();
   int64_t loaded_observations_ = 0;
@@ -133,6 +132,7 @@ std::string RejectionRoundLine(const RejectionCriteria& criteria, int r,
 // Refuses (std::runtime_error naming `input` and the first observations) a
 // problem whose initial cost is not finite; returns how many observations
 // are behind their cameras (from the same pass, ScanResiduals).
-int64_t RefuseNonFiniteResiduals(const std::string& input, const Problem& problem);
+int64_t RefuseNonFiniteResiduals(const std::string& input, const Problem& problem,
+                                 std::span<const int64_t> walk = {});
 
 }  // namespace dba
