@@ -2,6 +2,8 @@
 // gauge_hold.h for the similarity.
 #include "dba/camera/gauge_hold.h"
 
+#include "dba/camera/rig_pose.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -84,7 +86,32 @@ Similarity GaugeMapping(const GaugeReference& ref, const CameraSide& side) {
   return s;
 }
 
+// Rigs: the frames (but those of fixed images) moved as poses, each
+// sensor's place in its rig scaled with the world (its turn is relative and
+// unchanged), the images composed anew. The anchor's frame keeps its input
+// pose exactly when the anchor is its rig's origin.
+void MoveRigs(const Similarity& s, const GaugeReference& ref, CameraSide* side) {
+  std::vector<uint8_t> held(side->num_frames(), 0);
+  for (int64_t i = 0; i < side->num_images(); ++i) {
+    if (side->camera_fixed(i)) held[side->image_frame[i]] = 1;
+  }
+  for (int64_t f = 0; f < side->num_frames(); ++f) {
+    if (!held[f]) MovePose(s, side->cameras.data() + side->frame_offset(f));
+  }
+  for (int64_t g = 0; g < side->num_groups(); ++g) {
+    double* t = side->cameras.data() + side->sensor_offset(g) + 3;
+    for (int k = 0; k < 3; ++k) t[k] *= s.scale;
+  }
+  if (ref.hold == GaugeHold::kFirstImage &&
+      side->sensor_kind[side->camera_intrinsics[ref.anchor]] == kRigOrigin) {
+    std::copy(ref.pose.begin(), ref.pose.end(),
+              side->cameras.data() + side->frame_offset(side->image_frame[ref.anchor]));
+  }
+  ComposeRigImages(side);
+}
+
 void MoveCameras(const Similarity& s, const GaugeReference& ref, CameraSide* side) {
+  if (side->has_rigs()) return MoveRigs(s, ref, side);
   for (int64_t i = 0; i < side->num_images(); ++i) {
     if (!side->camera_fixed(i)) MovePose(s, side->camera(i));
   }

@@ -25,6 +25,8 @@ constexpr char kMagic[8] = {'D', 'B', 'A', 'P', 'R', 'O', 'B', '\n'};
 constexpr uint32_t kVersion1 = 1;  // BAL only
 constexpr uint32_t kVersion2 = 2;  // + photogrammetric model, fixed flags
 constexpr uint32_t kVersion3 = 3;  // + a lens model per group, 1 to 16 intrinsic slots
+constexpr uint32_t kVersion4 = 4;  // + rigs: frames, sensor poses, image frames, sensor kinds
+constexpr int64_t kRigHeaderSize = 16;  // version 4: u64 frames, u64 rig section offset
 constexpr uint32_t kByteOrderMark = 0x01020304;
 constexpr uint32_t kBalModel = 1;
 constexpr uint32_t kPhotoModel = 2;
@@ -57,7 +59,12 @@ int64_t Align8(int64_t x) { return (x + 7) & ~int64_t{7}; }
 // does not fit the model.
 BinaryProblemHeader Layout(CameraModel model, int64_t cameras, int64_t groups, bool fixed,
                            bool free, int64_t points, int64_t observations, bool v3 = false,
-                           int slots = kPhotoIntrinsicsSize) {
+                           int slots = kPhotoIntrinsicsSize, int64_t frames = -1) {
+  const bool rigs = frames >= 0;
+  if (rigs && (model != CameraModel::kPhoto || frames < 1 || frames > cameras)) {
+    throw std::invalid_argument("binary problem: " + std::to_string(frames) +
+                                " rig frames do not fit " + std::to_string(cameras) + " images");
+  }
   const bool photo = model == CameraModel::kPhoto;
   if (photo ? (groups < 1 || groups > cameras) : (groups != 0 || free)) {
     throw std::invalid_argument("binary problem: " + std::to_string(groups) +
@@ -65,7 +72,8 @@ BinaryProblemHeader Layout(CameraModel model, int64_t cameras, int64_t groups, b
                                 (photo ? " photogrammetric images" : " BAL cameras"));
   }
   BinaryProblemHeader h;
-  h.version = v3 ? kVersion3 : photo || fixed || free ? kVersion2 : kVersion1;
+  h.version = rigs ? kVersion4 : v3 ? kVersion3 : photo || fixed || free ? kVersion2 : kVersion1;
+  h.num_frames = frames;
   h.intrinsics_size = slots;
   h.model = model;
   h.camera_model = photo ? kPhotoModel : kBalModel;
@@ -76,11 +84,15 @@ BinaryProblemHeader Layout(CameraModel model, int64_t cameras, int64_t groups, b
   h.num_observations = observations;
   h.has_fixed_cameras = fixed;
   h.has_intrinsics_free = free;
-  h.cameras_offset = kHeaderSize;
+  h.cameras_offset = kHeaderSize + (rigs ? kRigHeaderSize : 0);
   h.intrinsics_offset = h.cameras_offset + 8 * int64_t{h.camera_size} * cameras;
-  h.group_models_offset = h.intrinsics_offset + 8 * int64_t{slots} * groups;
-  h.image_groups_offset = Align8(h.group_models_offset + (v3 ? 2 * groups : 0));
-  h.flags_offset = Align8(h.image_groups_offset + (photo ? 4 * cameras : 0));
+  // Version 4: the frames' and sensors' poses right after the intrinsics
+  // (the rest of Problem::cameras).
+  h.group_models_offset = h.intrinsics_offset + 8 * int64_t{slots} * groups +
+                          (rigs ? 8 * kPhotoPoseSize * (frames + groups) : 0);
+  h.image_groups_offset = Align8(h.group_models_offset + (v3 || rigs ? 2 * groups : 0));
+  h.rig_offset = Align8(h.image_groups_offset + (photo ? 4 * cameras : 0));
+  h.flags_offset = Align8(h.rig_offset + (rigs ? 4 * cameras + groups : 0));
   h.points_offset =
       Align8(h.flags_offset + (fixed ? cameras : 0) + (free ? (v3 ? 2 : 1) * groups : 0));
   h.point_offsets_offset = h.points_offset + 8 * kPointSize * points;
@@ -129,6 +141,39 @@ void CheckCameras(const BinaryFile& f, std::span<const int32_t> cameras, int64_t
 
 // The camera side of a file whose header `h` was checked: model, cameras
 // (poses, then intrinsics), image groups and fixed flags, each checked.
+// Version 4: each image's frame (every frame used) and each group's sensor
+// kind; the rig's origin sensors hold the identity.
+void ReadRigs(const BinaryFile& f, const BinaryProblemHeader& h, CameraSide* p) {
+  p->image_frame = f.ReadArrayAt<int32_t>(h.rig_offset, h.num_cameras, "image frames");
+  p->sensor_kind = f.ReadArrayAt<uint8_t>(h.rig_offset + 4 * h.num_cameras, h.num_intrinsics,
+                                          "sensor kinds");
+  std::vector<uint8_t> used(h.num_frames, 0);
+  for (int64_t i = 0; i < h.num_cameras; ++i) {
+    const int32_t fr = p->image_frame[i];
+    if (fr < 0 || fr >= h.num_frames) {
+      throw InputError(f.path(), 0, "frame " + std::to_string(fr) + " of image " +
+                                        std::to_string(i) + " is out of range [0, " +
+                                        std::to_string(h.num_frames) + ")");
+    }
+    used[fr] = 1;
+  }
+  for (int64_t fr = 0; fr < h.num_frames; ++fr) {
+    if (!used[fr]) throw InputError(f.path(), 0, "frame " + std::to_string(fr) + " has no image");
+  }
+  for (int64_t g = 0; g < h.num_intrinsics; ++g) {
+    const uint8_t kind = p->sensor_kind[g];
+    if (kind > kSensorHeld) {
+      throw InputError(f.path(), 0, "sensor kind " + std::to_string(kind) + " of group " +
+                                        std::to_string(g) + " is not 0, 1 or 2");
+    }
+    const double* pose = p->cameras.data() + p->sensor_offset(g);
+    if (kind == kRigOrigin && std::any_of(pose, pose + kPhotoPoseSize, [](double v) { return v != 0.0; })) {
+      throw InputError(f.path(), 0, "group " + std::to_string(g) +
+                                        " is its rig's origin but its sensor pose is not zero");
+    }
+  }
+}
+
 CameraSide ReadCameraSide(const BinaryFile& f, const BinaryProblemHeader& h) {
   CameraSide p;
   p.model = h.model;
@@ -140,12 +185,15 @@ CameraSide ReadCameraSide(const BinaryFile& f, const BinaryProblemHeader& h) {
     if (i < poses) {
       throw InputError(f.path(), 0, "non-finite value in cameras at index " + std::to_string(i));
     }
+    if (i >= poses + int64_t{h.intrinsics_size} * h.num_intrinsics) {
+      throw InputError(f.path(), 0, "non-finite value in the rig poses at index " + std::to_string(i));
+    }
     throw InputError(f.path(), 0,
                      "non-finite value in intrinsics of group " +
                          std::to_string((i - poses) / h.intrinsics_size) + " (parameter " +
                          std::to_string((i - poses) % h.intrinsics_size) + ")");
   }
-  if (h.version == kVersion3) {
+  if (h.version >= kVersion3) {
     // Per group: lens model id, parameter count.
     const std::vector<uint8_t> models =
         f.ReadArrayAt<uint8_t>(h.group_models_offset, 2 * h.num_intrinsics, "group models");
@@ -186,6 +234,7 @@ CameraSide ReadCameraSide(const BinaryFile& f, const BinaryProblemHeader& h) {
       }
     }
   }
+  if (h.num_frames >= 0) ReadRigs(f, h, &p);
   int64_t flags = h.flags_offset;
   if (h.has_fixed_cameras) {
     p.fixed_cameras = f.ReadArrayAt<uint8_t>(flags, h.num_cameras, "fixed cameras");
@@ -201,7 +250,7 @@ CameraSide ReadCameraSide(const BinaryFile& f, const BinaryProblemHeader& h) {
     // The file stores the free parameters (u8 masks in version 2, u16 in
     // version 3); the problem the fixed ones.
     std::vector<uint16_t> free;
-    if (h.version == kVersion3) {
+    if (h.version >= kVersion3) {
       free = f.ReadArrayAt<uint16_t>(flags, h.num_intrinsics, "free intrinsics");
     } else {
       const std::vector<uint8_t> v2 = f.ReadArrayAt<uint8_t>(flags, h.num_intrinsics, "free intrinsics");
@@ -232,7 +281,10 @@ BinaryProblemHeader CameraSideLayout(const Problem& c, int64_t points, int64_t o
   const bool sizes_ok =
       photo ? c.intrinsics_size >= 1 && c.intrinsics_size <= kMaxIntrinsics &&
                   static_cast<int64_t>(c.cameras.size()) ==
-                      kPhotoPoseSize * n + int64_t{c.intrinsics_size} * g &&
+                      kPhotoPoseSize * n + int64_t{c.intrinsics_size} * g +
+                          (c.has_rigs() ? kPhotoPoseSize * (c.num_frames() + g) : 0) &&
+                  (!c.has_rigs() || (static_cast<int64_t>(c.image_frame.size()) == n &&
+                                     c.num_frames() >= 1)) &&
                   (c.group_models.empty() || static_cast<int64_t>(c.group_models.size()) == g)
             : c.cameras.size() % kBalCameraSize == 0 && c.camera_intrinsics.empty();
   if (!sizes_ok || (!c.fixed_cameras.empty() && static_cast<int64_t>(c.fixed_cameras.size()) != n) ||
@@ -259,7 +311,8 @@ BinaryProblemHeader CameraSideLayout(const Problem& c, int64_t points, int64_t o
     }
   }
   return Layout(c.model, n, g, !c.fixed_cameras.empty(), !c.fixed_intrinsics.empty(), points,
-                observations, v3, photo ? c.intrinsics_size : kPhotoIntrinsicsSize);
+                observations, v3, photo ? c.intrinsics_size : kPhotoIntrinsicsSize,
+                c.has_rigs() ? c.num_frames() : -1);
 }
 
 }  // namespace
@@ -288,12 +341,25 @@ BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
   if (raw.byte_order != kByteOrderMark) {
     throw InputError(path, 0, "written with another byte order (big-endian?)");
   }
-  if (raw.version != kVersion1 && raw.version != kVersion2 && raw.version != kVersion3) {
+  if (raw.version < kVersion1 || raw.version > kVersion4) {
     throw InputError(path, 0, "format version " + std::to_string(raw.version) +
-                                  ", this dba reads versions 1 to 3");
+                                  ", this dba reads versions 1 to 4");
   }
-  const bool v3 = raw.version == kVersion3;
+  const bool v4 = raw.version == kVersion4;
+  const bool v3 = raw.version == kVersion3 || v4;  // version 4 extends version 3
   const bool v2 = raw.version == kVersion2 || v3;  // version 3 extends version 2
+  uint64_t rig_header[2] = {0, 0};  // frames, rig section offset
+  if (v4) {
+    if (size < kHeaderSize + kRigHeaderSize) {
+      throw InputError(path, 0, "truncated: shorter than the version-4 header");
+    }
+    f.ReadAt(kHeaderSize, rig_header, kRigHeaderSize, "the rig header");
+    if (rig_header[0] < 1 || rig_header[0] > raw.counts[0]) {
+      throw InputError(path, 0, "version 4 header: " + std::to_string(rig_header[0]) +
+                                    " frames for " + std::to_string(raw.counts[0]) +
+                                    " images (need 1 to one per image)");
+    }
+  }
   const bool bal = raw.camera_model == kBalModel && raw.camera_size == kBalCameraSize;
   const bool photo = v2 && raw.camera_model == kPhotoModel && raw.camera_size == kPhotoPoseSize;
   if (!bal && !photo) {
@@ -351,8 +417,13 @@ BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
              v2 ? raw.intrinsic_groups : 0, (optional & kHasFixedCameras) != 0,
              (optional & kHasIntrinsicsFree) != 0,
              static_cast<int64_t>(raw.counts[1]), static_cast<int64_t>(raw.counts[2]), v3,
-             v3 ? raw.intrinsic_slots : kPhotoIntrinsicsSize);
-  h.version = raw.version;  // a v2 file may hold what v1 could
+             v3 ? raw.intrinsic_slots : kPhotoIntrinsicsSize,
+             v4 ? static_cast<int64_t>(rig_header[0]) : -1);
+  h.version = raw.version;
+  if (v4 && static_cast<int64_t>(rig_header[1]) != h.rig_offset) {
+    throw InputError(path, 0, "version 4 header: the rig section does not match the counts "
+                              "(corrupt header)");
+  }  // a v2 file may hold what v1 could
   const int64_t sections[5] = {h.cameras_offset, h.points_offset, h.point_offsets_offset,
                                h.obs_camera_offset, h.obs_pixel_offset};
   for (int s = 0; s < 5; ++s) {
@@ -584,7 +655,7 @@ BinaryProblemWriter::BinaryProblemWriter(const std::string& path, const Problem&
                                     " out of range [0, " + std::to_string(h_.num_intrinsics) + ")");
       }
     }
-    if (h_.version == kVersion3) {
+    if (h_.version >= kVersion3) {
       std::vector<uint8_t> models;
       for (int64_t g = 0; g < h_.num_intrinsics; ++g) {
         models.push_back(static_cast<uint8_t>(c.group_model(g)));
@@ -595,7 +666,8 @@ BinaryProblemWriter::BinaryProblemWriter(const std::string& path, const Problem&
     }
     const int64_t end = h_.image_groups_offset + 4 * h_.num_cameras;
     Write(h_.image_groups_offset, c.camera_intrinsics.data(), 4 * h_.num_cameras);
-    Write(end, zeros, h_.flags_offset - end);
+    Write(end, zeros, h_.rig_offset - end);
+    if (h_.num_frames >= 0) WriteRigs(c);
   }
   std::vector<uint8_t> flags;
   for (uint8_t f : c.fixed_cameras) flags.push_back(f != 0 ? 1 : 0);
@@ -604,10 +676,27 @@ BinaryProblemWriter::BinaryProblemWriter(const std::string& path, const Problem&
     const uint16_t free =
         static_cast<uint16_t>(LensModelParamMask(c.group_model(g)) & ~c.fixed_intrinsics[g]);
     flags.push_back(static_cast<uint8_t>(free & 0xff));
-    if (h_.version == kVersion3) flags.push_back(static_cast<uint8_t>(free >> 8));
+    if (h_.version >= kVersion3) flags.push_back(static_cast<uint8_t>(free >> 8));
   }
   flags.resize(h_.points_offset - h_.flags_offset, 0);  // zero padding
   Write(h_.flags_offset, flags.data(), static_cast<int64_t>(flags.size()));
+}
+
+void BinaryProblemWriter::WriteRigs(const Problem& c) {
+  std::vector<uint8_t> rig(4 * h_.num_cameras);
+  for (int32_t fr : c.image_frame) {
+    if (fr < 0 || fr >= h_.num_frames) {
+      throw std::invalid_argument("BinaryProblemWriter: frame " + std::to_string(fr) +
+                                  " out of range [0, " + std::to_string(h_.num_frames) + ")");
+    }
+  }
+  if (static_cast<int64_t>(c.sensor_kind.size()) != h_.num_intrinsics) {
+    throw std::invalid_argument("BinaryProblemWriter: a sensor kind per group needed");
+  }
+  std::memcpy(rig.data(), c.image_frame.data(), rig.size());
+  rig.insert(rig.end(), c.sensor_kind.begin(), c.sensor_kind.end());
+  rig.resize(h_.flags_offset - h_.rig_offset, 0);  // zero padding
+  Write(h_.rig_offset, rig.data(), static_cast<int64_t>(rig.size()));
 }
 
 void BinaryProblemWriter::WriteHeader() {
@@ -628,16 +717,21 @@ void BinaryProblemWriter::WriteHeader() {
                                h_.obs_camera_offset, h_.obs_pixel_offset};
   for (int s = 0; s < 5; ++s) raw.sections[s] = sections[s];
   raw.file_size = h_.file_size;
-  if (h_.version == kVersion2 || h_.version == kVersion3) {
+  if (h_.version >= kVersion2) {
     raw.intrinsic_groups = static_cast<uint32_t>(h_.num_intrinsics);
     raw.optional_sections = static_cast<uint16_t>((h_.has_fixed_cameras ? kHasFixedCameras : 0) |
                                                   (h_.has_intrinsics_free ? kHasIntrinsicsFree : 0));
-    if (h_.version == kVersion3) raw.intrinsic_slots = static_cast<uint16_t>(h_.intrinsics_size);
+    if (h_.version >= kVersion3) raw.intrinsic_slots = static_cast<uint16_t>(h_.intrinsics_size);
     raw.sections2[0] = h_.intrinsics_offset;
     raw.sections2[1] = h_.image_groups_offset;
     raw.sections2[2] = h_.flags_offset;
   }
   Write(0, &raw, kHeaderSize);
+  if (h_.num_frames >= 0) {
+    const uint64_t rig_header[2] = {static_cast<uint64_t>(h_.num_frames),
+                                    static_cast<uint64_t>(h_.rig_offset)};
+    Write(kHeaderSize, rig_header, kRigHeaderSize);
+  }
   offsets_.assign(1, 0);
 }
 

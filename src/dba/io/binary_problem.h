@@ -8,7 +8,15 @@
 // the groups 1 to 16 parameter slots. A writer uses the lowest version that
 // holds the problem (version 2: camera model 2 or fixed flags; version 3: a
 // group whose model is not RADIAL, or slots other than 5), so older problems
-// are still written byte for byte as before; all three versions are read.
+// are still written byte for byte as before; all versions are read.
+//
+// Version 4 (rigs, problem.h) is version 3 with a 16-byte extension of the
+// header (u64 frames, u64 rig section offset; the cameras start at 144),
+// f64[6 · frames] rig_from_world then f64[6 · groups] sensor_from_rig right
+// after the intrinsics (so the three are Problem::cameras), and a rig
+// section after the image groups: i32[cameras] each image's frame, then
+// u8[groups] each group's SensorKind, zero-padded to 8 bytes. Written only
+// for a problem with rigs.
 //
 //   offset 0    header, 128 bytes:
 //                 magic "DBAPROB\n" | u32 version (1 or 2) | u32 byte-order
@@ -106,10 +114,14 @@ struct BinaryProblemHeader {
   int64_t obs_pixel_offset = 0;
   int64_t file_size = 0;
   int32_t intrinsics_size = kPhotoIntrinsicsSize;  // slots per group (version 3: 1 to 16)
+  int64_t num_frames = -1;  // version 4 (rigs): frames; else -1
+  int64_t rig_offset = 0;   // version 4: image frames, then sensor kinds
 
-  // Size of Problem::cameras: camera size · cameras + slots · groups.
+  // Size of Problem::cameras: camera size · cameras + slots · groups (and
+  // with rigs 6 · (frames + groups)).
   int64_t camera_side_size() const {
-    return int64_t{camera_size} * num_cameras + int64_t{intrinsics_size} * num_intrinsics;
+    return int64_t{camera_size} * num_cameras + int64_t{intrinsics_size} * num_intrinsics +
+           (num_frames >= 0 ? kPhotoPoseSize * (num_frames + num_intrinsics) : 0);
   }
 };
 
@@ -199,6 +211,7 @@ class BinaryProblemWriter {
 
  private:
   void WriteHeader();
+  void WriteRigs(const Problem& c);
   void Flush();
   void Write(int64_t offset, const void* data, int64_t bytes);
 

@@ -153,6 +153,7 @@ void PermuteCameras(std::span<const int64_t> order, Problem* problem) {
   };
   permute(&problem->camera_intrinsics);
   permute(&problem->fixed_cameras);
+  permute(&problem->image_frame);  // rigs: the frames themselves keep their numbers
   const std::vector<int64_t> inverse = InversePermutation(order);
   for (int32_t& i : problem->obs_camera) i = static_cast<int32_t>(inverse[i]);
 }

@@ -21,6 +21,12 @@
 // the cameras they touch, renumbered locally. A single process is one rank
 // holding everything.
 //
+// Rigs (docs/design.md §1.7): when `image_frame` is not empty, each image
+// is one sensor (its intrinsic group) of a rig fired in one exposure (its
+// frame), and its pose is derived, image = sensor_from_rig ∘ rig_from_world
+// (camera/rig_pose.h); the unknowns are then the frames' and the sensors'
+// poses, held after the groups in `cameras`.
+//
 // Control points (ground control) are points with a prior on their
 // coordinates (PointPrior), held sparsely beside the points.
 //
@@ -47,6 +53,10 @@ inline constexpr int kPhotoPoseSize = 6;        // ω[3], t[3]
 inline constexpr int kPhotoIntrinsicsSize = 5;
 
 enum class CameraModel : int32_t { kBal = 0, kPhoto = 1 };
+
+// A group's sensor pose on its rig: the rig's origin (identity, no
+// unknown), or a sensor_from_rig that the solve refines or holds.
+enum SensorKind : uint8_t { kRigOrigin = 0, kSensorRefined = 1, kSensorHeld = 2 };
 
 // Bits of a group's parameters (bit j: its model's parameter j), for
 // fixed_intrinsics. The named bits are RADIAL's (f, cx, cy, k1, k2; all five
@@ -76,6 +86,13 @@ struct CameraSide {
   // a mask of the parameters held fixed (bit j: parameter j).
   std::vector<uint8_t> fixed_cameras;
   std::vector<uint16_t> fixed_intrinsics;
+  // Rigs (kPhoto; both empty without): per image its frame, per group its
+  // SensorKind. With rigs `cameras` holds after the groups' slots 6 per
+  // frame (rig_from_world) and then 6 per group (sensor_from_rig; zero for
+  // kRigOrigin), and the images' poses are composed from them. A frame is
+  // held fixed when one of its images is.
+  std::vector<int32_t> image_frame;
+  std::vector<uint8_t> sensor_kind;
 
   int camera_size() const {
     return model == CameraModel::kBal ? kBalCameraSize : kPhotoPoseSize;
@@ -88,10 +105,25 @@ struct CameraSide {
   }
   // Intrinsic groups (kPhoto; 0 for kBal).
   int64_t num_groups() const {
+    if (has_rigs()) return static_cast<int64_t>(sensor_kind.size());
     return model == CameraModel::kBal
                ? 0
                : (static_cast<int64_t>(cameras.size()) - kPhotoPoseSize * num_images()) /
                      intrinsics_size;
+  }
+  bool has_rigs() const { return !image_frame.empty(); }
+  // Frames (exposures): with rigs, those in `cameras`; else one per image.
+  int64_t num_frames() const {
+    if (!has_rigs()) return num_images();
+    return (static_cast<int64_t>(cameras.size()) - frames_offset()) / kPhotoPoseSize -
+           num_groups();
+  }
+  // With rigs: where frame f's rig_from_world and group g's sensor_from_rig
+  // start in `cameras`.
+  int64_t frames_offset() const { return intrinsics_offset(num_groups()); }
+  int64_t frame_offset(int64_t f) const { return frames_offset() + kPhotoPoseSize * f; }
+  int64_t sensor_offset(int64_t g) const {
+    return static_cast<int64_t>(cameras.size()) - kPhotoPoseSize * (num_groups() - g);
   }
   // Group g's lens model (kPhoto).
   LensModel group_model(int64_t g) const {
@@ -116,16 +148,18 @@ struct CameraSide {
   }
 
   // Every array, in one fixed order (cameras, group_models,
-  // camera_intrinsics, fixed_cameras, fixed_intrinsics): the one list of the
-  // fields for code that treats them alike (sending a share, sizing). `f`
-  // gets each vector.
+  // camera_intrinsics, fixed_cameras, fixed_intrinsics, image_frame,
+  // sensor_kind): the one list of the fields for code that treats them alike
+  // (sending a share, sizing). `f` gets each vector.
   template <class F>
   void ForEachArray(F&& f) {
     f(cameras), f(group_models), f(camera_intrinsics), f(fixed_cameras), f(fixed_intrinsics);
+    f(image_frame), f(sensor_kind);
   }
   template <class F>
   void ForEachArray(F&& f) const {
     f(cameras), f(group_models), f(camera_intrinsics), f(fixed_cameras), f(fixed_intrinsics);
+    f(image_frame), f(sensor_kind);
   }
   // Bytes held by the arrays (capacity, not size).
   int64_t MemoryBytes() const { return ArrayBytes(*this); }

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "dba/camera/bal_camera_lanes.h"
+#include "dba/camera/rig_pose.h"
 
 namespace dba {
 namespace {
@@ -21,8 +22,29 @@ void Resize(int m, PointSystem<Model>* sys) {
   sys->W_i.resize(m);
 }
 
+// An observation's Jacobians in its frame's and its sensor's steps (rigs,
+// camera/rig_pose.h), from its image's point Jacobian J_p.
+template <class Model>
+void RigJacobians(const Problem& problem, int32_t i, const RotationFrame& image, const double* X,
+                  int a, PoseJacobian* J_sensor, PointSystem<Model>* sys) {
+  const int32_t f = problem.image_frame[i];
+  const int32_t g = problem.camera_intrinsics[i];
+  const double* frame_pose = problem.cameras.data() + problem.frame_offset(f);
+  const double* sensor_pose = problem.cameras.data() + problem.sensor_offset(g);
+  // Frames, then groups, in one cache (a copy: the second Get may take the
+  // first's slot).
+  const RotationFrame frame = sys->rig_frames.Get(f, frame_pose);
+  const RotationFrame& sensor =
+      sys->rig_frames.Get(static_cast<int32_t>(problem.num_frames() + g), sensor_pose);
+  const RigChain chain = MakeRigChain(frame, sensor, sensor_pose);
+  const double* pose = problem.camera(i);
+  const Vec3 P = image.R * Eigen::Map<const Vec3>(X) + Vec3(pose[3], pose[4], pose[5]);
+  RigResidualJacobians(chain, image.R, P, sys->J_p[a], &sys->J_c[a], J_sensor);
+}
+
 // Residual and Jacobians of one observation in the photogrammetric model;
-// the intrinsics Jacobian packed to the group's free parameters.
+// the intrinsics Jacobian packed to the group's free parameters (and, on a
+// rig, its sensor pose's six after them).
 template <class Model>
 Vec2 LinearizePhotoObservation(const Problem& problem, const UnknownLayout& layout, int64_t obs,
                                const double* X, int a, PointSystem<Model>* sys) {
@@ -32,16 +54,24 @@ Vec2 LinearizePhotoObservation(const Problem& problem, const UnknownLayout& layo
   sys->camera_row[a] = rows.camera;
   const int32_t row = sys->intrinsics_row[a] = rows.intrinsics;
   IntrinsicsJacobian full;
+  const RotationFrame& image = sys->frames.Get(i, problem.camera(i));
+  const bool rig = problem.has_rigs();
   const Vec2 r = PhotoResidualAndJacobians(
-      problem.group_model(g), sys->frames.Get(i, problem.camera(i)), problem.camera(i),
-      problem.intrinsics(g), X, problem.pixel(obs), &sys->J_c[a], row >= 0 ? &full : nullptr,
-      &sys->J_p[a]);
+      problem.group_model(g), image, problem.camera(i), problem.intrinsics(g), X,
+      problem.pixel(obs), rig ? nullptr : &sys->J_c[a], row >= 0 ? &full : nullptr, &sys->J_p[a]);
+  PoseJacobian J_sensor;
+  const int n = row >= 0 ? layout.intrinsic_unknowns(row) : 0;
+  const bool sensor = row >= 0 && n < layout.block_size(row);
+  if (rig) RigJacobians(problem, i, image, X, a, sensor ? &J_sensor : nullptr, sys);
   if (row >= 0) {
     const auto& index = layout.intrinsics_free_index(g);
-    const int n = layout.block_size(row);
     auto& J = sys->J_i[a];
     for (int j = 0; j < n; ++j) J.col(j) = full.col(index[j]);
-    for (int j = n; j < Model::kIntrinsics; ++j) J.col(j).setZero();
+    int j = n;
+    if (sensor) {
+      for (; j < n + kPoseSize; ++j) J.col(j) = J_sensor.col(j - n);
+    }
+    for (; j < Model::kIntrinsics; ++j) J.col(j).setZero();
   }
   return r;
 }

@@ -31,6 +31,12 @@
 // The intrinsics Jacobian keeps only the free parameters, packed into its
 // first columns (the rest zero), so fixed ones are not unknowns.
 //
+// With rigs (camera/rig_pose.h) J_c is the observation's Jacobian in its
+// frame's step, and a refined sensor pose's six columns follow the free
+// intrinsics in J_i: the sensor is one more shared block of its group's
+// row, and two images of one frame seeing the point are two observations
+// on one camera row (the kernels handle both already).
+//
 // Thread safety: a PointSystem is scratch for one thread.
 #pragma once
 
@@ -122,6 +128,9 @@ struct PointSystem {
   // Rotation frames of the current cameras (a PointSystem lives for one
   // formation or back-substitution).
   RotationFrameCache frames;
+  // With rigs: the frames' (by frame) and the sensors' (by num_frames +
+  // group) rotation frames.
+  RotationFrameCache rig_frames;
   Vec3 g_p;
   double cost = 0.0;  // ½ Σ ρ(|r_a|²) (r, J above are the corrected ones)
   // ½ Σ (ρ(|r_a|²) - |r̃_a|²): the model ½ |r̃ + J̃ δ|² plus this is the

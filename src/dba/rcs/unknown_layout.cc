@@ -2,21 +2,33 @@
 #include "dba/rcs/unknown_layout.h"
 
 #include "dba/camera/pose_step.h"
+#include "dba/camera/rig_pose.h"
 
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 namespace dba {
 
 UnknownLayout::UnknownLayout(const CameraSide& problem) {
-  const int64_t num_cameras = problem.num_images();
-  if (num_cameras + problem.num_groups() > std::numeric_limits<int32_t>::max()) {
+  if (problem.num_frames() + problem.num_groups() > std::numeric_limits<int32_t>::max()) {
     // Block rows are 32-bit ids (docs/design.md §2).
     throw std::invalid_argument("more than 2^31 - 1 cameras and intrinsic groups");
   }
-  const int cs = problem.camera_size();
   num_parameters_ = static_cast<int64_t>(problem.cameras.size());
+  if (problem.has_rigs()) {
+    AddFrameRows(problem);
+  } else {
+    AddCameraRows(problem);
+  }
+  num_camera_rows_ = num_block_rows();
+  AddIntrinsicsRows(problem);
+}
+
+void UnknownLayout::AddCameraRows(const CameraSide& problem) {
+  const int64_t num_cameras = problem.num_images();
+  const int cs = problem.camera_size();
   camera_row_.assign(num_cameras, -1);
   for (int64_t i = 0; i < num_cameras; ++i) {
     if (problem.camera_fixed(i)) continue;
@@ -26,7 +38,36 @@ UnknownLayout::UnknownLayout(const CameraSide& problem) {
     row_entity_.push_back(static_cast<int32_t>(i));
     row_offset_.push_back(row_offset_.back() + cs);
   }
-  num_camera_rows_ = num_block_rows();
+}
+
+// One row per frame none of whose images is held; each image on its frame's.
+void UnknownLayout::AddFrameRows(const CameraSide& side) {
+  const int64_t frames = side.num_frames();
+  std::vector<uint8_t> held(frames, 0);
+  for (int64_t i = 0; i < side.num_images(); ++i) {
+    if (side.camera_fixed(i)) held[side.image_frame[i]] = 1;
+  }
+  std::vector<int32_t> frame_row(frames, -1);
+  for (int64_t f = 0; f < frames; ++f) {
+    if (held[f]) continue;
+    frame_row[f] = static_cast<int32_t>(block_sizes_.size());
+    block_sizes_.push_back(kPoseSize);
+    param_offset_.push_back(side.frame_offset(f));
+    row_entity_.push_back(static_cast<int32_t>(f));
+    row_offset_.push_back(row_offset_.back() + kPoseSize);
+  }
+  camera_row_.resize(side.num_images());
+  for (int64_t i = 0; i < side.num_images(); ++i) camera_row_[i] = frame_row[side.image_frame[i]];
+  image_frame_ = side.image_frame;
+  image_group_ = side.camera_intrinsics;
+  frames_offset_ = side.frames_offset();
+  sensor_offset_.assign(side.num_groups(), -1);
+  for (int64_t g = 0; g < side.num_groups(); ++g) {
+    if (side.sensor_kind[g] == kSensorRefined) sensor_offset_[g] = side.sensor_offset(g);
+  }
+}
+
+void UnknownLayout::AddIntrinsicsRows(const CameraSide& problem) {
   const int64_t num_groups = problem.num_groups();
   intrinsics_row_.assign(num_groups, -1);
   free_index_.resize(num_groups);
@@ -38,7 +79,15 @@ UnknownLayout::UnknownLayout(const CameraSide& problem) {
     for (int d = 0; d < kMaxIntrinsics; ++d) {
       if (mask & (1u << d)) index[n++] = static_cast<int8_t>(d);
     }
+    if (!sensor_offset_.empty() && sensor_offset_[g] >= 0) n += kPoseSize;
     if (n == 0) continue;
+    if (n > kMaxIntrinsics) {
+      throw std::invalid_argument(
+          "intrinsic group " + std::to_string(g) + ": " + std::to_string(n - kPoseSize) +
+          " free intrinsics and a refined sensor pose are more than " +
+          std::to_string(kMaxIntrinsics) +
+          " unknowns in one block; hold some intrinsics or the rig's geometry");
+    }
     max_intrinsics_block_ = std::max(max_intrinsics_block_, n);
     intrinsics_row_[g] = static_cast<int32_t>(block_sizes_.size());
     block_sizes_.push_back(n);
@@ -57,8 +106,26 @@ void UnknownLayout::Plus(const double* x, const double* delta, double* out) cons
       PlusPose(p, d, p);
       for (int j = kPoseSize; j < block_sizes_[r]; ++j) p[j] += d[j];
     } else {
-      for (int j = 0; j < block_sizes_[r]; ++j) out[parameter_index(r, j)] += d[j];
+      const int n = intrinsic_unknowns(r);
+      for (int j = 0; j < n; ++j) out[parameter_index(r, j)] += d[j];
+      if (n < block_sizes_[r]) {
+        double* sensor = out + sensor_offset_[row_entity_[r]];
+        PlusPose(sensor, d + n, sensor);
+      }
     }
+  }
+  ComposeImages(out);
+}
+
+// With rigs, every image's pose = its sensor's ∘ its frame's.
+void UnknownLayout::ComposeImages(double* x) const {
+  if (image_frame_.empty()) return;
+  const int64_t groups = static_cast<int64_t>(sensor_offset_.size());
+  const int64_t sensors = num_parameters_ - kPoseSize * groups;
+  for (size_t i = 0; i < image_frame_.size(); ++i) {
+    ComposeRigPose(x + sensors + kPoseSize * int64_t{image_group_[i]},
+                   x + frames_offset_ + kPoseSize * int64_t{image_frame_[i]},
+                   x + kPoseSize * static_cast<int64_t>(i));
   }
 }
 

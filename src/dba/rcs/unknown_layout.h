@@ -2,20 +2,27 @@
 // solve moves, and where they sit in the RCS (docs/design.md §2).
 //
 // Block rows of the RCS, in this order:
-//   1. every camera (image) that is not held fixed, in camera order:
+//   1. every camera (image; with rigs, frame) that is not held fixed, in order:
 //      9 unknowns (kBal) or a 6-unknown pose (kPhoto);
 //   2. (kPhoto) every intrinsic group with at least one free parameter, in
 //      group order: as many unknowns as it has free parameters (≤
 //      kMaxIntrinsics).
 // Intrinsic rows come last, so a block (camera row, intrinsic row) is always
-// in the stored upper triangle. Fixed parameters are not unknowns: they have
+// in the stored upper triangle.
+//
+// With rigs (problem.h, docs/design.md §1.7) the camera rows are the frames
+// that are not held (6 unknowns: rig_from_world), every image of a frame
+// maps to its frame's row, and a group whose sensor pose is refined has 6
+// more unknowns after its free intrinsics (sensor_from_rig). A step then
+// moves the frames and the sensors, and the images' poses are composed
+// anew from them. Fixed parameters are not unknowns: they have
 // no row and no column, and a step never changes them.
 //
 // A step δ (one value per unknown) applies to the camera-side parameters x as
 // x ⊞ δ: a camera row's first six unknowns step its pose (camera/pose_step.h:
-// the rotation about the camera's centre, then the centre), every other
-// unknown j of row r adds, x[param_offset(r) + free_index(r, j)] +=
-// δ[row_offset(r) + j].
+// the rotation about the camera's centre, then the centre), as do a
+// sensor's six; every other unknown j of row r adds,
+// x[param_offset(r) + free_index(r, j)] += δ[row_offset(r) + j].
 //
 // Thread safety: immutable after construction.
 #pragma once
@@ -41,7 +48,8 @@ class UnknownLayout {
   int64_t row_offset(int32_t r) const { return row_offset_[r]; }
   int64_t param_offset(int32_t r) const { return param_offset_[r]; }
 
-  // Block row of camera i / intrinsic group g, or -1 when held fixed.
+  // Block row of camera i (with rigs: of its frame) / intrinsic group g, or
+  // -1 when held fixed.
   int32_t camera_row(int64_t i) const { return camera_row_[i]; }
   int32_t intrinsics_row(int64_t g) const {
     return intrinsics_row_.empty() ? -1 : intrinsics_row_[g];
@@ -70,12 +78,19 @@ class UnknownLayout {
   // kernels are instantiated for.
   int max_intrinsics_block() const { return max_intrinsics_block_; }
 
+  // The intrinsics (not sensor) unknowns of intrinsics row r: its sensor
+  // pose's six, if refined, follow them.
+  int intrinsic_unknowns(int32_t r) const {
+    return block_sizes_[r] - (sensor_offset_.empty() || sensor_offset_[row_entity_[r]] < 0 ? 0 : 6);
+  }
   // Where unknown j of row r sits in x: param_offset(r) + j in a camera row
   // (whose unknowns 3-5 step the centre, not the t stored there), the
-  // group's j-th free parameter in an intrinsics row.
+  // group's j-th free parameter in an intrinsics row, then its sensor pose.
   int64_t parameter_index(int32_t r, int j) const {
-    return param_offset_[r] +
-           (r < num_camera_rows_ ? j : free_index_[row_entity_[r]][j]);
+    if (r < num_camera_rows_) return param_offset_[r] + j;
+    const int n = intrinsic_unknowns(r);
+    return j < n ? param_offset_[r] + free_index_[row_entity_[r]][j]
+                 : sensor_offset_[row_entity_[r]] + (j - n);
   }
   // out = x ⊞ δ (out may alias x).
   void Plus(const double* x, const double* delta, double* out) const;
@@ -99,7 +114,17 @@ class UnknownLayout {
   std::vector<int32_t> block_sizes_;
   std::vector<int64_t> row_offset_{0};
   std::vector<int64_t> param_offset_;
-  std::vector<int32_t> row_entity_;  // camera id (camera rows) or group id
+  std::vector<int32_t> row_entity_;  // camera (frame) id, or group id
+  // Rigs (empty without): per group where its refined sensor pose starts in
+  // x (-1: none), and per image its frame and group, to compose the images.
+  std::vector<int64_t> sensor_offset_;
+  std::vector<int32_t> image_frame_, image_group_;
+  int64_t frames_offset_ = 0;
+
+  void AddCameraRows(const CameraSide& side);
+  void AddFrameRows(const CameraSide& side);
+  void AddIntrinsicsRows(const CameraSide& side);
+  void ComposeImages(double* x) const;
 };
 
 }  // namespace dba

@@ -1,6 +1,8 @@
 // dba solve's inputs and outputs; see solve_input.h.
 #include "dba/session/solve_input.h"
 
+#include "dba/camera/rig_pose.h"
+
 #include <algorithm>
 #include <unordered_map>
 
@@ -127,6 +129,13 @@ void ApplyFixings(const UnknownsOptions& u, Problem* p) {
         "own intrinsic groups)");
   }
   ApplyFixings(CheckedFixings(u, *p), p);
+  if (!u.refine_rig_geometry) {
+    for (uint8_t& kind : p->sensor_kind) {
+      if (kind == kSensorRefined) kind = kSensorHeld;
+    }
+  }
+  // The frames are authoritative: the images' poses composed from them.
+  ComposeRigImages(p);
 }
 
 Fixings CheckedFixings(const UnknownsOptions& u, const CameraSide& side) {

@@ -45,6 +45,9 @@ struct UnknownsOptions {
   // asked (COLMAP's refine_principal_point 0, photogrammetric practice
   // without a calibration target).
   bool refine_principal_point = false;
+  // Rigs: the sensors' poses (sensor_from_rig) refined as the problem poses
+  // them (true), or all held (--rig-geometry fixed).
+  bool refine_rig_geometry = true;
 };
 
 // --fix-images's value into `u`: all, or comma-separated ids and (COLMAP)

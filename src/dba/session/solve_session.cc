@@ -28,6 +28,17 @@
 namespace dba {
 namespace {
 
+// What rigs do not reach yet (issue 46): refused by name before any work.
+void RefuseUnbuiltRigUses(const SolveOptions& options, int ranks) {
+  const char* what = ranks > 1                            ? "MPI ranks (run one process)"
+                     : !options.geo.camera_priors_path.empty() ? "--camera-priors"
+                     : !options.geo.gcps_path.empty()        ? "--gcps"
+                                                             : nullptr;
+  if (what == nullptr) return;
+  throw UsageError(options.input + ": a problem with rigs is not solved with " + what +
+                   " yet (docs/design.md §1.7)");
+}
+
 }  // namespace
 
 SolveInput LoadInput(const SolveOptions& options, const Communicator& comm) {
@@ -141,6 +152,7 @@ SolveResult SolveSession::Run(SolveInput input) {
   if (comm_->is_main()) {
     Timer load;
     Start(input_);
+    if (result_.problem.has_rigs()) RefuseUnbuiltRigUses(options_, comm_->size());
     // Every rank that reads the file moves its own copy alike (ReadShare).
     const std::vector<FovStartMove> fov = StartFovOutsideSeries(&result_.problem);
     if (!options_.quiet) out_ << DescribeFovStartMoves(fov);

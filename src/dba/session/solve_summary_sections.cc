@@ -66,6 +66,11 @@ void TruthFigures(const SolveReport& r, Json& j) {
                        {"camera_centre_rms", t.camera_centre_rms},
                        {"point_rms", t.point_rms}};
   if (!t.intrinsics_error.empty()) j["ground_truth"]["intrinsics_error"] = IntrinsicsErrors(t);
+  if (!t.sensor_group.empty()) {
+    j["ground_truth"]["sensors"] = {{"group", t.sensor_group},
+                                    {"rotation_error_deg", t.sensor_rotation_error_deg},
+                                    {"position_error", t.sensor_position_error}};
+  }
   // Per camera, for a top view of the errors (python3 -m dba.plot).
   j["ground_truth"]["cameras"] = {{"true_x", t.centre_x},
                                   {"true_y", t.centre_y},

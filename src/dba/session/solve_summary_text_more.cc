@@ -152,6 +152,15 @@ void PrintTruth(const Json& j, std::ostream& out) {
     out << buf;
   }
   if (t.contains("intrinsics_error")) PrintIntrinsicsErrors(t["intrinsics_error"], out);
+  if (t.contains("sensors")) {
+    const Json& s = t["sensors"];
+    for (size_t x = 0; x < s["group"].size(); ++x) {
+      std::snprintf(buf, sizeof buf, "                      sensor of group %lld: %.5f deg, %.5g in its rig\n",
+                    static_cast<long long>(s["group"][x].get<int64_t>()),
+                    s["rotation_error_deg"][x].get<double>(), s["position_error"][x].get<double>());
+      out << buf;
+    }
+  }
 }
 
 void PrintRanks(const Json& j, std::ostream& out) {

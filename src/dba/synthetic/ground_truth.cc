@@ -87,6 +87,23 @@ void CheckSizes(const Problem& truth, const std::vector<double>& cameras,
   }
 }
 
+// Rigs: each non-origin sensor's rotation and (scaled) place against the
+// truth's.
+void SensorErrors(const Problem& truth, const std::vector<double>& cameras, GroundTruthErrors* e) {
+  for (int64_t g = 0; g < truth.num_groups(); ++g) {
+    if (truth.sensor_kind[g] == kRigOrigin) continue;
+    const double* solved = cameras.data() + truth.sensor_offset(g);
+    const double* real = truth.cameras.data() + truth.sensor_offset(g);
+    const Mat3 R = AngleAxisToRotation(Eigen::Map<const Vec3>(solved));
+    const Mat3 R_true = AngleAxisToRotation(Eigen::Map<const Vec3>(real));
+    e->sensor_group.push_back(g);
+    e->sensor_rotation_error_deg.push_back(Eigen::AngleAxisd(R * R_true.transpose()).angle() * 180.0 /
+                                           M_PI);
+    e->sensor_position_error.push_back(
+        (e->similarity_scale * CameraCentre(solved) - CameraCentre(real)).norm());
+  }
+}
+
 // Alignment and intrinsics errors; `truth` needs its camera side and points
 // only.
 GroundTruthErrors GeometryErrors(const Problem& truth, const std::vector<double>& cameras,
@@ -132,6 +149,7 @@ GroundTruthErrors GeometryErrors(const Problem& truth, const std::vector<double>
     e.intrinsics_error.push_back(std::move(err));
     e.true_focal.push_back(truth.intrinsics(g)[0]);
   }
+  if (truth.has_rigs()) SensorErrors(truth, cameras, &e);
   return e;
 }
 

@@ -14,7 +14,9 @@
 //   - photogrammetric model: per intrinsic group the absolute errors
 //     |f - f_true|, |cx - cx_true|, |cy - cy_true|, |k1 - k1_true|,
 //     |k2 - k2_true| (intrinsics do not change under a similarity, so they
-//     are compared as they are).
+//     are compared as they are);
+//   - rigs: each sensor's pose in its rig (rotation, and place scaled by the
+//     alignment's scale).
 //
 // Thread safety: pure function.
 #pragma once
@@ -50,6 +52,12 @@ struct GroundTruthErrors {
   std::vector<LensModel> intrinsics_model;
   std::vector<std::vector<double>> intrinsics_error;
   std::vector<double> true_focal;
+  // Rigs: per group whose sensor is not its rig's origin, the angle between
+  // the solved and the true sensor_from_rig rotations (degrees; a
+  // similarity does not change it) and the distance between the sensor's
+  // place in its rig, scaled by the alignment's scale, and the true one.
+  std::vector<int64_t> sensor_group;
+  std::vector<double> sensor_rotation_error_deg, sensor_position_error;
 };
 
 // `truth` is the ground-truth problem (true parameters, noise-free pixels);

@@ -6,6 +6,7 @@
 
 #include "dba/camera/bal_camera.h"
 #include "dba/camera/photo_camera.h"
+#include "dba/camera/rig_pose.h"
 #include "dba/rcs/unknown_layout.h"
 
 namespace dba::testing {
@@ -52,12 +53,27 @@ DenseNormalEquations BuildDenseNormalEquations(const Problem& problem,
         r = PhotoResidualAndJacobians(problem.group_model(g), problem.camera(i),
                                       problem.intrinsics(g), problem.point(k),
                                       problem.pixel(obs), &J_pose, &J_in, &J_p);
-        if (row >= 0) d.J.block(2 * obs, layout.row_offset(row), 2, 6) = J_pose;
         const int32_t grow = layout.intrinsics_row(g);
         int64_t col = grow >= 0 ? layout.row_offset(grow) : -1;
         for (int p = 0; p < problem.intrinsics_size && col >= 0; ++p) {
           if (problem.intrinsics_free_mask(g) & (1u << p)) d.J.block(2 * obs, col++, 2, 1) = J_in.col(p);
         }
+        if (problem.has_rigs()) {
+          // The frame's and (when refined) the sensor's columns instead of
+          // the image's (camera/rig_pose.h).
+          const double* frame = problem.cameras.data() + problem.frame_offset(problem.image_frame[i]);
+          const double* sensor = problem.cameras.data() + problem.sensor_offset(g);
+          const RotationFrame image = MakeRotationFrame(problem.camera(i));
+          const Vec3 P = image.R * Eigen::Map<const Vec3>(problem.point(k)) +
+                         Eigen::Map<const Vec3>(problem.camera(i) + 3);
+          PoseJacobian J_sensor;
+          RigResidualJacobians(MakeRigChain(MakeRotationFrame(frame), MakeRotationFrame(sensor), sensor),
+                               image.R, P, J_p, &J_pose, &J_sensor);
+          if (grow >= 0 && layout.intrinsic_unknowns(grow) < layout.block_size(grow)) {
+            d.J.block(2 * obs, col, 2, 6) = J_sensor;
+          }
+        }
+        if (row >= 0) d.J.block(2 * obs, layout.row_offset(row), 2, 6) = J_pose;
       }
       d.J.block(2 * obs, nc + 3 * k, 2, 3) = J_p;
       d.r.segment<2>(2 * obs) = r;
