@@ -113,6 +113,7 @@ struct ConvertArgs {
   std::vector<std::string> files;  // INPUT OUTPUT
   std::optional<ColmapFormat> colmap_format;
   int64_t shuffle_seed = -1;  // -1: keep the input's order
+  bool drop_rigs = false;
 };
 
 OptionSpec<ConvertArgs> ShuffleOption() {
@@ -131,12 +132,18 @@ const std::vector<OptionSpec<ConvertArgs>>& ConvertOptionTable() {
       "a COLMAP output's form (default: the input's)",
       [](ConvertArgs& a, size_t i) { a.colmap_format = i == 0 ? ColmapFormat::kText : ColmapFormat::kBinary; },
       [](const ConvertArgs&) { return std::string(); }),
-      ShuffleOption()};
+      ShuffleOption(),
+      FlagOption<ConvertArgs>(
+          "--drop-rigs",
+          "a problem with rigs (.dba version 4): every image its own pose unknown, at its "
+          "composed pose (the same images solved as independent cameras)",
+          [](auto& a) -> bool& { return a.drop_rigs; })};
   return table;
 }
 
 void PrintConvertHelp(std::ostream& out) {
   out << "Usage: dba convert INPUT OUTPUT [--colmap-format text|binary] [--shuffle SEED]\n"
+         "                   [--drop-rigs]\n"
          "\n"
          "Converts between BAL text (plain or .bz2) and the dba binary format,\n"
          "losslessly. The input kind is detected by content; the output kind by\n"
@@ -184,9 +191,9 @@ int ConvertMain(const std::vector<std::string>& all_args) {
     std::cerr << "dba convert: --colmap-format applies to a COLMAP input\n";
     return 2;
   }
-  if (IsColmapInput(args[0]) && parsed.shuffle_seed >= 0) {
-    std::cerr << "dba convert: --shuffle applies to a BAL or .dba input (a COLMAP model's ids "
-                 "are its own)\n";
+  if (IsColmapInput(args[0]) && (parsed.shuffle_seed >= 0 || parsed.drop_rigs)) {
+    std::cerr << "dba convert: --shuffle and --drop-rigs apply to a BAL or .dba input (a COLMAP "
+                 "model's ids are its own)\n";
     return 2;
   }
   try {
@@ -200,6 +207,7 @@ int ConvertMain(const std::vector<std::string>& all_args) {
     }
     Problem problem = ReadProblem(args[0]);
     if (parsed.shuffle_seed >= 0) RenumberAtRandom(static_cast<uint64_t>(parsed.shuffle_seed), &problem);
+    if (parsed.drop_rigs) problem.DropRigs();
     if (problem.model == CameraModel::kPhoto &&
         KindOfPath(out) != PathKind::kBinary) {
       throw std::invalid_argument(

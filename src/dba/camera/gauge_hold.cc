@@ -52,9 +52,15 @@ GaugeReference TakeGaugeReference(const CameraSide& side, bool external) {
   }
   ref.hold = fixed >= 0 ? GaugeHold::kFixedImage : GaugeHold::kFirstImage;
   std::copy_n(side.camera(ref.anchor), 6, ref.pose.begin());
+  // With rigs the scale is held between two frames' origins (the anchor's
+  // sensor in another frame), not by a sensor's place in its rig.
+  auto other_frame = [&](int64_t i) {
+    return !side.has_rigs() || (side.image_frame[i] != side.image_frame[ref.anchor] &&
+                                side.camera_intrinsics[i] == side.camera_intrinsics[ref.anchor]);
+  };
   for (int64_t i = 0; i < side.num_images(); ++i) {
     const double d = (CameraCentre(side.camera(i)) - anchor).norm();
-    if (i != ref.anchor && d > apart) {
+    if (i != ref.anchor && d > apart && other_frame(i)) {
       ref.second = i;
       ref.distance = d;
       break;

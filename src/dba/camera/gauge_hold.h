@@ -6,7 +6,9 @@
 // mapping the optimum back onto the input's frame:
 //
 //   anchor A (the first image, or the first image held fixed), second B
-//   (the first image whose centre is away from A's, as loaded)
+//   (the first image whose centre is away from A's, as loaded; with rigs,
+//   the first of A's sensor in another frame: with A the rig's origin, the
+//   first frame's pose and the distance between two frames' origins)
 //   X' = s Q X + T   with  Q = R_A,inᵀ R_A,   s = |C_B,in − C_A,in| / |C_B − C_A|,
 //                         T = R_A,inᵀ (s t_A − t_A,in)
 //

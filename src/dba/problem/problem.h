@@ -163,6 +163,14 @@ struct CameraSide {
   }
   // Bytes held by the arrays (capacity, not size).
   int64_t MemoryBytes() const { return ArrayBytes(*this); }
+  // Every image its own exposure again: the frames' and sensors' poses
+  // dropped, the images' (composed) poses kept.
+  void DropRigs() {
+    if (!has_rigs()) return;
+    cameras.resize(static_cast<size_t>(frames_offset()));
+    image_frame.clear();
+    sensor_kind.clear();
+  }
 
  protected:
   template <class T>

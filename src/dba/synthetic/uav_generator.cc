@@ -21,6 +21,7 @@
 #include "dba/common/timer.h"
 #include "dba/io/bal_writer.h"
 #include "dba/io/binary_problem.h"
+#include "dba/synthetic/rig_survey.h"
 
 namespace dba {
 namespace {
@@ -158,9 +159,14 @@ Problem PhotoCameraSide(const UavSurveyOptions& o, const Layout& l,
 // Calls emit(true X, initial X, cameras, true pixels, noisy pixels) for every
 // point with at least two observations, tile by tile. project(i, X, &pixel)
 // is the true projection into image i, false when outside the image.
+// With a rig, the candidates are frames and each frame's S images
+// (f · S + s) are tried in turn, sensor s keeping a point it sees with
+// probability rig->keep[s].
 template <typename Project, typename Emit>
 void ForEachPoint(const UavSurveyOptions& o, const Layout& l, Project project,
-                  const std::function<void(double)>& progress, Emit emit) {
+                  const std::function<void(double)>& progress, Emit emit,
+                  const RigSensors* rig = nullptr) {
+  const int64_t sensors = rig != nullptr ? static_cast<int64_t>(rig->keep.size()) : 1;
   std::vector<int32_t> seen;
   std::vector<double> clean, noisy;
   for (int64_t ty = 0; ty < l.tiles_y; ++ty) {
@@ -186,17 +192,21 @@ void ForEachPoint(const UavSurveyOptions& o, const Layout& l, Project project,
         clean.clear();
         noisy.clear();
         // Candidate images: strips and positions whose footprint may hold X.
-        const double reach = 0.75 * l.footprint;
+        const double reach = std::max(0.75 * l.footprint,
+                                      rig != nullptr ? rig->reach + 0.1 * l.footprint : 0.0);
         const int64_t s0 = std::max<int64_t>(0, static_cast<int64_t>(std::floor((y - reach) / l.across)));
         const int64_t s1 = std::min<int64_t>(l.strips - 1, static_cast<int64_t>(std::ceil((y + reach) / l.across)));
         const int64_t m0 = std::max<int64_t>(0, static_cast<int64_t>(std::floor((x - reach) / l.along)));
         const int64_t m1 = std::min<int64_t>(l.per_strip - 1, static_cast<int64_t>(std::ceil((x + reach) / l.along)));
         for (int64_t s = s0; s <= s1; ++s) {
           for (int64_t m = m0; m <= m1; ++m) {
-            const int64_t i = s * l.per_strip + m;
-            if (i >= l.images) continue;
+            const int64_t frame = s * l.per_strip + m;
+            if (frame >= l.images) continue;
+            for (int64_t q = 0; q < sensors; ++q) {
+            const int64_t i = frame * sensors + q;
             Vec2 px;
             if (!project(i, X, &px)) continue;
+            if (rig != nullptr && rig->keep[q] < 1.0 && u01(rng) >= rig->keep[q]) continue;
             seen.push_back(static_cast<int32_t>(i));
             clean.push_back(px.x());
             clean.push_back(px.y());
@@ -211,6 +221,7 @@ void ForEachPoint(const UavSurveyOptions& o, const Layout& l, Project project,
             }
             noisy.push_back(observed.x());
             noisy.push_back(observed.y());
+            }
           }
         }
         if (seen.size() >= 2) emit(X, X0, seen, clean, noisy);
@@ -330,6 +341,19 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
         "generate: the photogrammetric model needs .dba outputs (the BAL text format cannot "
         "hold intrinsics shared by several images)");
   }
+  RigSensors rig;
+  const bool rigs = !o.rig.empty();
+  if (rigs) {
+    if (!photo || !o.priors_path.empty() || !o.gcps_path.empty() || o.unaligned) {
+      throw std::invalid_argument(
+          "generate: --rig needs --model photo, and is not combined with --gnss, --gcps or "
+          "--unaligned yet");
+    }
+    rig = MakeRigSensors(o.rig, o.seed, o.flying_height, o.focal_px, o.image_size);
+    const int64_t sensors = static_cast<int64_t>(rig.keep.size());
+    o.images = std::max<int64_t>(2, (o.images + sensors - 1) / sensors);  // frames
+    o.physical_cameras = static_cast<int>(sensors);
+  }
   Timer timer;
   const Layout l = MakeLayout(o);
   std::vector<double> true_cameras, initial_cameras;
@@ -344,6 +368,12 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
   if (photo) {
     true_side = PhotoCameraSide(o, l, true_cameras);
     initial_side = PhotoCameraSide(o, l, initial_cameras);
+    if (rigs) {
+      true_side = RigCameraSide(true_side, rig.truth, rig.truth_first);
+      initial_side = RigCameraSide(initial_side, rig.nominal, rig.nominal_first);
+      summary.images = true_side.num_images();
+      summary.frames = l.images;
+    }
     std::vector<double>().swap(true_cameras);
     std::vector<double>().swap(initial_cameras);
     summary.intrinsic_groups = true_side.num_groups();
@@ -391,7 +421,8 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
                  [&](auto&, auto&, auto& seen, auto&, auto&) {
                    ++summary.points;
                    summary.observations += static_cast<int64_t>(seen.size());
-                 });
+                 },
+                 rigs ? &rig : nullptr);
     BinaryProblemWriter out(path, initial_side, summary.points, summary.observations);
     std::unique_ptr<BinaryProblemWriter> truth;
     if (!truth_path.empty()) {
@@ -405,7 +436,8 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
                    initial_point(X0, x0);
                    out.AppendPoint(x0, seen, noisy);
                    if (truth) truth->AppendPoint(X, seen, clean);
-                 });
+                 },
+                 rigs ? &rig : nullptr);
     out.Commit();
     if (truth) truth->Commit();
   } else {
@@ -424,7 +456,8 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
                    problem.obs_pixel.insert(problem.obs_pixel.end(), noisy.begin(), noisy.end());
                    truth.obs_pixel.insert(truth.obs_pixel.end(), clean.begin(), clean.end());
                    problem.point_offsets.push_back(problem.num_observations());
-                 });
+                 },
+                 rigs ? &rig : nullptr);
     truth.obs_camera = problem.obs_camera;
     truth.point_offsets = problem.point_offsets;
     summary.points = problem.num_points();

@@ -91,6 +91,11 @@ struct UavSurveyOptions {
   // 0.5 to 2, any rotation, a shift of up to 1 km), as a reconstruction is
   // before georeferencing; the truth stays in the world frame.
   bool unaligned = false;
+  // Rigs (synthetic/rig_survey.h): "" (every image its own exposure), or
+  // oblique5, stereo, ring6: `images` / sensors frames (rounded up) along
+  // the strips, each an exposure of every sensor (kPhoto, .dba version 4;
+  // `physical_cameras` is then one per sensor).
+  std::string rig;
 };
 
 // The focal length of `o`'s lens model: focal_px, or with a field of view
@@ -116,6 +121,7 @@ struct UavSurveySummary {
   int64_t strips = 0;
   int64_t images_per_strip = 0;
   int64_t intrinsic_groups = 0;  // kPhoto: physical cameras used; kBal: 0
+  int64_t frames = 0;            // with a rig: its exposures (else 0)
   double seconds = 0.0;
 };
 
