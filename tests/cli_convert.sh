@@ -46,7 +46,7 @@ check "shuffled: the same final cost (1e-9)" json "$tmp/ps.json" \
   "near(d['final_cost'], $(json_value "$tmp/po.json" final_cost), 1e-9)"
 "$dba" convert "$root/tests/data/colmap_models/PINHOLE/text" "$tmp/colmap_shuffled" --shuffle 1 >"$tmp/err" 2>&1
 check "shuffle of a COLMAP model: exit 2" test $? -eq 2
-check "shuffle of a COLMAP model: says why" grep -q "applies to a BAL or .dba input" "$tmp/err"
+check "shuffle of a COLMAP model: says why" grep -q "apply to a BAL or .dba input" "$tmp/err"
 check "shuffle of a COLMAP model: nothing written" test ! -e "$tmp/colmap_shuffled"
 
 # A photogrammetric .dba: info shows the model and groups; it converts to

@@ -17,6 +17,7 @@
 #include "dba/io/read_problem.h"
 #include "dba/problem/fixings.h"
 #include "dba/testing/synthetic_photo.h"
+#include "dba/testing/synthetic_rig.h"
 #include "dba/testing/temp_files.h"
 
 namespace dba {
@@ -502,7 +503,7 @@ TEST_F(CorruptPhotoBinaryTest, RefusesEachFailureMode) {
   ExpectRefused(With<uint32_t>(20, 9), "camera model 2 of size 9 is not supported");
   ExpectRefused(With<uint32_t>(16, 3), "camera model 3 of size 6 is not supported");
   ExpectRefused(With<uint32_t>(8, 1), "camera model 2 of size 6 is not supported in version 1");
-  ExpectRefused(With<uint32_t>(8, 4), "format version 4, this dba reads versions 1 to 3");
+  ExpectRefused(With<uint32_t>(8, 5), "format version 5, this dba reads versions 1 to 4");
   // A BAL model with free-intrinsics masks, or with intrinsic groups.
   std::string b = With<uint32_t>(16, 1);
   const uint32_t nine = 9, fixed_only = 1;
@@ -530,8 +531,10 @@ TEST_F(CorruptPhotoBinaryTest, EveryReaderRefusesABadGroup) {
 
 TEST_F(CorruptBinaryTest, Version1RelabelledAsVersion2OrAnUnknownVersionIsRefused) {
   std::string b = bytes_;
-  b[8] = 4;
-  ExpectRefused(b, "format version 4");
+  b[8] = 5;
+  ExpectRefused(b, "format version 5");
+  b[8] = 4;  // version 4's frames are 8 bytes of the cameras here
+  ExpectRefused(b, "version 4 header:");
   b[8] = 3;  // version 3 is photogrammetric only
   ExpectRefused(b, "version 3 header: 0 intrinsic slots");
   b[8] = 2;  // the version-2 section table is zero
@@ -684,6 +687,67 @@ TEST(BinaryProblem, ParametersOutOfTheirLensRangeAreRefused) {
       EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos) << e.what();
     }
   }
+}
+
+// Version 4: rigs round-trip exactly; a model without them is written as
+// before (version 2 or 3); a rig section that does not fit is refused.
+TEST(BinaryProblemRigs, Version4RoundTripsFramesSensorsAndKinds) {
+  testing::SyntheticRigOptions o;
+  o.sensors = 3;
+  o.missing = true;
+  Problem p = testing::MakeSyntheticRig(o).problem;
+  p.sensor_kind[2] = kSensorHeld;
+  const std::string path = Tmp("rig.dba");
+  WriteBinaryProblem(p, path);
+  const BinaryProblemHeader h = ReadBinaryProblemHeader(path);
+  EXPECT_EQ(h.version, 4u);
+  EXPECT_EQ(h.num_frames, 6);
+  EXPECT_EQ(h.camera_side_size(), static_cast<int64_t>(p.cameras.size()));
+  const Problem q = ReadBinaryProblem(path);
+  ExpectIdentical(p, q);
+  EXPECT_EQ(q.image_frame, p.image_frame);
+  EXPECT_EQ(q.sensor_kind, p.sensor_kind);
+  WriteBinaryProblem(q, Tmp("rig2.dba"));
+  EXPECT_EQ(ReadBytes(path), ReadBytes(Tmp("rig2.dba")));
+  // Without the rigs: version 2, the images' poses kept.
+  Problem dropped = p;
+  dropped.DropRigs();
+  WriteBinaryProblem(dropped, Tmp("norig.dba"));
+  EXPECT_EQ(ReadBinaryProblemHeader(Tmp("norig.dba")).version, 2u);
+  EXPECT_EQ(ReadBinaryProblem(Tmp("norig.dba")).cameras,
+            std::vector<double>(p.cameras.begin(), p.cameras.begin() + p.frames_offset()));
+}
+
+TEST(BinaryProblemRigs, RefusesFramesAndKindsThatDoNotFit) {
+  testing::SyntheticRigOptions o;
+  const Problem p = testing::MakeSyntheticRig(o).problem;
+  const std::string good = Tmp("rig-good.dba"), bad = Tmp("rig-bad.dba");
+  WriteBinaryProblem(p, good);
+  const BinaryProblemHeader h = ReadBinaryProblemHeader(good);
+  const std::string bytes = ReadBytes(good);
+  auto expect_refused = [&](std::string b, const std::string& phrase) {
+    WriteBytes(bad, b);
+    try {
+      ReadBinaryProblem(bad);
+      FAIL() << "accepted: " << phrase;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos) << e.what();
+    }
+  };
+  std::string b = bytes;
+  const int32_t frame = 99;
+  std::memcpy(&b[h.rig_offset], &frame, 4);
+  expect_refused(b, "frame 99 of image 0 is out of range");
+  b = bytes;
+  b[h.rig_offset + 4 * h.num_cameras + 1] = 7;
+  expect_refused(b, "sensor kind 7 of group 1");
+  b = bytes;
+  b[h.rig_offset + 4 * h.num_cameras + 1] = 0;  // a sensor with a pose called the origin
+  expect_refused(b, "is its rig's origin but its sensor pose is not zero");
+  b = bytes;
+  const uint64_t frames = 1000;
+  std::memcpy(&b[128], &frames, 8);
+  expect_refused(b, "frames for");
 }
 
 }  // namespace
