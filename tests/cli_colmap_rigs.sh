@@ -2,8 +2,8 @@
 # COLMAP >= 3.12's rigs and frames: a model with trivial ones (one camera
 # per rig, one image per frame, text or binary) is read and written back
 # with each frame at its image's solved pose, in place too, in either
-# format; a rig of several cameras is refused naming the file and line (or
-# byte); a model without rigs is never written into a directory holding
+# format; rigs and frames that do not fit the model are refused naming the
+# file (and byte); a model without rigs is never written into a directory holding
 # rigs or frames files (they would give COLMAP >= 3.12 the old poses with
 # the new points), nor a model with them beside the other format's.
 # Usage: cli_colmap_rigs.sh PATH_TO_DBA PROJECT_ROOT
@@ -70,12 +70,13 @@ touch "$tmp/old/rigs.bin"
 check "an old model's directory with rigs is refused (exit 2)" test $? -eq 2
 check "... and nothing is written there" test ! -e "$tmp/old/images.txt"
 
-# A rig of two cameras, and binary rigs: refused naming the file and line.
+# A rig naming a camera the model lacks, and binary rigs cut short:
+# refused naming the file (and byte).
 cp "$tmp/before/frames.txt" "$tmp/m/"
 echo "1 2 CAMERA 1 CAMERA 2 1 1 0 0 0 0.1 0 0" >"$tmp/m/rigs.txt"
 "$dba" solve "$tmp/m" -q >"$tmp/log" 2>&1
-check "a rig of two cameras exits 1" test $? -eq 1
-check "... naming the file and line" contains "$tmp/log" "$tmp/m/rigs.txt:1: 2 sensors: a rig of several cameras is not modelled yet"
+check "a rig naming a camera the model lacks exits 1" test $? -eq 1
+check "... naming the file and the camera" contains "$tmp/log" "$tmp/m/rigs.txt: rig 1: camera 2 is not in the model"
 rm "$tmp/m/rigs.txt"
 "$dba" solve "$tmp/m" -q >"$tmp/log" 2>&1
 check "frames without rigs are refused by name" contains "$tmp/log" "rigs.txt: missing: COLMAP >= 3.12 writes rigs and frames together"
@@ -94,8 +95,9 @@ check "an image in two frames is refused" contains "$tmp/log" "is also in frame"
 frames_case none '!/^#/ && ++n == 3 {next} {print}'
 "$dba" solve "$tmp/none" -q >"$tmp/log" 2>&1
 check "an image in no frame is refused" contains "$tmp/log" "is in no frame"
-# Binary: a rig of two sensors (num_sensors at byte 12), a frame of two
-# images (num_data_ids at byte 8 + 64), a truncated frames.bin.
+# Binary: a rig said to have two sensors (num_sensors at byte 12) but
+# holding one, a frame said to hold two images (num_data_ids at byte 8 +
+# 64), a truncated frames.bin.
 cp -r "$tmp/before" "$tmp/b2"
 rm "$tmp/b2/"*.txt
 "$dba" convert "$tmp/before" "$tmp/b2" --colmap-format binary >/dev/null 2>&1
@@ -103,11 +105,11 @@ patch_u32() { python3 -c "import struct, sys; f = open(sys.argv[1], 'r+b'); f.se
 cp -r "$tmp/b2" "$tmp/b3"; cp -r "$tmp/b2" "$tmp/b4"
 patch_u32 "$tmp/b2/rigs.bin" 12 2
 "$dba" solve "$tmp/b2" -q >"$tmp/log" 2>&1
-check "binary: a rig of two sensors exits 1" test $? -eq 1
-check "... naming the file, the byte and the rig" contains "$tmp/log" "rigs.bin: at byte 16: rig #0 (id 1) 2 sensors: a rig of several cameras"
+check "binary: a rig cut short exits 1" test $? -eq 1
+check "... naming the file, the byte and the rig" contains "$tmp/log" "rigs.bin: at byte 24: file truncated: rig #0 (id 1)"
 patch_u32 "$tmp/b3/frames.bin" 72 2
 "$dba" solve "$tmp/b3" -q >"$tmp/log" 2>&1
-check "binary: a frame of two images is refused by name" contains "$tmp/log" "2 images: a frame of several images"
+check "binary: a frame read past its data is refused by name" contains "$tmp/log" "frames.bin: at byte 96: frame #0 (id 1) sensor type 2"
 truncate -s -3 "$tmp/b4/frames.bin"
 "$dba" solve "$tmp/b4" -q >"$tmp/log" 2>&1
 check "binary: a truncated frames.bin is refused" contains "$tmp/log" "frames.bin: at byte"

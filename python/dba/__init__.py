@@ -51,7 +51,11 @@ class Problem:
     columns of its row of intrinsics in the model's order (RADIAL: f, cx, cy,
     k1, k2). observations (M, 2) pixels of point point_indices[i] in camera
     camera_indices[i]. fixed_cameras (N,) and fixed_intrinsics (G, S): True
-    where held fixed (a model's unused columns read True)."""
+    where held fixed (a model's unused columns read True). A problem with
+    rigs (.dba version 4, read only: solve_arrays holds none yet) also has
+    frame_indices (N,) each image's frame, rig_from_world (F, 6) the frames'
+    poses, sensor_from_rig (G, 6) each group's sensor pose in its rig and
+    sensor_kinds (G,) 0 the rig's origin, 1 refined, 2 held."""
     camera_model: str
     cameras: np.ndarray
     points: np.ndarray
@@ -63,6 +67,10 @@ class Problem:
     fixed_cameras: np.ndarray
     fixed_intrinsics: np.ndarray
     lens_models: list = None
+    frame_indices: np.ndarray = None
+    rig_from_world: np.ndarray = None
+    sensor_from_rig: np.ndarray = None
+    sensor_kinds: np.ndarray = None
 
 
 @dataclass

@@ -229,7 +229,8 @@ py::dict ProblemToArrays(const Problem& p) {
   py::dict d;
   d["camera_model"] = p.model == CameraModel::kBal ? "bal" : "photo";
   const std::vector<double> poses(p.cameras.begin(), p.cameras.begin() + size * n);
-  const std::vector<double> intrinsics(p.cameras.begin() + size * n, p.cameras.end());
+  const auto groups_end = p.has_rigs() ? p.cameras.begin() + p.frames_offset() : p.cameras.end();
+  const std::vector<double> intrinsics(p.cameras.begin() + size * n, groups_end);
   d["cameras"] = Array(poses, {n, size});
   const int slots = p.intrinsics_size;
   d["intrinsics"] = Array(intrinsics, {groups, slots});
@@ -258,6 +259,18 @@ py::dict ProblemToArrays(const Problem& p) {
     }
   }
   d["fixed_intrinsics"] = fixed_intrinsics;
+  if (p.has_rigs()) {
+    // Rigs (read only: a solve of arrays holds none yet).
+    const int64_t frames = p.num_frames();
+    std::vector<int64_t> frame_of(p.image_frame.begin(), p.image_frame.end());
+    d["frame_indices"] = Array(frame_of, {n});
+    d["rig_from_world"] = Array(std::vector<double>(groups_end, groups_end + kPhotoPoseSize * frames),
+                                {frames, kPhotoPoseSize});
+    d["sensor_from_rig"] = Array(std::vector<double>(groups_end + kPhotoPoseSize * frames, p.cameras.end()),
+                                 {groups, kPhotoPoseSize});
+    std::vector<int64_t> kinds(p.sensor_kind.begin(), p.sensor_kind.end());
+    d["sensor_kinds"] = Array(kinds, {groups});
+  }
   return d;
 }
 

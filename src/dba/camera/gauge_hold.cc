@@ -58,7 +58,14 @@ GaugeReference TakeGaugeReference(const CameraSide& side, bool external) {
     return !side.has_rigs() || (side.image_frame[i] != side.image_frame[ref.anchor] &&
                                 side.camera_intrinsics[i] == side.camera_intrinsics[ref.anchor]);
   };
-  for (int64_t i = 0; i < side.num_images(); ++i) {
+  // A held sensor away from its rig's origin holds the scale itself.
+  bool scale_held = false;
+  for (int64_t g = 0; side.has_rigs() && g < side.num_groups(); ++g) {
+    const double* t = side.cameras.data() + side.sensor_offset(g) + 3;
+    scale_held |= side.sensor_kind[g] == kSensorHeld && (t[0] != 0 || t[1] != 0 || t[2] != 0);
+  }
+  ref.rig_scale = scale_held;
+  for (int64_t i = 0; i < side.num_images() && !scale_held; ++i) {
     const double d = (CameraCentre(side.camera(i)) - anchor).norm();
     if (i != ref.anchor && d > apart && other_frame(i)) {
       ref.second = i;
@@ -140,7 +147,9 @@ void MovePoints(const Similarity& s, std::vector<double>* points,
 
 std::string DescribeGauge(const GaugeReference& ref, const Similarity& moved_by) {
   const std::string second =
-      ref.second >= 0 ? "its distance to image " + std::to_string(ref.second) : "no scale (every centre at its)";
+      ref.second >= 0 ? "its distance to image " + std::to_string(ref.second)
+      : ref.rig_scale ? "the scale of the rig's held sensor places"
+                      : "no scale (every centre at its)";
   char how[160];
   std::snprintf(how, sizeof how, " (the optimum mapped back: scale %.9g, rotation %.3g rad)",
                 moved_by.scale, Eigen::AngleAxisd(moved_by.rotation).angle());

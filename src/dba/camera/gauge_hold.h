@@ -8,7 +8,9 @@
 //   anchor A (the first image, or the first image held fixed), second B
 //   (the first image whose centre is away from A's, as loaded; with rigs,
 //   the first of A's sensor in another frame: with A the rig's origin, the
-//   first frame's pose and the distance between two frames' origins)
+//   first frame's pose and the distance between two frames' origins; a
+//   held sensor away from its rig's origin holds the scale, and then only
+//   A's pose is kept)
 //   X' = s Q X + T   with  Q = R_A,inᵀ R_A,   s = |C_B,in − C_A,in| / |C_B − C_A|,
 //                         T = R_A,inᵀ (s t_A − t_A,in)
 //
@@ -45,6 +47,7 @@ struct GaugeReference {
   int64_t second = -1;             // -1: every centre at the anchor's (scale left free)
   std::array<double, 6> pose{};    // the anchor's pose as loaded (ω, t)
   double distance = 0.0;           // |C_second − C_anchor| as loaded
+  bool rig_scale = false;          // a held sensor's place holds the scale
 };
 
 // What holds the gauge of `side` as loaded; `external`: priors or control

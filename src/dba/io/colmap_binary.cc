@@ -171,33 +171,37 @@ void WritePoints3D(const ColmapModel& model, BinaryOut& out) {
   }
 }
 
-// COLMAP >= 3.12's trivial rigs (one camera, the reference sensor) and
-// frames (one image, at its solved pose), in COLMAP's binary layout
-// (colmap_rigs.cc).
 void WriteRigs(const ColmapModel& model, BinaryOut& out) {
   out.Put<uint64_t>(model.rigs.size());
   for (const ColmapRig& r : model.rigs) {
     out.Put<uint32_t>(r.rig_id);
-    out.Put<uint32_t>(1);  // sensors
-    out.Put<int32_t>(0);   // a camera
-    out.Put<uint32_t>(r.camera_id);
+    out.Put<uint32_t>(static_cast<uint32_t>(r.sensors.size() + 1));
+    out.Put<int32_t>(r.ref.type);
+    out.Put<uint32_t>(r.ref.id);
+    for (const ColmapSensor& x : r.sensors) {
+      out.Put<int32_t>(x.type);
+      out.Put<uint32_t>(x.id);
+      out.Put<uint8_t>(x.has_pose ? 1 : 0);
+      if (!x.has_pose) continue;
+      out.Bytes(x.qvec.data(), sizeof x.qvec);
+      out.Bytes(x.tvec.data(), sizeof x.tvec);
+    }
   }
 }
 
 void WriteFrames(const ColmapModel& model, BinaryOut& out) {
-  std::unordered_map<uint32_t, const ColmapImage*> image_of_id;
-  for (const ColmapImage& im : model.images) image_of_id.emplace(im.image_id, &im);
   out.Put<uint64_t>(model.frames.size());
   for (const ColmapFrame& f : model.frames) {
-    const ColmapImage& im = *image_of_id.at(f.image_id);
     out.Put<uint32_t>(f.frame_id);
     out.Put<uint32_t>(f.rig_id);
-    out.Bytes(im.qvec.data(), sizeof im.qvec);
-    out.Bytes(im.tvec.data(), sizeof im.tvec);
-    out.Put<uint32_t>(1);  // data ids
-    out.Put<int32_t>(0);   // a camera
-    out.Put<uint32_t>(f.camera_id);
-    out.Put<uint64_t>(f.image_id);
+    out.Bytes(f.qvec.data(), sizeof f.qvec);
+    out.Bytes(f.tvec.data(), sizeof f.tvec);
+    out.Put<uint32_t>(static_cast<uint32_t>(f.data.size()));
+    for (const ColmapFrameData& d : f.data) {
+      out.Put<int32_t>(d.type);
+      out.Put<uint32_t>(d.sensor_id);
+      out.Put<uint64_t>(d.data_id);
+    }
   }
 }
 

@@ -40,38 +40,66 @@ std::string Num(double v) {
   return buf;
 }
 
-// The frames against the model: each names a rig of its camera and an image
-// of the model with that camera, no image is in two frames, and (when there
-// are frames) every image is in one: COLMAP >= 3.12 takes each image's pose
-// from its frame and cannot load an image without one.
-void CheckTrivialFrames(const ColmapModel& model, const std::string& dir, bool binary) {
+// The rigs and frames against the model: rig ids unique, a camera in at
+// most one rig and in the model; each frame names a rig of the model, each
+// of its data a sensor of that rig, a camera's an image of the model with
+// that camera; no image in two frames and (when there are frames) every
+// image in one: COLMAP >= 3.12 takes each image's pose from its frame and
+// cannot load an image without one.
+void CheckRigsAndFrames(const ColmapModel& model, const std::string& dir, bool binary) {
   if (model.frames.empty() && model.rigs.empty()) return;
-  const std::string frames = colmap_internal::JoinPath(dir, binary ? "frames.bin" : "frames.txt");
-  std::unordered_map<uint32_t, uint32_t> camera_of_rig, camera_of_image;
+  const std::string ext = binary ? ".bin" : ".txt";
+  const std::string rigs = colmap_internal::JoinPath(dir, "rigs" + ext);
+  const std::string frames = colmap_internal::JoinPath(dir, "frames" + ext);
+  std::unordered_map<uint32_t, const ColmapRig*> rig_of_id;
+  std::unordered_map<uint32_t, uint32_t> rig_of_camera, camera_of_image;
+  std::unordered_map<uint32_t, int> cameras;
+  for (const ColmapCamera& c : model.cameras) cameras.emplace(c.camera_id, 0);
   for (const ColmapRig& r : model.rigs) {
-    if (!camera_of_rig.emplace(r.rig_id, r.camera_id).second) {
-      throw InputError(colmap_internal::JoinPath(dir, binary ? "rigs.bin" : "rigs.txt"), 0,
-                       "rig " + std::to_string(r.rig_id) + " appears twice");
+    const std::string rig = "rig " + std::to_string(r.rig_id) + ": ";
+    if (!rig_of_id.emplace(r.rig_id, &r).second) throw InputError(rigs, 0, rig + "appears twice");
+    std::vector<ColmapSensor> all{r.ref};
+    all.insert(all.end(), r.sensors.begin(), r.sensors.end());
+    for (const ColmapSensor& s : all) {
+      if (s.type != 0) continue;
+      if (!cameras.count(s.id)) {
+        throw InputError(rigs, 0, rig + "camera " + std::to_string(s.id) + " is not in the model");
+      }
+      if (!rig_of_camera.emplace(s.id, r.rig_id).second) {
+        throw InputError(rigs, 0, rig + "camera " + std::to_string(s.id) + " is also a sensor of rig " +
+                                      std::to_string(rig_of_camera[s.id]));
+      }
     }
   }
   for (const ColmapImage& im : model.images) camera_of_image.emplace(im.image_id, im.camera_id);
-  std::unordered_map<uint32_t, uint32_t> frame_of_image;
+  std::unordered_map<uint64_t, uint32_t> frame_of_image;
   for (const ColmapFrame& f : model.frames) {
     const std::string frame = "frame " + std::to_string(f.frame_id) + ": ";
-    const auto image = camera_of_image.find(f.image_id);
-    if (image == camera_of_image.end() || image->second != f.camera_id) {
-      throw InputError(frames, 0, frame + "names image " + std::to_string(f.image_id) + " with camera " +
-                                      std::to_string(f.camera_id) + ", which the model does not hold");
+    const auto rig = rig_of_id.find(f.rig_id);
+    if (rig == rig_of_id.end()) {
+      throw InputError(frames, 0, frame + "names rig " + std::to_string(f.rig_id) + ", which the rigs do not hold");
     }
-    const auto rig = camera_of_rig.find(f.rig_id);
-    if (rig == camera_of_rig.end() || rig->second != f.camera_id) {
-      throw InputError(frames, 0, frame + "names rig " + std::to_string(f.rig_id) +
-                                      (rig == camera_of_rig.end() ? ", which the rigs do not hold"
-                                                                  : ", whose camera is another"));
-    }
-    if (!frame_of_image.emplace(f.image_id, f.frame_id).second) {
-      throw InputError(frames, 0, frame + "image " + std::to_string(f.image_id) + " is also in frame " +
-                                      std::to_string(frame_of_image[f.image_id]));
+    for (const ColmapFrameData& d : f.data) {
+      const ColmapRig& r = *rig->second;
+      const bool of_rig = (r.ref.type == d.type && r.ref.id == d.sensor_id) ||
+                          std::any_of(r.sensors.begin(), r.sensors.end(), [&](const ColmapSensor& s) {
+                            return s.type == d.type && s.id == d.sensor_id;
+                          });
+      if (!of_rig) {
+        throw InputError(frames, 0, frame + "sensor " + std::to_string(d.sensor_id) +
+                                        " is not a sensor of rig " + std::to_string(f.rig_id));
+      }
+      if (d.type != 0) continue;
+      const auto image = d.data_id <= UINT32_MAX ? camera_of_image.find(static_cast<uint32_t>(d.data_id))
+                                                 : camera_of_image.end();
+      if (image == camera_of_image.end() || image->second != d.sensor_id) {
+        throw InputError(frames, 0, frame + "names image " + std::to_string(d.data_id) + " with camera " +
+                                        std::to_string(d.sensor_id) + ", which the model does not hold");
+      }
+      if (!frame_of_image.emplace(d.data_id, f.frame_id).second) {
+        throw InputError(frames, 0, frame + "image " + std::to_string(d.data_id) + " is also in frame " +
+                                        std::to_string(frame_of_image[d.data_id]));
+      }
     }
   }
   for (const ColmapImage& im : model.images) {
@@ -479,11 +507,11 @@ ColmapModel ReadColmapModel(const std::string& dir) {
   if (format.has_value()) {
     const bool binary = format == ColmapFormat::kBinary;
     ColmapModel rigs;
-    colmap_internal::ReadTrivialRigsAndFrames(dir, binary, &rigs);
+    colmap_internal::ReadRigsAndFrames(dir, binary, &rigs);
     ColmapModel model = binary ? ReadColmapBinary(dir) : ReadColmapText(dir);
     model.rigs = std::move(rigs.rigs);
     model.frames = std::move(rigs.frames);
-    CheckTrivialFrames(model, dir, binary);
+    CheckRigsAndFrames(model, dir, binary);
     return model;
   }
 

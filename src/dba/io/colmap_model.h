@@ -95,27 +95,50 @@ struct ColmapPoint3D {
 };
 
 // Entries in file order; ids need not be sorted or contiguous.
-// COLMAP >= 3.12's frames, when trivial (one camera per rig, one image per
-// frame; io/colmap_model.cc reads only those): each frame's pose is its
-// image's, so only the ids are kept and the pose is written from the image.
-struct ColmapFrame {
-  uint32_t frame_id = 0, rig_id = 0, camera_id = 0, image_id = 0;
-  bool operator==(const ColmapFrame&) const = default;
+// COLMAP >= 3.12's rigs and frames (io/colmap_rigs.cc reads them, text or
+// binary). A sensor is a camera (type 0, its id a camera id) or another
+// kind (1: IMU; kept, not modelled); a rig has a reference sensor at its
+// origin and others with, when known, their sensor_from_rig pose. A frame is
+// one exposure of a rig: its rig_from_world and the data each sensor took
+// (a camera's: an image id). COLMAP >= 3.12 takes each image's pose from its
+// frame.
+struct ColmapSensor {
+  int32_t type = 0;  // 0: camera
+  uint32_t id = 0;
+  bool has_pose = false;  // (other sensors only)
+  std::array<double, 4> qvec{1, 0, 0, 0};  // sensor_from_rig, w x y z
+  std::array<double, 3> tvec{0, 0, 0};
+  bool operator==(const ColmapSensor&) const = default;
 };
 
-// COLMAP >= 3.12's rigs, when trivial: one sensor, a camera (the rig's
-// reference sensor, at the rig's origin).
 struct ColmapRig {
-  uint32_t rig_id = 0, camera_id = 0;
+  uint32_t rig_id = 0;
+  ColmapSensor ref;                    // the rig's origin
+  std::vector<ColmapSensor> sensors;   // the others, in file order
   bool operator==(const ColmapRig&) const = default;
+};
+
+struct ColmapFrameData {
+  int32_t type = 0;  // the sensor's
+  uint32_t sensor_id = 0;
+  uint64_t data_id = 0;  // a camera's: the image id
+  bool operator==(const ColmapFrameData&) const = default;
+};
+
+struct ColmapFrame {
+  uint32_t frame_id = 0, rig_id = 0;
+  std::array<double, 4> qvec{1, 0, 0, 0};  // rig_from_world, w x y z
+  std::array<double, 3> tvec{0, 0, 0};
+  std::vector<ColmapFrameData> data;
+  bool operator==(const ColmapFrame&) const = default;
 };
 
 struct ColmapModel {
   std::vector<ColmapCamera> cameras;
   std::vector<ColmapImage> images;
   std::vector<ColmapPoint3D> points3D;
-  // A 3.12 model's (trivial) rigs and frames, text or binary, in file
-  // order; both empty for older models.
+  // A 3.12 model's rigs and frames, text or binary, in file order; both
+  // empty for older models.
   std::vector<ColmapRig> rigs;
   std::vector<ColmapFrame> frames;
 

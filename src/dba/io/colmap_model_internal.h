@@ -39,12 +39,9 @@ void EnsureDirectory(const std::string& dir);
 void CheckWritable(const ColmapModel& model, bool text);
 
 // COLMAP >= 3.12's rigs and frames beside a model in `dir`, in the model's
-// format (COLMAP reads only those), into model->rigs and model->frames; read
-// only when trivial (one camera per rig, one image per frame: each image's
-// pose in images.* is then its frame's). A rig of several sensors, a frame
-// of several images or a sensor that is no camera is refused by file and
-// line (byte, for binary files) until rigs are modelled. Defined in
+// format (COLMAP reads only those), into model->rigs and model->frames,
+// each field checked by file and line (byte, for binary files). Defined in
 // colmap_rigs.cc.
-void ReadTrivialRigsAndFrames(const std::string& dir, bool binary, ColmapModel* model);
+void ReadRigsAndFrames(const std::string& dir, bool binary, ColmapModel* model);
 }  // namespace colmap_internal
 }  // namespace dba

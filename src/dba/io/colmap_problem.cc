@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "dba/camera/observation_residual.h"
+#include "dba/camera/rig_pose.h"
 #include "dba/common/error.h"
 
 namespace dba {
@@ -37,6 +38,96 @@ std::array<double, 4> AngleAxisToQuaternion(const Vec3& omega) {
 bool IsWrittenForm(const std::array<double, 4>& q) {
   const double norm2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
   return q[0] >= 0 && std::abs(norm2 - 1.0) <= 8 * std::numeric_limits<double>::epsilon();
+}
+
+// Whether a rig of the model has a camera besides its reference sensor.
+bool HasRealRigs(const ColmapModel& model) {
+  for (const ColmapRig& r : model.rigs) {
+    for (const ColmapSensor& s : r.sensors) {
+      if (s.type == 0) return true;
+    }
+  }
+  return false;
+}
+
+void SetPose(const std::array<double, 4>& q, const std::array<double, 3>& t, double* pose) {
+  const Vec3 omega = QuaternionToAngleAxis(q);
+  for (int d = 0; d < 3; ++d) pose[d] = omega[d], pose[3 + d] = t[d];
+}
+
+// The rig's role of each group's camera: origin, or a sensor (and its pose,
+// null when it has none).
+struct SensorRole {
+  bool origin = false;
+  const ColmapSensor* sensor = nullptr;
+};
+
+std::vector<SensorRole> SensorRoles(const ColmapModel& model, const ColmapProblem& out,
+                                    const std::string& source) {
+  std::unordered_map<uint32_t, SensorRole> role;
+  for (const ColmapRig& r : model.rigs) {
+    if (r.ref.type != 0) {
+      throw InputError(source, 0, "rig " + std::to_string(r.rig_id) +
+                                      ": a rig whose reference sensor is not a camera is not "
+                                      "modelled yet");
+    }
+    role[r.ref.id] = {true, nullptr};
+    for (const ColmapSensor& s : r.sensors) {
+      if (s.type == 0) role[s.id] = {false, &s};
+    }
+  }
+  std::vector<SensorRole> roles;
+  for (int64_t c : out.group_camera) roles.push_back(role[model.cameras[c].camera_id]);
+  return roles;
+}
+
+// The problem's frames and sensors from the model's (see the header).
+void AddRigs(const ColmapModel& model, const std::vector<int32_t>& problem_camera,
+             const std::unordered_map<uint32_t, int64_t>& image_of_id, const std::string& source,
+             ColmapProblem* out) {
+  Problem& bp = out->problem;
+  const int64_t n = bp.num_images(), groups = bp.num_groups();
+  const std::vector<SensorRole> roles = SensorRoles(model, *out, source);
+  bp.image_frame.assign(n, -1);
+  for (size_t x = 0; x < model.frames.size(); ++x) {
+    bool used = false;
+    for (const ColmapFrameData& d : model.frames[x].data) {
+      if (d.type != 0) continue;
+      const int32_t i = problem_camera[image_of_id.at(static_cast<uint32_t>(d.data_id))];
+      if (i < 0) continue;
+      bp.image_frame[i] = static_cast<int32_t>(out->frame_index.size());
+      used = true;
+    }
+    if (used) out->frame_index.push_back(static_cast<int64_t>(x));
+  }
+  const int64_t frames = static_cast<int64_t>(out->frame_index.size());
+  const std::vector<double> image_poses(bp.cameras.begin(), bp.cameras.begin() + kPhotoPoseSize * n);
+  bp.cameras.resize(bp.cameras.size() + kPhotoPoseSize * (frames + groups), 0.0);
+  bp.sensor_kind.assign(groups, kRigOrigin);
+  for (int64_t f = 0; f < frames; ++f) {
+    const ColmapFrame& frame = model.frames[out->frame_index[f]];
+    SetPose(frame.qvec, frame.tvec, bp.cameras.data() + bp.frame_offset(f));
+  }
+  for (int64_t g = 0; g < groups; ++g) {
+    if (roles[g].origin) continue;
+    bp.sensor_kind[g] = kSensorRefined;
+    double* sensor = bp.cameras.data() + bp.sensor_offset(g);
+    if (roles[g].sensor != nullptr && roles[g].sensor->has_pose) {
+      SetPose(roles[g].sensor->qvec, roles[g].sensor->tvec, sensor);
+      continue;
+    }
+    // No pose: image ∘ frame⁻¹ at the first image of the group.
+    for (int64_t i = 0; i < n; ++i) {
+      if (bp.camera_intrinsics[i] != g) continue;
+      const double* fp = bp.cameras.data() + bp.frame_offset(bp.image_frame[i]);
+      const Mat3 R_f = AngleAxisToRotation(Vec3(fp[0], fp[1], fp[2]));
+      const Vec3 t = -(R_f.transpose() * Vec3(fp[3], fp[4], fp[5]));
+      const double frame_inverse[6] = {-fp[0], -fp[1], -fp[2], t[0], t[1], t[2]};
+      ComposeRigPose(image_poses.data() + kPhotoPoseSize * i, frame_inverse, sensor);
+      break;
+    }
+  }
+  ComposeRigImages(&bp);
 }
 
 }  // namespace
@@ -213,6 +304,14 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
     const std::vector<double>& params = model.cameras[out.group_camera[g]].params;
     std::copy(params.begin(), params.end(), bp.intrinsics(g));
   }
+  if (HasRealRigs(model)) {
+    if (!options.shared_intrinsics) {
+      throw UsageError("--intrinsics per-image: " + source +
+                       " has rigs of several cameras, whose sensors are their cameras (one "
+                       "intrinsic group per COLMAP camera)");
+    }
+    AddRigs(model, problem_camera, image_of_id, source, &out);
+  }
 
   // Points and their observations, point-major.
   const int64_t num_points = static_cast<int64_t>(out.point_index.size());
@@ -237,6 +336,57 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
   }
   return out;
 }
+
+namespace {
+
+// Quaternion of a solved rotation, keeping `q` bit for bit when it is in the
+// written form and the solve left it (the round trip through angle-axis is
+// exact only to rounding).
+void SetQuaternion(const double* omega, std::array<double, 4>* q) {
+  const Vec3 w(omega[0], omega[1], omega[2]);
+  if (!IsWrittenForm(*q) || QuaternionToAngleAxis(*q) != w) *q = AngleAxisToQuaternion(w);
+}
+
+// The frames' poses: the solved ones with rigs, and the sensors'; without
+// them each (trivial) frame at its camera image's pose.
+void UpdateFrames(const ColmapProblem& source, const Problem& adjusted, ColmapModel* model) {
+  if (model->frames.empty()) return;
+  if (adjusted.has_rigs()) {
+    for (size_t f = 0; f < source.frame_index.size(); ++f) {
+      ColmapFrame& frame = model->frames[source.frame_index[f]];
+      const double* pose = adjusted.cameras.data() + adjusted.frame_offset(static_cast<int64_t>(f));
+      SetQuaternion(pose, &frame.qvec);
+      frame.tvec = {pose[3], pose[4], pose[5]};
+    }
+    for (int64_t g = 0; g < adjusted.num_groups(); ++g) {
+      if (adjusted.sensor_kind[g] == kRigOrigin) continue;
+      const uint32_t id = model->cameras[source.group_camera[g]].camera_id;
+      const double* pose = adjusted.cameras.data() + adjusted.sensor_offset(g);
+      for (ColmapRig& r : model->rigs) {
+        for (ColmapSensor& s : r.sensors) {
+          if (s.type != 0 || s.id != id) continue;
+          if (!s.has_pose) s.qvec = {1, 0, 0, 0};
+          s.has_pose = true;
+          SetQuaternion(pose, &s.qvec);
+          s.tvec = {pose[3], pose[4], pose[5]};
+        }
+      }
+    }
+    return;
+  }
+  std::unordered_map<uint32_t, const ColmapImage*> image_of_id;
+  for (const ColmapImage& im : model->images) image_of_id.emplace(im.image_id, &im);
+  for (ColmapFrame& frame : model->frames) {
+    for (const ColmapFrameData& d : frame.data) {
+      if (d.type != 0) continue;
+      const ColmapImage& im = *image_of_id.at(static_cast<uint32_t>(d.data_id));
+      frame.qvec = im.qvec;
+      frame.tvec = im.tvec;
+    }
+  }
+}
+
+}  // namespace
 
 void UpdateColmapModel(const ColmapProblem& source, const Problem& adjusted,
                        ColmapModel* model) {
@@ -332,6 +482,8 @@ void UpdateColmapModel(const ColmapProblem& source, const Problem& adjusted,
     im.tvec = {pose[3], pose[4], pose[5]};
     im.camera_id = group_id[adjusted.camera_intrinsics[i]];
   }
+
+  UpdateFrames(source, adjusted, model);
 
   // Points, with their mean reprojection error.
   for (int64_t k = 0; k < adjusted.num_points(); ++k) {

@@ -23,8 +23,20 @@
 //                      track elements in track order, each observing the 2D
 //                      point (x, y) of the image it names.
 //
+// Rigs (COLMAP >= 3.12; docs/design.md §1.7): when a rig has a camera
+// besides its reference sensor, the problem has rigs: each model frame with
+// an image in the problem a frame (file order; its rig_from_world as read:
+// COLMAP takes the images' poses from the frames), each group (a COLMAP
+// camera) the rig's origin or a sensor refined from its sensor_from_rig; a
+// sensor without a pose (HAS_POSE 0) starts at image ∘ frame⁻¹ of the
+// first frame holding one of its images. The images' poses are composed.
+// Other sensors (IMUs) are kept in the model and not modelled. A model
+// whose rigs are all trivial (one camera each) solves as one without.
+// Per-image intrinsics with rigs are refused (a sensor is its camera).
+//
 // Write-back (UpdateColmapModel): poses as quaternions with qw >= 0, points'
-// xyz, and intrinsics. Each adjusted point's `error` becomes its mean
+// xyz, and intrinsics; with rigs the frames' and sensors' poses, and a
+// trivial frame at its image's pose. Each adjusted point's `error` becomes its mean
 // reprojection error |r| in pixels (as COLMAP defines it) at the adjusted
 // parameters. Names, colours, tracks, 2D points, image and point ids and the
 // entries' order are kept. Camera ids are kept where possible:
@@ -67,6 +79,7 @@ struct ColmapProblem {
   std::vector<int64_t> image_index;   // problem camera i -> index into model.images
   std::vector<int64_t> point_index;   // problem point k -> index into model.points3D
   std::vector<int64_t> group_camera;  // intrinsic group g -> index into model.cameras
+  std::vector<int64_t> frame_index;   // rigs: problem frame f -> index into model.frames
 };
 
 // Builds the problem (see above). fixed_cameras is empty; fixed_intrinsics

@@ -1,4 +1,4 @@
-// COLMAP >= 3.12's trivial rigs and frames, text and binary; see
+// COLMAP >= 3.12's rigs and frames, text and binary; see
 // colmap_model_internal.h. The layouts are COLMAP's (its
 // reconstruction_io_text.cc and reconstruction_io_binary.cc):
 //   rigs.txt    RIG_ID NUM_SENSORS REF_SENSOR_TYPE REF_SENSOR_ID [SENSOR_TYPE
@@ -11,7 +11,8 @@
 //   frames.bin  u64 count; per frame: u32 frame_id, u32 rig_id, 7 f64
 //               rig_from_world, u32 num_data_ids, per data i32 sensor type,
 //               u32 sensor id, u64 data id (the image id)
-// Sensor type 0 (text CAMERA) is a camera; 1 (IMU) is not.
+// NUM_SENSORS counts the reference sensor. Sensor type 0 (text CAMERA) is a
+// camera, 1 (IMU) is not.
 #include <charconv>
 #include <cstdint>
 #include <filesystem>
@@ -24,75 +25,118 @@
 #include "dba/common/error.h"
 #include "dba/io/binary_file.h"
 #include "dba/io/colmap_model_internal.h"
+#include "dba/io/text_tokens.h"
 
 namespace dba {
 namespace colmap_internal {
 namespace {
 
-constexpr int32_t kCameraSensor = 0;
-
-// One data line of rigs.txt or frames.txt, split at blanks.
-using Fields = std::vector<std::string>;
-
-uint32_t Id(const std::string& path, int64_t line, const std::string& field) {
-  uint32_t x = 0;
-  const auto [end, err] = std::from_chars(field.data(), field.data() + field.size(), x);
-  if (err != std::errc() || end != field.data() + field.size()) {
-    throw InputError(path, line, "'" + Clipped(field) + "' is not an id");
+// One data line of rigs.txt or frames.txt, split at blanks, and a cursor.
+struct Fields {
+  std::vector<std::string> v;
+  size_t at = 0;
+  const std::string& path;
+  int64_t line;
+  const std::string& Next(const char* what) {
+    if (at >= v.size()) throw InputError(path, line, std::string("too few fields: no ") + what);
+    return v[at++];
   }
-  return x;
-}
+  uint64_t Unsigned(const char* what, uint64_t max) {
+    const std::string& f = Next(what);
+    uint64_t x = 0;
+    const auto [end, err] = std::from_chars(f.data(), f.data() + f.size(), x);
+    if (err != std::errc() || end != f.data() + f.size() || x > max) {
+      throw InputError(path, line, std::string(what) + ": '" + Clipped(f) + "' is not an id");
+    }
+    return x;
+  }
+  double Double(const char* what) {
+    const std::string& f = Next(what);
+    double x = 0;
+    if (ParseDouble(f, &x) != NumberStatus::kOk) {
+      throw InputError(path, line, std::string(what) + ": '" + Clipped(f) + "' is not a finite number");
+    }
+    return x;
+  }
+  int32_t SensorType() {
+    const std::string& f = Next("a sensor type");
+    if (f == "CAMERA") return 0;
+    if (f == "IMU") return 1;
+    throw InputError(path, line, "sensor type '" + Clipped(f) + "' (COLMAP's are CAMERA and IMU)");
+  }
+  template <size_t N>
+  void Doubles(std::array<double, N>* out, const char* what) {
+    for (double& x : *out) x = Double(what);
+  }
+  void End() {
+    if (at != v.size()) {
+      throw InputError(path, line, std::to_string(v.size() - at) + " fields after the entry's last");
+    }
+  }
+};
 
-// Calls `take` with each data line's fields and its line number.
+// Calls `take` with each data line's fields.
 template <typename Take>
 void ForEachDataLine(const std::string& path, Take take) {
   std::ifstream in(path);
   std::string line;
   for (int64_t n = 1; in && std::getline(in, line); ++n) {
     std::istringstream tokens(line);
-    const Fields v{std::istream_iterator<std::string>(tokens), {}};
-    if (!v.empty() && v[0][0] != '#') take(v, n);
+    Fields f{{std::istream_iterator<std::string>(tokens), {}}, 0, path, n};
+    if (!f.v.empty() && f.v[0][0] != '#') take(f);
   }
-}
-
-// `count` (rigs' sensors or frames' data) must be 1, of a camera.
-void RequireOne(const std::string& path, int64_t line, const std::string& count, bool camera,
-                const char* what) {
-  if (count != "1") {
-    throw InputError(path, line, count + " " + what +
-                                     " is not modelled yet (one camera per rig, one image per frame)");
-  }
-  if (!camera) throw InputError(path, line, "a sensor that is not a camera is not modelled yet");
 }
 
 void ReadText(const std::string& dir, ColmapModel* model) {
   const std::string rigs = JoinPath(dir, "rigs.txt"), frames = JoinPath(dir, "frames.txt");
-  ForEachDataLine(rigs, [&](const Fields& v, int64_t n) {
-    if (v.size() < 2) throw InputError(rigs, n, "too few fields");
-    RequireOne(rigs, n, v[1], v.size() < 3 || v[2] == "CAMERA", "sensors: a rig of several cameras");
-    if (v.size() != 4) throw InputError(rigs, n, "expected 4 fields, a camera's");
-    model->rigs.push_back({Id(rigs, n, v[0]), Id(rigs, n, v[3])});
+  ForEachDataLine(rigs, [&](Fields& f) {
+    ColmapRig rig;
+    rig.rig_id = static_cast<uint32_t>(f.Unsigned("RIG_ID", UINT32_MAX));
+    const uint64_t n = f.Unsigned("NUM_SENSORS", 1u << 20);
+    if (n == 0) throw InputError(rigs, f.line, "a rig without sensors");
+    rig.ref.type = f.SensorType();
+    rig.ref.id = static_cast<uint32_t>(f.Unsigned("REF_SENSOR_ID", UINT32_MAX));
+    for (uint64_t k = 1; k < n; ++k) {
+      ColmapSensor s;
+      s.type = f.SensorType();
+      s.id = static_cast<uint32_t>(f.Unsigned("SENSOR_ID", UINT32_MAX));
+      s.has_pose = f.Unsigned("HAS_POSE", 1) == 1;
+      if (s.has_pose) {
+        f.Doubles(&s.qvec, "a sensor's quaternion");
+        f.Doubles(&s.tvec, "a sensor's translation");
+      }
+      rig.sensors.push_back(s);
+    }
+    f.End();
+    model->rigs.push_back(std::move(rig));
   });
-  ForEachDataLine(frames, [&](const Fields& v, int64_t n) {
-    if (v.size() < 10) throw InputError(frames, n, "too few fields");
-    RequireOne(frames, n, v[9], v.size() < 11 || v[10] == "CAMERA", "images: a frame of several images");
-    if (v.size() != 13) throw InputError(frames, n, "expected 13 fields, a camera's");
-    model->frames.push_back({Id(frames, n, v[0]), Id(frames, n, v[1]), Id(frames, n, v[11]),
-                             Id(frames, n, v[12])});
+  ForEachDataLine(frames, [&](Fields& f) {
+    ColmapFrame frame;
+    frame.frame_id = static_cast<uint32_t>(f.Unsigned("FRAME_ID", UINT32_MAX));
+    frame.rig_id = static_cast<uint32_t>(f.Unsigned("RIG_ID", UINT32_MAX));
+    f.Doubles(&frame.qvec, "the frame's quaternion");
+    f.Doubles(&frame.tvec, "the frame's translation");
+    const uint64_t n = f.Unsigned("NUM_DATA_IDS", 1u << 20);
+    for (uint64_t k = 0; k < n; ++k) {
+      ColmapFrameData d;
+      d.type = f.SensorType();
+      d.sensor_id = static_cast<uint32_t>(f.Unsigned("SENSOR_ID", UINT32_MAX));
+      d.data_id = f.Unsigned("DATA_ID", UINT64_MAX);
+      frame.data.push_back(d);
+    }
+    f.End();
+    model->frames.push_back(std::move(frame));
   });
 }
 
-// A count (a rig's sensors, a frame's data) that must be 1, then the sensor
-// type that must be a camera's; `what` names what else the count would mean.
-void ReadOneCamera(BinaryFile& in, const char* count_name, const char* what) {
-  const uint32_t count = in.Get<uint32_t>(count_name);
-  if (count != 1) {
-    in.Fail(in.Entry() + std::to_string(count) + " " + what +
-            " is not modelled yet (one camera per rig, one image per frame)");
+ColmapSensor ReadSensor(BinaryFile& in) {
+  ColmapSensor s;
+  s.type = in.Get<int32_t>("the sensor's type");
+  if (s.type != 0 && s.type != 1) {
+    in.Fail(in.Entry() + "sensor type " + std::to_string(s.type) + " (COLMAP's are 0, a camera, and 1, an IMU)");
   }
-  if (in.Get<int32_t>("the sensor's type") != kCameraSensor) {
-    in.Fail(in.Entry() + "a sensor that is not a camera is not modelled yet");
-  }
+  s.id = in.Get<uint32_t>("the sensor's id");
+  return s;
 }
 
 void ReadBinaryRigs(const std::string& path, ColmapModel* model) {
@@ -103,9 +147,21 @@ void ReadBinaryRigs(const std::string& path, ColmapModel* model) {
     ColmapRig rig;
     rig.rig_id = in.Get<uint32_t>("rig_id");
     in.SetEntryId(rig.rig_id);
-    ReadOneCamera(in, "num_sensors", "sensors: a rig of several cameras (or none)");
-    rig.camera_id = in.Get<uint32_t>("the reference sensor's id");
-    model->rigs.push_back(rig);
+    const uint32_t sensors = in.Get<uint32_t>("num_sensors");
+    if (sensors == 0) in.Fail(in.Entry() + "a rig without sensors");
+    rig.ref = ReadSensor(in);
+    for (uint32_t k = 1; k < sensors; ++k) {
+      ColmapSensor s = ReadSensor(in);
+      const uint8_t has_pose = in.Get<uint8_t>("has_pose");
+      if (has_pose > 1) in.Fail(in.Entry() + "has_pose " + std::to_string(has_pose) + " is not 0 or 1");
+      s.has_pose = has_pose == 1;
+      if (s.has_pose) {
+        in.Read(s.qvec.data(), sizeof s.qvec, "sensor_from_rig");
+        in.Read(s.tvec.data(), sizeof s.tvec, "sensor_from_rig");
+      }
+      rig.sensors.push_back(s);
+    }
+    model->rigs.push_back(std::move(rig));
   }
   in.ExpectEnd("the last rig");
 }
@@ -119,21 +175,21 @@ void ReadBinaryFrames(const std::string& path, ColmapModel* model) {
     frame.frame_id = in.Get<uint32_t>("frame_id");
     in.SetEntryId(frame.frame_id);
     frame.rig_id = in.Get<uint32_t>("rig_id");
-    double pose[7];
-    in.Read(pose, sizeof pose, "rig_from_world");  // the image's (one image per frame)
-    ReadOneCamera(in, "num_data_ids", "images: a frame of several images (or none)");
-    frame.camera_id = in.Get<uint32_t>("the sensor's id");
-    const uint64_t image = in.Get<uint64_t>("the image id");
-    if (image > UINT32_MAX) in.Fail(in.Entry() + "image id " + std::to_string(image) + " is beyond 32 bits");
-    frame.image_id = static_cast<uint32_t>(image);
-    model->frames.push_back(frame);
+    in.Read(frame.qvec.data(), sizeof frame.qvec, "rig_from_world");
+    in.Read(frame.tvec.data(), sizeof frame.tvec, "rig_from_world");
+    const uint32_t data = in.Get<uint32_t>("num_data_ids");
+    for (uint32_t k = 0; k < data; ++k) {
+      const ColmapSensor s = ReadSensor(in);
+      frame.data.push_back({s.type, s.id, in.Get<uint64_t>("the data id")});
+    }
+    model->frames.push_back(std::move(frame));
   }
   in.ExpectEnd("the last frame");
 }
 
 }  // namespace
 
-void ReadTrivialRigsAndFrames(const std::string& dir, bool binary, ColmapModel* model) {
+void ReadRigsAndFrames(const std::string& dir, bool binary, ColmapModel* model) {
   std::error_code ec;
   const std::string ext = binary ? ".bin" : ".txt";
   const std::string rigs = JoinPath(dir, "rigs" + ext), frames = JoinPath(dir, "frames" + ext);

@@ -279,29 +279,41 @@ void WriteImages(const ColmapModel& model, TextOut& out) {
   }
 }
 
-// COLMAP >= 3.12's trivial rigs, and each frame with its image's
-// pose (one camera per rig: the rig's pose is its camera's).
+// COLMAP >= 3.12's rigs and frames, every value as held.
+const char* SensorTypeName(int32_t type) { return type == 0 ? "CAMERA" : "IMU"; }
+
 void WriteRigs(const ColmapModel& model, TextOut& out) {
   out << "# Rig calib list with one line of data per calib:\n"
       << "#   RIG_ID, NUM_SENSORS, REF_SENSOR_TYPE, REF_SENSOR_ID, SENSORS[] as (SENSOR_TYPE, "
          "SENSOR_ID, HAS_POSE, [QW, QX, QY, QZ, TX, TY, TZ])\n"
       << "# Number of rigs: " << uint64_t{model.rigs.size()} << '\n';
-  for (const ColmapRig& r : model.rigs) out << r.rig_id << " 1 CAMERA " << r.camera_id << '\n';
+  for (const ColmapRig& r : model.rigs) {
+    out << r.rig_id << ' ' << uint64_t{r.sensors.size() + 1} << ' ' << SensorTypeName(r.ref.type) << ' '
+        << r.ref.id;
+    for (const ColmapSensor& x : r.sensors) {
+      out << ' ' << SensorTypeName(x.type) << ' ' << x.id << ' ' << (x.has_pose ? "1" : "0");
+      if (!x.has_pose) continue;
+      for (double q : x.qvec) out << ' ' << q;
+      for (double v : x.tvec) out << ' ' << v;
+    }
+    out << '\n';
+  }
 }
 
 void WriteFrames(const ColmapModel& model, TextOut& out) {
-  std::unordered_map<uint32_t, const ColmapImage*> image_of_id;
-  for (const ColmapImage& im : model.images) image_of_id.emplace(im.image_id, &im);
   out << "# Frame list with one line of data per frame:\n"
       << "#   FRAME_ID, RIG_ID, QW, QX, QY, QZ, TX, TY, TZ, NUM_DATA_IDS, DATA_IDS[] as "
          "(SENSOR_TYPE, SENSOR_ID, DATA_ID)\n"
       << "# Number of frames: " << uint64_t{model.frames.size()} << '\n';
   for (const ColmapFrame& f : model.frames) {
-    const ColmapImage& im = *image_of_id.at(f.image_id);
     out << f.frame_id << ' ' << f.rig_id;
-    for (double q : im.qvec) out << ' ' << q;
-    for (double v : im.tvec) out << ' ' << v;
-    out << " 1 CAMERA " << f.camera_id << ' ' << f.image_id << '\n';
+    for (double q : f.qvec) out << ' ' << q;
+    for (double v : f.tvec) out << ' ' << v;
+    out << ' ' << uint64_t{f.data.size()};
+    for (const ColmapFrameData& d : f.data) {
+      out << ' ' << SensorTypeName(d.type) << ' ' << d.sensor_id << ' ' << d.data_id;
+    }
+    out << '\n';
   }
 }
 

@@ -129,6 +129,10 @@ void ApplyFixings(const UnknownsOptions& u, Problem* p) {
         "own intrinsic groups)");
   }
   ApplyFixings(CheckedFixings(u, *p), p);
+  ApplyRigGeometry(u, p);
+}
+
+void ApplyRigGeometry(const UnknownsOptions& u, Problem* p) {
   if (!u.refine_rig_geometry) {
     for (uint8_t& kind : p->sensor_kind) {
       if (kind == kSensorRefined) kind = kSensorHeld;
@@ -243,6 +247,7 @@ ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unkn
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("--fix-intrinsics: ") + e.what());
   }
+  ApplyRigGeometry(unknowns, &in.source.problem);
   return in;
 }
 

@@ -86,7 +86,10 @@ Fixings CheckedFixings(const UnknownsOptions& unknowns, const CameraSide& side);
 // The command line's fixings as data, unchecked (a rank reading its share
 // of a .dba applies them).
 Fixings FixingsOf(const UnknownsOptions& unknowns);
-// CheckedFixings, then marks them in `problem`.
+// --rig-geometry fixed holds every refined sensor pose; the images' poses
+// composed from the frames (no rigs: nothing).
+void ApplyRigGeometry(const UnknownsOptions& u, Problem* p);
+// CheckedFixings, then marks them in `problem`, then ApplyRigGeometry.
 void ApplyFixings(const UnknownsOptions& unknowns, Problem* problem);
 
 // Output kinds, by the output path: .dba binary, .txt/.bz2 BAL text,

@@ -1,0 +1,122 @@
+#!/usr/bin/env bash
+# COLMAP >= 3.12 models with real rigs (issue 46, docs/design.md §1.7): a
+# generated stereo survey written as a COLMAP text model with a rig of two
+# cameras (tests/lib/rig_to_colmap.py) solves as a rig problem (6 unknowns
+# per frame and 6 for the sensor) to the .dba's final cost; text -> binary
+# -> text round-trips byte for byte; a solve of no iteration keeps ids,
+# names, structure and tracks exactly and the poses to 1e-15, the images'
+# poses those composed from the frames; a sensor without a pose starts at
+# image o frame^-1 and reaches the same optimum; --rig-geometry fixed keeps
+# the sensor's pose; per-image intrinsics with rigs are refused.
+# Usage: cli_colmap_rig_models.sh PATH_TO_DBA PROJECT_ROOT
+set -uo pipefail
+source "$(dirname "$0")/lib/check.sh"
+dba=$1
+root=$2
+to_colmap() { PYTHONPATH="$(dirname "$dba")/python" /usr/bin/python3 "$root/tests/lib/rig_to_colmap.py" "$@"; }
+
+"$dba" generate --model photo --rig stereo --images 160 --seed 4 "$tmp/rig.dba" > /dev/null 2>&1
+to_colmap "$tmp/rig.dba" 2 "$tmp/m"
+check "the model is written" test -s "$tmp/m/rigs.txt" -a -s "$tmp/m/frames.txt"
+to_colmap "$tmp/rig.dba" 2 "$tmp/nopose" --no-pose
+
+"$dba" solve "$tmp/rig.dba" -q --report "$tmp/dba.json" > /dev/null 2>&1
+"$dba" solve "$tmp/m" -q -o "$tmp/out" --report "$tmp/colmap.json" > "$tmp/log" 2>&1
+check "a COLMAP rig solves" test $? -eq 0
+check "... as a rig: 6 unknowns per frame, 6 for the sensor" json "$tmp/colmap.json" \
+  "d['camera_unknowns'] == 80 * 6 + 6 + 2 * 3"
+check "... to the .dba's final cost (1e-5)" json "$tmp/colmap.json" \
+  "near(d['final_cost'], $(json_value "$tmp/dba.json" final_cost), 1e-5)"
+
+# The written model: images at the composed poses, frames and the sensor as solved.
+check "the written images are their frames composed with the sensor" /usr/bin/python3 - "$tmp/out" <<'PY'
+import sys
+import numpy as np
+d = sys.argv[1]
+def R(q):
+    w, x, y, z = np.array(q) / np.linalg.norm(q)
+    return np.array([[1 - 2*(y*y + z*z), 2*(x*y - w*z), 2*(x*z + w*y)],
+                     [2*(x*y + w*z), 1 - 2*(x*x + z*z), 2*(y*z - w*x)],
+                     [2*(x*z - w*y), 2*(y*z + w*x), 1 - 2*(x*x + y*y)]])
+lines = [l.split() for l in open(f"{d}/images.txt") if not l.startswith("#")]
+images = {int(v[0]): (R([float(x) for x in v[1:5]]), np.array([float(x) for x in v[5:8]])) for v in lines[0::2]}
+rig = open(f"{d}/rigs.txt").read().split("\n")
+rig = [l.split() for l in rig if l and not l.startswith("#")][0]
+Rs, ts = R([float(x) for x in rig[7:11]]), np.array([float(x) for x in rig[11:14]])
+worst = 0.0
+for l in open(f"{d}/frames.txt"):
+    if l.startswith("#") or not l.strip(): continue
+    v = l.split()
+    Rf, tf = R([float(x) for x in v[2:6]]), np.array([float(x) for x in v[6:9]])
+    for k in range(int(v[9])):
+        cam, image = int(v[11 + 3 * k]), int(v[12 + 3 * k])
+        Ri, ti = images[image]
+        Rc, tc = (Rf, tf) if cam == 1 else (Rs @ Rf, Rs @ tf + ts)
+        worst = max(worst, np.abs(Ri - Rc).max(), np.abs(ti - tc).max() / (1 + np.abs(tc).max()))
+if worst > 1e-12: print(f"composed poses off by {worst:.3g}", file=sys.stderr)
+sys.exit(0 if worst <= 1e-12 else 1)
+PY
+
+"$dba" convert "$tmp/out" "$tmp/bin" --colmap-format binary > /dev/null 2>&1
+"$dba" convert "$tmp/bin" "$tmp/back" --colmap-format text > /dev/null 2>&1
+for f in cameras images points3D rigs frames; do
+  check "text -> binary -> text: $f.txt byte for byte" cmp -s "$tmp/out/$f.txt" "$tmp/back/$f.txt"
+done
+
+"$dba" solve "$tmp/out" -q --max-iterations 0 -o "$tmp/zero" > /dev/null 2>&1
+check "no iteration: ids, names, structure and tracks exact, poses to 1e-15" /usr/bin/python3 - "$tmp/out" "$tmp/zero" <<'PY'
+import sys
+def rows(d, name):
+    return [l.split() for l in open(f"{d}/{name}") if l.strip() and not l.startswith("#")]
+a, b = sys.argv[1], sys.argv[2]
+def close(x, y):
+    return all(abs(float(p) - float(q)) <= 1e-15 * max(1.0, abs(float(p))) for p, q in zip(x, y))
+ok = True
+for name, numeric in (("images.txt", range(1, 8)), ("frames.txt", range(2, 9)), ("rigs.txt", range(7, 14))):
+    ra, rb = rows(a, name), rows(b, name)
+    if name == "images.txt":  # the pose lines only; the 2D points exact
+        ok &= ra[1::2] == rb[1::2]
+        ra, rb = ra[0::2], rb[0::2]
+    for x, y in zip(ra, rb):
+        keep = [i for i in range(len(x)) if i not in numeric]
+        ok &= len(x) == len(y) and [x[i] for i in keep] == [y[i] for i in keep]
+        ok &= close([x[i] for i in numeric], [y[i] for i in numeric])
+    ok &= len(ra) == len(rb)
+pa, pb = rows(a, "points3D.txt"), rows(b, "points3D.txt")
+ok &= [p[:1] + p[8:] for p in pa] == [p[:1] + p[8:] for p in pb]
+sys.exit(0 if ok else 1)
+PY
+
+"$dba" solve "$tmp/nopose" -q -o "$tmp/nopose_out" --report "$tmp/nopose.json" > /dev/null 2>&1
+check "a sensor without a pose starts at image o frame^-1: the same start" json "$tmp/nopose.json" \
+  "near(d['initial_cost'], $(json_value "$tmp/colmap.json" initial_cost), 1e-9)"
+check "... and the same optimum (1e-5)" json "$tmp/nopose.json" \
+  "near(d['final_cost'], $(json_value "$tmp/colmap.json" final_cost), 1e-5)"
+check "... written with its pose" /usr/bin/python3 -c "
+import sys
+v = [l.split() for l in open('$tmp/nopose_out/rigs.txt') if l.strip() and not l.startswith('#')][0]
+sys.exit(0 if v[6] == '1' and len(v) == 14 else 1)"
+
+"$dba" solve "$tmp/m" -q -o "$tmp/fixed" --rig-geometry fixed --report "$tmp/fixed.json" > /dev/null 2>&1
+check "--rig-geometry fixed: 6 unknowns per frame only" json "$tmp/fixed.json" "d['camera_unknowns'] == 80 * 6 + 2 * 3"
+check "... the sensor's pose as it was (its turn and its place: the scale is the rig's)" /usr/bin/python3 -c "
+import sys
+a, b = ([float(x) for x in [l.split() for l in open(p) if l.strip() and not l.startswith('#')][0][7:]]
+        for p in ('$tmp/m/rigs.txt', '$tmp/fixed/rigs.txt'))
+sys.exit(0 if a == b else 1)"
+
+# An IMU on the rig and in the first frame: kept in the model, not modelled.
+cp -r "$tmp/m" "$tmp/imu"
+sed -i '/^[^#]/ s/^1 2 \(.*\)$/1 3 \1 IMU 7 0/' "$tmp/imu/rigs.txt"
+awk '!/^#/ && !done {$10 = $10 + 1; $0 = $0 " IMU 7 99"; done = 1} {print}' "$tmp/m/frames.txt" > "$tmp/imu/frames.txt"
+"$dba" solve "$tmp/imu" -q -o "$tmp/imu_out" --report "$tmp/imu.json" > "$tmp/log" 2>&1
+check "an IMU sensor and its data are read" test $? -eq 0
+check "... and not modelled: the same optimum" json "$tmp/imu.json" \
+  "near(d['final_cost'], $(json_value "$tmp/colmap.json" final_cost), 1e-9)"
+check "... and written back" contains "$tmp/imu_out/frames.txt" " IMU 7 99"
+check "... on its rig" contains "$tmp/imu_out/rigs.txt" " IMU 7 0"
+
+"$dba" solve "$tmp/m" -q --intrinsics per-image > "$tmp/refused.txt" 2>&1
+check "per-image intrinsics with rigs are refused by name" contains "$tmp/refused.txt" \
+  "--intrinsics per-image: $tmp/m has rigs of several cameras"
+finish
