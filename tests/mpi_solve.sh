@@ -4,7 +4,8 @@
 # partitions reaches the single-process final cost to 1e-9 relative; so do
 # COLMAP models in the photogrammetric model (shared and per-image
 # intrinsics, fixed images and intrinsics) and a generated photogrammetric
-# .dba read by the ranks themselves. These compare the distributed
+# .dba read by the ranks themselves, and rigs (a .dba and a COLMAP model).
+# These compare the distributed
 # arithmetic, so they run with an explicitly exact linear solve (the dense
 # factorization, which gathers the RCS on rank 0): with inexact PCG steps
 # runs differ by up to 1e-5. The RCS spread over the ranks (the default with
@@ -245,6 +246,31 @@ for n in 2 3; do
     else
       fail "photo .dba -np $n --partition $partition: $(final_cost "$tmp/photo_mpi.json") vs $(final_cost "$tmp/photo_single.json")"
     fi
+  done
+done
+
+# Rigs (docs/design.md §1.7): frames are the camera rows and a sensor shares
+# its group's row; a stereo .dba read by the ranks and the same survey as a
+# COLMAP model with a rig of two cameras (shares sent by rank 0) reach one
+# process's final cost, tight (1e-9), and with the defaults (1e-5).
+"$dba" generate "$tmp/rig.dba" --model photo --rig stereo --images 120 --seed 4 >/dev/null
+PYTHONPATH="$(dirname "$dba")/python" /usr/bin/python3 "$root/tests/lib/rig_to_colmap.py" "$tmp/rig.dba" 2 "$tmp/rigm"
+for input in rig.dba rigm; do
+  "$dba" solve "$tmp/$input" -q "${tight[@]}" --report "$tmp/rig_single.json" >/dev/null
+  "$dba" solve "$tmp/$input" -q --report "$tmp/rig_single_default.json" >/dev/null
+  for n in 1 2 3; do
+    for mode in tight default; do
+      extra=("${tight[@]}"); reference=rig_single.json; tolerance=1e-9
+      [ "$mode" = default ] && { extra=(); reference=rig_single_default.json; tolerance=1e-5; }
+      mpirun_n "$n" "$dba" solve "$tmp/$input" -q "${extra[@]}" --report "$tmp/rig_mpi.json" >"$tmp/rig.out" 2>&1 \
+        || { fail "rigs $input -np $n $mode exited non-zero"; cat "$tmp/rig.out" >&2; continue; }
+      if awk -v a="$(final_cost "$tmp/$reference")" -v b="$(final_cost "$tmp/rig_mpi.json")" -v t="$tolerance" \
+           'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= t * a) }'; then
+        passes=$((passes + 1)); echo "ok   rigs $input -np $n $mode"
+      else
+        fail "rigs $input -np $n $mode: $(final_cost "$tmp/rig_mpi.json") vs $(final_cost "$tmp/$reference")"
+      fi
+    done
   done
 done
 

@@ -21,6 +21,7 @@ void SendShare(Communicator* comm, int rank, const RankShare& s) {
   comm->Send(rank, t, std::span<const int32_t>(scalars, 2));
   comm->SendVector(rank, t, s.global_camera);
   comm->SendVector(rank, t, s.global_intrinsics);
+  comm->SendVector(rank, t, s.global_frame);
   comm->SendVector(rank, t, s.global_point);
   s.problem.ForEachArray([&](const auto& v) { comm->SendVector(rank, t, v); });
 }
@@ -58,6 +59,7 @@ RankShare RecvShare(Communicator* comm) {
   s.problem.intrinsics_size = scalars[1];
   s.global_camera = comm->RecvVector<int32_t>(0, t);
   s.global_intrinsics = comm->RecvVector<int32_t>(0, t);
+  s.global_frame = comm->RecvVector<int32_t>(0, t);
   s.global_point = comm->RecvVector<int64_t>(0, t);
   s.problem.ForEachArray([&](auto& v) {
     v = comm->RecvVector<typename std::decay_t<decltype(v)>::value_type>(0, t);

@@ -100,7 +100,7 @@ std::unique_ptr<DistributedRcs> BuildDistributedRcs(Communicator* comm, const Un
   comm->Broadcast(t, std::span<int32_t>(sizes));
   std::vector<int64_t> entities;
   if (workers != nullptr) {
-    entities = workers->system().layout.RowEntities(share->global_camera, share->global_intrinsics);
+    entities = workers->system().layout.RowEntities(share->CameraRowIds(), share->global_intrinsics);
   }
   std::vector<int32_t> rows;
   if (comm->is_main()) {
@@ -264,7 +264,7 @@ MpiPointWorkers::MpiPointWorkers(Communicator* comm, UnknownLayout layout,
     if (own != nullptr) {
       maps_.resize(1);
       maps_[0].global_row = layout.RowsOfEntities(own->system().layout.RowEntities(
-          own_share->global_camera, own_share->global_intrinsics));
+          own_share->CameraRowIds(), own_share->global_intrinsics));
     }
     global_.layout = std::move(layout);
     return;
@@ -276,7 +276,7 @@ MpiPointWorkers::MpiPointWorkers(Communicator* comm, UnknownLayout layout,
   if (own != nullptr) {
     local_patterns[0] = BlockPattern(own->system().S);
     rows[0] = layout.RowsOfEntities(own->system().layout.RowEntities(
-        own_share->global_camera, own_share->global_intrinsics));
+        own_share->CameraRowIds(), own_share->global_intrinsics));
   }
   for (int r = 1; r < comm->size(); ++r) {
     local_patterns[r] = comm->RecvVector<uint64_t>(r, Traffic::kDistribution);
@@ -462,7 +462,7 @@ RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers
   } else {
     comm->SendVector(0, Traffic::kDistribution, BlockPattern(workers->system().S));
     comm->SendVector(0, Traffic::kDistribution,
-                     workers->system().layout.RowEntities(share->global_camera,
+                     workers->system().layout.RowEntities(share->CameraRowIds(),
                                                           share->global_intrinsics));
   }
   std::vector<double> message, delta(workers->system().layout.num_unknowns());

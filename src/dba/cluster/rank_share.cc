@@ -14,6 +14,8 @@ RankShare ExtractShare(const Problem& full, std::span<const int32_t> point_group
   p.camera_intrinsics = full.camera_intrinsics;
   p.fixed_cameras = full.fixed_cameras;
   p.fixed_intrinsics = full.fixed_intrinsics;
+  p.image_frame = full.image_frame;
+  p.sensor_kind = full.sensor_kind;
   p.point_offsets.push_back(0);
   for (int64_t k = 0; k < full.num_points(); ++k) {
     if (point_group[k] != group) continue;
@@ -34,6 +36,32 @@ RankShare ExtractShare(const Problem& full, std::span<const int32_t> point_group
   return s;
 }
 
+namespace {
+
+// Rigs: the frames of the share's images (in increasing order) and the
+// sensors of its groups, after the groups in `cameras`.
+void KeepTouchedFrames(const Problem& old, RankShare* share) {
+  Problem& p = share->problem;
+  std::vector<int32_t> local_frame(old.num_frames(), -1);
+  for (int32_t c : share->global_camera) local_frame[old.image_frame[c]] = 0;
+  share->global_frame.clear();
+  for (int64_t f = 0; f < old.num_frames(); ++f) {
+    if (local_frame[f] < 0) continue;
+    local_frame[f] = static_cast<int32_t>(share->global_frame.size());
+    share->global_frame.push_back(static_cast<int32_t>(f));
+    const double* pose = old.cameras.data() + old.frame_offset(f);
+    p.cameras.insert(p.cameras.end(), pose, pose + kPhotoPoseSize);
+  }
+  for (int32_t g : share->global_intrinsics) {
+    const double* pose = old.cameras.data() + old.sensor_offset(g);
+    p.cameras.insert(p.cameras.end(), pose, pose + kPhotoPoseSize);
+    p.sensor_kind.push_back(old.sensor_kind[g]);
+  }
+  for (int32_t c : share->global_camera) p.image_frame.push_back(local_frame[old.image_frame[c]]);
+}
+
+}  // namespace
+
 void KeepTouchedCameras(RankShare* share) {
   Problem& p = share->problem;
   Problem old;  // the camera side as it was
@@ -44,6 +72,8 @@ void KeepTouchedCameras(RankShare* share) {
   old.camera_intrinsics.swap(p.camera_intrinsics);
   old.fixed_cameras.swap(p.fixed_cameras);
   old.fixed_intrinsics.swap(p.fixed_intrinsics);
+  old.image_frame.swap(p.image_frame);
+  old.sensor_kind.swap(p.sensor_kind);
   const bool photo = old.model == CameraModel::kPhoto;
   std::vector<int32_t> local_camera(old.num_images(), -1);
   std::vector<int32_t> local_group(old.num_groups(), -1);
@@ -72,6 +102,7 @@ void KeepTouchedCameras(RankShare* share) {
   for (int32_t c : share->global_camera) {
     p.camera_intrinsics.push_back(local_group[old.camera_intrinsics[c]]);
   }
+  if (old.has_rigs()) KeepTouchedFrames(old, share);
 }
 
 }  // namespace dba

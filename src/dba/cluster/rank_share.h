@@ -19,6 +19,12 @@ struct RankShare {
   std::vector<int32_t> global_camera;     // local camera -> global camera
   std::vector<int32_t> global_intrinsics; // local group -> global group (kPhoto)
   std::vector<int64_t> global_point;      // local point -> global point
+  std::vector<int32_t> global_frame;      // rigs: local frame -> global frame
+  // What a camera row of the share's layout stands for, globally: its
+  // camera, or with rigs its frame (UnknownLayout::RowEntities).
+  const std::vector<int32_t>& CameraRowIds() const {
+    return problem.has_rigs() ? global_frame : global_camera;
+  }
 };
 
 // The points with point_group[k] == group, in global order, with only the
@@ -28,8 +34,9 @@ RankShare ExtractShare(const Problem& full, std::span<const int32_t> point_group
                        int32_t group);
 
 // Keeps only the cameras that `share.problem`'s observations touch (and
-// their intrinsic groups), renumbered in increasing order; fills
-// global_camera and global_intrinsics with the old ids. For a share whose
+// their intrinsic groups and, with rigs, their frames), renumbered in
+// increasing order; fills global_camera, global_intrinsics (and
+// global_frame) with the old ids. For a share whose
 // camera ids are global (one read from a .dba); ExtractShare's are not.
 void KeepTouchedCameras(RankShare* share);
 

@@ -7,7 +7,10 @@
 
 #include <set>
 
+#include "dba/camera/rig_pose.h"
+#include "dba/rcs/unknown_layout.h"
 #include "dba/testing/synthetic_photo.h"
+#include "dba/testing/synthetic_rig.h"
 
 namespace dba {
 namespace {
@@ -56,6 +59,44 @@ TEST(RankShare, HoldsItsPointsAndTheCamerasTheyTouch) {
     }
     const int32_t g = p.camera_intrinsics[i];
     EXPECT_EQ(share.global_intrinsics[g], full.camera_intrinsics[share.global_camera[i]]);
+  }
+}
+
+// Rigs: a share keeps the frames of its images and the sensors of its
+// groups, so its images compose to the global poses, and its camera rows
+// stand for global frames.
+TEST(RankShare, KeepsTheFramesAndSensorsOfItsImages) {
+  testing::SyntheticRigOptions o;
+  o.frames = 8;
+  o.sensors = 3;
+  o.missing = true;
+  const Problem full = testing::MakeSyntheticRig(o).problem;
+  std::vector<int32_t> group(full.num_points());
+  // Points seen in frame 0 in one share: the other may lack some frames.
+  for (int64_t k = 0; k < full.num_points(); ++k) group[k] = full.image_frame[full.obs_camera[full.point_offsets[k]]] == 0;
+  for (int32_t g = 0; g < 2; ++g) {
+    const RankShare share = ExtractShare(full, group, g);
+    Problem local = share.problem;
+    ASSERT_TRUE(local.has_rigs()) << "share " << g;
+    ASSERT_GT(local.num_points(), 0);
+    ASSERT_EQ(static_cast<int64_t>(share.global_frame.size()), local.num_frames());
+    for (int64_t f = 0; f < local.num_frames(); ++f) {
+      for (int k = 0; k < 6; ++k) {
+        EXPECT_EQ(local.cameras[local.frame_offset(f) + k],
+                  full.cameras[full.frame_offset(share.global_frame[f]) + k]);
+      }
+    }
+    ComposeRigImages(&local);
+    for (int64_t i = 0; i < local.num_images(); ++i) {
+      EXPECT_EQ(share.global_frame[local.image_frame[i]], full.image_frame[share.global_camera[i]]);
+      for (int k = 0; k < 6; ++k) EXPECT_EQ(local.camera(i)[k], full.camera(share.global_camera[i])[k]);
+    }
+    const UnknownLayout global(full), layout(local);
+    const std::vector<int32_t> rows =
+        global.RowsOfEntities(layout.RowEntities(share.CameraRowIds(), share.global_intrinsics));
+    for (int64_t i = 0; i < local.num_images(); ++i) {
+      EXPECT_EQ(rows[layout.camera_row(i)], global.camera_row(share.global_camera[i]));
+    }
   }
 }
 

@@ -56,6 +56,7 @@ void UnknownLayout::AddFrameRows(const CameraSide& side) {
     row_entity_.push_back(static_cast<int32_t>(f));
     row_offset_.push_back(row_offset_.back() + kPoseSize);
   }
+  frame_row_ = frame_row;
   camera_row_.resize(side.num_images());
   for (int64_t i = 0; i < side.num_images(); ++i) camera_row_[i] = frame_row[side.image_frame[i]];
   image_frame_ = side.image_frame;
@@ -146,7 +147,8 @@ std::vector<int32_t> UnknownLayout::RowsOfEntities(const std::vector<int64_t>& e
   for (size_t r = 0; r < entities.size(); ++r) {
     const int64_t e = entities[r];
     const int64_t g = -1 - e;
-    rows[r] = e >= 0 ? (e < static_cast<int64_t>(camera_row_.size()) ? camera_row_[e] : -1)
+    const std::vector<int32_t>& by_id = image_frame_.empty() ? camera_row_ : frame_row_;
+    rows[r] = e >= 0 ? (e < static_cast<int64_t>(by_id.size()) ? by_id[e] : -1)
                      : (g < static_cast<int64_t>(intrinsics_row_.size()) ? intrinsics_row_[g] : -1);
     if (rows[r] < 0) {
       throw std::logic_error("UnknownLayout: a share's unknown is not an unknown of the problem");

@@ -95,9 +95,9 @@ class UnknownLayout {
   // out = x ⊞ δ (out may alias x).
   void Plus(const double* x, const double* delta, double* out) const;
   // Where a share's rows sit in the whole problem (distributed runs): for a
-  // share whose camera c is `global_camera[c]` and whose group g is
-  // `global_intrinsics[g]` in the problem, each row's entity in the problem's
-  // numbering: camera id i >= 0, or group g as -1 - g.
+  // share whose camera (with rigs: frame) c is `global_camera[c]` and whose
+  // group g is `global_intrinsics[g]` in the problem, each row's entity in
+  // the problem's numbering: camera (frame) id i >= 0, or group g as -1 - g.
   std::vector<int64_t> RowEntities(const std::vector<int32_t>& global_camera,
                                    const std::vector<int32_t>& global_intrinsics) const;
   // This layout's rows of those entities; throws std::logic_error when an
@@ -119,6 +119,7 @@ class UnknownLayout {
   // x (-1: none), and per image its frame and group, to compose the images.
   std::vector<int64_t> sensor_offset_;
   std::vector<int32_t> image_frame_, image_group_;
+  std::vector<int32_t> frame_row_;  // rigs: each frame's row (-1: held)
   int64_t frames_offset_ = 0;
 
   void AddCameraRows(const CameraSide& side);

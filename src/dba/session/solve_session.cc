@@ -29,9 +29,8 @@ namespace dba {
 namespace {
 
 // What rigs do not reach yet (issue 46): refused by name before any work.
-void RefuseUnbuiltRigUses(const SolveOptions& options, int ranks) {
-  const char* what = ranks > 1                            ? "MPI ranks (run one process)"
-                     : !options.geo.camera_priors_path.empty() ? "--camera-priors"
+void RefuseUnbuiltRigUses(const SolveOptions& options) {
+  const char* what = !options.geo.camera_priors_path.empty() ? "--camera-priors"
                      : !options.geo.gcps_path.empty()        ? "--gcps"
                                                              : nullptr;
   if (what == nullptr) return;
@@ -152,7 +151,7 @@ SolveResult SolveSession::Run(SolveInput input) {
   if (comm_->is_main()) {
     Timer load;
     Start(input_);
-    if (result_.problem.has_rigs()) RefuseUnbuiltRigUses(options_, comm_->size());
+    if (result_.problem.has_rigs()) RefuseUnbuiltRigUses(options_);
     // Every rank that reads the file moves its own copy alike (ReadShare).
     const std::vector<FovStartMove> fov = StartFovOutsideSeries(&result_.problem);
     if (!options_.quiet) out_ << DescribeFovStartMoves(fov);
