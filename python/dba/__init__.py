@@ -52,10 +52,11 @@ class Problem:
     k1, k2). observations (M, 2) pixels of point point_indices[i] in camera
     camera_indices[i]. fixed_cameras (N,) and fixed_intrinsics (G, S): True
     where held fixed (a model's unused columns read True). A problem with
-    rigs (.dba version 4, read only: solve_arrays holds none yet) also has
-    frame_indices (N,) each image's frame, rig_from_world (F, 6) the frames'
-    poses, sensor_from_rig (G, 6) each group's sensor pose in its rig and
-    sensor_kinds (G,) 0 the rig's origin, 1 refined, 2 held."""
+    rigs (.dba version 4, a COLMAP model with rigs, or given to solve_arrays)
+    also has frame_indices (N,) each image's frame, rig_from_world (F, 6) the
+    frames' poses, sensor_from_rig (G, 6) each group's sensor pose in its rig
+    and sensor_kinds (G,) 0 the rig's origin, 1 refined, 2 held; the images'
+    poses in cameras are then composed from them."""
     camera_model: str
     cameras: np.ndarray
     points: np.ndarray
@@ -233,7 +234,8 @@ def solve(path, *, verbose=False, **options) -> Result:
 
 def solve_arrays(cameras, points, observations, camera_indices, point_indices, *,
                  camera_model="bal", intrinsics=None, camera_intrinsics=None,
-                 fixed_cameras=None, fixed_intrinsics=None, lens_models=None, verbose=False,
+                 fixed_cameras=None, fixed_intrinsics=None, lens_models=None, frame_indices=None,
+                 rig_from_world=None, sensor_from_rig=None, sensor_kinds=None, verbose=False,
                  **options) -> Result:
     """Bundle-adjusts a problem given as arrays (see Problem; observations in
     any order). The inputs are not modified; the Result holds the adjusted
@@ -241,7 +243,8 @@ def solve_arrays(cameras, points, observations, camera_indices, point_indices, *
     return _result(_dba.solve_arrays(camera_model, cameras, points, observations,
                                      camera_indices, point_indices, intrinsics,
                                      camera_intrinsics, fixed_cameras, fixed_intrinsics,
-                                     lens_models, _arguments(options, "arrays"), verbose))
+                                     lens_models, _arguments(options, "arrays"), verbose,
+                                     frame_indices, rig_from_world, sensor_from_rig, sensor_kinds))
 
 
 def read_problem(path) -> Problem:

@@ -171,7 +171,9 @@ PYBIND11_MODULE(_dba, m) {
          std::optional<DoubleArray> intrinsics, std::optional<IndexArray> camera_intrinsics,
          std::optional<FlagArray> fixed_cameras, std::optional<FlagArray> fixed_intrinsics,
          std::optional<std::vector<std::string>> lens_models,
-         const std::vector<std::string>& args, bool verbose) {
+         const std::vector<std::string>& args, bool verbose, std::optional<IndexArray> frame_indices,
+         std::optional<DoubleArray> rig_from_world, std::optional<DoubleArray> sensor_from_rig,
+         std::optional<IndexArray> sensor_kinds) {
         ProblemArrays a;
         a.camera_model = camera_model;
         a.cameras = std::move(cameras);
@@ -184,12 +186,18 @@ PYBIND11_MODULE(_dba, m) {
         a.fixed_cameras = std::move(fixed_cameras);
         a.fixed_intrinsics = std::move(fixed_intrinsics);
         a.lens_models = std::move(lens_models);
+        a.frame_indices = std::move(frame_indices);
+        a.rig_from_world = std::move(rig_from_world);
+        a.sensor_from_rig = std::move(sensor_from_rig);
+        a.sensor_kinds = std::move(sensor_kinds);
         return SolveArrays(a, args, verbose);
       },
       py::arg("camera_model"), py::arg("cameras"), py::arg("points"), py::arg("observations"),
       py::arg("camera_indices"), py::arg("point_indices"), py::arg("intrinsics"),
       py::arg("camera_intrinsics"), py::arg("fixed_cameras"), py::arg("fixed_intrinsics"),
       py::arg("lens_models"), py::arg("args"), py::arg("verbose") = false,
+      py::arg("frame_indices") = py::none(), py::arg("rig_from_world") = py::none(),
+      py::arg("sensor_from_rig") = py::none(), py::arg("sensor_kinds") = py::none(),
       "the solve of dba solve on arrays: (report JSON, adjusted problem arrays, printed text)");
   m.def("solve_options", &SolveOptionList,
         "dba solve's options as the option table declares them (one dict per option)");

@@ -1,11 +1,13 @@
 // NumPy arrays <-> Problem; see problem_arrays.h.
 #include "problem_arrays.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <vector>
 
+#include "dba/camera/rig_pose.h"
 #include "dba/problem/lens_ranges.h"
 
 namespace dba::python {
@@ -175,6 +177,64 @@ void ObservationsFromArrays(const ProblemArrays& in, int64_t n, int64_t num_poin
 
 }  // namespace
 
+// The rig arrays into `p` (see ProblemArrays), after its groups.
+void RigsFromArrays(const ProblemArrays& in, int64_t n, Problem* p) {
+  if (!in.frame_indices) {
+    if (in.rig_from_world || in.sensor_from_rig || in.sensor_kinds) {
+      throw Bad("rig_from_world, sensor_from_rig, sensor_kinds: need frame_indices");
+    }
+    return;
+  }
+  if (p->model != CameraModel::kPhoto) throw Bad("frame_indices: rigs need camera_model='photo'");
+  if (!in.rig_from_world || !in.sensor_from_rig) {
+    throw Bad("frame_indices: rigs need rig_from_world (F, 6) and sensor_from_rig (G, 6)");
+  }
+  const int64_t groups = p->num_groups();
+  const int64_t frames = Rows(*in.rig_from_world, kPhotoPoseSize, "rig_from_world", "(F, 6)");
+  if (Rows(*in.sensor_from_rig, kPhotoPoseSize, "sensor_from_rig", "(G, 6)") != groups) {
+    throw Bad("sensor_from_rig: expected one row per intrinsic group (" + std::to_string(groups) +
+              "), got " + Shape(*in.sensor_from_rig));
+  }
+  if (Length(*in.frame_indices, "frame_indices") != n) {
+    throw Bad("frame_indices: expected " + std::to_string(n) + " entries (one per image), got " +
+              Shape(*in.frame_indices));
+  }
+  std::vector<uint8_t> used(frames, 0);
+  for (int64_t i = 0; i < n; ++i) {
+    const int64_t f = in.frame_indices->data()[i];
+    if (f < 0 || f >= frames) {
+      throw Bad("frame_indices[" + std::to_string(i) + "] = " + std::to_string(f) +
+                " is out of range [0, " + std::to_string(frames) + ")");
+    }
+    used[f] = 1;
+    p->image_frame.push_back(static_cast<int32_t>(f));
+  }
+  for (int64_t f = 0; f < frames; ++f) {
+    if (!used[f]) throw Bad("rig_from_world: frame " + std::to_string(f) + " has no image");
+  }
+  const std::vector<double> frame_poses = Finite(*in.rig_from_world, "rig_from_world");
+  const std::vector<double> sensor_poses = Finite(*in.sensor_from_rig, "sensor_from_rig");
+  for (int64_t g = 0; g < groups; ++g) {
+    const double* s = sensor_poses.data() + kPhotoPoseSize * g;
+    const bool zero = std::all_of(s, s + kPhotoPoseSize, [](double v) { return v == 0.0; });
+    int64_t kind = zero ? kRigOrigin : kSensorRefined;
+    if (in.sensor_kinds) {
+      if (Length(*in.sensor_kinds, "sensor_kinds") != groups) {
+        throw Bad("sensor_kinds: expected one per intrinsic group, got " + Shape(*in.sensor_kinds));
+      }
+      kind = in.sensor_kinds->data()[g];
+    }
+    if (kind < 0 || kind > kSensorHeld || (kind == kRigOrigin && !zero)) {
+      throw Bad("sensor_kinds[" + std::to_string(g) + "] = " + std::to_string(kind) +
+                ": expected 0 (the rig's origin, a zero pose), 1 (refined) or 2 (held)");
+    }
+    p->sensor_kind.push_back(static_cast<uint8_t>(kind));
+  }
+  p->cameras.insert(p->cameras.end(), frame_poses.begin(), frame_poses.end());
+  p->cameras.insert(p->cameras.end(), sensor_poses.begin(), sensor_poses.end());
+  ComposeRigImages(p);
+}
+
 Problem ProblemFromArrays(const ProblemArrays& in) {
   Problem p;
   if (in.camera_model == "bal") {
@@ -210,6 +270,7 @@ Problem ProblemFromArrays(const ProblemArrays& in) {
   } else {
     IntrinsicsFromArrays(in, n, &p);
   }
+  RigsFromArrays(in, n, &p);
   if (in.fixed_cameras && in.fixed_cameras->size() > 0) {
     if (Length(*in.fixed_cameras, "fixed_cameras") != n) {
       throw Bad("fixed_cameras: expected " + std::to_string(n) + " entries (one per camera), got " +
@@ -260,7 +321,7 @@ py::dict ProblemToArrays(const Problem& p) {
   }
   d["fixed_intrinsics"] = fixed_intrinsics;
   if (p.has_rigs()) {
-    // Rigs (read only: a solve of arrays holds none yet).
+    // Rigs (docs/design.md §1.7).
     const int64_t frames = p.num_frames();
     std::vector<int64_t> frame_of(p.image_frame.begin(), p.image_frame.end());
     d["frame_indices"] = Array(frame_of, {n});

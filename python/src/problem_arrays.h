@@ -38,6 +38,14 @@ struct ProblemArrays {
   std::optional<FlagArray> fixed_cameras;     // (N,) True: the pose/camera is held
   std::optional<FlagArray> fixed_intrinsics;  // (G, S) True: held
   std::optional<std::vector<std::string>> lens_models;  // (G,) names
+  // Rigs ("photo"; docs/design.md §1.7): frame_indices (N,) each image's
+  // frame, rig_from_world (F, 6) the frames' poses, sensor_from_rig (G, 6)
+  // each group's pose in its rig, sensor_kinds (G,) 0 the rig's origin (its
+  // pose zero), 1 refined, 2 held (absent: 0 where the pose is zero, else
+  // 1). The images' poses are then composed from them (`cameras` gives only
+  // their count).
+  std::optional<IndexArray> frame_indices, sensor_kinds;
+  std::optional<DoubleArray> rig_from_world, sensor_from_rig;
 };
 
 // Builds the problem (observations stored point-major, stable). Throws

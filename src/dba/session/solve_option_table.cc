@@ -138,13 +138,12 @@ std::vector<Spec> FixingOptions() {
   t.back().not_here = kColmapOnly;
   t.push_back(Choice(
       "--rig-geometry", {"refine", "fixed"},
-      "a problem with rigs (.dba version 4): refine each rig's sensor poses (sensor_from_rig, "
+      "a problem with rigs (.dba version 4, COLMAP rigs, arrays with frame_indices): refine each rig's sensor poses (sensor_from_rig, "
       "the reference sensor held as the rig's origin) where the problem poses them free, or "
       "hold them all; the frames' poses (rig_from_world) are always unknowns",
       [](SolveOptions& o, size_t i) { o.unknowns.refine_rig_geometry = i == 0; },
       [](const SolveOptions& o) { return std::string(o.unknowns.refine_rig_geometry ? "refine" : "fixed"); }));
-  t.back().modes = kNotArrays;
-  t.back().not_here = "rigs come from a .dba file (version 4); arrays hold none yet";
+
   Spec fix = Base("--fix-intrinsics", OptionKind::kText, "[GROUP:]NAMES",
                   "hold intrinsics fixed by name: all, or a comma-separated list of the groups' "
                   "lens models' names (COLMAP's: f, fx, fy, cx, cy, k1, k2, p1, p2, ...; see dba "
