@@ -7,7 +7,9 @@
 # names, structure and tracks exactly and the poses to 1e-15, the images'
 # poses those composed from the frames; a sensor without a pose starts at
 # image o frame^-1 and reaches the same optimum; --rig-geometry fixed keeps
-# the sensor's pose; per-image intrinsics with rigs are refused.
+# the sensor's pose, as COLMAP's refine_sensor_from_rig 0 does through dba
+# colmap-bundle-adjuster; an IMU is kept; per-image intrinsics with rigs are
+# refused.
 # Usage: cli_colmap_rig_models.sh PATH_TO_DBA PROJECT_ROOT
 set -uo pipefail
 source "$(dirname "$0")/lib/check.sh"
@@ -103,6 +105,14 @@ check "... the sensor's pose as it was (its turn and its place: the scale is the
 import sys
 a, b = ([float(x) for x in [l.split() for l in open(p) if l.strip() and not l.startswith('#')][0][7:]]
         for p in ('$tmp/m/rigs.txt', '$tmp/fixed/rigs.txt'))
+sys.exit(0 if a == b else 1)"
+
+"$dba" colmap-bundle-adjuster --input_path "$tmp/m" --output_path "$tmp/ba" \
+  --BundleAdjustment.refine_sensor_from_rig 0 --BundleAdjustment.max_num_iterations 5 > "$tmp/ba.log" 2>&1
+check "colmap-bundle-adjuster: refine_sensor_from_rig 0 holds the sensor" /usr/bin/python3 -c "
+import sys
+a, b = ([float(x) for x in [l.split() for l in open(p) if l.strip() and not l.startswith('#')][0][7:]]
+        for p in ('$tmp/m/rigs.txt', '$tmp/ba/rigs.txt'))
 sys.exit(0 if a == b else 1)"
 
 # An IMU on the rig and in the first frame: kept in the model, not modelled.

@@ -54,7 +54,7 @@ const std::map<std::string, Refinement>& Refinements() {
       {"--BundleAdjustment.refine_extrinsics", {true, "--fix-images all", "0: --fix-images all"}},
       {"--BundleAdjustment.refine_rig_from_world", {true, "--fix-images all", "3.12's refine_extrinsics"}},
       {"--BundleAdjustment.refine_sensor_from_rig",
-       {true, "", "3.12: every rig dba reads has one camera (identity sensor_from_rig); no effect"}},
+       {true, "--rig-geometry fixed", "3.12, 0: --rig-geometry fixed (the rigs' sensor poses held)"}},
   };
   return m;
 }
