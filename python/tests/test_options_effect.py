@@ -47,6 +47,12 @@ def rep(r):
     return r.summary.report
 
 
+def one_frame_per_image(d):
+    p = dba.read_problem(d / "s.dba")
+    return dict(frame_indices=np.arange(len(p.cameras)), rig_from_world=p.cameras,
+                sensor_from_rig=np.zeros((2, 6)), sensor_kinds=np.array([0, 1]))
+
+
 def linear(r):
     return [it.linear_iterations for it in r.summary.history]
 
@@ -75,6 +81,11 @@ EFFECTS = {
             solve(d, fixed_intrinsics=np.zeros((2, 5), bool), quiet=True).intrinsics[:, 1:3],
             dba.read_problem(d / "s.dba").intrinsics[:, 1:3])
         and not np.array_equal(r.intrinsics[:, 1:3], dba.read_problem(d / "s.dba").intrinsics[:, 1:3])),
+    # Each image its own frame, group 1 a refined sensor at the origin's
+    # place: fixed holds its 6 unknowns.
+    "rig_geometry": (lambda d: dict(rig_geometry="fixed", **one_frame_per_image(d)),
+                     lambda r, b, d: rep(r)["camera_unknowns"] == rep(
+                         solve(d, quiet=True, **one_frame_per_image(d)))["camera_unknowns"] - 6),
     "gauge": (lambda d: dict(gauge="free"),
               lambda r, b, d: rep(r)["gauge"].startswith("free")
               and np.array_equal(b.cameras[0], dba.read_problem(d / "s.dba").cameras[0])
