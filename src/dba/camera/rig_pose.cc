@@ -21,6 +21,12 @@ void ComposeRigPose(const double* sensor_from_rig, const double* rig_from_world,
   for (int k = 0; k < 3; ++k) image[k] = omega[k], image[3 + k] = t[k];
 }
 
+void ComposeWithInverse(const double* a, const double* b, double* out) {
+  const Vec3 t = -(AngleAxisToRotation(Vec3(b[0], b[1], b[2])).transpose() * Vec3(b[3], b[4], b[5]));
+  const double inverse[6] = {-b[0], -b[1], -b[2], t[0], t[1], t[2]};
+  ComposeRigPose(a, inverse, out);
+}
+
 void ComposeRigImages(CameraSide* side) {
   if (!side->has_rigs()) return;
   for (int64_t i = 0; i < side->num_images(); ++i) {

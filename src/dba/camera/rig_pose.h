@@ -35,6 +35,10 @@ namespace dba {
 // image = sensor ∘ frame.
 void ComposeRigPose(const double* sensor_from_rig, const double* rig_from_world, double* image);
 
+// out = a ∘ b⁻¹ (the pose taking b's frame to a's): with a an image's pose
+// and b its frame's, the sensor's pose in the rig.
+void ComposeWithInverse(const double* a, const double* b, double* out);
+
 // Every image's pose composed from its frame and its group's sensor
 // (side->has_rigs(); nothing otherwise).
 void ComposeRigImages(CameraSide* side);

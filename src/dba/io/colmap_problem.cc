@@ -119,11 +119,8 @@ void AddRigs(const ColmapModel& model, const std::vector<int32_t>& problem_camer
     // No pose: image ∘ frame⁻¹ at the first image of the group.
     for (int64_t i = 0; i < n; ++i) {
       if (bp.camera_intrinsics[i] != g) continue;
-      const double* fp = bp.cameras.data() + bp.frame_offset(bp.image_frame[i]);
-      const Mat3 R_f = AngleAxisToRotation(Vec3(fp[0], fp[1], fp[2]));
-      const Vec3 t = -(R_f.transpose() * Vec3(fp[3], fp[4], fp[5]));
-      const double frame_inverse[6] = {-fp[0], -fp[1], -fp[2], t[0], t[1], t[2]};
-      ComposeRigPose(image_poses.data() + kPhotoPoseSize * i, frame_inverse, sensor);
+      ComposeWithInverse(image_poses.data() + kPhotoPoseSize * i,
+                         bp.cameras.data() + bp.frame_offset(bp.image_frame[i]), sensor);
       break;
     }
   }

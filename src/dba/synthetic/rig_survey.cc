@@ -57,14 +57,9 @@ std::vector<Pose6> NominalAboutNadir(const std::string& name) {
   return s;
 }
 
-// a ∘ b⁻¹ for poses (ω, t).
 Pose6 ComposeInverse(const Pose6& a, const Pose6& b) {
-  const Mat3 Rb = AngleAxisToRotation(Vec3(b[0], b[1], b[2]));
-  const Vec3 tb(b[3], b[4], b[5]);
-  const Vec3 inv_omega = -Vec3(b[0], b[1], b[2]), inv_t = -(Rb.transpose() * tb);
-  const double inverse[6] = {inv_omega[0], inv_omega[1], inv_omega[2], inv_t[0], inv_t[1], inv_t[2]};
   Pose6 out;
-  ComposeRigPose(a.data(), inverse, out.data());
+  ComposeWithInverse(a.data(), b.data(), out.data());
   return out;
 }
 
