@@ -2,8 +2,9 @@
 # Rigs end to end (issue 46, docs/design.md §1.7): dba generate --rig writes
 # a .dba version 4 whose solve recovers the sensors' turns; --rig-geometry
 # fixed holds them; the written problem re-reads at the final cost; the same survey renumbered at random solves to the same cost;
-# --drop-rigs gives the same images as independent cameras; what rigs do
-# not reach yet is refused by name. Usage: cli_rigs.sh PATH_TO_DBA PROJECT_ROOT
+# --drop-rigs gives the same images as independent cameras; GNSS priors on
+# the frames recover the antenna's lever arm; what rigs do not reach yet is
+# refused by name. Usage: cli_rigs.sh PATH_TO_DBA PROJECT_ROOT
 set -uo pipefail
 source "$(dirname "$0")/lib/check.sh"
 dba=$1
@@ -56,10 +57,48 @@ check "--drop-rigs keeps the images' poses: the same initial cost" json "$tmp/in
   "near(d['initial_cost'], $(json_value "$tmp/start.json" initial_cost), 1e-12)"
 check "--drop-rigs: 6 unknowns per image" json "$tmp/ind0.json" "d['camera_unknowns'] == 160 * 6 + 2 * 3"
 
-echo "0 1 2 3 1 1" > "$tmp/priors.txt"
-"$dba" solve "$tmp/rig.dba" -q --camera-priors "$tmp/priors.txt" > "$tmp/refused.txt" 2>&1
-check "camera priors with rigs are refused by name" contains "$tmp/refused.txt" \
-  "a problem with rigs is not solved with --camera-priors yet"
+# GNSS on the rig (issue 46): the antenna 0.25, -0.15, -0.40 m from the
+# rig's origin, one prior per frame (sigma 2 cm), 5 control and 3 check
+# points; 500 frames of the oblique head (alternating headings place the
+# lever arm's horizontal part, the control points its vertical part).
+"$dba" generate --model photo --rig oblique5 --images 2500 --seed 5 "$tmp/gnss.dba" \
+  --truth "$tmp/gnss_truth.dba" --priors "$tmp/gnss.txt" --gnss-sigma 0.02,0.02 \
+  --lever-arm 0.25,-0.15,-0.4 --gcps "$tmp/gcps.txt" --control-points 5 --check-points 3 \
+  > /dev/null 2>&1
+check "one prior per frame" test "$(grep -vc '^#' "$tmp/gnss.txt")" -eq 500
+"$dba" solve "$tmp/gnss.dba" -q --camera-priors "$tmp/gnss.txt" --gcps "$tmp/gcps.txt" \
+  --refine-lever-arm --report "$tmp/lever.json" > "$tmp/lever.txt" 2>&1
+check "refined from 0: the lever arm within 1 cm of the truth" json "$tmp/lever.json" \
+  "all(abs(a - b) < 0.01 for a, b in zip(d['camera_priors']['lever_arm'], [0.25, -0.15, -0.4])) and d['camera_priors']['lever_arm_refined']"
+check "the antennas end on the priors (RMS within 1.5 sigma)" json "$tmp/lever.json" \
+  "max(d['camera_priors']['rms']) < 0.03 and d['check_points']['rms_3d'] < 0.1"
+check "3 unknowns more than the frames' and sensors'" json "$tmp/lever.json" \
+  "d['camera_unknowns'] == 500 * 6 + 5 * 3 + 4 * 6 + 3"
+"$dba" solve "$tmp/gnss.dba" -q --camera-priors "$tmp/gnss.txt" --gcps "$tmp/gcps.txt" \
+  --lever-arm 0.25,-0.15,-0.4 --report "$tmp/given.json" > /dev/null 2>&1
+"$dba" solve "$tmp/gnss.dba" -q --camera-priors "$tmp/gnss.txt" --gcps "$tmp/gcps.txt" \
+  --report "$tmp/none.json" > /dev/null 2>&1
+check "given: held as given, the antennas on the priors" json "$tmp/given.json" \
+  "d['camera_priors']['lever_arm'] == [0.25, -0.15, -0.4] and not d['camera_priors']['lever_arm_refined'] and max(d['camera_priors']['rms']) < 0.03"
+check "no lever arm: the block shifts by it, the control points 10 cm off" json "$tmp/none.json" \
+  "d['control_points']['rms_3d'] > 0.1 and $(json_value "$tmp/lever.json" control_points)['rms_3d'] < 0.03"
+check "refined ends as low as given (3 more unknowns)" json "$tmp/lever.json" \
+  "d['final_cost'] <= $(json_value "$tmp/given.json" final_cost) * (1 + 1e-6)"
+# Hostile: two priors on one frame, a lever arm without priors, a refined
+# one with a checkpoint, a malformed one.
+{ grep -v '^#' "$tmp/gnss.txt" | head -2; echo "1 1 2 3 0.02 0.02"; } > "$tmp/twice.txt"
+"$dba" solve "$tmp/gnss.dba" -q --camera-priors "$tmp/twice.txt" > "$tmp/refused.txt" 2>&1
+check "two priors on one frame are refused by name" contains "$tmp/refused.txt" \
+  "$tmp/twice.txt: images 0 and 1 are one frame (one exposure of a rig)"
+"$dba" solve "$tmp/gnss.dba" -q --refine-lever-arm > "$tmp/refused.txt" 2>&1
+check "a lever arm without priors is refused" contains "$tmp/refused.txt" \
+  "--refine-lever-arm: the lever arm is the camera priors' antenna's; give --camera-priors"
+"$dba" solve "$tmp/gnss.dba" -q --camera-priors "$tmp/gnss.txt" --refine-lever-arm \
+  --checkpoint "$tmp/ck" > "$tmp/refused.txt" 2>&1
+check "a refined lever arm with a checkpoint is refused, nothing written" \
+  bash -c "grep -qF -- '--refine-lever-arm is not combined with --checkpoint yet' '$tmp/refused.txt' && test ! -e '$tmp/ck'"
+"$dba" solve "$tmp/gnss.dba" -q --camera-priors "$tmp/gnss.txt" --lever-arm 1,2 > "$tmp/refused.txt" 2>&1
+check "a lever arm of two numbers is refused" contains "$tmp/refused.txt" "--lever-arm: '1,2' is not X,Y,Z"
 "$dba" generate --rig oblique5 --images 50 "$tmp/bal.txt" > "$tmp/refused2.txt" 2>&1
 check "a rig needs the photo model" contains "$tmp/refused2.txt" "--rig needs --model photo"
 "$dba" convert "$tmp/rig.dba" "$tmp/rig.txt" > "$tmp/refused3.txt" 2>&1

@@ -19,7 +19,8 @@ for opt in --output --report --threads --max-iterations --function-tolerance \
            --fix-intrinsics --fix-images --colmap-format --pcg-precision \
            --min-triangulation-angle --no-memory-check --list-camera-models \
            --camera-priors --prior-sigma --prior-crs --prior-loss --prior-loss-scale \
-           --accuracy-report --truth-absolute --gcps --gcp-crs --output-crs --camera-centres; do
+           --accuracy-report --truth-absolute --gcps --gcp-crs --output-crs --camera-centres \
+           --lever-arm --refine-lever-arm; do
   check "solve --help lists $opt" contains "$tmp/solve_help" "$opt"
 done
 

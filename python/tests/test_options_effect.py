@@ -124,6 +124,11 @@ EFFECTS = {
                    lambda r, b, d: rep(r)["camera_priors"]["loss"]["type"] == "huber"),
     "prior_loss_scale": (lambda d: dict(camera_priors=d / "p.txt", prior_loss_scale=5.0),
                          lambda r, b, d: rep(r)["camera_priors"]["loss"]["scale"] == 5.0),
+    "lever_arm": (lambda d: dict(camera_priors=d / "p.txt", lever_arm="0.1,0.2,0.3"),
+                  lambda r, b, d: rep(r)["camera_priors"]["lever_arm"] == [0.1, 0.2, 0.3]),
+    "refine_lever_arm": (lambda d: dict(camera_priors=d / "p.txt", refine_lever_arm=True),
+                         lambda r, b, d: rep(r)["camera_priors"]["lever_arm_refined"]
+                         and rep(r)["camera_priors"]["lever_arm"] != [0.0, 0.0, 0.0]),
     "linear_solver": (lambda d: dict(linear_solver="pcg"),
                       lambda r, b, d: r.summary.linear_solver == "pcg"),
     "eta": (lambda d: dict(linear_solver="pcg", eta=0.9),

@@ -127,6 +127,16 @@ std::vector<Spec> OutputsAndGeoreference() {
       "a fraction F of the images gets a gross error of 20 to 50 m instead (marked '# outlier' "
       "in the file)",
       DBA_FIELD(survey.gnss_outliers), 0, 0.99));
+  Spec lever = OptionEntry<GenerateArgs>(
+      "--lever-arm", OptionKind::kText, "X,Y,Z",
+      "the GNSS antenna in metres in the camera's frame (x right, y down, z forward), with "
+      "--rig in the rig's: the priors are the true antenna positions C + R^T (X,Y,Z), with --rig "
+      "one per frame (named by its first image) (default 0,0,0)");
+  lever.set = [](GenerateArgs& a, const std::string& v) {
+    const std::array<double, 3> x = ParseTriple("--lever-arm", v, 1e3);
+    a.survey.lever_arm = Eigen::Vector3d(x[0], x[1], x[2]);
+  };
+  t.push_back(lever);
   t.push_back(PathOption<GenerateArgs>(
       "--gcps", "FILE",
       "also write ground control (dba solve --gcps): surveyed ground points measured in the "

@@ -108,13 +108,7 @@ void MoveRigs(const Similarity& s, const GaugeReference& ref, CameraSide* side) 
   for (int64_t i = 0; i < side->num_images(); ++i) {
     if (side->camera_fixed(i)) held[side->image_frame[i]] = 1;
   }
-  for (int64_t f = 0; f < side->num_frames(); ++f) {
-    if (!held[f]) MovePose(s, side->cameras.data() + side->frame_offset(f));
-  }
-  for (int64_t g = 0; g < side->num_groups(); ++g) {
-    double* t = side->cameras.data() + side->sensor_offset(g) + 3;
-    for (int k = 0; k < 3; ++k) t[k] *= s.scale;
-  }
+  MoveRigFrames(s, held, side);
   if (ref.hold == GaugeHold::kFirstImage &&
       side->sensor_kind[side->camera_intrinsics[ref.anchor]] == kRigOrigin) {
     std::copy(ref.pose.begin(), ref.pose.end(),

@@ -10,6 +10,12 @@ Vec3 CameraCentre(const double* pose) {
   return -R.transpose() * Vec3(pose[3], pose[4], pose[5]);
 }
 
+Vec3 AntennaPosition(const double* pose, const Vec3& lever_arm) {
+  if (lever_arm.isZero(0.0)) return CameraCentre(pose);
+  const Mat3 R = AngleAxisToRotation(Vec3(pose[0], pose[1], pose[2]));
+  return CameraCentre(pose) + R.transpose() * lever_arm;
+}
+
 void MovePose(const Similarity& s, double* pose) {
   const Mat3 R = AngleAxisToRotation(Vec3(pose[0], pose[1], pose[2])) * s.rotation.transpose();
   const Eigen::AngleAxisd aa(R);

@@ -24,6 +24,10 @@ struct Similarity {
 // C = -R(ω)ᵀ t of a pose (ω[3], t[3]).
 Vec3 CameraCentre(const double* pose);
 
+// P = C + R(ω)ᵀ a: the point at `a` in the pose's own frame (a GNSS
+// antenna's lever arm), in the world.
+Vec3 AntennaPosition(const double* pose, const Vec3& lever_arm);
+
 // The pose (ω[3], t[3], in place) after the world moved by `s`.
 void MovePose(const Similarity& s, double* pose);
 

@@ -37,6 +37,16 @@ void ComposeRigImages(CameraSide* side) {
   }
 }
 
+void MoveRigFrames(const Similarity& s, const std::vector<uint8_t>& held, CameraSide* side) {
+  for (int64_t f = 0; f < side->num_frames(); ++f) {
+    if (held.empty() || !held[f]) MovePose(s, side->cameras.data() + side->frame_offset(f));
+  }
+  for (int64_t g = 0; g < side->num_groups(); ++g) {
+    double* t = side->cameras.data() + side->sensor_offset(g) + 3;
+    for (int k = 0; k < 3; ++k) t[k] *= s.scale;
+  }
+}
+
 RigChain MakeRigChain(const RotationFrame& frame, const RotationFrame& sensor,
                       const double* sensor_from_rig) {
   const Vec3 c_s = CameraCentre(sensor_from_rig);

@@ -27,6 +27,7 @@
 #include <Eigen/Core>
 
 #include "dba/camera/photo_camera.h"
+#include "dba/camera/pose_similarity.h"
 #include "dba/camera/rotation.h"
 #include "dba/problem/problem.h"
 
@@ -42,6 +43,18 @@ void ComposeWithInverse(const double* a, const double* b, double* out);
 // Every image's pose composed from its frame and its group's sensor
 // (side->has_rigs(); nothing otherwise).
 void ComposeRigImages(CameraSide* side);
+
+// Where image i's exposure's pose is in side.cameras: the image's own, with
+// rigs its frame's (rig_from_world).
+inline int64_t ExposurePoseOffset(const CameraSide& side, int64_t i) {
+  return side.has_rigs() ? side.frame_offset(side.image_frame[i]) : int64_t{side.camera_size()} * i;
+}
+
+// The world moved by `s` (camera/pose_similarity.h) in a problem with rigs:
+// every frame but the `held` ones (one flag per frame; empty: none) moves
+// as a pose, every sensor's place in its rig scales with the world (its
+// turn is relative, unchanged); the images are left to ComposeRigImages.
+void MoveRigFrames(const Similarity& s, const std::vector<uint8_t>& held, CameraSide* side);
 
 // The per-(frame, sensor) 3x3 factors of the chain above, at the current
 // poses: frame_phi = R_s J_l(ω_f), frame_centre = R_fᵀ [c_s]× J_l(ω_f),

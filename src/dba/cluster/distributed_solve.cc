@@ -414,7 +414,10 @@ BundleAdjustSummary DistributedPointSide::Solve(
   if (priors.empty()) {
     s.lm = SolveLevenbergMarquardt(o, num_observations_, &problem_->cameras, workers_.get(), log);
   } else {
-    PriorWorkers with_priors(workers_.get(), &problem_->cameras, problem_->camera_size(), priors);
+    // A refined lever arm is refused before a distributed solve (its row
+    // would be one more unknown beside the problem's cameras).
+    if (priors.refine_lever_arm) throw std::logic_error("a refined lever arm over ranks");
+    PriorWorkers with_priors(workers_.get(), &problem_->cameras, *problem_, priors);
     s.lm = SolveLevenbergMarquardt(o, num_observations_, &problem_->cameras, &with_priors, log);
   }
   return s;

@@ -3,6 +3,7 @@
 // Thread safety: pure functions.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -19,5 +20,9 @@ inline constexpr int64_t kMaxThreads = 1024;
 // "XY,Z" (or "S" for both): two σ in metres, both in (0, 1e6] (--prior-sigma,
 // --gnss-sigma); throws std::invalid_argument naming the flag.
 std::pair<double, double> ParseSigmaPair(const std::string& flag, const std::string& value);
+
+// "X,Y,Z": three numbers, each in [-limit, limit] (--lever-arm); throws
+// std::invalid_argument naming the flag.
+std::array<double, 3> ParseTriple(const std::string& flag, const std::string& value, double limit);
 
 }  // namespace dba

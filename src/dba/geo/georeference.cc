@@ -133,6 +133,15 @@ void ToLocalFrame(const GeoreferenceOptions& options, Georeference* geo,
   out << line;
 }
 
+// `first`, then `second`: X -> s2 R2 (s1 R1 X + T1) + T2.
+SimilarityFit Then(const SimilarityFit& first, const SimilarityFit& second) {
+  SimilarityFit s = second;
+  s.scale = second.scale * first.scale;
+  s.rotation = second.rotation * first.rotation;
+  s.translation = second.scale * (second.rotation * first.translation) + second.translation;
+  return s;
+}
+
 // Before LM, the block onto the priors, or else onto the control points,
 // by a robust similarity; what was done in one log line.
 Similarity AlignBlock(const GeoreferenceOptions& options, const Georeference& geo, Problem* problem,
@@ -141,12 +150,19 @@ Similarity AlignBlock(const GeoreferenceOptions& options, const Georeference& ge
   const bool on_priors = geo.priors.priors.size() >= 3 || control == 0;
   SimilarityFit fit;
   try {
-    fit = on_priors ? AlignToPriors(geo.priors, problem->cameras, problem->camera_size())
+    fit = on_priors ? AlignToPriors(geo.priors, *problem, Vec3::Zero())
                     : AlignToControlPoints(geo.gcps, TriangulateGroundControl(*problem, geo.gcps, true, false));
+    ApplySimilarity(fit, problem, &problem->points);
+    // The block in metres now: again, with the antennas where the lever arm
+    // (metres) puts them.
+    if (on_priors && !geo.priors.lever_arm.isZero(0.0)) {
+      const SimilarityFit again = AlignToPriors(geo.priors, *problem, geo.priors.lever_arm);
+      ApplySimilarity(again, problem, &problem->points);
+      fit = Then(fit, again);
+    }
   } catch (const std::invalid_argument& e) {
     throw InputError(on_priors ? options.camera_priors_path : options.gcps_path, 0, e.what());
   }
-  ApplySimilarity(fit, problem, &problem->points);
   char line[300];
   if (!geo.priors.empty()) {
     std::snprintf(line, sizeof line, "camera priors: %zu%s", geo.priors.priors.size(),
@@ -169,6 +185,23 @@ Similarity AlignBlock(const GeoreferenceOptions& options, const Georeference& ge
   return fit;
 }
 
+// With rigs a prior is its image's frame's (the rig's antenna at that
+// exposure): two on one frame are one position given twice.
+void RefuseTwoPriorsOnAFrame(const std::string& path, const Georeference& geo,
+                             const CameraSide& side) {
+  std::vector<int32_t> first(side.num_frames(), -1);
+  for (const CameraCentrePrior& p : geo.priors.priors) {
+    int32_t& seen = first[side.image_frame[p.image]];
+    if (seen >= 0) {
+      throw InputError(path, 0,
+                       "images " + geo.image_names[seen] + " and " + geo.image_names[p.image] +
+                           " are one frame (one exposure of a rig), whose antenna has one "
+                           "position: give one prior per frame");
+    }
+    seen = p.image;
+  }
+}
+
 }  // namespace
 
 Georeference PrepareGeoreference(const GeoreferenceOptions& options, const ImageNames& names,
@@ -183,6 +216,9 @@ Georeference PrepareGeoreference(const GeoreferenceOptions& options, const Image
   if (!options.camera_priors_path.empty()) {
     geo.priors = LoadCameraPriors(options.camera_priors_path, names, num_images,
                                   options.prior_sigma, options.prior_loss);
+    geo.priors.lever_arm = options.lever_arm;
+    geo.priors.refine_lever_arm = options.refine_lever_arm;
+    if (problem->has_rigs()) RefuseTwoPriorsOnAFrame(options.camera_priors_path, geo, *problem);
   }
   if (!options.gcps_path.empty()) {
     geo.gcps = LoadGroundControl(options.gcps_path, names, num_images);
@@ -248,8 +284,7 @@ void MeasureGeoreference(const GeoreferenceOptions& options, const Georeference&
                          GeoreferenceSummary* report) {
   const std::vector<double> control = RemoveControlPoints(geo.control_points, problem);
   AccuracyReport& a = report->accuracy;
-  a.gnss.errors = CameraPriorErrors(geo.priors, problem->cameras, problem->camera_size(),
-                                    geo.image_names);
+  a.gnss.errors = CameraPriorErrors(geo.priors, *problem, geo.image_names);
   const std::vector<Triangulation> checks = TriangulateGroundControl(*problem, geo.gcps, false, true);
   size_t c = 0, k = 0;
   for (const GroundControlPoint& p : geo.gcps.points) {
@@ -276,6 +311,8 @@ void MeasureGeoreference(const GeoreferenceOptions& options, const Georeference&
   report->has_priors = !geo.priors.empty();
   report->has_ground_control = !geo.gcps.empty();
   report->prior_loss = geo.priors.loss;
+  report->lever_arm = geo.priors.lever_arm;
+  report->lever_arm_refined = geo.priors.refine_lever_arm;
 }
 
 }  // namespace dba

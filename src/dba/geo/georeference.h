@@ -30,6 +30,11 @@ struct GeoreferenceOptions {
   std::optional<Eigen::Vector2d> prior_sigma;
   std::string prior_crs;  // empty: a metric Cartesian frame
   RobustLoss prior_loss{LossType::kCauchy, 3.0};
+  // --lever-arm, --refine-lever-arm: where the GNSS antenna is in the
+  // camera's frame (with rigs, the rig's), metres, and whether the solve
+  // estimates it (rcs/camera_centre_prior.h).
+  Eigen::Vector3d lever_arm = Eigen::Vector3d::Zero();
+  bool refine_lever_arm = false;
   // --gcps (io/ground_control_file.h): control and check points.
   std::string gcps_path;
   std::string gcp_crs;  // empty: prior_crs
@@ -60,6 +65,8 @@ struct GeoreferenceSummary {
   bool has_ground_control = false;
   AccuracyReport accuracy;
   RobustLoss prior_loss;
+  Eigen::Vector3d lever_arm = Eigen::Vector3d::Zero();  // as solved, when refined
+  bool lever_arm_refined = false;
   std::vector<std::string> check_points_not_triangulated;
   // --prior-crs: the local east-north-up frame the solve ran in.
   bool has_local_frame = false;

@@ -68,15 +68,15 @@ AccuracyFigures MeasureAccuracy(const std::vector<PositionError>& errors) {
   return a;
 }
 
-std::vector<PositionError> CameraPriorErrors(const CameraPriors& priors,
-                                             const std::vector<double>& cameras, int camera_size,
+std::vector<PositionError> CameraPriorErrors(const CameraPriors& priors, const CameraSide& side,
                                              const std::vector<std::string>& image_names) {
   std::vector<PositionError> errors;
   for (const CameraCentrePrior& p : priors.priors) {
     PositionError e;
     e.name = p.image < static_cast<int32_t>(image_names.size()) ? image_names[p.image]
                                                                : std::to_string(p.image);
-    e.d = CameraCentre(cameras.data() + int64_t{camera_size} * p.image) - p.centre;
+    e.d = AntennaPosition(side.cameras.data() + ExposurePoseOffset(side, p.image), priors.lever_arm) -
+          p.centre;
     e.sigma = p.sigma;
     errors.push_back(std::move(e));
   }

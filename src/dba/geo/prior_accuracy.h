@@ -40,9 +40,9 @@ struct AccuracyFigures {
 
 AccuracyFigures MeasureAccuracy(const std::vector<PositionError>& errors);
 
-// Each prior's camera centre against the prior, named by image.
-std::vector<PositionError> CameraPriorErrors(const CameraPriors& priors,
-                                             const std::vector<double>& cameras, int camera_size,
+// Each prior's antenna (rcs/camera_centre_prior.h, at priors.lever_arm)
+// against the prior, named by image.
+std::vector<PositionError> CameraPriorErrors(const CameraPriors& priors, const CameraSide& side,
                                              const std::vector<std::string>& image_names);
 
 // The report's sets, with their figures, and the variance of unit weight

@@ -6,6 +6,8 @@
 #include <random>
 #include <stdexcept>
 
+#include "dba/camera/rig_pose.h"
+
 namespace dba {
 namespace {
 
@@ -21,8 +23,8 @@ SimilarityFit Umeyama(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to) 
 
 }  // namespace
 
-SimilarityFit AlignToPriors(const CameraPriors& priors, const std::vector<double>& cameras,
-                            int camera_size) {
+SimilarityFit AlignToPriors(const CameraPriors& priors, const CameraSide& side,
+                            const Vec3& lever_arm) {
   const int64_t n = static_cast<int64_t>(priors.priors.size());
   if (n < 3) {
     throw std::invalid_argument("the alignment onto the priors needs at least 3 priors, got " +
@@ -31,7 +33,8 @@ SimilarityFit AlignToPriors(const CameraPriors& priors, const std::vector<double
   std::vector<Vec3> from, to;
   std::vector<double> sigma;
   for (const CameraCentrePrior& p : priors.priors) {
-    from.push_back(CameraCentre(cameras.data() + int64_t{camera_size} * p.image));
+    from.push_back(
+        AntennaPosition(side.cameras.data() + ExposurePoseOffset(side, p.image), lever_arm));
     to.push_back(p.centre);
     sigma.push_back(p.sigma.maxCoeff());
   }
@@ -105,7 +108,12 @@ SimilarityFit FitSimilarity(const std::vector<Vec3>& from_points, const std::vec
 }
 
 void ApplySimilarity(const SimilarityFit& fit, CameraSide* side, std::vector<double>* points) {
-  for (int64_t i = 0; i < side->num_images(); ++i) MovePose(fit, side->camera(i));
+  if (side->has_rigs()) {
+    MoveRigFrames(fit, {}, side);
+    ComposeRigImages(side);
+  } else {
+    for (int64_t i = 0; i < side->num_images(); ++i) MovePose(fit, side->camera(i));
+  }
   for (size_t k = 0; k + 2 < points->size(); k += 3) {
     const Vec3 X = fit.Apply(Vec3((*points)[k], (*points)[k + 1], (*points)[k + 2]));
     for (int a = 0; a < 3; ++a) (*points)[k + a] = X[a];

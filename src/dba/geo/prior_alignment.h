@@ -25,16 +25,19 @@ struct SimilarityFit : Similarity {
   bool collinear = false;
 };
 
-// Throws std::invalid_argument when fewer than 3 priors are given.
-SimilarityFit AlignToPriors(const CameraPriors& priors, const std::vector<double>& cameras,
-                            int camera_size);
+// From the priors' antennas at `lever_arm` (rcs/camera_centre_prior.h)
+// onto the priors. Throws std::invalid_argument when fewer than 3 priors are
+// given.
+SimilarityFit AlignToPriors(const CameraPriors& priors, const CameraSide& side,
+                            const Vec3& lever_arm);
 
 // The same from any points `from` onto `to` (σ per point: the inliers are
 // within 5σ); throws std::invalid_argument for fewer than 3.
 SimilarityFit FitSimilarity(const std::vector<Vec3>& from, const std::vector<Vec3>& to,
                             const std::vector<double>& sigma);
 
-// Moves the problem's cameras and points by the similarity.
+// Moves the problem's cameras (with rigs, frames and sensors' places) and
+// points by the similarity.
 void ApplySimilarity(const SimilarityFit& fit, CameraSide* side, std::vector<double>* points);
 
 }  // namespace dba

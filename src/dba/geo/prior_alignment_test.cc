@@ -36,7 +36,7 @@ TEST(PriorAlignment, RecoversASimilarityThroughOutliers) {
     p.sigma = Vec3(0.02, 0.02, 0.04);
     priors.priors.push_back(p);
   }
-  const SimilarityFit fit = AlignToPriors(priors, problem.cameras, kPhotoPoseSize);
+  const SimilarityFit fit = AlignToPriors(priors, problem, Vec3::Zero());
   EXPECT_NEAR(fit.scale, s, 1e-3);
   EXPECT_LT((fit.rotation - Q).norm(), 1e-3);
   EXPECT_LT((fit.translation - T).norm(), 0.1);
@@ -65,7 +65,9 @@ TEST(PriorAlignment, RecoversASimilarityThroughOutliers) {
 
 TEST(PriorAlignment, SaysWhenTheCentresAreCollinearAndRefusesTooFew) {
   CameraPriors priors;
-  std::vector<double> cameras;
+  CameraSide side;
+  side.model = CameraModel::kPhoto;
+  std::vector<double>& cameras = side.cameras;
   for (int32_t i = 0; i < 6; ++i) {
     const double pose[6] = {0.0, 0.0, 0.0, -2.0 * i, 0.0, 0.0};  // centres on the x axis
     cameras.insert(cameras.end(), pose, pose + 6);
@@ -74,11 +76,11 @@ TEST(PriorAlignment, SaysWhenTheCentresAreCollinearAndRefusesTooFew) {
     p.centre = Vec3(2.0 * i, 0.0, 0.0) + Vec3(5, 5, 5);
     priors.priors.push_back(p);
   }
-  const SimilarityFit fit = AlignToPriors(priors, cameras, kPhotoPoseSize);
+  const SimilarityFit fit = AlignToPriors(priors, side, Vec3::Zero());
   EXPECT_TRUE(fit.collinear);
   EXPECT_NEAR(fit.scale, 1.0, 1e-9);
   priors.priors.resize(2);
-  EXPECT_THROW(AlignToPriors(priors, cameras, kPhotoPoseSize), std::invalid_argument);
+  EXPECT_THROW(AlignToPriors(priors, side, Vec3::Zero()), std::invalid_argument);
 }
 
 }  // namespace

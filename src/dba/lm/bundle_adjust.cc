@@ -12,15 +12,21 @@ BundleAdjustSummary BundleAdjust(
     const std::function<void(const RcsSystem&)>& before_values, const CameraPriors* priors) {
   BundleAdjustSummary summary;
   Timer symbolic;
+  const bool with_priors = priors != nullptr && !priors->empty();
+  const bool lever_arm = with_priors && priors->refine_lever_arm;
   LocalPointWorkers workers(problem, options.damping, options.num_threads, options.loss,
-                            before_values);
+                            before_values, false, lever_arm);
   summary.symbolic_seconds = symbolic.Seconds();
   summary.rcs = RcsFootprint::Of(workers.system().S);
+  // x: the camera side, then the lever arm when it is an unknown.
   std::vector<double> cameras = problem->cameras;
-  if (priors != nullptr && !priors->empty()) {
-    PriorWorkers with_priors(&workers, &cameras, problem->camera_size(), *priors);
+  if (with_priors) {
+    summary.lever_arm = priors->lever_arm;
+    if (lever_arm) cameras.insert(cameras.end(), priors->lever_arm.data(), priors->lever_arm.data() + 3);
+    PriorWorkers prior_workers(&workers, &cameras, *problem, *priors);
     summary.lm = SolveLevenbergMarquardt(options, problem->num_observations(), &cameras,
-                                         &with_priors, on_iteration);
+                                         &prior_workers, on_iteration);
+    if (lever_arm) summary.lever_arm = Vec3(cameras.data() + problem->cameras.size());
   } else {
     summary.lm = SolveLevenbergMarquardt(options, problem->num_observations(), &cameras,
                                          &workers, on_iteration);

@@ -26,6 +26,8 @@ struct BundleAdjustSummary {
   LmSummary lm;
   double symbolic_seconds = 0.0;  // building the RCS structure
   RcsFootprint rcs;
+  // With camera priors: their antenna's lever arm, as solved when refined.
+  Vec3 lever_arm = Vec3::Zero();
 };
 
 // Adjusts `problem`'s cameras and points in place. `before_values`: called

@@ -9,12 +9,12 @@ LocalPointWorkers::LocalPointWorkers(Problem* problem,
                                      const DampingBounds& bounds,
                                      int num_threads, const RobustLoss& loss,
                                      const std::function<void(const RcsSystem&)>& before_values,
-                                     bool values_at_first_form)
+                                     bool values_at_first_form, bool lever_arm)
     : problem_(problem),
       bounds_(bounds),
       num_threads_(num_threads),
       loss_(loss),
-      system_(RcsSystem::ForProblem(*problem, before_values, !values_at_first_form)) {}
+      system_(RcsSystem::ForProblem(*problem, before_values, !values_at_first_form, lever_arm)) {}
 
 RcsSystem& LocalPointWorkers::FormRcs(double lambda) {
   if (!system_.S.has_values()) system_.AllocateValues();

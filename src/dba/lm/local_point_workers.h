@@ -17,11 +17,12 @@ class LocalPointWorkers : public PointWorkers {
   // `before_values`: see RcsSystem::ForProblem. `values_at_first_form`:
   // S's values are allocated by the first FormRcs, not here (a rank of a
   // distributed RCS: its owned rows' symbolic phase then does not hold them
-  // beside its sub-RCS's; at 1M on 8 ranks 0.75 GB each).
+  // beside its sub-RCS's; at 1M on 8 ranks 0.75 GB each). `lever_arm`: the
+  // RCS has the camera priors' lever arm's row (lm/prior_workers.h).
   LocalPointWorkers(Problem* problem, const DampingBounds& bounds,
                     int num_threads, const RobustLoss& loss = RobustLoss(),
                     const std::function<void(const RcsSystem&)>& before_values = {},
-                    bool values_at_first_form = false);
+                    bool values_at_first_form = false, bool lever_arm = false);
 
   RcsSystem& FormRcs(double lambda) override;
   StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,

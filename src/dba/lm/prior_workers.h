@@ -1,4 +1,4 @@
-// Camera-centre priors (GNSS positions) in the solve, on the main rank: a
+// Camera priors (GNSS antenna positions) in the solve, on the main rank: a
 // PointWorkers around the points' workers (lm/point_workers.h: the same
 // lifecycle) that adds each prior's term (rcs/camera_centre_prior.h) to what
 // they return, under its own robust loss (rcs/robust_loss.h: the corrected
@@ -11,8 +11,13 @@
 //   EvaluateStep  model cost += ½ |r̃ + J̃ δ_c|² + ½ (ρ - |r̃|²), candidate
 //                 cost += ½ ρ(|r(c ⊞ δ_c)|²)
 //
-// A prior touches one camera's diagonal block: the RCS pattern and the point
-// elimination are unchanged. One process and the gathered RCS: the terms go
+// A prior touches one camera's (with rigs, frame's) diagonal block, and,
+// when the antenna's lever arm is an unknown (the layout's last row), the
+// lever arm's diagonal block and the (camera, lever arm) block:
+//   S_ca += J̃_cᵀ J̃_a,  S_aa += J̃_aᵀ J̃_a,  b_a -= J̃_aᵀ r̃ (and its gradient
+//   and diagonal); the lever arm's parameters are the LM's x's last three,
+//   which the points' workers never see (their candidate is x without them).
+// The point elimination is unchanged. One process and the gathered RCS: the terms go
 // into the system the points' FormRcs returns. The RCS spread over ranks:
 // the main rank hands them to the workers before FormRcs
 // (PointWorkers::SetPoseTerms) and each row's owner adds its own.
@@ -28,16 +33,16 @@
 
 namespace dba {
 
-// ½ Σ ρ(|r|²) of the priors at `cameras` (camera_size parameters per image,
-// the pose first).
-double CameraPriorsCost(const CameraPriors& priors, const std::vector<double>& cameras,
-                        int camera_size);
+// ½ Σ ρ(|r|²) of the priors at the camera side's parameters, with the
+// priors' own lever arm.
+double CameraPriorsCost(const CameraPriors& priors, const CameraSide& side);
 
 class PriorWorkers : public PointWorkers {
  public:
-  // `points` and `cameras` (the LM loop's current cameras, updated by it)
-  // must outlive this object.
-  PriorWorkers(PointWorkers* points, const std::vector<double>* cameras, int camera_size,
+  // `points`, `side` and `x` (the LM loop's current camera-side parameters,
+  // updated by it: side.cameras, then the lever arm when priors.
+  // refine_lever_arm) must outlive this object.
+  PriorWorkers(PointWorkers* points, const std::vector<double>* x, const CameraSide& side,
                const CameraPriors& priors);
 
   RcsSystem& FormRcs(double lambda) override;
@@ -52,16 +57,22 @@ class PriorWorkers : public PointWorkers {
   }
 
  private:
+  using Jacobian = Eigen::Matrix<double, 3, 9, Eigen::RowMajor>;  // ∂r/∂(δω, δC, a)
   PointWorkers* points_;
-  const std::vector<double>* cameras_;
-  int camera_size_;
+  const std::vector<double>* x_;
   const CameraPriors& priors_;
+  std::vector<int64_t> pose_offset_;  // per prior, in x
+  int64_t lever_offset_ = -1;         // the lever arm in x, when an unknown
+  std::vector<double> candidate_;     // a candidate x without the lever arm
   const RcsSystem* system_ = nullptr;  // of the last FormRcs
   // At the last FormRcs: each prior's corrected residual and Jacobian, and
   // the robust model's offset.
   std::vector<Vec3> r_;
-  std::vector<CentrePriorJacobian> J_;
+  std::vector<Jacobian> J_;
   double model_offset_ = 0.0;
+
+  Vec3 LeverArm(const std::vector<double>& x) const;
+  void AddLeverArmTerms(RcsSystem* sys) const;
 };
 
 }  // namespace dba

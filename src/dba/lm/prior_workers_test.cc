@@ -55,7 +55,7 @@ TEST(PriorWorkers, RcsWithPriorsMatchesDenseNormalEquations) {
     const CameraPriors priors = PriorsOf(s.truth, loss);
     LocalPointWorkers points(&problem, DampingBounds{}, 2);
     std::vector<double> cameras = problem.cameras;
-    PriorWorkers workers(&points, &cameras, kPhotoPoseSize, priors);
+    PriorWorkers workers(&points, &cameras, problem, priors);
     const RcsSystem& sys = workers.FormRcs(0.0);
 
     auto dense = testing::BuildDenseNormalEquations(problem, 0.0, DampingBounds{});
@@ -63,7 +63,7 @@ TEST(PriorWorkers, RcsWithPriorsMatchesDenseNormalEquations) {
     double prior_cost = 0.0;
     for (const CameraCentrePrior& p : priors.priors) {
       CentrePriorJacobian J;
-      const Vec3 r = CentrePriorResidual(problem.camera(p.image), p, &J);
+      const Vec3 r = CentrePriorResidual(problem.camera(p.image), priors.lever_arm, p, &J);
       double rho[3];
       loss.Evaluate(r.squaredNorm(), rho);
       prior_cost += 0.5 * rho[0];
@@ -84,6 +84,99 @@ TEST(PriorWorkers, RcsWithPriorsMatchesDenseNormalEquations) {
     EXPECT_NEAR(sys.cost, dense.cost + prior_cost, 1e-12 * sys.cost);
     EXPECT_GT(prior_cost, 1.0);  // the priors do weigh
   }
+}
+
+// The antenna's lever arm as 3 unknowns: the RCS (with the lever arm's row
+// last) against the observations' dense Schur complement plus JᵀJ and Jᵀr of
+// the priors, J by central differences of the priors' residuals through
+// UnknownLayout::Plus (every camera unknown and the lever arm's).
+TEST(PriorWorkers, RcsWithARefinedLeverArmMatchesDenseNormalEquations) {
+  testing::SyntheticProblem s = SmallSurvey(3);
+  Problem& problem = s.problem;
+  problem.fixed_cameras.assign(problem.num_images(), 0);
+  problem.fixed_cameras[1] = 1;  // its prior still touches the lever arm
+  CameraPriors priors = PriorsOf(s.truth, RobustLoss{});
+  priors.lever_arm = Vec3(0.4, -0.3, 0.8);
+  priors.refine_lever_arm = true;
+  LocalPointWorkers points(&problem, DampingBounds{}, 2, RobustLoss{}, {}, false, true);
+  std::vector<double> x = problem.cameras;
+  x.insert(x.end(), {0.3, -0.2, 0.5});  // the lever arm's current value
+  PriorWorkers workers(&points, &x, problem, priors);
+  const RcsSystem& sys = workers.FormRcs(0.0);
+  const UnknownLayout& layout = sys.layout;
+  ASSERT_EQ(layout.lever_arm_row(), layout.num_block_rows() - 1);
+  ASSERT_EQ(layout.block_size(layout.lever_arm_row()), 3);
+
+  const int64_t n = layout.num_unknowns(), m = 3 * static_cast<int64_t>(priors.priors.size());
+  auto residuals_at = [&](const std::vector<double>& at) {
+    Eigen::VectorXd r(m);
+    const Vec3 a(at.data() + problem.cameras.size());
+    for (size_t k = 0; k < priors.priors.size(); ++k) {
+      const CameraCentrePrior& p = priors.priors[k];
+      r.segment<3>(3 * k) = CentrePriorResidual(at.data() + 6 * p.image, a, p, nullptr);
+    }
+    return r;
+  };
+  Eigen::MatrixXd J(m, n);
+  for (int64_t j = 0; j < n; ++j) {
+    std::vector<double> delta(n, 0.0), plus(x.size()), minus(x.size());
+    const double h = 1e-6;
+    delta[j] = h;
+    layout.Plus(x.data(), delta.data(), plus.data());
+    delta[j] = -h;
+    layout.Plus(x.data(), delta.data(), minus.data());
+    J.col(j) = (residuals_at(plus) - residuals_at(minus)) / (2 * h);
+  }
+  const Eigen::VectorXd r = residuals_at(x);
+  auto dense = testing::BuildDenseNormalEquations(problem, 0.0, DampingBounds{});
+  Eigen::MatrixXd want = Eigen::MatrixXd::Zero(n, n);
+  const int64_t nc = dense.num_camera_params;
+  ASSERT_EQ(nc + 3, n);
+  want.topLeftCorner(nc, nc) = dense.ReducedCameraMatrix();
+  want += J.transpose() * J;
+  Eigen::VectorXd want_b = Eigen::VectorXd::Zero(n);
+  want_b.head(nc) = dense.ReducedRhs();
+  want_b -= J.transpose() * r;
+  const Eigen::MatrixXd S = testing::DenseFromBsmc(sys.S);
+  EXPECT_LT((S - want).norm(), 1e-7 * want.norm());
+  EXPECT_LT((S.bottomRightCorner(3, 3) - (J.rightCols(3).transpose() * J.rightCols(3))).norm(),
+            1e-7 * S.bottomRightCorner(3, 3).norm());
+  EXPECT_GT(S.topRightCorner(nc, 3).norm(), 1e-3);  // the (camera, lever arm) blocks weigh
+  const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(sys.b.data(), sys.b.size());
+  EXPECT_LT((b - want_b).norm(), 1e-7 * want_b.norm());
+  EXPECT_NEAR(sys.cost, dense.cost + 0.5 * r.squaredNorm(), 1e-12 * sys.cost);
+}
+
+// A solve from the lever arm's wrong start ends at least as low as one given
+// the true lever arm (3 more unknowns), with the antennas on the priors. The
+// ring of cameras all looking at its centre cannot place the lever arm
+// itself (its forward part is the block's scale, its sideways part a turn
+// about the ring's axis): tests/cli_rigs.sh recovers one from an aerial
+// survey.
+TEST(PriorWorkers, SolveWithARefinedLeverArmFitsTheAntennas) {
+  testing::SyntheticProblem s = SmallSurvey(4);
+  const Vec3 truth(0.4, -0.3, 0.8);
+  CameraPriors priors = PriorsOf(s.truth, RobustLoss{});
+  for (CameraCentrePrior& p : priors.priors) {
+    p.centre = AntennaPosition(s.truth.camera(p.image), truth);
+    p.sigma = Vec3(0.01, 0.01, 0.01);
+  }
+  LmOptions options;
+  options.num_threads = 2;
+  Problem given = s.problem;
+  priors.lever_arm = truth;
+  const BundleAdjustSummary at_truth = BundleAdjust(options, &given, {}, {}, &priors);
+  const double given_priors_cost = CameraPriorsCost(priors, given);
+  Problem refined = s.problem;
+  priors.lever_arm = Vec3::Zero();
+  priors.refine_lever_arm = true;
+  const BundleAdjustSummary summary = BundleAdjust(options, &refined, {}, {}, &priors);
+  EXPECT_LT(summary.lm.final_cost, at_truth.lm.final_cost * (1 + 1e-6));
+  EXPECT_GT(summary.lm.final_cost, 0.98 * at_truth.lm.final_cost);
+  EXPECT_GT(summary.lever_arm.norm(), 0.1);  // it moved from 0
+  priors.lever_arm = summary.lever_arm;
+  EXPECT_LT(CameraPriorsCost(priors, refined), given_priors_cost + 1.0);
+  EXPECT_EQ(refined.cameras.size(), s.problem.cameras.size());  // the lever arm not in the problem
 }
 
 // The world moved by d: X + d, and each camera's t - R d (the same images).
@@ -125,7 +218,7 @@ TEST(PriorWorkers, SolveWithPriorsLowersTheirCostAndHoldsTheFrame) {
   BundleAdjust(options, &without);
   EXPECT_GT(WorstCentreError(without, s.truth), 2.5);
   // And the final cost is the observations' plus the priors'.
-  const double prior_cost = CameraPriorsCost(priors, problem.cameras, kPhotoPoseSize);
+  const double prior_cost = CameraPriorsCost(priors, problem);
   EXPECT_GT(prior_cost, 0.0);
   EXPECT_LT(prior_cost, summary.lm.final_cost);
 }

@@ -379,10 +379,10 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
 
 RcsSystem RcsSystem::ForProblem(const Problem& problem,
                                 const std::function<void(const RcsSystem&)>& before_values,
-                                bool with_values) {
+                                bool with_values, bool lever_arm) {
   RcsSystem sys;
   {
-    UnknownLayout layout(problem);
+    UnknownLayout layout(problem, lever_arm);
     const std::vector<uint64_t> pattern = RcsBlockPattern(problem, layout);
     sys = ForPattern(std::move(layout), pattern, false);
   }

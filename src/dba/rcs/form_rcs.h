@@ -52,9 +52,10 @@ struct RcsSystem {
   // structure but before any value is allocated (the pattern freed): to size
   // the solve, or refuse it by throwing. `with_values` false: the structure
   // alone (AllocateValues to finish).
+  // `lever_arm`: the layout has the camera priors' lever arm's row.
   static RcsSystem ForProblem(const Problem& problem,
                               const std::function<void(const RcsSystem&)>& before_values = {},
-                              bool with_values = true);
+                              bool with_values = true, bool lever_arm = false);
   // Symbolic phase from a block pattern over the layout's rows (sorted packed
   // blocks, see PackBlock); `with_values` false: the structure alone
   // (AllocateValues to finish).

@@ -133,10 +133,17 @@ std::vector<uint64_t> RcsBlockPattern(const Problem& problem, const UnknownLayou
       if (touched.intrinsics >= 0) rows.push_back(touched.intrinsics);
     }
   };
-  if (problem.num_points() <= int64_t{UINT32_MAX}) {
-    return PatternByRows(layout.num_block_rows(), problem.num_points(), rows_of);
+  std::vector<uint64_t> blocks =
+      problem.num_points() <= int64_t{UINT32_MAX}
+          ? PatternByRows(layout.num_block_rows(), problem.num_points(), rows_of)
+          : PatternOf(layout.num_block_rows(), problem.num_points(), rows_of);
+  // The lever arm's row meets every camera row (each may carry a prior; one
+  // 6 x 3 block per camera row).
+  if (const int32_t lever = layout.lever_arm_row(); lever >= 0) {
+    for (int32_t r = 0; r < layout.num_camera_rows(); ++r) blocks.push_back(PackBlock(r, lever));
+    SortUnique(blocks);
   }
-  return PatternOf(layout.num_block_rows(), problem.num_points(), rows_of);
+  return blocks;
 }
 
 }  // namespace dba

@@ -23,7 +23,8 @@ std::vector<uint64_t> RcsBlockPattern(int64_t num_cameras,
                                       std::span<const int32_t> obs_camera);
 
 // The RCS pattern over the unknowns of `layout` (rows of fixed cameras and
-// groups absent). Built row by row from a transpose of the visibility (4
+// groups absent; the lever arm's row, when it has one, meets every camera
+// row). Built row by row from a transpose of the visibility (4
 // bytes per point and row it touches, held while it runs) instead of
 // sorting every pair: the problem's observations are in memory anyway.
 std::vector<uint64_t> RcsBlockPattern(const Problem& problem, const UnknownLayout& layout);

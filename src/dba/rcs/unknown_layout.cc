@@ -11,7 +11,7 @@
 
 namespace dba {
 
-UnknownLayout::UnknownLayout(const CameraSide& problem) {
+UnknownLayout::UnknownLayout(const CameraSide& problem, bool lever_arm) {
   if (problem.num_frames() + problem.num_groups() > std::numeric_limits<int32_t>::max()) {
     // Block rows are 32-bit ids (docs/design.md §2).
     throw std::invalid_argument("more than 2^31 - 1 cameras and intrinsic groups");
@@ -24,6 +24,13 @@ UnknownLayout::UnknownLayout(const CameraSide& problem) {
   }
   num_camera_rows_ = num_block_rows();
   AddIntrinsicsRows(problem);
+  if (!lever_arm) return;
+  lever_arm_row_ = num_block_rows();
+  block_sizes_.push_back(3);
+  param_offset_.push_back(num_parameters_);
+  row_entity_.push_back(-1);
+  row_offset_.push_back(row_offset_.back() + 3);
+  num_parameters_ += 3;
 }
 
 void UnknownLayout::AddCameraRows(const CameraSide& problem) {
@@ -62,6 +69,7 @@ void UnknownLayout::AddFrameRows(const CameraSide& side) {
   image_frame_ = side.image_frame;
   image_group_ = side.camera_intrinsics;
   frames_offset_ = side.frames_offset();
+  sensors_offset_ = side.sensor_offset(0);
   sensor_offset_.assign(side.num_groups(), -1);
   for (int64_t g = 0; g < side.num_groups(); ++g) {
     if (side.sensor_kind[g] == kSensorRefined) sensor_offset_[g] = side.sensor_offset(g);
@@ -103,7 +111,9 @@ void UnknownLayout::Plus(const double* x, const double* delta, double* out) cons
   for (int32_t r = 0; r < num_block_rows(); ++r) {
     const double* d = delta + row_offset_[r];
     double* p = out + param_offset_[r];
-    if (r < num_camera_rows_) {
+    if (r == lever_arm_row_) {
+      for (int j = 0; j < 3; ++j) p[j] += d[j];
+    } else if (r < num_camera_rows_) {
       PlusPose(p, d, p);
       for (int j = kPoseSize; j < block_sizes_[r]; ++j) p[j] += d[j];
     } else {
@@ -121,8 +131,7 @@ void UnknownLayout::Plus(const double* x, const double* delta, double* out) cons
 // With rigs, every image's pose = its sensor's ∘ its frame's.
 void UnknownLayout::ComposeImages(double* x) const {
   if (image_frame_.empty()) return;
-  const int64_t groups = static_cast<int64_t>(sensor_offset_.size());
-  const int64_t sensors = num_parameters_ - kPoseSize * groups;
+  const int64_t sensors = sensors_offset_;
   for (size_t i = 0; i < image_frame_.size(); ++i) {
     ComposeRigPose(x + sensors + kPoseSize * int64_t{image_group_[i]},
                    x + frames_offset_ + kPoseSize * int64_t{image_frame_[i]},
@@ -136,6 +145,9 @@ std::vector<int64_t> UnknownLayout::RowEntities(
   std::vector<int64_t> entities(num_block_rows());
   for (int32_t r = 0; r < num_block_rows(); ++r) {
     const int32_t id = row_entity_[r];
+    if (r == lever_arm_row_) {
+      throw std::logic_error("UnknownLayout: the lever arm's row is not shared between ranks");
+    }
     entities[r] = r < num_camera_rows_ ? int64_t{global_camera[id]}
                                        : -1 - int64_t{global_intrinsics[id]};
   }

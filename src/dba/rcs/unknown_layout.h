@@ -7,8 +7,12 @@
 //   2. (kPhoto) every intrinsic group with at least one free parameter, in
 //      group order: as many unknowns as it has free parameters (≤
 //      kMaxIntrinsics).
-// Intrinsic rows come last, so a block (camera row, intrinsic row) is always
-// in the stored upper triangle.
+//   3. (optional) the lever arm of the camera priors' antenna
+//      (rcs/camera_centre_prior.h): 3 unknowns, the last row, touched by the
+//      priors alone; its parameters are 3 more after the camera side's, at
+//      x[num_parameters() - 3], stepped additively.
+// Intrinsic rows come after the cameras, so a block (camera row, intrinsic
+// row) is always in the stored upper triangle.
 //
 // With rigs (problem.h, docs/design.md §1.7) the camera rows are the frames
 // that are not held (6 unknowns: rig_from_world), every image of a frame
@@ -38,7 +42,7 @@ namespace dba {
 class UnknownLayout {
  public:
   UnknownLayout() = default;
-  explicit UnknownLayout(const CameraSide& side);
+  explicit UnknownLayout(const CameraSide& side, bool lever_arm = false);
 
   int32_t num_block_rows() const { return static_cast<int32_t>(block_sizes_.size()); }
   int64_t num_unknowns() const { return row_offset_.back(); }
@@ -67,8 +71,11 @@ class UnknownLayout {
                                 ? intrinsics_row(side.camera_intrinsics[i])
                                 : -1};
   }
-  // Rows [0, num_camera_rows()) are cameras, the rest intrinsic groups.
+  // Rows [0, num_camera_rows()) are cameras, the rest intrinsic groups (and
+  // the lever arm's, last).
   int32_t num_camera_rows() const { return num_camera_rows_; }
+  // The lever arm's row, or -1 when it is not an unknown.
+  int32_t lever_arm_row() const { return lever_arm_row_; }
   // Free parameter j of intrinsic group g, as an index into its
   // parameters (free parameters in increasing order).
   const std::array<int8_t, kMaxIntrinsics>& intrinsics_free_index(int64_t g) const {
@@ -87,7 +94,7 @@ class UnknownLayout {
   // (whose unknowns 3-5 step the centre, not the t stored there), the
   // group's j-th free parameter in an intrinsics row, then its sensor pose.
   int64_t parameter_index(int32_t r, int j) const {
-    if (r < num_camera_rows_) return param_offset_[r] + j;
+    if (r < num_camera_rows_ || r == lever_arm_row_) return param_offset_[r] + j;
     const int n = intrinsic_unknowns(r);
     return j < n ? param_offset_[r] + free_index_[row_entity_[r]][j]
                  : sensor_offset_[row_entity_[r]] + (j - n);
@@ -107,6 +114,7 @@ class UnknownLayout {
  private:
   int64_t num_parameters_ = 0;
   int32_t num_camera_rows_ = 0;
+  int32_t lever_arm_row_ = -1;
   int max_intrinsics_block_ = 0;
   std::vector<int32_t> camera_row_;
   std::vector<int32_t> intrinsics_row_;
@@ -120,7 +128,7 @@ class UnknownLayout {
   std::vector<int64_t> sensor_offset_;
   std::vector<int32_t> image_frame_, image_group_;
   std::vector<int32_t> frame_row_;  // rigs: each frame's row (-1: held)
-  int64_t frames_offset_ = 0;
+  int64_t frames_offset_ = 0, sensors_offset_ = 0;
 
   void AddCameraRows(const CameraSide& side);
   void AddFrameRows(const CameraSide& side);

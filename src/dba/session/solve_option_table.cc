@@ -269,6 +269,21 @@ std::vector<Spec> GeoreferencingOptions() {
       [](const SolveOptions& o) { return std::string(LossName(o.geo.prior_loss.type)); }));
   t.push_back(Number("--prior-loss-scale", "S", "its scale in units of sigma",
                      DBA_FIELD(geo.prior_loss.scale), 1e-3, 1e3));
+  Spec lever = Base("--lever-arm", OptionKind::kText, "X,Y,Z",
+                    "where the GNSS antenna of the camera priors is, in metres, in the "
+                    "camera's frame (x right, y down, z forward), with rigs in the rig's (its "
+                    "reference sensor's): each prior is then on C + R^T (X,Y,Z) (default 0,0,0: "
+                    "the camera's centre)");
+  lever.set = [](SolveOptions& o, const std::string& v) {
+    const std::array<double, 3> a = ParseTriple("--lever-arm", v, 1e3);
+    o.geo.lever_arm = Eigen::Vector3d(a[0], a[1], a[2]);
+  };
+  t.push_back(lever);
+  t.push_back(Flag("--refine-lever-arm",
+                   "estimate the lever arm (3 unknowns shared by every prior; --lever-arm is "
+                   "its start): needs priors seen from several headings, and for its vertical "
+                   "part control points; one process, no --checkpoint yet",
+                   DBA_FIELD(geo.refine_lever_arm)));
   return t;
 }
 

@@ -65,9 +65,16 @@ void SolveSession::Solve() {
   std::function<void(const RcsSystem&)> check_memory = MemoryCheck();
   if (resumed_round_ <= 0) {
     result_.report.solve.ba = side->Solve(lm_, result_.geo.priors, log, std::exchange(check_memory, {}));
+    KeepLeverArm(result_.report.solve.ba);
   }
   if (reject) RejectionRounds(side.get(), log, std::move(check_memory));
   FinishSolve(side.get());
+}
+
+// A refined lever arm as the solve left it: the next rejection round
+// starts from it, the accuracy report measures the priors with it.
+void SolveSession::KeepLeverArm(const BundleAdjustSummary& ba) {
+  if (result_.geo.priors.refine_lever_arm) result_.geo.priors.lever_arm = ba.lever_arm;
 }
 
 // The walk over the problem as the point side gets it (problem/point_order.h),
@@ -235,6 +242,7 @@ void SolveSession::RejectionRounds(PointSide* side, const IterationHook& log,
         resumed_round = false;
         const BundleAdjustSummary s =
             side->Solve(o, result_.geo.priors, log, std::exchange(check_memory, {}));
+        KeepLeverArm(s);
         if (first_solve) {
           report.solve.ba = s;
         } else {

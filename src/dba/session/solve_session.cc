@@ -28,14 +28,23 @@
 namespace dba {
 namespace {
 
-// What rigs do not reach yet (issue 46): refused by name before any work.
-void RefuseUnbuiltRigUses(const SolveOptions& options) {
-  const char* what = !options.geo.camera_priors_path.empty() ? "--camera-priors"
-                     : !options.geo.gcps_path.empty()        ? "--gcps"
-                                                             : nullptr;
+// A lever arm without priors, and what a refined one does not reach yet: its 3 unknowns are the LM's
+// beside the problem's cameras, which neither a checkpoint nor the RCS
+// spread over ranks holds. Refused by name before any work.
+void RefuseUnbuiltLeverArmUses(const SolveOptions& options, int ranks) {
+  const GeoreferenceOptions& geo = options.geo;
+  if (geo.camera_priors_path.empty() && (geo.refine_lever_arm || !geo.lever_arm.isZero(0.0))) {
+    throw UsageError(std::string(geo.refine_lever_arm ? "--refine-lever-arm" : "--lever-arm") +
+                     ": the lever arm is the camera priors' antenna's; give --camera-priors");
+  }
+  if (!options.geo.refine_lever_arm) return;
+  const char* what = ranks > 1                          ? "more than one MPI rank"
+                     : !options.checkpoint_path.empty() ? "--checkpoint"
+                     : !options.resume_path.empty()     ? "--resume"
+                                                        : nullptr;
   if (what == nullptr) return;
-  throw UsageError(options.input + ": a problem with rigs is not solved with " + what +
-                   " yet (docs/design.md §1.7)");
+  throw UsageError(std::string("--refine-lever-arm is not combined with ") + what +
+                   " yet: give the lever arm (--lever-arm X,Y,Z) held, or solve in one process");
 }
 
 }  // namespace
@@ -117,6 +126,7 @@ SetupFingerprint SolveSetup(const SolveOptions& options, const Georeference& geo
   if (!geo.priors.empty()) {
     f.Add("--prior-loss", LossName(geo.priors.loss.type));
     f.Add("--prior-loss", geo.priors.loss.scale);
+    f.Add("--lever-arm", geo.priors.lever_arm.data(), 3 * sizeof(double));
   }
   for (const GroundControlPoint& p : geo.gcps.points) {
     f.Add("--gcps", p.name);
@@ -151,7 +161,7 @@ SolveResult SolveSession::Run(SolveInput input) {
   if (comm_->is_main()) {
     Timer load;
     Start(input_);
-    if (result_.problem.has_rigs()) RefuseUnbuiltRigUses(options_);
+    RefuseUnbuiltLeverArmUses(options_, comm_->size());
     // Every rank that reads the file moves its own copy alike (ReadShare).
     const std::vector<FovStartMove> fov = StartFovOutsideSeries(&result_.problem);
     if (!options_.quiet) out_ << DescribeFovStartMoves(fov);

@@ -87,6 +87,7 @@ class SolveSession {
   void RejectionRounds(PointSide* side, const IterationHook& log,
                        std::function<void(const RcsSystem&)> check_memory);
   void FinishSolve(PointSide* side);
+  void KeepLeverArm(const BundleAdjustSummary& ba);
   std::function<void(const RcsSystem&)> MemoryCheck();
   LmOptions RoundOptions(bool resumed_round) const;
   void HoldGauge();

@@ -46,6 +46,8 @@ void GeoreferencingFigures(const GeoreferenceSummary& g, Json& j) {
     p["heights"] = g.prior_heights;
     p["local_frame"] = j["georeferencing"]["local_frame"];
     p["loss"] = {{"type", LossName(g.prior_loss.type)}, {"scale", g.prior_loss.scale}};
+    p["lever_arm"] = {g.lever_arm.x(), g.lever_arm.y(), g.lever_arm.z()};
+    p["lever_arm_refined"] = g.lever_arm_refined;
     j["camera_priors"] = p;
   }
   if (g.has_ground_control) {

@@ -149,7 +149,14 @@ void PrintFlagged(const char* label, const Json& f, std::ostream& out) {
 void PrintGeoreferencing(const Json& j, std::ostream& out) {
   if (!j.contains("georeferencing")) return;
   const Json& g = j["georeferencing"];
-  if (j.contains("camera_priors")) PrintFigures("camera priors", j["camera_priors"], "C - prior", out);
+  if (j.contains("camera_priors")) {
+    const Json& p = j["camera_priors"];
+    PrintFigures("camera priors", p, "antenna - prior", out);
+    const Json& a = p["lever_arm"];
+    out << Format("  lever arm           %.4f, %.4f, %.4f m (%s)\n", a[0].get<double>(),
+                  a[1].get<double>(), a[2].get<double>(),
+                  p["lever_arm_refined"].get<bool>() ? "refined" : "given");
+  }
   if (j.contains("control_points")) {
     PrintFigures("control points", j["control_points"], "X - survey", out);
     PrintFigures("check points", j["check_points"], "triangulated - survey", out);

@@ -13,6 +13,7 @@
 #include <memory>
 #include <random>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "dba/io/path_kind.h"
@@ -21,6 +22,7 @@
 #include "dba/common/timer.h"
 #include "dba/io/bal_writer.h"
 #include "dba/io/binary_problem.h"
+#include "dba/camera/rig_pose.h"
 #include "dba/synthetic/rig_survey.h"
 
 namespace dba {
@@ -262,8 +264,10 @@ void WriteGnssPriors(const UavSurveyOptions& o, const Problem& true_side) {
   std::string text =
       "# dba generate: GNSS camera centres (world frame, metres): IMAGE X Y Z SIGMA_XY SIGMA_Z\n";
   char line[256];
+  std::vector<uint8_t> frame_done(true_side.num_frames(), 0);
   for (int64_t i = 0; i < true_side.num_images(); ++i) {
-    Vec3 c = CameraCentre(true_side.camera(i));
+    if (true_side.has_rigs() && std::exchange(frame_done[true_side.image_frame[i]], 1)) continue;
+    Vec3 c = AntennaPosition(true_side.cameras.data() + ExposurePoseOffset(true_side, i), o.lever_arm);
     const bool outlier = u01(rng) < o.gnss_outliers;
     if (outlier) {
       const Vec3 direction = Vec3(n01(rng), n01(rng), n01(rng)).normalized();
@@ -282,7 +286,8 @@ void WriteGnssPriors(const UavSurveyOptions& o, const Problem& true_side) {
 // The ground-control file of o.gcps_path (see the header); project(i, X,
 // &pixel) is the true projection, false outside image i.
 template <typename Project>
-void WriteGroundControl(const UavSurveyOptions& o, const Layout& l, Project project) {
+void WriteGroundControl(const UavSurveyOptions& o, const Layout& l, int64_t images,
+                        Project project) {
   std::mt19937_64 rng(Mix(o.seed ^ 0x67637073ULL));
   std::normal_distribution<double> n01(0.0, 1.0);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
@@ -304,7 +309,7 @@ void WriteGroundControl(const UavSurveyOptions& o, const Layout& l, Project proj
                   surveyed.x(), surveyed.y(), surveyed.z(), o.gcp_sigma_xy, o.gcp_sigma_z,
                   control ? "control" : "check", X[0], X[1], X[2]);
     text += line;
-    for (int64_t i = 0; i < l.images; ++i) {
+    for (int64_t i = 0; i < images; ++i) {
       Vec2 px;
       if (!project(i, X, &px)) continue;
       px += o.pixel_noise * Vec2(n01(rng), n01(rng));
@@ -344,10 +349,9 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
   RigSensors rig;
   const bool rigs = !o.rig.empty();
   if (rigs) {
-    if (!photo || !o.priors_path.empty() || !o.gcps_path.empty() || o.unaligned) {
+    if (!photo || o.unaligned) {
       throw std::invalid_argument(
-          "generate: --rig needs --model photo, and is not combined with --gnss, --gcps or "
-          "--unaligned yet");
+          "generate: --rig needs --model photo, and is not combined with --unaligned yet");
     }
     rig = MakeRigSensors(o.rig, o.seed, o.flying_height, o.focal_px, o.image_size);
     const int64_t sensors = static_cast<int64_t>(rig.keep.size());
@@ -410,7 +414,7 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
     return std::abs(px->x()) < half && std::abs(px->y()) < half;
   };
 
-  if (!o.gcps_path.empty()) WriteGroundControl(o, l, project);
+  if (!o.gcps_path.empty()) WriteGroundControl(o, l, true_side.num_images(), project);
 
   auto half_progress = [&](double base) {
     return [&progress, base](double f) { if (progress) progress(base + 0.5 * f); };

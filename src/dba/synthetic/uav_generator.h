@@ -40,6 +40,8 @@
 // Thread safety: GenerateUavSurvey is independent per call.
 #pragma once
 
+#include <Eigen/Core>
+
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -87,6 +89,10 @@ struct UavSurveyOptions {
   std::string gcps_path;
   int64_t control_points = 0, check_points = 0;
   double gcp_sigma_xy = 0.02, gcp_sigma_z = 0.02;
+  // The GNSS antenna in the camera's (with a rig, the rig's) frame: the
+  // priors are at C + Rᵀ lever_arm (rcs/camera_centre_prior.h), one per
+  // frame with a rig.
+  Eigen::Vector3d lever_arm = Eigen::Vector3d::Zero();
   // The initial cameras and points in a random similarity frame (scale
   // 0.5 to 2, any rotation, a shift of up to 1 km), as a reconstruction is
   // before georeferencing; the truth stays in the world frame.
