@@ -8,7 +8,8 @@
 # poses those composed from the frames; a sensor without a pose starts at
 # image o frame^-1 and reaches the same optimum; --rig-geometry fixed keeps
 # the sensor's pose, as COLMAP's refine_sensor_from_rig 0 does through dba
-# colmap-bundle-adjuster; an IMU is kept; per-image intrinsics with rigs are
+# colmap-bundle-adjuster; an IMU is kept (and said so), or as the rig's
+# reference stands at camera 1's place; per-image intrinsics with rigs are
 # refused.
 # Usage: cli_colmap_rig_models.sh PATH_TO_DBA PROJECT_ROOT
 set -uo pipefail
@@ -125,7 +126,34 @@ check "... and not modelled: the same optimum" json "$tmp/imu.json" \
   "near(d['final_cost'], $(json_value "$tmp/colmap.json" final_cost), 1e-9)"
 check "... and written back" contains "$tmp/imu_out/frames.txt" " IMU 7 99"
 check "... on its rig" contains "$tmp/imu_out/rigs.txt" " IMU 7 0"
+check "... and the count in the report" json "$tmp/imu.json" "d['num_colmap_sensors_not_modelled'] == 1"
+"$dba" solve "$tmp/imu" -o "$tmp/imu_out2" > "$tmp/log" 2>&1
+check "... and a line says so" contains "$tmp/log" \
+  "COLMAP rigs: 1 sensor that is not a camera (IMU) is kept in the model as read, not adjusted"
 
+# An IMU as the rig's reference sensor, at camera 1's place: camera 1 (posed
+# at the identity) is held where the model puts it and places the rig's
+# frame, so the solve is the camera-origin model's, to the digit (tight);
+# the IMU stays the written rig's reference.
+to_colmap "$tmp/rig.dba" 2 "$tmp/imuref" --imu-origin
+"$dba" solve "$tmp/m" -q --linear-solver dense --report "$tmp/camref.json" > /dev/null 2>&1
+"$dba" solve "$tmp/imuref" -q --linear-solver dense -o "$tmp/imuref_out" --report "$tmp/imuref.json" > "$tmp/log" 2>&1
+check "a rig whose reference is an IMU solves" test $? -eq 0
+check "... as the camera-origin rig (1e-9), with its unknowns" json "$tmp/imuref.json" \
+  "near(d['final_cost'], $(json_value "$tmp/camref.json" final_cost), 1e-9) and d['camera_unknowns'] == 80 * 6 + 6 + 2 * 3"
+check "... written with the IMU its reference, camera 1 held" contains "$tmp/imuref_out/rigs.txt" \
+  "1 3 IMU 1 CAMERA 1 1 1 0 0 0 0 0 0 CAMERA 2 1"
+sed -i '/^[^#]/ s/CAMERA 1 1 1 0 0 0 0 0 0/CAMERA 1 0/' "$tmp/imuref/rigs.txt"
+"$dba" solve "$tmp/imuref" -q > "$tmp/refused.txt" 2>&1
+check "... refused by name when its first camera has no pose" contains "$tmp/refused.txt" \
+  "rig 1: its reference sensor is not a camera, and its first camera (1) has no pose in it"
+
+"$dba" solve "$tmp/m" -q --rig-geometry fixed:2 --report "$tmp/fixed2.json" > /dev/null 2>&1
+check "--rig-geometry fixed:2 holds COLMAP camera 2, the rig's sensor" json "$tmp/fixed2.json" \
+  "d['camera_unknowns'] == 80 * 6 + 2 * 3"
+"$dba" solve "$tmp/m" -q --rig-geometry fixed:9 > "$tmp/refused.txt" 2>&1
+check "... and a camera that is not a sensor is refused" contains "$tmp/refused.txt" \
+  "--rig-geometry fixed:9: COLMAP camera 9 is not a sensor of the model's rigs"
 "$dba" solve "$tmp/m" -q --intrinsics per-image > "$tmp/refused.txt" 2>&1
 check "per-image intrinsics with rigs are refused by name" contains "$tmp/refused.txt" \
   "--intrinsics per-image: $tmp/m has rigs of several cameras"

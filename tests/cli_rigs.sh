@@ -36,6 +36,20 @@ check "fixed: the sensor turned exactly as it started" json "$tmp/fixed.json" \
 check "fixed: 6 unknowns per frame only" json "$tmp/fixed.json" "d['camera_unknowns'] == 80 * 6 + 2 * 3"
 check "the refined sensor started off by more than it ends" json "$tmp/start.json" \
   "d['ground_truth']['sensors']['rotation_error_deg'][0] > 0.05"
+# By sensor: group 1 (the stereo's second camera) held is the whole rig held;
+# group 0, the rig's origin, is held anyway.
+"$dba" solve "$tmp/rig.dba" -q --rig-geometry fixed:1 --report "$tmp/fixed1.json" > /dev/null 2>&1
+check "fixed:1 is fixed here: the same unknowns and cost" json "$tmp/fixed1.json" \
+  "d['camera_unknowns'] == 80 * 6 + 2 * 3 and d['final_cost'] == $(json_value "$tmp/fixed.json" final_cost)"
+"$dba" solve "$tmp/rig.dba" -q --rig-geometry fixed:0 --report "$tmp/fixed0.json" > /dev/null 2>&1
+check "fixed:0 (the origin) is refine" json "$tmp/fixed0.json" \
+  "d['camera_unknowns'] == 80 * 6 + 2 * 3 + 6 and d['final_cost'] == $(json_value "$tmp/refine.json" final_cost)"
+"$dba" solve "$tmp/rig.dba" -q --rig-geometry fixed:2 > "$tmp/refused.txt" 2>&1
+check "fixed: a group that is not there is refused" contains "$tmp/refused.txt" \
+  "--rig-geometry fixed:2: intrinsic group 2 does not exist (the problem has 2, 0-based)"
+"$dba" solve "$tmp/rig.dba" -q --rig-geometry held > "$tmp/refused.txt" 2>&1
+check "a value that is not refine, fixed or fixed:IDS is refused" contains "$tmp/refused.txt" \
+  "--rig-geometry: 'held' is not refine, fixed or fixed:ID,ID..."
 
 "$dba" solve "$tmp/rig.dba" -q --max-iterations 0 -o "$tmp/same.dba" > /dev/null 2>&1
 "$dba" solve "$tmp/same.dba" -q --max-iterations 0 --report "$tmp/same.json" > /dev/null 2>&1

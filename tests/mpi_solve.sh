@@ -251,18 +251,24 @@ done
 
 # Rigs (docs/design.md §1.7): frames are the camera rows and a sensor shares
 # its group's row; a stereo .dba read by the ranks and the same survey as a
-# COLMAP model with a rig of two cameras (shares sent by rank 0) reach one
-# process's final cost, tight (1e-9), and with the defaults (1e-5).
-"$dba" generate "$tmp/rig.dba" --model photo --rig stereo --images 120 --seed 4 >/dev/null
+# COLMAP model with a rig of two cameras (shares sent by rank 0), and the
+# .dba with GNSS priors on its frames (a lever arm given) and control points,
+# reach one process's final cost, tight (1e-9), and with the defaults (1e-5).
+"$dba" generate "$tmp/rig.dba" --model photo --rig stereo --images 120 --seed 4 \
+  --priors "$tmp/rig_gnss.txt" --gnss-sigma 0.05,0.05 --lever-arm 0.1,0.2,-0.3 \
+  --gcps "$tmp/rig_gcps.txt" --control-points 4 --check-points 2 >/dev/null
 PYTHONPATH="$(dirname "$dba")/python" /usr/bin/python3 "$root/tests/lib/rig_to_colmap.py" "$tmp/rig.dba" 2 "$tmp/rigm"
-for input in rig.dba rigm; do
-  "$dba" solve "$tmp/$input" -q "${tight[@]}" --report "$tmp/rig_single.json" >/dev/null
-  "$dba" solve "$tmp/$input" -q --report "$tmp/rig_single_default.json" >/dev/null
+for input in rig.dba rigm rig.dba+gnss; do
+  geo=()
+  [ "$input" = rig.dba+gnss ] && geo=(--camera-priors "$tmp/rig_gnss.txt" --lever-arm 0.1,0.2,-0.3 --gcps "$tmp/rig_gcps.txt")
+  file=${input%+gnss}
+  "$dba" solve "$tmp/$file" -q "${geo[@]}" "${tight[@]}" --report "$tmp/rig_single.json" >/dev/null
+  "$dba" solve "$tmp/$file" -q "${geo[@]}" --report "$tmp/rig_single_default.json" >/dev/null
   for n in 1 2 3; do
     for mode in tight default; do
       extra=("${tight[@]}"); reference=rig_single.json; tolerance=1e-9
       [ "$mode" = default ] && { extra=(); reference=rig_single_default.json; tolerance=1e-5; }
-      mpirun_n "$n" "$dba" solve "$tmp/$input" -q "${extra[@]}" --report "$tmp/rig_mpi.json" >"$tmp/rig.out" 2>&1 \
+      mpirun_n "$n" "$dba" solve "$tmp/$file" -q "${geo[@]}" "${extra[@]}" --report "$tmp/rig_mpi.json" >"$tmp/rig.out" 2>&1 \
         || { fail "rigs $input -np $n $mode exited non-zero"; cat "$tmp/rig.out" >&2; continue; }
       if awk -v a="$(final_cost "$tmp/$reference")" -v b="$(final_cost "$tmp/rig_mpi.json")" -v t="$tolerance" \
            'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= t * a) }'; then
@@ -273,6 +279,13 @@ for input in rig.dba rigm; do
     done
   done
 done
+mpirun_n 2 "$dba" solve "$tmp/rig.dba" -q --camera-priors "$tmp/rig_gnss.txt" --refine-lever-arm \
+  >"$tmp/rig.out" 2>&1
+if grep -qF -- "--refine-lever-arm is not combined with more than one MPI rank yet" "$tmp/rig.out"; then
+  passes=$((passes + 1)); echo "ok   a refined lever arm over ranks is refused by name"
+else
+  fail "a refined lever arm over ranks is not refused: $(cat "$tmp/rig.out")"
+fi
 
 # A FOV camera started inside COLMAP's series branch (camera/fov_series_start.h):
 # every rank that reads the .dba starts its omega where the main rank does,

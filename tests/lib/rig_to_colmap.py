@@ -4,7 +4,9 @@ COLMAP >= 3.12 text model with rigs and frames: camera s+1 per sensor s
 camera 1 its origin and the others posed (HAS_POSE 1, or 0 with --no-pose),
 each frame at its origin image's pose. The images' poses are composed from
 the frames and sensors, so every sensor's pose is image o frame^-1 of frame 1.
-Usage: rig_to_colmap.py RIG.dba SENSORS OUT_DIR [--no-pose]"""
+--imu-origin: the rig's reference sensor an IMU at camera 1's place (camera 1
+then a posed sensor at the identity), each frame with its IMU datum.
+Usage: rig_to_colmap.py RIG.dba SENSORS OUT_DIR [--no-pose] [--imu-origin]"""
 import os
 import sys
 
@@ -14,6 +16,7 @@ import dba
 
 path, sensors, out = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 no_pose = "--no-pose" in sys.argv
+imu = "--imu-origin" in sys.argv
 p = dba.read_problem(path)
 n = len(p.cameras)
 
@@ -60,7 +63,7 @@ with open(f"{out}/points3D.txt", "w") as f:
 # sensor s about the origin: image s o image 0 ^-1 in frame 1.
 R0, t0 = poses[0]
 with open(f"{out}/rigs.txt", "w") as f:
-    line = f"1 {sensors} CAMERA 1"
+    line = f"1 {sensors + 1} IMU 1 CAMERA 1 1 1 0 0 0 0 0 0" if imu else f"1 {sensors} CAMERA 1"
     for s in range(1, sensors):
         R, t = poses[s]
         Rs = R @ R0.T
@@ -71,4 +74,6 @@ with open(f"{out}/frames.txt", "w") as f:
     for fr in range(n // sensors):
         R, t = poses[fr * sensors]
         data = " ".join(f"CAMERA {s + 1} {fr * sensors + s + 1}" for s in range(sensors))
-        f.write(f"{fr + 1} 1 {fmt(quat(R))} {fmt(t)} {sensors} {data}\n")
+        if imu:
+            data += f" IMU 1 {fr + 1}"
+        f.write(f"{fr + 1} 1 {fmt(quat(R))} {fmt(t)} {sensors + imu} {data}\n")

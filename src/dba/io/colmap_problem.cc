@@ -56,24 +56,40 @@ void SetPose(const std::array<double, 4>& q, const std::array<double, 3>& t, dou
 }
 
 // The rig's role of each group's camera: origin, or a sensor (and its pose,
-// null when it has none).
+// null when it has none), held where the model puts it when it stands for
+// a reference sensor that is not a camera.
 struct SensorRole {
   bool origin = false;
   const ColmapSensor* sensor = nullptr;
+  bool held = false;
 };
+
+// A rig whose reference sensor is not a camera (an IMU): its first camera,
+// held at its pose in the rig, places the rig's frame as an origin camera
+// would (the frames and the other sensors are then unknowns as usual).
+const ColmapSensor* CameraHoldingTheOrigin(const ColmapRig& r, const std::string& source) {
+  for (const ColmapSensor& s : r.sensors) {
+    if (s.type != 0) continue;
+    if (!s.has_pose) {
+      throw InputError(source, 0, "rig " + std::to_string(r.rig_id) +
+                                      ": its reference sensor is not a camera, and its first "
+                                      "camera (" + std::to_string(s.id) +
+                                      ") has no pose in it (HAS_POSE 0): nothing places the "
+                                      "rig's frame");
+    }
+    return &s;
+  }
+  return nullptr;
+}
 
 std::vector<SensorRole> SensorRoles(const ColmapModel& model, const ColmapProblem& out,
                                     const std::string& source) {
   std::unordered_map<uint32_t, SensorRole> role;
   for (const ColmapRig& r : model.rigs) {
-    if (r.ref.type != 0) {
-      throw InputError(source, 0, "rig " + std::to_string(r.rig_id) +
-                                      ": a rig whose reference sensor is not a camera is not "
-                                      "modelled yet");
-    }
-    role[r.ref.id] = {true, nullptr};
+    const ColmapSensor* holder = r.ref.type == 0 ? nullptr : CameraHoldingTheOrigin(r, source);
+    if (r.ref.type == 0) role[r.ref.id] = {true, nullptr};
     for (const ColmapSensor& s : r.sensors) {
-      if (s.type == 0) role[s.id] = {false, &s};
+      if (s.type == 0) role[s.id] = {false, &s, &s == holder};
     }
   }
   std::vector<SensorRole> roles;
@@ -110,7 +126,7 @@ void AddRigs(const ColmapModel& model, const std::vector<int32_t>& problem_camer
   }
   for (int64_t g = 0; g < groups; ++g) {
     if (roles[g].origin) continue;
-    bp.sensor_kind[g] = kSensorRefined;
+    bp.sensor_kind[g] = roles[g].held ? kSensorHeld : kSensorRefined;
     double* sensor = bp.cameras.data() + bp.sensor_offset(g);
     if (roles[g].sensor != nullptr && roles[g].sensor->has_pose) {
       SetPose(roles[g].sensor->qvec, roles[g].sensor->tvec, sensor);
@@ -308,6 +324,10 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
                        "intrinsic group per COLMAP camera)");
     }
     AddRigs(model, problem_camera, image_of_id, source, &out);
+  }
+  for (const ColmapRig& r : model.rigs) {
+    out.sensors_not_modelled += r.ref.type != 0;
+    for (const ColmapSensor& s : r.sensors) out.sensors_not_modelled += s.type != 0;
   }
 
   // Points and their observations, point-major.

@@ -80,6 +80,9 @@ struct ColmapProblem {
   std::vector<int64_t> point_index;   // problem point k -> index into model.points3D
   std::vector<int64_t> group_camera;  // intrinsic group g -> index into model.cameras
   std::vector<int64_t> frame_index;   // rigs: problem frame f -> index into model.frames
+  // Rig sensors that are not cameras (IMUs): kept in the model as read,
+  // not adjusted.
+  int64_t sensors_not_modelled = 0;
 };
 
 // Builds the problem (see above). fixed_cameras is empty; fixed_intrinsics

@@ -77,7 +77,22 @@ void ApplyFixings(const Fixings& f, CameraSide* problem) {
                                   std::to_string(problem->num_images()) + " images, 0-based)");
     }
   }
+  for (int64_t g : f.sensors) {
+    if (!problem->has_rigs() || g < 0 || g >= problem->num_groups()) {
+      throw std::invalid_argument(
+          "sensor " + std::to_string(g) + ": " +
+          (problem->has_rigs() ? "no such intrinsic group (the problem has " +
+                                     std::to_string(problem->num_groups()) + ", 0-based)"
+                               : std::string("the problem has no rigs")));
+    }
+  }
   std::vector<uint16_t> fixed = FixedIntrinsicsAfter(f, *problem);
+  for (int64_t g = 0; g < static_cast<int64_t>(problem->sensor_kind.size()); ++g) {
+    const bool listed = std::find(f.sensors.begin(), f.sensors.end(), g) != f.sensors.end();
+    if (problem->sensor_kind[g] == kSensorRefined && (f.all_sensors || listed)) {
+      problem->sensor_kind[g] = kSensorHeld;
+    }
+  }
   if (!f.images.empty() || f.all_images) {
     problem->fixed_cameras.resize(problem->num_images(), 0);
     for (int64_t i : f.images) problem->fixed_cameras[i] = 1;

@@ -34,13 +34,18 @@ struct Fixings {
   // Every group's principal point (kPhoto; nothing in a BAL problem): the
   // default unless --refine-principal-point.
   bool principal_point = false;
+  // Rigs: the sensor poses held (--rig-geometry): every refined one, or
+  // those of these groups (0-based); not a rig's sensor: invalid_argument.
+  bool all_sensors = false;
+  std::vector<int64_t> sensors;
   bool empty() const {
-    return images.empty() && intrinsics.empty() && !all_images && !principal_point;
+    return images.empty() && intrinsics.empty() && !all_images && !principal_point &&
+           !all_sensors && sensors.empty();
   }
 };
 
 // Adds `f` to what the camera side already holds fixed: each name to the
-// groups it targets whose model has it. std::invalid_argument for an image
+// groups it targets whose model has it; a refined sensor pose becomes held. std::invalid_argument for an image
 // or group index out of range, fixed intrinsics of a BAL problem, and a name
 // that none of the targeted groups' models has (listing their models and
 // parameter names). Nothing is changed when it throws.

@@ -119,6 +119,8 @@ Fixings FixingsOf(const UnknownsOptions& u) {
   }
   f.all_images = u.fix_all_images;
   f.principal_point = !u.refine_principal_point;
+  f.all_sensors = !u.refine_rig_geometry;
+  f.sensors = u.held_sensors;
   return f;
 }
 
@@ -129,17 +131,23 @@ void ApplyFixings(const UnknownsOptions& u, Problem* p) {
         "own intrinsic groups)");
   }
   ApplyFixings(CheckedFixings(u, *p), p);
-  ApplyRigGeometry(u, p);
+  ComposeImagesOfRigs(p);
 }
 
-void ApplyRigGeometry(const UnknownsOptions& u, Problem* p) {
-  if (!u.refine_rig_geometry) {
-    for (uint8_t& kind : p->sensor_kind) {
-      if (kind == kSensorRefined) kind = kSensorHeld;
-    }
+// The frames are authoritative: the images' poses composed from them.
+void ComposeImagesOfRigs(Problem* p) { ComposeRigImages(p); }
+
+void ParseRigGeometry(const std::string& flag, const std::string& value, UnknownsOptions* u) {
+  u->held_sensors.clear();
+  u->refine_rig_geometry = value != "fixed";
+  if (value == "refine" || value == "fixed") return;
+  if (value.rfind("fixed:", 0) != 0) {
+    throw UsageError(flag + ": '" + Clipped(value) +
+                     "' is not refine, fixed or fixed:ID,ID... (sensors by COLMAP camera id, or "
+                     "0-based intrinsic group of a .dba problem)");
   }
-  // The frames are authoritative: the images' poses composed from them.
-  ComposeRigImages(p);
+  u->held_sensors = ParseIdList(flag, value.substr(6));
+  u->refine_rig_geometry = true;
 }
 
 Fixings CheckedFixings(const UnknownsOptions& u, const CameraSide& side) {
@@ -153,6 +161,15 @@ Fixings CheckedFixings(const UnknownsOptions& u, const CameraSide& side) {
   if (!u.fixed_image_names.empty()) {
     throw UsageError("--fix-images: '" + Clipped(u.fixed_image_names.front()) +
                      "': images have names in COLMAP models only; give 0-based indices");
+  }
+  for (int64_t g : u.held_sensors) {
+    if (!side.has_rigs() || g >= side.num_groups()) {
+      throw UsageError("--rig-geometry fixed:" + std::to_string(g) + ": " +
+                       (side.has_rigs() ? "intrinsic group " + std::to_string(g) +
+                                              " does not exist (the problem has " +
+                                              std::to_string(side.num_groups()) + ", 0-based)"
+                                        : std::string("the problem has no rigs")));
+    }
   }
   const Fixings f = FixingsOf(u);
   if (!f.intrinsics.empty() && side.model != CameraModel::kPhoto) {
@@ -178,6 +195,7 @@ Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
       for (int64_t j : in.source.image_index) used.push_back(in.model.images[j].camera_id);
       std::sort(used.begin(), used.end());
       cameras->used = std::unique(used.begin(), used.end()) - used.begin();
+      cameras->sensors_not_modelled = in.source.sensors_not_modelled;
     }
     if (names != nullptr) {
       for (const ColmapImage& im : in.model.images) names->others.insert(im.name);
@@ -232,6 +250,30 @@ OutputKind CheckOutput(const std::string& input, const std::string& output, Came
   return OutputKind::kColmap;
 }
 
+namespace {
+
+// --rig-geometry fixed:IDS of a COLMAP model: each camera id's group, which
+// must be a sensor of the model's rigs.
+std::vector<int64_t> SensorGroups(const ColmapInput& in, const std::vector<int64_t>& ids) {
+  std::vector<int64_t> groups;
+  const Problem& p = in.source.problem;
+  for (int64_t id : ids) {
+    int64_t found = -1;
+    for (size_t g = 0; g < in.source.group_camera.size(); ++g) {
+      if (in.model.cameras[in.source.group_camera[g]].camera_id == id) found = static_cast<int64_t>(g);
+    }
+    if (found < 0 || !p.has_rigs()) {
+      throw UsageError("--rig-geometry fixed:" + std::to_string(id) + ": COLMAP camera " +
+                       std::to_string(id) + " is not a sensor of the model's rigs" +
+                       (p.has_rigs() ? "" : " (it has none beyond single cameras)"));
+    }
+    groups.push_back(found);
+  }
+  return groups;
+}
+
+}  // namespace
+
 ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unknowns) {
   const std::vector<uint32_t> fixed_ids = ColmapImageIds(unknowns);  // refused before reading
   ColmapInput in;
@@ -242,12 +284,14 @@ ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unkn
                                   unknowns.fixed_intrinsics, path);
   fixings.all_images = unknowns.fix_all_images;
   fixings.principal_point = !unknowns.refine_principal_point;
+  fixings.all_sensors = !unknowns.refine_rig_geometry;
+  fixings.sensors = SensorGroups(in, unknowns.held_sensors);
   try {
     ApplyFixings(fixings, &in.source.problem);
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("--fix-intrinsics: ") + e.what());
   }
-  ApplyRigGeometry(unknowns, &in.source.problem);
+  ComposeImagesOfRigs(&in.source.problem);
   return in;
 }
 

@@ -46,8 +46,11 @@ struct UnknownsOptions {
   // without a calibration target).
   bool refine_principal_point = false;
   // Rigs: the sensors' poses (sensor_from_rig) refined as the problem poses
-  // them (true), or all held (--rig-geometry fixed).
+  // them (true), or all held (--rig-geometry fixed); or those of these
+  // sensors held (--rig-geometry fixed:IDS: COLMAP camera ids, or 0-based
+  // groups of a .dba problem or arrays).
   bool refine_rig_geometry = true;
+  std::vector<int64_t> held_sensors;
 };
 
 // --fix-images's value into `u`: all, or comma-separated ids and (COLMAP)
@@ -74,6 +77,7 @@ bool IsColmapInput(const std::string& path);
 // those the problem's images use.
 struct ColmapCameraCounts {
   int64_t all = 0, used = 0;
+  int64_t sensors_not_modelled = 0;  // ColmapProblem's
 };
 Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
                        ImageNames* names = nullptr, ColmapCameraCounts* cameras = nullptr);
@@ -86,10 +90,13 @@ Fixings CheckedFixings(const UnknownsOptions& unknowns, const CameraSide& side);
 // The command line's fixings as data, unchecked (a rank reading its share
 // of a .dba applies them).
 Fixings FixingsOf(const UnknownsOptions& unknowns);
-// --rig-geometry fixed holds every refined sensor pose; the images' poses
-// composed from the frames (no rigs: nothing).
-void ApplyRigGeometry(const UnknownsOptions& u, Problem* p);
-// CheckedFixings, then marks them in `problem`, then ApplyRigGeometry.
+// --rig-geometry's value into `u`: refine, fixed or fixed:ID,ID...
+// UsageError naming the flag otherwise.
+void ParseRigGeometry(const std::string& flag, const std::string& value, UnknownsOptions* u);
+// The images' poses composed from the frames (no rigs: nothing).
+void ComposeImagesOfRigs(Problem* p);
+// CheckedFixings, then marks them in `problem` (--rig-geometry's held
+// sensors too), then ComposeImagesOfRigs.
 void ApplyFixings(const UnknownsOptions& unknowns, Problem* problem);
 
 // Output kinds, by the output path: .dba binary, .txt/.bz2 BAL text,

@@ -136,13 +136,17 @@ std::vector<Spec> FixingOptions() {
       [](const SolveOptions& o) { return std::string(o.unknowns.shared_intrinsics ? "shared" : "per-image"); }));
   t.back().modes = kNotArrays;
   t.back().not_here = kColmapOnly;
-  t.push_back(Choice(
-      "--rig-geometry", {"refine", "fixed"},
-      "a problem with rigs (.dba version 4, COLMAP rigs, arrays with frame_indices): refine each rig's sensor poses (sensor_from_rig, "
-      "the reference sensor held as the rig's origin) where the problem poses them free, or "
-      "hold them all; the frames' poses (rig_from_world) are always unknowns",
-      [](SolveOptions& o, size_t i) { o.unknowns.refine_rig_geometry = i == 0; },
-      [](const SolveOptions& o) { return std::string(o.unknowns.refine_rig_geometry ? "refine" : "fixed"); }));
+  Spec rig = Base("--rig-geometry", OptionKind::kText, "refine|fixed|fixed:IDS",
+                  "a problem with rigs (.dba version 4, COLMAP rigs, arrays with frame_indices): "
+                  "refine each rig's sensor poses (sensor_from_rig, the reference sensor held as "
+                  "the rig's origin) where the problem poses them free, hold them all, or hold "
+                  "those of the sensors listed (COLMAP camera ids, or 0-based intrinsic groups "
+                  "of a .dba problem or arrays; default refine); the frames' poses "
+                  "(rig_from_world) are always unknowns");
+  rig.set = [](SolveOptions& o, const std::string& v) {
+    ParseRigGeometry("--rig-geometry", v, &o.unknowns);
+  };
+  t.push_back(rig);
 
   Spec fix = Base("--fix-intrinsics", OptionKind::kText, "[GROUP:]NAMES",
                   "hold intrinsics fixed by name: all, or a comma-separated list of the groups' "

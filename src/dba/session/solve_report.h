@@ -24,6 +24,7 @@ struct SolveReport {
   // A COLMAP input: the model's cameras as COLMAP counts them, and those in
   // use by the images adjusted (0 for other inputs).
   int64_t num_colmap_cameras = 0, num_colmap_cameras_used = 0;
+  int64_t num_colmap_sensors_not_modelled = 0;  // rig sensors that are not cameras
   int64_t num_points = 0;
   int64_t num_observations = 0;
   // At the start: observations whose point is behind its camera (-1: not

@@ -223,6 +223,7 @@ void SolveSession::Start(const SolveInput& input) {
   const Problem& problem = result_.problem;
   report.num_colmap_cameras = input.colmap_cameras.all;
   report.num_colmap_cameras_used = input.colmap_cameras.used;
+  report.num_colmap_sensors_not_modelled = input.colmap_cameras.sensors_not_modelled;
   report.num_cameras = problem.num_images();
   report.num_intrinsic_groups = problem.num_groups();
   report.num_points = problem.num_points();
@@ -316,6 +317,10 @@ void SolveSession::PrintStart() {
        << ranks << (ranks == 1 ? " rank, " : " ranks, ") << lm_.num_threads << " threads"
        << (ranks == 1 ? "" : " per rank") << "\n";
   if (options_.quiet) return;
+  if (const int64_t n = report.num_colmap_sensors_not_modelled; n > 0) {
+    out_ << "COLMAP rigs: " << n << (n == 1 ? " sensor that is not a camera (IMU) is" : " sensors that are not cameras (IMU) are")
+         << " kept in the model as read, not adjusted\n";
+  }
   // Large problems spend a while here before the first iteration line.
   char line[160];
   std::snprintf(line, sizeof line,

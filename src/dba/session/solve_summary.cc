@@ -208,6 +208,7 @@ Json SolveSummary(const SolveReport& r) {
   if (r.num_colmap_cameras > 0) {
     j["num_colmap_cameras"] = r.num_colmap_cameras;
     j["num_colmap_cameras_used"] = r.num_colmap_cameras_used;
+    j["num_colmap_sensors_not_modelled"] = r.num_colmap_sensors_not_modelled;
   }
   j["camera_unknowns"] = rcs.camera_unknowns;
   j["unknowns"] = rcs.camera_unknowns + 3 * r.num_points;
