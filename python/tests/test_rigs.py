@@ -71,3 +71,28 @@ def test_rig_arrays_that_do_not_fit_are_refused(rig):
         solve(sensor_kinds=np.array([0, 0]))
     with pytest.raises(ValueError, match="need frame_indices"):
         solve(frame_indices=None)
+
+
+def test_solve_arrays_with_gnss_on_the_frames_and_a_lever_arm(tmp_path):
+    # Priors on the frames at the antenna, a refined lever arm, a sensor held
+    # by group: the arrays reach the file's solve (1e-9) and the same lever arm.
+    subprocess.run([DBA, "generate", str(tmp_path / "g.dba"), "--model", "photo", "--rig",
+                    "oblique5", "--images", "500", "--seed", "2", "--priors",
+                    str(tmp_path / "p.txt"), "--gnss-sigma", "0.02,0.02", "--lever-arm",
+                    "0.2,0.1,-0.3"], check=True, capture_output=True)
+    options = dict(camera_priors=tmp_path / "p.txt", refine_lever_arm=True,
+                   rig_geometry="fixed:2", **TIGHT)
+    from_file = dba.solve(tmp_path / "g.dba", **options)
+    p = dba.read_problem(tmp_path / "g.dba")
+    r = dba.solve_arrays(p.cameras, p.points, p.observations, p.camera_indices, p.point_indices,
+                         **arrays(p), **options)
+    assert r.summary.report["camera_unknowns"] == 100 * 6 + 5 * 3 + 3 * 6 + 3
+    assert r.summary.final_cost == pytest.approx(from_file.summary.final_cost, rel=1e-9)
+    a, b = (x.summary.report["camera_priors"]["lever_arm"] for x in (r, from_file))
+    assert np.allclose(a, b, atol=1e-9) and r.summary.report["camera_priors"]["lever_arm_refined"]
+    # Held: its turn as given, its place only scaled with the world by the
+    # alignment onto the priors (the input's units become metres).
+    held, given = r.problem.sensor_from_rig[2], p.sensor_from_rig[2]
+    assert np.array_equal(held[:3], given[:3])
+    scale = held[3] / given[3]
+    assert abs(scale - 1) < 0.02 and np.allclose(held[3:], scale * given[3:], rtol=0, atol=1e-15)
