@@ -3,7 +3,8 @@
 # resumed ends where the uninterrupted solve ends, bit for bit with a direct
 # solver (its outputs compared byte for byte) and to 1e-9 with a tight PCG
 # solve: plain, with camera priors (whose alignment is not done again), with
-# control points, with outlier rejection (killed inside a later round), and
+# control points, with outlier rejection (killed inside a later round), with
+# rigs and a refined lever arm, and
 # resumed from the checkpoint of the step that ended the solve (no further
 # iteration, however often). A checkpoint written with other priors, loss or
 # rejection is refused naming what differs; a damaged one is refused.
@@ -103,6 +104,23 @@ killed_and_resumed rej_first 2 .dba "$tmp/s.dba" --reject-outliers 3
 killed_and_resumed rej_later $((accepted - 1)) .dba "$tmp/s.dba" --reject-outliers 3
 check "rej_later: resumed after a rejection round" contains "$tmp/rej_later.log" "after rejection round"
 killed_and_resumed rej_last "$accepted" .dba "$tmp/s.dba" --reject-outliers 3
+
+# Rigs (frames and sensors are the parameters), and with GNSS on the frames
+# and a refined lever arm (its 3 values in the checkpoint after the cameras):
+# killed and resumed, the same bytes and lever arm.
+"$dba" generate --model photo --rig stereo --images 120 --seed 4 "$tmp/rig.dba" \
+  --priors "$tmp/rig.priors" --gnss-sigma 0.05,0.05 --lever-arm 0.2,0.1,-0.3 >/dev/null 2>&1
+killed_and_resumed rig 2 .dba "$tmp/rig.dba" --linear-solver dense
+killed_and_resumed lever 2 .dba "$tmp/rig.dba" --linear-solver dense --camera-priors "$tmp/rig.priors" \
+  --refine-lever-arm
+check "lever: resumed, the same lever arm" test \
+  "$(json_value "$tmp/lever.full.json" camera_priors | python3 -c 'import sys; print(eval(sys.stdin.read())["lever_arm"])')" = \
+  "$(json_value "$tmp/lever.resumed.json" camera_priors | python3 -c 'import sys; print(eval(sys.stdin.read())["lever_arm"])')"
+check "lever: it moved from 0" json "$tmp/lever.full.json" "d['camera_priors']['lever_arm'] != [0.0, 0.0, 0.0]"
+"$dba" solve "$tmp/rig.dba" -q --camera-priors "$tmp/rig.priors" --resume "$tmp/lever.ckpt" \
+  -o "$tmp/refused.dba" >"$tmp/log" 2>&1
+check "a lever-arm checkpoint resumed without --refine-lever-arm is refused" \
+  contains "$tmp/log" "written with --refine-lever-arm, which this run does not have"
 
 # What differs from the checkpoint's setup is refused (exit 2), naming it.
 refused_resume() {

@@ -24,9 +24,17 @@ BundleAdjustSummary BundleAdjust(
     summary.lever_arm = priors->lever_arm;
     if (lever_arm) cameras.insert(cameras.end(), priors->lever_arm.data(), priors->lever_arm.data() + 3);
     PriorWorkers prior_workers(&workers, &cameras, *problem, *priors);
+    // The hook sees the lever arm as the iteration left it (a checkpoint holds it).
+    const size_t n = problem->cameras.size();
+    const std::function<void(const IterationSummary&)> hook = [&](const IterationSummary& it) {
+      if (!on_iteration) return;
+      IterationSummary with = it;
+      if (lever_arm) with.lever_arm = Vec3(cameras.data() + n);
+      on_iteration(with);
+    };
     summary.lm = SolveLevenbergMarquardt(options, problem->num_observations(), &cameras,
-                                         &prior_workers, on_iteration);
-    if (lever_arm) summary.lever_arm = Vec3(cameras.data() + problem->cameras.size());
+                                         &prior_workers, hook);
+    if (lever_arm) summary.lever_arm = Vec3(cameras.data() + n);
   } else {
     summary.lm = SolveLevenbergMarquardt(options, problem->num_observations(), &cameras,
                                          &workers, on_iteration);

@@ -98,6 +98,9 @@ struct IterationSummary {
   // after it says so: io/checkpoint.h).
   bool ends_solve = false;
   TerminationReason termination = TerminationReason::kMaxIterations;
+  // The camera priors' lever arm after this iteration, when it is an
+  // unknown (lm/bundle_adjust.h fills it in what its hook sees).
+  Vec3 lever_arm = Vec3::Zero();
 };
 
 struct PhaseTimes {

@@ -27,6 +27,8 @@ std::string GoodValue(const OptionSpec<SolveOptions>& s) {
     case OptionKind::kText:
       if (s.name == "--prior-sigma") return "0.5,1";
       if (s.name == "--fix-intrinsics") return "f,k1";
+      if (s.name == "--lever-arm") return "0.1,-0.2,0.3";
+      if (s.name == "--rig-geometry") return "fixed:1,2";
       return "EPSG:4979";
   }
   return "";

@@ -143,6 +143,10 @@ void SolveSession::WriteCheckpoint(const IterationSummary& it, PointSide* side) 
   }
   std::vector<double> cameras;  // in the input's order (a walked solve renumbers them)
   side->AllCameras(&cameras);
+  // A refined lever arm: its 3 values after the cameras (SolveSession::Resume).
+  if (result_.geo.priors.refine_lever_arm) {
+    cameras.insert(cameras.end(), it.lever_arm.data(), it.lever_arm.data() + 3);
+  }
   if (rounds_.empty()) {
     std::vector<double> points;  // in the input's order (a solve walks its own)
     side->AllPoints(&points);

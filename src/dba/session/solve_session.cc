@@ -28,9 +28,9 @@
 namespace dba {
 namespace {
 
-// A lever arm without priors, and what a refined one does not reach yet: its 3 unknowns are the LM's
-// beside the problem's cameras, which neither a checkpoint nor the RCS
-// spread over ranks holds. Refused by name before any work.
+// A lever arm without priors, and what a refined one does not reach yet:
+// its 3 unknowns are the LM's beside the problem's cameras, which the RCS
+// spread over ranks does not hold. Refused by name before any work.
 void RefuseUnbuiltLeverArmUses(const SolveOptions& options, int ranks) {
   const GeoreferenceOptions& geo = options.geo;
   if (geo.camera_priors_path.empty() && (geo.refine_lever_arm || !geo.lever_arm.isZero(0.0))) {
@@ -38,13 +38,10 @@ void RefuseUnbuiltLeverArmUses(const SolveOptions& options, int ranks) {
                      ": the lever arm is the camera priors' antenna's; give --camera-priors");
   }
   if (!options.geo.refine_lever_arm) return;
-  const char* what = ranks > 1                          ? "more than one MPI rank"
-                     : !options.checkpoint_path.empty() ? "--checkpoint"
-                     : !options.resume_path.empty()     ? "--resume"
-                                                        : nullptr;
-  if (what == nullptr) return;
-  throw UsageError(std::string("--refine-lever-arm is not combined with ") + what +
-                   " yet: give the lever arm (--lever-arm X,Y,Z) held, or solve in one process");
+  if (ranks > 1) {
+    throw UsageError("--refine-lever-arm is not combined with more than one MPI rank yet: give "
+                     "the lever arm (--lever-arm X,Y,Z) held, or solve in one process");
+  }
 }
 
 }  // namespace
@@ -126,7 +123,10 @@ SetupFingerprint SolveSetup(const SolveOptions& options, const Georeference& geo
   if (!geo.priors.empty()) {
     f.Add("--prior-loss", LossName(geo.priors.loss.type));
     f.Add("--prior-loss", geo.priors.loss.scale);
-    f.Add("--lever-arm", geo.priors.lever_arm.data(), 3 * sizeof(double));
+    if (!geo.priors.lever_arm.isZero(0.0) || geo.priors.refine_lever_arm) {
+      f.Add("--lever-arm", geo.priors.lever_arm.data(), 3 * sizeof(double));
+    }
+    if (geo.priors.refine_lever_arm) f.Add("--refine-lever-arm", 1.0);
   }
   for (const GroundControlPoint& p : geo.gcps.points) {
     f.Add("--gcps", p.name);
@@ -238,6 +238,7 @@ void SolveSession::Resume() {
   if (options_.resume_path.empty()) return;
   resumed_ = ReadCheckpoint(options_.resume_path);
   CheckCheckpointSetup(*resumed_, options_.resume_path, setup_);
+  if (result_.geo.priors.refine_lever_arm) TakeLeverArm(&*resumed_);
   if (resumed_->round > 0 && options_.reject_outliers_px <= 0) {
     throw UsageError("--resume " + options_.resume_path + ": written after " +
                      std::to_string(resumed_->round) + " rounds of --reject-outliers");
@@ -257,6 +258,19 @@ void SolveSession::Resume() {
                                      std::to_string(resumed_->round)
                                : std::string())
        << (resumed_->ended >= 0 ? ", which had ended the solve" : "") << "\n";
+}
+
+// A refined lever arm's 3 values, after the checkpoint's cameras
+// (SolveSession::WriteCheckpoint): the solve resumes from them.
+void SolveSession::TakeLeverArm(Checkpoint* c) {
+  std::vector<double>& x = c->cameras;
+  if (x.size() != result_.problem.cameras.size() + 3) {
+    throw InputError(options_.resume_path, 0,
+                     "written for another input: its camera values do not fit this problem's "
+                     "cameras and a lever arm");
+  }
+  result_.geo.priors.lever_arm = Vec3(x.data() + x.size() - 3);
+  x.resize(x.size() - 3);
 }
 
 // A checkpoint written after rejection rounds: every loaded point and what

@@ -88,6 +88,7 @@ class SolveSession {
                        std::function<void(const RcsSystem&)> check_memory);
   void FinishSolve(PointSide* side);
   void KeepLeverArm(const BundleAdjustSummary& ba);
+  void TakeLeverArm(Checkpoint* c);
   std::function<void(const RcsSystem&)> MemoryCheck();
   LmOptions RoundOptions(bool resumed_round) const;
   void HoldGauge();
