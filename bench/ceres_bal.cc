@@ -14,7 +14,11 @@
 //   ceres_bal --version      the Ceres version it was built against
 //
 // INPUT is BAL text (plain or bzip2) or a dba binary problem, read with dba's
-// reader so both programs load the same data the same way.
+// reader so both programs load the same data the same way. A photogrammetric
+// .dba (RADIAL groups; dba generate --model photo) is solved with its shared
+// intrinsics, the principal point held as dba's default holds it; with rigs
+// (.dba version 4) each observation's pose is its frame's after its sensor's
+// (origin sensors the identity, held sensors constant), as dba solves it.
 //
 // Solver: ITERATIVE_SCHUR + SCHUR_JACOBI by default (the configuration the
 // paper compares with), SPARSE_SCHUR with --solver sparse_schur (Ceres's
@@ -76,6 +80,113 @@ struct BalReprojectionError {
   }
   double x, y;
 };
+
+// The photogrammetric model's RADIAL lens (f, cx, cy, k1, k2; dba's
+// camera/lens_projection.h): n = P.xy / P.z, u = f (1 + k1 r² + k2 r⁴) n + c.
+template <typename T>
+void RadialResidual(const T* P, const T* k, double x, double y, T* residual) {
+  const T nx = P[0] / P[2], ny = P[1] / P[2];
+  const T r2 = nx * nx + ny * ny;
+  const T d = T(1.0) + r2 * (k[3] + k[4] * r2);
+  residual[0] = k[0] * d * nx + k[1] - T(x);
+  residual[1] = k[0] * d * ny + k[2] - T(y);
+}
+
+// An image's pose (ω, t), P = R(ω) X + t.
+struct RadialImageError {
+  RadialImageError(double x, double y) : x(x), y(y) {}
+  template <typename T>
+  bool operator()(const T* pose, const T* k, const T* point, T* residual) const {
+    T P[3];
+    ceres::AngleAxisRotatePoint(pose, point, P);
+    for (int a = 0; a < 3; ++a) P[a] += pose[3 + a];
+    RadialResidual(P, k, x, y, residual);
+    return true;
+  }
+  double x, y;
+};
+
+// A rig's image: its sensor's pose after its frame's (docs/design.md §1.7),
+// P = R_s (R_f X + t_f) + t_s.
+struct RadialRigError {
+  RadialRigError(double x, double y) : x(x), y(y) {}
+  template <typename T>
+  bool operator()(const T* frame, const T* sensor, const T* k, const T* point, T* residual) const {
+    T Q[3], P[3];
+    ceres::AngleAxisRotatePoint(frame, point, Q);
+    for (int a = 0; a < 3; ++a) Q[a] += frame[3 + a];
+    ceres::AngleAxisRotatePoint(sensor, Q, P);
+    for (int a = 0; a < 3; ++a) P[a] += sensor[3 + a];
+    RadialResidual(P, k, x, y, residual);
+    return true;
+  }
+  double x, y;
+};
+
+// The photogrammetric problem (RADIAL groups only) in `problem`: per
+// observation the image's pose (with rigs its frame's and sensor's), its
+// group's intrinsics with dba's defaults (the principal point held, and
+// what the file holds), the point; cameras and frames after the points.
+void AddPhotoProblem(dba::Problem& p, ceres::LossFunction* loss, ceres::Problem* problem,
+                     ceres::ParameterBlockOrdering* ordering) {
+  for (int64_t g = 0; g < p.num_groups(); ++g) {
+    if (p.group_model(g) != dba::LensModel::kRadial) {
+      throw std::invalid_argument("intrinsic group " + std::to_string(g) +
+                                  ": only the RADIAL lens model is written out here");
+    }
+  }
+  const bool rigs = p.has_rigs();
+  for (int64_t k = 0; k < p.num_points(); ++k) {
+    for (int64_t o = p.point_offsets[k]; o < p.point_offsets[k + 1]; ++o) {
+      const int64_t i = p.obs_camera[o];
+      const int64_t g = p.camera_intrinsics[i];
+      const double x = p.obs_pixel[2 * o], y = p.obs_pixel[2 * o + 1];
+      if (rigs && p.sensor_kind[g] != dba::kRigOrigin) {
+        auto* cost = new ceres::AutoDiffCostFunction<RadialRigError, 2, 6, 6, 5, 3>(
+            new RadialRigError(x, y));
+        problem->AddResidualBlock(cost, loss, p.cameras.data() + p.frame_offset(p.image_frame[i]),
+                                  p.cameras.data() + p.sensor_offset(g), p.intrinsics(g), p.point(k));
+      } else {
+        auto* cost = new ceres::AutoDiffCostFunction<RadialImageError, 2, 6, 5, 3>(
+            new RadialImageError(x, y));
+        double* pose = rigs ? p.cameras.data() + p.frame_offset(p.image_frame[i]) : p.camera(i);
+        problem->AddResidualBlock(cost, loss, pose, p.intrinsics(g), p.point(k));
+      }
+    }
+    ordering->AddElementToGroup(p.point(k), 0);
+  }
+  for (int64_t g = 0; g < p.num_groups(); ++g) {
+    const uint16_t fixed = (p.fixed_intrinsics.empty() ? 0 : p.fixed_intrinsics[g]) |
+                           dba::kIntrinsicCx | dba::kIntrinsicCy;
+    std::vector<int> held;
+    for (int j = 0; j < 5; ++j) {
+      if (fixed & (1u << j)) held.push_back(j);
+    }
+    if (!problem->HasParameterBlock(p.intrinsics(g))) continue;
+    ordering->AddElementToGroup(p.intrinsics(g), 1);
+    if (held.size() == 5) {
+      problem->SetParameterBlockConstant(p.intrinsics(g));
+    } else {
+      problem->SetManifold(p.intrinsics(g), new ceres::SubsetManifold(5, held));
+    }
+    if (!rigs || p.sensor_kind[g] == dba::kRigOrigin) continue;
+    double* sensor = p.cameras.data() + p.sensor_offset(g);
+    if (!problem->HasParameterBlock(sensor)) continue;
+    ordering->AddElementToGroup(sensor, 1);
+    if (p.sensor_kind[g] == dba::kSensorHeld) problem->SetParameterBlockConstant(sensor);
+  }
+  const int64_t poses = rigs ? p.num_frames() : p.num_images();
+  std::vector<uint8_t> fixed(poses, 0);
+  for (int64_t i = 0; i < p.num_images(); ++i) {
+    if (p.camera_fixed(i)) fixed[rigs ? p.image_frame[i] : i] = 1;
+  }
+  for (int64_t f = 0; f < poses; ++f) {
+    double* pose = rigs ? p.cameras.data() + p.frame_offset(f) : p.camera(f);
+    if (!problem->HasParameterBlock(pose)) continue;
+    ordering->AddElementToGroup(pose, 1);
+    if (fixed[f]) problem->SetParameterBlockConstant(pose);
+  }
+}
 
 struct History : public ceres::IterationCallback {
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
@@ -178,7 +289,8 @@ int main(int argc, char** argv) {
     problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(problem_options);
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-    for (int64_t k = 0; k < p.num_points(); ++k) {
+    if (p.model == dba::CameraModel::kPhoto) AddPhotoProblem(p, loss.get(), &problem, ordering.get());
+    for (int64_t k = 0; p.model == dba::CameraModel::kBal && k < p.num_points(); ++k) {
       for (int64_t o = p.point_offsets[k]; o < p.point_offsets[k + 1]; ++o) {
         auto* cost = new ceres::AutoDiffCostFunction<BalReprojectionError, 2, 9, 3>(
             new BalReprojectionError(p.obs_pixel[2 * o], p.obs_pixel[2 * o + 1]));
@@ -186,7 +298,9 @@ int main(int argc, char** argv) {
       }
       ordering->AddElementToGroup(p.point(k), 0);
     }
-    for (int64_t i = 0; i < p.num_images(); ++i) ordering->AddElementToGroup(p.camera(i), 1);
+    for (int64_t i = 0; p.model == dba::CameraModel::kBal && i < p.num_images(); ++i) {
+      ordering->AddElementToGroup(p.camera(i), 1);
+    }
     const double build_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
 
