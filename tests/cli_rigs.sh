@@ -84,8 +84,9 @@ check "... the sensors within 0.05 deg" json "$tmp/ring.json" \
 
 # GNSS on the rig (issue 46): the antenna 0.25, -0.15, -0.40 m from the
 # rig's origin, one prior per frame (sigma 2 cm), 5 control and 3 check
-# points; 500 frames of the oblique head (alternating headings place the
-# lever arm's horizontal part, the control points its vertical part).
+# points; 500 frames of the oblique head (the frames' ~3 deg attitude
+# differences place the lever arm's horizontal part, the control points its
+# vertical part).
 "$dba" generate --model photo --rig oblique5 --images 2500 --seed 5 "$tmp/gnss.dba" \
   --truth "$tmp/gnss_truth.dba" --priors "$tmp/gnss.txt" --gnss-sigma 0.02,0.02 \
   --lever-arm 0.25,-0.15,-0.4 --gcps "$tmp/gcps.txt" --control-points 5 --check-points 3 \
