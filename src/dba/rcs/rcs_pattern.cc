@@ -111,6 +111,22 @@ std::vector<uint64_t> PatternByRows(int32_t num_rows, int64_t num_points, RowsOf
   return blocks;
 }
 
+// The lever arm's row meets every camera row (each may carry a prior; one
+// 6 x 3 block per camera row): (r, lever) after the sorted blocks of each
+// camera row r, in one pass (the lever arm's is the last column).
+std::vector<uint64_t> WithLeverArmColumn(std::vector<uint64_t> blocks, int32_t camera_rows,
+                                         int32_t lever) {
+  std::vector<uint64_t> out;
+  out.reserve(blocks.size() + camera_rows);
+  size_t b = 0;
+  for (int32_t r = 0; r < camera_rows; ++r) {
+    for (; b < blocks.size() && blocks[b] < PackBlock(r, lever); ++b) out.push_back(blocks[b]);
+    out.push_back(PackBlock(r, lever));
+  }
+  out.insert(out.end(), blocks.begin() + static_cast<int64_t>(b), blocks.end());
+  return out;
+}
+
 }  // namespace
 
 std::vector<uint64_t> RcsBlockPattern(int64_t num_cameras,
@@ -137,13 +153,8 @@ std::vector<uint64_t> RcsBlockPattern(const Problem& problem, const UnknownLayou
       problem.num_points() <= int64_t{UINT32_MAX}
           ? PatternByRows(layout.num_block_rows(), problem.num_points(), rows_of)
           : PatternOf(layout.num_block_rows(), problem.num_points(), rows_of);
-  // The lever arm's row meets every camera row (each may carry a prior; one
-  // 6 x 3 block per camera row).
-  if (const int32_t lever = layout.lever_arm_row(); lever >= 0) {
-    for (int32_t r = 0; r < layout.num_camera_rows(); ++r) blocks.push_back(PackBlock(r, lever));
-    SortUnique(blocks);
-  }
-  return blocks;
+  const int32_t lever = layout.lever_arm_row();
+  return lever < 0 ? blocks : WithLeverArmColumn(std::move(blocks), layout.num_camera_rows(), lever);
 }
 
 }  // namespace dba

@@ -131,11 +131,8 @@ void ApplyFixings(const UnknownsOptions& u, Problem* p) {
         "own intrinsic groups)");
   }
   ApplyFixings(CheckedFixings(u, *p), p);
-  ComposeImagesOfRigs(p);
+  ComposeRigImages(p);  // the frames are authoritative
 }
-
-// The frames are authoritative: the images' poses composed from them.
-void ComposeImagesOfRigs(Problem* p) { ComposeRigImages(p); }
 
 void ParseRigGeometry(const std::string& flag, const std::string& value, UnknownsOptions* u) {
   u->held_sensors.clear();
@@ -147,7 +144,6 @@ void ParseRigGeometry(const std::string& flag, const std::string& value, Unknown
                      "0-based intrinsic group of a .dba problem)");
   }
   u->held_sensors = ParseIdList(flag, value.substr(6));
-  u->refine_rig_geometry = true;
 }
 
 Fixings CheckedFixings(const UnknownsOptions& u, const CameraSide& side) {
@@ -291,7 +287,7 @@ ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unkn
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("--fix-intrinsics: ") + e.what());
   }
-  ComposeImagesOfRigs(&in.source.problem);
+  ComposeRigImages(&in.source.problem);  // the frames are authoritative
   return in;
 }
 

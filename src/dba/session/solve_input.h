@@ -93,10 +93,8 @@ Fixings FixingsOf(const UnknownsOptions& unknowns);
 // --rig-geometry's value into `u`: refine, fixed or fixed:ID,ID...
 // UsageError naming the flag otherwise.
 void ParseRigGeometry(const std::string& flag, const std::string& value, UnknownsOptions* u);
-// The images' poses composed from the frames (no rigs: nothing).
-void ComposeImagesOfRigs(Problem* p);
 // CheckedFixings, then marks them in `problem` (--rig-geometry's held
-// sensors too), then ComposeImagesOfRigs.
+// sensors too), then composes the images' poses from the frames (rigs).
 void ApplyFixings(const UnknownsOptions& unknowns, Problem* problem);
 
 // Output kinds, by the output path: .dba binary, .txt/.bz2 BAL text,
