@@ -5,7 +5,7 @@
 # machine is idle. Reports per problem and rank count the median wall time
 # and peak memory (min-max) of each binary and their ratios, and whether the
 # final costs agree (1e-5: the default options). For "a change must not cost
-# more than 5%": issue 43's and 44's done-when.
+# more than 5%".
 #
 #   bash bench/ab.sh --old OLD_DBA [--new NEW_DBA] [--repeats N] [--ranks "1 2"]
 #                    [--threads T] [--out DIR] [PROBLEM...]

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# dba on a busy machine against the same machine idle (issue 44's "at most
-# 2.5x its idle time with --busy 2"): for each problem, runs of dba with its
+# dba on a busy machine against the same machine idle (the target:
+# at most 2.5x its idle time with --busy 2): for each problem, runs of dba with its
 # default options alternate idle / with N busy processes (shell loops at
 # normal priority, started before and stopped after each busy run), and the
 # medians (min-max) and their ratio are printed as a Markdown table, with

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# COLMAP >= 3.12 models with real rigs (issue 46, docs/design.md §1.7): a
+# COLMAP >= 3.12 models with real rigs (docs/design.md §1.7): a
 # generated stereo survey written as a COLMAP text model with a rig of two
 # cameras (tests/lib/rig_to_colmap.py) solves as a rig problem (6 unknowns
 # per frame and 6 for the sensor) to the .dba's final cost; text -> binary

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Rigs end to end (issue 46, docs/design.md §1.7): dba generate --rig writes
+# Rigs end to end (docs/design.md §1.7): dba generate --rig writes
 # a .dba version 4 whose solve recovers the sensors' turns; --rig-geometry
 # fixed holds them; the written problem re-reads at the final cost; the same survey renumbered at random solves to the same cost;
 # --drop-rigs gives the same images as independent cameras; GNSS priors on
@@ -82,7 +82,7 @@ check "ring6, cauchy then rejection: every mismatch dropped, under 2% of the inl
 check "... the sensors within 0.05 deg" json "$tmp/ring.json" \
   "max(d['ground_truth']['sensors']['rotation_error_deg']) < 0.05"
 
-# GNSS on the rig (issue 46): the antenna 0.25, -0.15, -0.40 m from the
+# GNSS on the rig: the antenna 0.25, -0.15, -0.40 m from the
 # rig's origin, one prior per frame (sigma 2 cm), 5 control and 3 check
 # points; 500 frames of the oblique head (the frames' ~3 deg attitude
 # differences place the lever arm's horizontal part, the control points its

@@ -62,7 +62,7 @@ void PrintUsage(std::ostream& out) {
 //   by default, milliseconds) before they sleep: on a machine another
 //   process keeps busy a thread spins while its partner waits for the core,
 //   and PCG, with seven parallel regions per iteration, slowed 8x under
-//   three busy processes (issue 44). Unless the user chose (GOMP_SPINCOUNT
+//   three busy processes. Unless the user chose (GOMP_SPINCOUNT
 //   or OMP_WAIT_POLICY set): GOMP_SPINCOUNT=kSpinCount. 1000 rather than
 //   10,000: under three busy processes PCG slowed 4.36x where formation
 //   slowed 2.79x with 10,000, 3.54x against 2.58x with 1000 (uavtxt-2500

@@ -1,4 +1,4 @@
-# The order a problem comes in changes no result beyond rounding (issue 44):
+# The order a problem comes in changes no result beyond rounding:
 # a survey with its points and cameras renumbered by a random permutation
 # (observations re-sorted camera by camera, as BAL files are) solves, with a
 # tight direct solve, to the ordered solve's parameters within 1e-9 relative

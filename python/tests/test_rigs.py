@@ -1,4 +1,4 @@
-# Rigs through Python (issue 46, docs/design.md §1.7): read_problem returns a
+# Rigs through Python (docs/design.md §1.7): read_problem returns a
 # rig .dba's frames and sensors; solve_arrays given them solves the rig (6
 # unknowns per frame and 6 per refined sensor) to the file's final cost with
 # a tight direct solve (1e-9), returns the solved frames and sensors, holds

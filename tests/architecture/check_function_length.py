@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""No function over 100 lines in the drivers (issue 43): app/, cluster/,
+"""No function over 100 lines in the drivers: app/, cluster/,
 session/, python/src/ and tools/. A function is counted from its signature's
 first line to its closing brace at column 0 (the project's style); a
 declarative table of options (a function whose name ends in Table or

@@ -9,7 +9,7 @@
 // own cameras (few rows shared between threads). In an input's own order
 // (incremental SfM's, Bundler's, a merged block's, or shuffled) they write
 // all over S: formation 2.8x and back-substitution 3.2x slower per pass on
-// a 2,500-image survey (issue 44). The order is the Z-order (Morton) curve
+// a 2,500-image survey. The order is the Z-order (Morton) curve
 // of the points' positions: O(P log P), no graph; the same positions give
 // the same order whatever the input's numbering.
 #pragma once

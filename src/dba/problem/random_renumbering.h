@@ -1,7 +1,7 @@
 // A problem with its points and cameras renumbered by a seeded random
 // permutation: the same problem in an order nobody chose (`dba convert
 // --shuffle`), to show that the input's order changes no result beyond
-// rounding and to time what a scattered input costs (issue 44).
+// rounding and to time what a scattered input costs.
 #pragma once
 
 #include <cstdint>

@@ -6,7 +6,7 @@
 // Why: aggregation is greedy, so which rows end up together depends on the
 // order it meets them in. In row order that is the cameras' numbering: the
 // same survey numbered by strips or at random had 176 against 155 PCG
-// iterations (uavtxt-10000, issue 44). In the order of the cameras' places
+// iterations (uavtxt-10000). In the order of the cameras' places
 // the aggregates are the same sets whatever the numbering (up to cameras
 // that share a Morton cell), and so is PCG's iteration count.
 #pragma once

@@ -209,8 +209,8 @@ TEST(AutoSolver, NeverExceedsTheMemoryBudget) {
 }
 
 #ifdef DBA_HAVE_CHOLMOD
-// auto, with its default options, picks each solver on a system made for it
-// (issue 44): a small one is factorized densely, a long band (whose factor
+// auto, with its default options, picks each solver on a system made for it:
+// a small one is factorized densely, a long band (whose factor
 // has no fill) sparsely, and a large one whose factor fills in is solved by
 // PCG.
 TEST(AutoSolver, PicksEachSolverOnASystemMadeForIt) {

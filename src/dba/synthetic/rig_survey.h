@@ -1,4 +1,4 @@
-// Rigs for the synthetic UAV survey (`dba generate --rig`, issue 46): the
+// Rigs for the synthetic UAV survey (`dba generate --rig`): the
 // sensors of a named rig, their true poses (the nominal ones with small
 // manufacturing errors, so refining them matters), and the survey's camera
 // side with one frame per exposure.
