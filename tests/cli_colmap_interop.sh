@@ -3,8 +3,10 @@
 # test command): `colmap bundle_adjuster` and `dba colmap-bundle-adjuster`
 # with the same flags reach the same final cost (1e-6 relative, both
 # outputs evaluated by one reader), and dba's outputs load in `colmap
-# model_analyzer` with the input's counts. Without colmap the test fails
-# and says why. Usage: cli_colmap_interop.sh PATH_TO_DBA PROJECT_ROOT
+# model_analyzer` with the input's counts, written binary from a text model
+# as COLMAP 3.8 writes them; a rerun into the directory COLMAP wrote
+# replaces COLMAP's model. Without colmap the test fails and says why.
+# Usage: cli_colmap_interop.sh PATH_TO_DBA PROJECT_ROOT
 set -uo pipefail
 source "$(dirname "$0")/lib/check.sh"
 dba=$1
@@ -47,7 +49,20 @@ for m in mithunnallana_6img statue_of_liberty_small_txt; do
       python3 -c "import sys; c, d = float(sys.argv[1]), float(sys.argv[2]); sys.exit(abs(d - c) > 1e-6 * c)" "${c:-nan}" "${d:-nan}"
     check "$m ${flags:-defaults}: dba's output loads in colmap model_analyzer with the input's counts" \
       test "$(counts "$tmp/d$run")" = "$(counts "$model")" -a -n "$(counts "$model")"
+    check "$m ${flags:-defaults}: written binary, as COLMAP 3.8 writes it from a text model too" \
+      test "$(cd "$tmp/d$run" && echo *)" = "$(cd "$tmp/c$run" && echo *)" -a "$(cd "$tmp/d$run" && echo *)" = \
+      "cameras.bin images.bin points3D.bin"
   done
+  # Rerun into the directory COLMAP wrote: its model is replaced, and
+  # COLMAP reads dba's.
+  cp -r "$tmp/c$run" "$tmp/c$run.colmap"
+  "$dba" colmap-bundle-adjuster --input_path "$model" --output_path "$tmp/c$run" >"$tmp/rerun.log" 2>&1
+  check "$m: a rerun into the directory colmap bundle_adjuster wrote exits 0" test $? -eq 0
+  check "$m: ... and replaces COLMAP's model" \
+    test "$(cmp -s "$tmp/c$run/images.bin" "$tmp/c$run.colmap/images.bin"; echo $?)" = 1
+  mkdir -p "$tmp/c$run.txt"
+  colmap model_converter --input_path "$tmp/c$run" --output_path "$tmp/c$run.txt" --output_type TXT >"$tmp/conv.log" 2>&1
+  check "$m: ... which colmap model_converter reads" test $? -eq 0 -a -s "$tmp/c$run.txt/images.txt"
 done
 
 # FOV from small ω (COLMAP switches formula at ω = 0.01, dba copies its

@@ -1,11 +1,16 @@
 // `dba colmap-bundle-adjuster`: a drop-in for `colmap bundle_adjuster`. It
-// takes COLMAP's command line (3.8's option names and 3.12's), with COLMAP's
-// defaults (100 iterations, tolerances 0, principal point fixed), maps each
-// option onto `dba solve`'s and runs that solve (one process, or every rank
-// under mpirun); an option dba cannot honour is refused by name (exit 2).
-// The gauge is held as dba holds it (the first image's pose and its distance
-// to the next; COLMAP holds the first image and one coordinate of the
-// second): the optimum and its cost are COLMAP's.
+// takes COLMAP's command line (3.8's option names and 3.12's) as COLMAP 3.8
+// reads it (boost::program_options: each value of the type COLMAP parses it
+// as, booleans spelled any way boost takes, a name's unambiguous start, an
+// option once), with COLMAP's defaults (100 iterations, tolerances 0,
+// principal point fixed), checks the paths as COLMAP does, maps each option
+// onto `dba solve`'s and runs that solve (one process, or every rank under
+// mpirun), writing the model in COLMAP's binary format as COLMAP 3.8 does
+// whatever the input's. An option dba cannot honour, a repeated one and a
+// stray word are refused by name (exit 2); every message names COLMAP's
+// option. The gauge is held as dba holds it (the first image's pose and its
+// distance to the next; COLMAP holds the first image and one coordinate of
+// the second): the optimum and its cost are COLMAP's.
 #pragma once
 
 #include <string>
@@ -13,13 +18,8 @@
 
 namespace dba {
 
-// `colmap bundle_adjuster`'s arguments (--name value or --name=value) as
-// `dba solve`'s. Throws UsageError naming an unknown or refused option, a
-// missing --input_path / --output_path, or a bad value.
-std::vector<std::string> SolveArgumentsOfColmap(const std::vector<std::string>& args);
-
 // `dba colmap-bundle-adjuster ARGS...`: the exit status (0 success, 1
-// failure, 2 bad arguments).
+// failure or bad input, 2 bad arguments).
 int ColmapBundleAdjusterMain(const std::vector<std::string>& args);
 
 }  // namespace dba

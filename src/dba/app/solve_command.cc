@@ -14,6 +14,11 @@
 namespace dba {
 
 int SolveMain(const std::vector<std::string>& args) {
+  return SolveMain(args, [](const std::string& message) { return message; });
+}
+
+int SolveMain(const std::vector<std::string>& args,
+              const std::function<std::string(const std::string&)>& said) {
   SolveOptions options;
   try {
     if (std::find(args.begin(), args.end(), "--list-camera-models") != args.end()) {
@@ -29,7 +34,7 @@ int SolveMain(const std::vector<std::string>& args) {
       return 0;
     }
   } catch (const std::exception& e) {
-    std::cerr << "dba solve: " << e.what() << "\n";
+    std::cerr << "dba solve: " << said(e.what()) << "\n";
     return 2;
   }
   Communicator comm(nullptr, nullptr);
@@ -37,12 +42,12 @@ int SolveMain(const std::vector<std::string>& args) {
     RunSolve(options, &comm, std::cout);
     return 0;
   } catch (const UsageError& e) {
-    if (comm.size() > 1) comm.Abort(e.what(), 2);
-    std::cerr << "dba solve: " << e.what() << "\n";
+    if (comm.size() > 1) comm.Abort(said(e.what()), 2);
+    std::cerr << "dba solve: " << said(e.what()) << "\n";
     return 2;
   } catch (const std::exception& e) {
-    if (comm.size() > 1) comm.Abort(e.what());  // ends every rank
-    std::cerr << "dba solve: error: " << e.what() << "\n";
+    if (comm.size() > 1) comm.Abort(said(e.what()));  // ends every rank
+    std::cerr << "dba solve: error: " << said(e.what()) << "\n";
     return 1;
   }
 }

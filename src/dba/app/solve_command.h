@@ -3,6 +3,7 @@
 // process or on every rank of an MPI job.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -11,5 +12,9 @@ namespace dba {
 // `dba solve ARGS...`: parses, runs, reports errors; returns the exit status
 // (0 success, 1 failure, 2 bad arguments).
 int SolveMain(const std::vector<std::string>& args);
+// The same, each error message passed through `said` before it is printed
+// (the COLMAP drop-in names its own options for the dba options it gave).
+int SolveMain(const std::vector<std::string>& args,
+              const std::function<std::string(const std::string&)>& said);
 
 }  // namespace dba
