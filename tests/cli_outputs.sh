@@ -19,7 +19,20 @@ cp "$tmp/a.txt" "$tmp/a.orig"
 cp -r "$colmap" "$tmp/m"
 cp -r "$colmap" "$tmp/m.orig"
 chmod -R u+w "$tmp/m" "$tmp/m.orig"
-no_temporaries() { test -z "$(find "$tmp" -name '*.tmp.*' -o -name '*.dba-old.*')"; }
+# A COLMAP >= 3.12 model with (trivial) rigs and frames, text (mr) and binary (mrb).
+mkdir -p "$tmp/mr"
+cp "$colmap/"{cameras,images,points3D}.txt "$tmp/mr/"
+echo "1 1 CAMERA 1" >"$tmp/mr/rigs.txt"
+awk '!/^#/ && n++ % 2 == 0 {print $1, 1, $2, $3, $4, $5, $6, $7, $8, 1, "CAMERA", 1, $1}' \
+  "$colmap/images.txt" >"$tmp/mr/frames.txt"
+"$dba" convert "$tmp/mr" "$tmp/mrb" --colmap-format binary >/dev/null 2>&1
+check "the binary rig model is written" test -s "$tmp/mrb/rigs.bin" -a -s "$tmp/mrb/frames.bin"
+cp -r "$tmp/mr" "$tmp/mr.orig"
+cp -r "$tmp/mrb" "$tmp/mrb.orig"
+no_temporaries() {
+  test -z "$(find "$tmp" -name '*.tmp.*' -o -name '*.dba-old.*' -o -name '*.dba-journal.*' \
+    -o -name '*.dba-done.*' -o -name '*.dba-member.*')"
+}
 same_model() { diff -r "$1" "$2" >/dev/null; }
 
 # refused STATUS MESSAGE ARGS...: `dba ARGS` exits STATUS, says MESSAGE, never
@@ -28,7 +41,7 @@ n=0
 refused() {
   local status=$1 message=$2; shift 2
   n=$((n + 1))
-  "$dba" "$@" >"$tmp/log" 2>&1
+  timeout -k 5 120 "$dba" "$@" >"$tmp/log" 2>&1
   local got=$?
   local name="[$n] dba $*"
   check "$name: exit $status (got $got)" test "$got" -eq "$status"
@@ -36,6 +49,8 @@ refused() {
   check "$name: before the solve" lacks "$tmp/log" "iter "
   check "$name: the BAL input unchanged" cmp -s "$tmp/a.txt" "$tmp/a.orig"
   check "$name: the COLMAP input unchanged" same_model "$tmp/m" "$tmp/m.orig"
+  check "$name: the rig models unchanged" same_model "$tmp/mr" "$tmp/mr.orig"
+  check "$name: ... binary too" same_model "$tmp/mrb" "$tmp/mrb.orig"
   check "$name: no temporary" no_temporaries
   [ "$got" -eq "$status" ] || cat "$tmp/log" >&2
 }
@@ -50,6 +65,23 @@ refused 2 "name one file" solve "$tmp/a.txt" -o "$tmp/b.txt" --ply "$tmp/./b.txt
 refused 2 "-o $tmp/a.txt names --truth $tmp/a.txt" solve "$bal5" -o "$tmp/a.txt" --truth "$tmp/a.txt"
 refused 2 "--checkpoint $tmp/a.txt names --truth" solve "$bal5" --truth "$tmp/a.txt" --checkpoint "$tmp/a.txt"
 refused 2 "name one file" solve "$tmp/m" -o "$tmp/out_m" --report "$tmp/out_m/cameras.txt"
+# A model's rigs and frames are its files: no output replaces an input's
+# (text or binary), nor lands in a model written where its reader would take
+# it for the model's own (its format's files or the other's).
+refused 2 "--report $tmp/mr/rigs.txt names INPUT $tmp/mr/rigs.txt" solve "$tmp/mr" --report "$tmp/mr/rigs.txt"
+refused 2 "--ply $tmp/mr/frames.txt names INPUT $tmp/mr/frames.txt" solve "$tmp/mr" --ply "$tmp/mr/frames.txt"
+refused 2 "--checkpoint $tmp/mrb/frames.bin names INPUT" solve "$tmp/mrb" --checkpoint "$tmp/mrb/frames.bin"
+refused 2 "--camera-centres $tmp/mrb/rigs.bin names INPUT" solve "$tmp/mrb" --camera-centres "$tmp/mrb/rigs.bin"
+refused 2 "--checkpoint $tmp/out_r/frames.txt is frames.txt of the COLMAP model -o $tmp/out_r: a reader" \
+  solve "$tmp/m" -o "$tmp/out_r" --checkpoint "$tmp/out_r/frames.txt"
+refused 2 "--report $tmp/out_r/rigs.bin is rigs.bin of the COLMAP model -o $tmp/out_r" \
+  solve "$tmp/mr" -o "$tmp/out_r" --report "$tmp/out_r/rigs.bin"
+check "no model written" test ! -e "$tmp/out_r"
+# "link/.." is beside the link's target, not the link: two new paths, one file.
+mkdir -p "$tmp/deep/sub" && ln -s deep/sub "$tmp/lnk"
+refused 2 "--report $tmp/deep/c2.ckpt and --checkpoint $tmp/lnk/../c2.ckpt name one file" \
+  solve "$tmp/a.txt" --checkpoint "$tmp/lnk/../c2.ckpt" --report "$tmp/deep/c2.ckpt"
+check "neither written" test ! -e "$tmp/deep/c2.ckpt" -a ! -e "$tmp/c2.ckpt"
 ln -s a.txt "$tmp/link_to_a.txt"
 refused 2 "--report $tmp/link_to_a.txt names INPUT $tmp/a.txt" solve "$tmp/a.txt" --report "$tmp/link_to_a.txt"
 check "a refused run left no output" test ! -e "$tmp/b.txt" -a ! -e "$tmp/out_m"
@@ -63,6 +95,11 @@ mkdir -p "$tmp/dir.txt"
 refused 2 "$tmp/dir.txt: is a directory" solve "$tmp/a.txt" -o "$tmp/out1.txt" --report "$tmp/dir.txt"
 refused 2 "is a directory" solve "$tmp/a.txt" -o "$tmp/dir.txt"
 refused 2 "is a directory" solve "$tmp/a.txt" --checkpoint "$tmp/dir.txt"
+# A checkpoint is replaced at every write and read back by --resume: a FIFO
+# would block the second (a reader would see two checkpoints run together).
+mkfifo "$tmp/fifo_ckpt"
+refused 2 "--checkpoint $tmp/fifo_ckpt: is a FIFO; --checkpoint writes a file that it replaces" \
+  solve "$tmp/a.txt" --checkpoint "$tmp/fifo_ckpt"
 refused 2 "is a directory" convert "$tmp/a.txt" "$tmp/dir.txt"
 refused 2 "is not a directory" solve "$tmp/m" -o "$tmp/a.orig"
 ln -s "$tmp/nowhere/x.json" "$tmp/dangling.json"
@@ -204,6 +241,45 @@ check "an interrupted model is read" test $? -eq 0
 check "an interrupted model is put back whole" same_model "$tmp/m_killed" "$tmp/m.orig"
 "$dba" solve "$tmp/m" -q --max-iterations 0 --report "$tmp/whole.json" >/dev/null 2>&1
 check "and solves as the old model" test "$(json_value "$tmp/killed.json" initial_cost)" = "$(json_value "$tmp/whole.json" initial_cost)"
+
+# A SIGKILL at any step of a run's commit (DBA_KILL_IN_COMMIT=N: 1 the
+# journal written, then each rename, the commit, each file's old copy
+# removed) leaves, once the next run reads one of the files, every output
+# of the run old whole or new whole and nothing else: a rig model written
+# over itself with a report beside it (5 + 1 files, 14 steps; the next run
+# reads the model), and a BAL output with its report (2 files, 6 steps; the
+# next run reads the BAL output).
+killed_commits() {  # NAME STEPS OLD_UP_TO READ REF_DIR SETUP ARGS...
+  local name=$1 steps=$2 old_up_to=$3 read=$4 ref=$5 setup=$6; shift 6
+  for k in $(seq "$steps"); do
+    rm -rf "$tmp/k" && mkdir "$tmp/k" && $setup "$tmp/k" && echo old >"$tmp/k/r.json"
+    { DBA_KILL_IN_COMMIT=$k "$dba" solve "$@" >/dev/null 2>&1; } 2>/dev/null  # (bash's "Killed")
+    local status=$?
+    check "$name: killed at step $k of $steps (status $status)" test "$status" -eq 137
+    "$dba" solve "$tmp/k/$read" -q --max-iterations 0 >"$tmp/log" 2>&1
+    check "$name, step $k: the next run reads it" test $? -eq 0
+    if [ "$k" -le "$old_up_to" ]; then
+      check "$name, step $k: all old" same_model "$tmp/k" "$tmp/$name.old"
+    else
+      check "$name, step $k: the report new" contains "$tmp/k/r.json" '"final_cost"'
+      check "$name, step $k: the rest new" diff -r -x r.json "$tmp/k" "$ref"
+    fi
+    check "$name, step $k: nothing else left" test -z "$(find "$tmp/k" -name '*.tmp.*' -o -name '*.dba-*')"
+  done
+}
+rig_setup() { cp -r "$tmp/mr" "$1/m"; }
+bal_setup() { cp "$tmp/a.txt" "$1/b.txt"; }
+mkdir "$tmp/rig.ref" "$tmp/rig.old" "$tmp/bal.ref" "$tmp/bal.old"
+rig_setup "$tmp/rig.old" && echo old >"$tmp/rig.old/r.json"
+bal_setup "$tmp/bal.old" && echo old >"$tmp/bal.old/r.json"
+rig_setup "$tmp/rig.ref"
+"$dba" solve "$tmp/rig.ref/m" -q -t 2 --max-iterations 2 -o "$tmp/rig.ref/m" >/dev/null 2>&1
+"$dba" solve "$tmp/a.txt" -q -t 2 --max-iterations 2 -o "$tmp/bal.ref/b.txt" >/dev/null 2>&1
+check "the uninterrupted runs moved the outputs" test -s "$tmp/bal.ref/b.txt" -a -n "$(diff -q "$tmp/rig.ref/m" "$tmp/mr")"
+killed_commits rig 14 7 m "$tmp/rig.ref" rig_setup \
+  "$tmp/k/m" -q -t 2 --max-iterations 2 -o "$tmp/k/m" --report "$tmp/k/r.json"
+killed_commits bal 6 3 b.txt "$tmp/bal.ref" bal_setup \
+  "$tmp/a.txt" -q -t 2 --max-iterations 2 -o "$tmp/k/b.txt" --report "$tmp/k/r.json"
 
 # Distributed (3 ranks): the same checks on the main rank before any rank
 # starts, exit 2, no output.

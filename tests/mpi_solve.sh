@@ -566,6 +566,35 @@ else
   fail "a checkpoint of another input (-np 2, .dba): $(cat "$tmp/ck.out")"
 fi
 
+# With outlier rejection: a 2-rank run killed inside its second round's solve
+# (after its 33rd checkpoint; 35 accepted steps in all) resumes in that round,
+# on 2 ranks and in one process, with the same rounds, to the uninterrupted
+# 2-rank run's final cost (1e-9; 4e-15 measured: not bit for bit, unlike a
+# resume in the first round).
+"$dba" generate "$tmp/ckrej.txt" --images 40 --seed 7 --outliers 0.02 >/dev/null
+ckrej=(--loss cauchy --reject-outliers 4 "${tight[@]}")
+mpirun_n 2 "$dba" solve "$tmp/ckrej.txt" -q "${ckrej[@]}" --checkpoint "$tmp/ckrej_whole.ckpt" \
+  --report "$tmp/ckrej_whole.json" >"$tmp/ck.out" 2>&1 || fail "rejection with checkpoints -np 2 exited non-zero"
+rm -f "$tmp/ckrej.ckpt"
+DBA_KILL_AFTER_CHECKPOINT=33 mpirun_n 2 "$dba" solve "$tmp/ckrej.txt" -q "${ckrej[@]}" \
+  --checkpoint "$tmp/ckrej.ckpt" >/dev/null 2>&1 && fail "rejection: the killed run exited 0"
+for run in "mpirun_n 2 $dba" "$dba"; do
+  $run solve "$tmp/ckrej.txt" -q "${ckrej[@]}" --resume "$tmp/ckrej.ckpt" --report "$tmp/ckrej_resumed.json" \
+    >"$tmp/ck.out" 2>&1 || { fail "rejection: resume ($run) exited non-zero"; cat "$tmp/ck.out" >&2; continue; }
+  if grep -q "of the solve after rejection round 1" "$tmp/ck.out" && python3 - "$tmp/ckrej_whole.json" "$tmp/ckrej_resumed.json" <<'PY'
+import json, sys
+w, r = (json.load(open(f)) for f in sys.argv[1:])
+ok = abs(w["final_cost"] - r["final_cost"]) <= 1e-9 * w["final_cost"] and \
+     len(w["outlier_rejection"]["rounds"]) == 2 and w["outlier_rejection"] == r["outlier_rejection"]
+sys.exit(0 if ok else 1)
+PY
+  then
+    passes=$((passes + 1)); echo "ok   rejection: killed on 2 ranks in round 2, resumed there ($run)"
+  else
+    fail "rejection: killed on 2 ranks, resumed ($run): $(final_cost "$tmp/ckrej_resumed.json") vs $(final_cost "$tmp/ckrej_whole.json")"
+  fi
+done
+
 # A robust loss: the distributed run reaches the single-process optimum of
 # the robust cost (1e-9), both camera models, and differs from the squared
 # loss's.

@@ -264,6 +264,9 @@ int InfoMain(const std::vector<std::string>& args) {
     return WantsHelp(args) ? 0 : 2;
   }
   try {
+    RunFiles file;  // what a killed run left of it put right first
+    file.Input("FILE", args[0]);
+    file.Check();
     const Problem p = LoadSolveInput(args[0], UnknownsOptions{});  // COLMAP models too
     const int64_t nc = p.num_images();
     const bool photo = p.model == CameraModel::kPhoto;

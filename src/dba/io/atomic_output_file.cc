@@ -8,9 +8,9 @@
 
 #include <cerrno>
 #include <cstring>
-#include <filesystem>
 #include <stdexcept>
 
+#include "dba/io/replace_together.h"
 #include "dba/io/stale_temporaries.h"
 #include "dba/io/temporary_registry.h"
 
@@ -59,65 +59,18 @@ class SignalsHeld {
   sigset_t old_;
 };
 
-// A copy of the old file under BackupName: a hard link, or where the file
-// system has none, a copy. Empty where there is no old file (or what is
-// there is no file: its rename will fail).
-std::string KeepBackup(const std::string& file) {
-  struct stat st {};
-  if (::lstat(file.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return {};
-  const std::string backup = BackupName(file);
-  ::unlink(backup.c_str());
-  if (::link(file.c_str(), backup.c_str()) == 0) return backup;
-  std::error_code ec;
-  std::filesystem::copy_file(file, backup, ec);
-  if (ec) throw std::runtime_error(Reason(file, "cannot keep a copy while replacing it", ec.value()));
-  return backup;
-}
-
-// Renames every temporary over its file, all or none: the old files are
-// kept (KeepBackup) until every rename is done, and a failed rename puts
-// them back (and removes the files that were new).
+// Renames every temporary over its file, all or none, even across a kill
+// (io/replace_together.h), with SIGINT, SIGTERM and SIGHUP held.
 void ReplaceAll(std::vector<OutputTransaction::Pending>& pending) {
   if (pending.empty()) return;
   const SignalsHeld held;
-  std::vector<std::string> backups;
+  std::vector<Replacement> files;
+  for (const auto& p : pending) files.push_back({p.tmp, p.file});
   try {
-    if (pending.size() > 1) {
-      for (const auto& p : pending) backups.push_back(KeepBackup(p.file));
-    }
+    ReplaceTogether(files);
   } catch (const std::runtime_error&) {
-    for (const std::string& b : backups) {
-      if (!b.empty()) ::unlink(b.c_str());
-    }
-    for (auto& p : pending) {
-      ::unlink(p.tmp.c_str());
-      Release(p);
-    }
-    throw;
-  }
-  for (size_t i = 0; i < pending.size(); ++i) {
-    if (std::rename(pending[i].tmp.c_str(), pending[i].file.c_str()) == 0) continue;
-    const int err = errno;
-    for (size_t j = 0; j < i; ++j) {  // undo
-      if (backups[j].empty()) {
-        ::unlink(pending[j].file.c_str());
-      } else {
-        std::rename(backups[j].c_str(), pending[j].file.c_str());
-      }
-    }
-    for (size_t j = i; j < pending.size(); ++j) ::unlink(pending[j].tmp.c_str());
-    for (size_t j = i; j < backups.size(); ++j) {
-      if (!backups[j].empty()) ::unlink(backups[j].c_str());
-    }
     for (auto& p : pending) Release(p);
-    std::string undone;
-    for (size_t j = 0; j < i; ++j) undone += (undone.empty() ? "" : ", ") + pending[j].file;
-    throw std::runtime_error(
-        Reason(pending[i].file, "cannot rename '" + pending[i].tmp + "' over it", err) +
-        (undone.empty() ? "" : " (put back as they were: " + undone + ")"));
-  }
-  for (const std::string& b : backups) {
-    if (!b.empty()) ::unlink(b.c_str());
+    throw;
   }
   for (auto& p : pending) Release(p);
 }

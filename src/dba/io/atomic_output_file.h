@@ -1,7 +1,8 @@
 // An output file that appears whole or not at all, following the rule of
 // io/output_target.h: a regular file (or a new path, or the file a symbolic
-// link leads to) is written under a temporary name (FILE.tmp.<pid>, beside
-// it) and renamed over it only by Commit(), after flushing and fsync; a
+// link leads to) is written under a temporary name (FILE.tmp.<pid>.<n>,
+// beside it, n one per call: io/stale_temporaries.h) and renamed over it
+// only by Commit(), after flushing and fsync; a
 // character device or a FIFO is written in place. Destroyed without
 // Commit() (an error, an exception) it removes the temporary, so a failed
 // run never leaves a half-written result; a run ended by SIGINT, SIGTERM or
@@ -12,7 +13,9 @@
 // Several files that belong together are replaced together, all or none:
 // CommitTogether (a COLMAP model's three), or every file committed while an
 // OutputTransaction is open on the thread (a run's outputs: -o, --report,
-// --ply, ...): a rename that fails puts back what the earlier ones replaced.
+// --ply, ...): a rename that fails puts back what the earlier ones replaced,
+// and a kill in the middle is undone or finished by the next process that
+// touches any of them (io/replace_together.h).
 //
 // Writes go through stdio with a 1 MiB buffer, by Write() or by fwrite and
 // friends on file() (a bzip2 stream, a binary writer).

@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <barrier>
 #include <thread>
 
 #include "dba/testing/temp_files.h"
@@ -127,6 +128,40 @@ TEST(AtomicOutputFile, TransactionRenamesAllAtItsCommitOrNothing) {
   EXPECT_EQ(dba::testing::ReadFileBytes(dir + "/kept.txt"), "new");
   EXPECT_EQ(dba::testing::ReadFileBytes(dir + "/other.txt"), "other");
   EXPECT_EQ(OutputTransaction::Current(), nullptr);
+}
+
+// Two threads of one process writing one file (two Python threads calling
+// dba.solve with one report): each call has its own temporary, both
+// commit, and the file is one of the two whole.
+TEST(AtomicOutputFile, TwoThreadsWritingOneFileEachHaveTheirOwnTemporary) {
+  const std::string dir = dba::testing::FreshTempDir("two_threads");
+  const std::string path = dir + "/report.json";
+  const std::string a(1 << 20, 'a'), b(1 << 19, 'b');
+  std::barrier both_open(2);
+  std::string errors[2];
+  auto write = [&](int k, const std::string& contents) {
+    bool arrived = false;
+    try {
+      AtomicOutputFile out(path);
+      arrived = true;
+      both_open.arrive_and_wait();  // both temporaries exist before either is written
+      out.Write(contents);
+      out.Commit();
+    } catch (const std::exception& e) {
+      errors[k] = e.what();
+      if (!arrived) both_open.arrive_and_drop();
+    }
+  };
+  std::thread first(write, 0, a), second(write, 1, b);
+  first.join();
+  second.join();
+  EXPECT_EQ(errors[0], "");
+  EXPECT_EQ(errors[1], "");
+  const std::string got = dba::testing::ReadFileBytes(path);
+  EXPECT_TRUE(got == a || got == b) << got.size() << " bytes, neither whole";
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir),
+                          std::filesystem::directory_iterator()),
+            1);
 }
 
 TEST(AtomicOutputFile, ReplacedFileKeepsItsMode) {

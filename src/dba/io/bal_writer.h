@@ -12,7 +12,7 @@ namespace dba {
 // ReadBal(path) reproduces the arrays bit for bit. When `path` ends in ".bz2"
 // the text is bzip2-compressed.
 //
-// The file is written to `path + ".tmp.<pid>"` and renamed over `path`, so a
+// The file is written to `path + ".tmp.<pid>.<n>"` and renamed over `path`, so a
 // reader never sees a half-written file. On any failure (cannot create, disk
 // full, write/close/rename error) the temporary is removed and
 // std::runtime_error is thrown naming the path and the system error.

@@ -169,7 +169,7 @@ CameraSide ReadBinaryCameraSide(const std::string& path);
 // Only the point coordinates (3 per point).
 std::vector<double> ReadBinaryPointCoordinates(const std::string& path);
 
-// Writes `problem` to path.tmp.<pid>, then renames it over `path`.
+// Writes `problem` to path.tmp.<pid>.<n>, then renames it over `path`.
 void WriteBinaryProblem(const Problem& problem, const std::string& path);
 
 // Writes `output` as a copy of the binary problem `input` with its
@@ -185,7 +185,7 @@ void WriteBinaryWithNewParameters(const std::string& input, const std::string& o
 
 // Streams a problem into the binary format when the counts are known ahead:
 // the camera side once, then points one by one in order with their
-// observations. Everything goes to path.tmp.<pid>; Commit() checks that the
+// observations. Everything goes to path.tmp.<pid>.<n>; Commit() checks that the
 // counts were met, syncs and renames; a writer destroyed without Commit()
 // removes the temporary. Memory: a buffer of a few MiB (plus the flags).
 class BinaryProblemWriter {

@@ -463,6 +463,14 @@ void ValidateColmapModel(const ColmapModel& model, const std::string& dir,
 
 // ---------------------------------------------------------------------------
 
+std::span<const char* const> ColmapModelFiles() {
+  static constexpr const char* kFiles[] = {"cameras.txt", "images.txt", "points3D.txt",
+                                           "rigs.txt",    "frames.txt", "cameras.bin",
+                                           "images.bin",  "points3D.bin", "rigs.bin",
+                                           "frames.bin"};
+  return kFiles;
+}
+
 std::optional<ColmapFormat> DetectColmapFormat(const std::string& dir) {
   auto all = [&](const char* ext) {
     for (const char* stem : {"cameras", "images", "points3D"}) {
@@ -498,9 +506,9 @@ ColmapModel ReadColmapModel(const std::string& dir) {
                      "cameras, images and points3D as .txt or .bin)");
   }
   // A write into this model that a dead process left unfinished is undone
-  // first (io/stale_temporaries.h): the model is read whole, old or new.
-  for (const char* name : {"cameras.txt", "images.txt", "points3D.txt", "cameras.bin",
-                           "images.bin", "points3D.bin"}) {
+  // or finished first (io/stale_temporaries.h): the model is read whole,
+  // old or new, its rigs and frames included.
+  for (const char* name : ColmapModelFiles()) {
     RecoverStaleTemporaries(colmap_internal::JoinPath(dir, name));
   }
   const std::optional<ColmapFormat> format = DetectColmapFormat(dir);

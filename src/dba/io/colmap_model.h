@@ -181,6 +181,10 @@ std::optional<ColmapFormat> DetectColmapFormat(const std::string& dir);
 // (naming what is missing) or on any malformed content.
 ColmapModel ReadColmapModel(const std::string& dir);
 
+// The name of every file a model directory may hold that the reader takes:
+// cameras, images, points3D, rigs and frames, .txt then .bin.
+std::span<const char* const> ColmapModelFiles();
+
 // True when `dir` holds COLMAP >= 3.12 rigs or frames files (text or binary).
 bool HasRigsOrFrames(const std::string& dir);
 

@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "dba/common/error.h"
+#include "dba/io/stale_temporaries.h"
 
 namespace dba {
 namespace {
@@ -81,19 +82,22 @@ std::optional<FileIdentity> ExistingFileIdentity(const std::string& path) {
   return FileIdentity{static_cast<uint64_t>(st.st_dev), static_cast<uint64_t>(st.st_ino), {}};
 }
 
+// The path is shortened as written, never normalised first: "link/.." is
+// the directory above the one the link leads to, which only the file
+// system knows; only the part below the deepest existing directory (made
+// of names that do not exist) is normalised.
 FileIdentity PathIdentity(const std::string& path) {
   if (std::optional<FileIdentity> id = ExistingFileIdentity(path)) return *id;
-  std::error_code ec;
-  fs::path at = fs::absolute(path, ec).lexically_normal();
-  fs::path rest;
-  while (at.has_relative_path()) {
+  fs::path at(path), rest;
+  while (!at.empty() && at.has_relative_path()) {
     rest = rest.empty() ? at.filename() : at.filename() / rest;
     at = at.parent_path();
-    if (std::optional<FileIdentity> id = ExistingFileIdentity(at.string())) {
-      id->rest = rest.string();
+    if (std::optional<FileIdentity> id = ExistingFileIdentity(at.empty() ? "." : at.string())) {
+      id->rest = rest.lexically_normal().string();
       return *id;
     }
   }
+  std::error_code ec;
   return FileIdentity{0, 0, fs::absolute(path, ec).lexically_normal().string()};
 }
 
@@ -148,7 +152,7 @@ void CheckCreatable(const OutputTarget& target) {
   int fd = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0600);
   std::string probe;
   if (fd < 0 && (errno == EOPNOTSUPP || errno == EISDIR || errno == EINVAL)) {
-    probe = (dir / (".dba-probe." + std::to_string(::getpid()))).string();
+    probe = (dir / (".dba-probe." + UniqueId())).string();
     fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   }
   if (fd < 0) {

@@ -52,6 +52,8 @@ std::optional<FileIdentity> ExistingFileIdentity(const std::string& path);
 
 // The identity `path` will have: its file's, or, when it does not exist, its
 // deepest existing directory's with the rest of the path (lexically normal).
+// That directory is found by the file system, the path shortened as written:
+// "link/../x" is x beside the directory the link leads to.
 FileIdentity PathIdentity(const std::string& path);
 
 // Checks that the target can be written, as its writer will: for a kReplace

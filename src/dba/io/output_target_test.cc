@@ -84,6 +84,21 @@ TEST(OutputTarget, OneFileHasOneIdentityHoweverItIsNamed) {
   EXPECT_EQ(PathIdentity(dir + "/new/a.txt").rest, "new/a.txt");
 }
 
+// "link/.." is the directory above the one the link leads to, not the one
+// holding the link: a new path through it is the file beside the link's
+// target (as the kernel resolves it), never the one a lexical ".." gives.
+TEST(OutputTarget, DotDotThroughALinkIsResolvedByTheFileSystem) {
+  const std::string dir = FreshTempDir("target_link_dotdot");
+  fs::create_directories(dir + "/deep/sub");
+  fs::create_directory_symlink("deep/sub", dir + "/link");
+  EXPECT_EQ(PathIdentity(dir + "/link/../c.ckpt"), PathIdentity(dir + "/deep/c.ckpt"));
+  EXPECT_NE(PathIdentity(dir + "/link/../c.ckpt"), PathIdentity(dir + "/c.ckpt"));
+  EXPECT_EQ(PathIdentity(dir + "/link/../new/./x/../c.ckpt"), PathIdentity(dir + "/deep/new/c.ckpt"));
+  EXPECT_EQ(PathIdentity(dir + "/link/../new/c.ckpt").rest, "new/c.ckpt");
+  EXPECT_EQ(ResolveOutputTarget(dir + "/link/../c.ckpt").file,
+            (fs::canonical(dir) / "deep/c.ckpt").string());
+}
+
 TEST(OutputTarget, ReadOnlyDirectoryFailsTheCheck) {
   if (::geteuid() == 0) GTEST_SKIP() << "root writes into read-only directories";
   const std::string dir = FreshTempDir("target_readonly");

@@ -31,12 +31,17 @@ TEST(StaleTemporaries, DeadWritersTemporariesGoLiveOnesStay) {
   const std::string dir = FreshTempDir("stale_tmp");
   const std::string file = dir + "/out.txt";
   const std::string dead = file + ".tmp." + std::to_string(DeadPid());
+  const std::string dead_call = file + ".tmp." + std::to_string(DeadPid()) + ".7";
   const std::string mine = TemporaryName(file);  // this live process's
+  EXPECT_NE(mine, TemporaryName(file));          // one per call
   const std::string parent = file + ".tmp." + std::to_string(::getppid());
   const std::string other = file + ".tmp.12x";   // not a pid: not ours
-  for (const std::string& p : {dead, mine, parent, other}) WriteFileBytes(p, "t");
-  EXPECT_EQ(RecoverStaleTemporaries(file), 1);
+  const std::string odd = file + ".tmp." + std::to_string(DeadPid()) + ".x";
+  for (const std::string& p : {dead, dead_call, mine, parent, other, odd}) WriteFileBytes(p, "t");
+  EXPECT_EQ(RecoverStaleTemporaries(file), 2);
   EXPECT_FALSE(fs::exists(dead));
+  EXPECT_FALSE(fs::exists(dead_call));
+  EXPECT_TRUE(fs::exists(odd));
   EXPECT_TRUE(fs::exists(mine));
   EXPECT_TRUE(fs::exists(parent));
   EXPECT_TRUE(fs::exists(other));

@@ -26,8 +26,13 @@ class RunFiles {
   void Input(const std::string& flag, const std::string& path);
   // A file the run writes. An empty path is skipped.
   void Output(const std::string& flag, const std::string& path, bool make_directory = false);
+  // A file the run writes again and again and reads back (a checkpoint): a
+  // FIFO or a character device is refused.
+  void RewrittenOutput(const std::string& flag, const std::string& path);
   // A COLMAP model written into the directory `dir` (made when missing):
-  // its cameras, images and points3D files in `format`.
+  // its cameras, images and points3D files in `format`; no other output may
+  // name any file a reader of the model takes (io/colmap_model.h
+  // ColmapModelFiles: rigs and frames, either format).
   // `with_rigs`: the model written holds COLMAP >= 3.12 rigs and frames
   // (in `format`; the other format's files there are refused); otherwise a
   // directory holding such files is refused.
@@ -37,16 +42,24 @@ class RunFiles {
   // replaced when the run is done, after all reading.
   void AllowInPlace(const std::string& output_flag, const std::string& input_flag);
 
-  // Throws UsageError for a refused path or pair, std::runtime_error where a
-  // file cannot be made (a missing or read-only directory).
+  // First puts right what killed runs left beside any of the files
+  // (io/stale_temporaries.h), then checks. Throws UsageError for a refused
+  // path or pair, std::runtime_error where a file cannot be made (a missing
+  // or read-only directory).
   void Check() const;
 
  private:
+  // kModelFile: a file of a COLMAP model written that this run does not
+  // write (only compared with the other outputs).
+  enum class Use { kReplaced, kRewritten, kModelFile };
   struct Named {
     std::string flag, path;
     bool make_directory = false;  // a model file, its directory made when missing
+    Use use = Use::kReplaced;
   };
   bool Allowed(const std::string& output_flag, const std::string& input_flag) const;
+  void Recover() const;
+  void CheckPairs() const;
   std::vector<Named> inputs_, outputs_;
   std::vector<std::pair<std::string, std::string>> in_place_;
 };

@@ -103,7 +103,8 @@ std::vector<Spec> OutputOptions() {
   t.push_back(Path("--checkpoint", "FILE",
                    "after each accepted LM iteration, write all that decides where the solve "
                    "ends to FILE (whole or not at all, with a checksum), to --resume from (rank 0 "
-                   "writes it in a distributed run; with --reject-outliers in one process)",
+                   "writes it in a distributed run, with --reject-outliers too); a file, never "
+                   "a FIFO or a device",
                    DBA_FIELD(checkpoint_path)));
   t.push_back(Number("--checkpoint-every", "S",
                      "at most one checkpoint per S seconds (0: after every accepted iteration; "

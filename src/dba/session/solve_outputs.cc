@@ -104,7 +104,7 @@ void CheckSolveFiles(const SolveOptions& o) {
   }
   files.Output("--report", o.report_path);
   files.Output("--ply", o.ply_path);
-  files.Output("--checkpoint", o.checkpoint_path);
+  files.RewrittenOutput("--checkpoint", o.checkpoint_path);
   files.Output("--camera-centres", o.geo.camera_centres_path);
   files.Output("--accuracy-report", o.geo.accuracy_report_path);
   files.AllowInPlace("-o", "INPUT");
