@@ -1,4 +1,4 @@
-// Rigs for the synthetic UAV survey (`dba generate --rig`, issue 46): the
+// Rigs for the synthetic UAV survey (`dba generate --rig`): the
 // sensors of a named rig, their true poses (the nominal ones with small
 // manufacturing errors, so refining them matters), and the survey's camera
 // side with one frame per exposure.
@@ -40,6 +40,10 @@ struct RigSensors {
   // How far (metres, horizontally) from its frame's nadir point a sensor sees.
   double reach = 0.0;
 };
+
+// How many sensors the named rig has; std::invalid_argument for an unknown
+// name.
+int64_t RigSensorCount(const std::string& name);
 
 // Throws std::invalid_argument for an unknown name.
 RigSensors MakeRigSensors(const std::string& name, uint64_t seed, double flying_height,
