@@ -6,8 +6,9 @@
 # control points, with outlier rejection (killed inside a later round), with
 # rigs and a refined lever arm, and
 # resumed from the checkpoint of the step that ended the solve (no further
-# iteration, however often). A checkpoint written with other priors, loss or
-# rejection is refused naming what differs; a damaged one is refused.
+# iteration, however often). A checkpoint written with other priors, loss,
+# rejection or rig geometry is refused naming what differs; a damaged one is
+# refused.
 # Usage: cli_checkpoints.sh PATH_TO_DBA PROJECT_ROOT
 set -uo pipefail
 source "$(dirname "$0")/lib/check.sh"
@@ -121,6 +122,22 @@ check "lever: it moved from 0" json "$tmp/lever.full.json" "d['camera_priors']['
   -o "$tmp/refused.dba" >"$tmp/log" 2>&1
 check "a lever-arm checkpoint resumed without --refine-lever-arm is refused" \
   contains "$tmp/log" "written with --refine-lever-arm, which this run does not have"
+
+# The rig's geometry refined or held is the setup's: a checkpoint of one is
+# refused under the other (exit 2, nothing written), naming it.
+"$dba" solve "$tmp/rig.dba" -q -t 2 --rig-geometry fixed --max-iterations 2 \
+  --checkpoint "$tmp/rigfixed.ckpt" >/dev/null 2>&1
+rig_refused() {  # rig_refused CHECKPOINT SAYS ARGS...
+  local ckpt=$1 says=$2; shift 2
+  "$dba" solve "$tmp/rig.dba" -q --resume "$ckpt" -o "$tmp/refused.dba" "$@" >"$tmp/log" 2>&1
+  local status=$?
+  check "rig resume of $(basename "$ckpt") with $*: exit 2 (got $status)" test "$status" -eq 2
+  check "rig resume of $(basename "$ckpt") with $*: says '$says'" contains "$tmp/log" "$says"
+  check "rig resume of $(basename "$ckpt") with $*: nothing written" test ! -e "$tmp/refused.dba"
+}
+rig_refused "$tmp/rig.ckpt" "written without --rig-geometry" --rig-geometry fixed
+rig_refused "$tmp/rigfixed.ckpt" "written with --rig-geometry, which this run does not have"
+rig_refused "$tmp/rigfixed.ckpt" "written with other --rig-geometry" --rig-geometry fixed:1
 
 # What differs from the checkpoint's setup is refused (exit 2), naming it.
 refused_resume() {

@@ -10,7 +10,10 @@
 # the sensor's pose, as COLMAP's refine_sensor_from_rig 0 does through dba
 # colmap-bundle-adjuster; an IMU is kept (and said so), or as the rig's
 # reference stands at camera 1's place; per-image intrinsics with rigs are
-# refused.
+# refused; --fix-images holds an image's pose (its frame and its sensor);
+# hostile rigs and frames files (zero or huge quaternions, text or binary,
+# lines over 64 MiB, a number cut at the end, a frame with two images of
+# one camera) are refused naming file and line (or byte).
 # Usage: cli_colmap_rig_models.sh PATH_TO_DBA PROJECT_ROOT
 set -uo pipefail
 source "$(dirname "$0")/lib/check.sh"
@@ -158,4 +161,76 @@ check "... and a camera that is not a sensor is refused" contains "$tmp/refused.
 "$dba" solve "$tmp/m" -q --intrinsics per-image > "$tmp/refused.txt" 2>&1
 check "per-image intrinsics with rigs are refused by name" contains "$tmp/refused.txt" \
   "--intrinsics per-image: $tmp/m has rigs of several cameras"
+# --fix-images on a rig holds the image's pose: its frame and its sensor
+# (camera 2, in every frame), so 79 frames and no sensor are unknowns and
+# image 2 (camera 2 in frame 1) is written at its pose as read (1e-12)
+# after 5 iterations (holding the rig at its start fits it slowly).
+"$dba" solve "$tmp/m" -q --fix-images 2 --max-iterations 5 -o "$tmp/held" --report "$tmp/held.json" > /dev/null 2>&1
+check "--fix-images 2 on a rig: its frame and its sensor held" json "$tmp/held.json" \
+  "d['camera_unknowns'] == 79 * 6 + 2 * 3"
+check "... image 2 written at its pose as read (1e-12), image 4 moved" /usr/bin/python3 - "$tmp/m" "$tmp/held" <<'PY'
+import sys
+import numpy as np
+def poses(d):
+    lines = [l.split() for l in open(f"{d}/images.txt") if not l.startswith("#")][0::2]
+    out = {}
+    for v in lines:
+        w, x, y, z = np.array([float(a) for a in v[1:5]]) / np.linalg.norm([float(a) for a in v[1:5]])
+        R = np.array([[1 - 2*(y*y + z*z), 2*(x*y - w*z), 2*(x*z + w*y)],
+                      [2*(x*y + w*z), 1 - 2*(x*x + z*z), 2*(y*z - w*x)],
+                      [2*(x*z - w*y), 2*(y*z + w*x), 1 - 2*(x*x + y*y)]])
+        out[int(v[0])] = np.concatenate([R.ravel(), [float(a) for a in v[5:8]]])
+    return out
+a, b = poses(sys.argv[1]), poses(sys.argv[2])
+held, moved = np.abs(a[2] - b[2]).max(), np.abs(a[4] - b[4]).max()
+print(f"image 2 off by {held:.3g}, image 4 moved by {moved:.3g}", file=sys.stderr)
+sys.exit(0 if held <= 1e-12 and moved > 1e-6 else 1)
+PY
+
+# Hostile rigs and frames files, read as images.txt is (one line reader, one
+# quaternion check): a zero or 1e300 quaternion, a line over 64 MiB, a
+# number cut at the end of the file, refused naming the file and line (exit
+# 1, nothing written); the binary files' quaternions by byte; a frame
+# holding two images of one camera, by frame and camera.
+edited() { rm -rf "$tmp/$1"; cp -r "${2:-$tmp/m}" "$tmp/$1"; }
+refused() {  # refused NAME SAYS: the solve of $tmp/NAME exits 1 saying SAYS
+  "$dba" solve "$tmp/$1" -q -o "$tmp/$1.out" > "$tmp/log" 2>&1
+  local status=$?
+  check "$1: exit 1 (got $status)" test "$status" -eq 1
+  check "$1: says '$2'" contains "$tmp/log" "$2"
+  check "$1: nothing written" test ! -e "$tmp/$1.out"
+}
+edited zero_frame
+awk 'NR == 2 {$3 = 0; $4 = 0; $5 = 0; $6 = 0} {print}' "$tmp/m/frames.txt" > "$tmp/zero_frame/frames.txt"
+refused zero_frame "$tmp/zero_frame/frames.txt:2: the frame's quaternion is zero or its norm is not finite"
+edited huge_sensor
+awk '{$8 = "1e300"; $9 = "1e300"; $10 = "1e300"; $11 = "1e300"} {print}' "$tmp/m/rigs.txt" > "$tmp/huge_sensor/rigs.txt"
+refused huge_sensor "$tmp/huge_sensor/rigs.txt:1: the sensor's quaternion is zero or its norm is not finite"
+edited long_line
+{ head -c 70000000 /dev/zero | tr '\0' ' '; echo; } >> "$tmp/long_line/frames.txt"
+refused long_line "$tmp/long_line/frames.txt:81: line longer than 64 MiB"
+edited cut_frames
+frames_txt=$(cat "$tmp/m/frames.txt")
+printf '%s' "${frames_txt%?}" > "$tmp/cut_frames/frames.txt"  # no newline, last digit gone
+refused cut_frames "$tmp/cut_frames/frames.txt:80: the file ends inside this line"
+edited cut_rigs
+rigs_txt=$(cat "$tmp/m/rigs.txt")
+printf '%s' "${rigs_txt%?}" > "$tmp/cut_rigs/rigs.txt"
+refused cut_rigs "$tmp/cut_rigs/rigs.txt:1: the file ends inside this line"
+"$dba" convert "$tmp/m" "$tmp/mb" --colmap-format binary > /dev/null 2>&1
+patch_f64() {  # patch_f64 FILE OFFSET VALUE...: doubles written from byte OFFSET
+  python3 -c "import struct, sys; f = open(sys.argv[1], 'r+b'); f.seek(int(sys.argv[2])); f.write(struct.pack('<%dd' % (len(sys.argv) - 3), *map(float, sys.argv[3:])))" "$@"
+}
+edited zero_frame_bin "$tmp/mb"
+patch_f64 "$tmp/zero_frame_bin/frames.bin" 16 0 0 0 0  # the first frame's QW..QZ (after count, ids)
+refused zero_frame_bin "frame #0 (id 1) rig_from_world's quaternion is zero or its norm is not finite"
+check "zero_frame_bin: ... naming the file and byte" contains "$tmp/log" "$tmp/zero_frame_bin/frames.bin: at byte 48"
+edited huge_sensor_bin "$tmp/mb"
+patch_f64 "$tmp/huge_sensor_bin/rigs.bin" 33 1e300 1e300 1e300 1e300  # the sensor's QW..QZ
+refused huge_sensor_bin "rig #0 (id 1) sensor_from_rig's quaternion is zero or its norm is not finite"
+edited one_camera_twice
+awk 'NR == 3 {$9 = 1} {print}' "$tmp/m/images.txt" > "$tmp/one_camera_twice/images.txt"
+awk 'NR == 1 {$15 = 1} {print}' "$tmp/m/frames.txt" > "$tmp/one_camera_twice/frames.txt"
+refused one_camera_twice \
+  "$tmp/one_camera_twice/frames.txt: frame 1: images 1 and 2 are both of camera 1 (a frame is one exposure: one image per sensor)"
 finish

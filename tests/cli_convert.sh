@@ -110,6 +110,10 @@ for bad in ":2:missing FILE" "--bogus:2:unknown option '--bogus'" "a b:2:one FIL
   check "info $args: exit $status" test $? -eq "$status"
   check "info $args: says '$says'" grep -qF -- "$says" "$tmp/ierr"
 done
+"$dba" info '' >"$tmp/ierr" 2>&1
+check "info '': exit 2, as other empty values" test $? -eq 2
+check "info '': says so, then the usage" grep -qF -- "dba info: an empty path names no file" "$tmp/ierr"
+check "info '': ... then the usage" grep -qF -- "Usage: dba info FILE" "$tmp/ierr"
 printf '2 1 2\n0 0 1.0 2.0\n1 0 1.0 2.5' >"$tmp/cut_info.txt"
 "$dba" info "$tmp/cut_info.txt" >"$tmp/ierr" 2>&1
 check "info on a cut file: exit 1, file and line" test $? -eq 1

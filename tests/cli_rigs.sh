@@ -3,8 +3,9 @@
 # a .dba version 4 whose solve recovers the sensors' turns; --rig-geometry
 # fixed holds them; the written problem re-reads at the final cost; the same survey renumbered at random solves to the same cost;
 # --drop-rigs gives the same images as independent cameras; GNSS priors on
-# the frames recover the antenna's lever arm; what rigs do not reach yet is
-# refused by name. Usage: cli_rigs.sh PATH_TO_DBA PROJECT_ROOT
+# the frames recover the antenna's lever arm; --fix-images holds an image's
+# pose (its frame and its sensor); what rigs do not reach yet, and what
+# generate cannot honour with a rig, is refused by name. Usage: cli_rigs.sh PATH_TO_DBA PROJECT_ROOT
 set -uo pipefail
 source "$(dirname "$0")/lib/check.sh"
 dba=$1
@@ -50,6 +51,22 @@ check "fixed: a group that is not there is refused" contains "$tmp/refused.txt" 
 "$dba" solve "$tmp/rig.dba" -q --rig-geometry held > "$tmp/refused.txt" 2>&1
 check "a value that is not refine, fixed or fixed:IDS is refused" contains "$tmp/refused.txt" \
   "--rig-geometry: 'held' is not refine, fixed or fixed:ID,ID..."
+
+# --fix-images holds an image's pose: image 1 (the stereo's second camera in
+# frame 0) holds frame 0 and sensor 1, in every frame; written back, its
+# pose is the input's (1e-12) where the other images moved.
+"$dba" solve "$tmp/rig.dba" -q --fix-images 1 --max-iterations 5 -o "$tmp/held.dba" --report "$tmp/held.json" > /dev/null 2>&1
+check "--fix-images 1: frame 0 and sensor 1 held" json "$tmp/held.json" \
+  "d['camera_unknowns'] == 79 * 6 + 2 * 3"
+check "... image 1 at its input pose (1e-12), image 3 moved" env PYTHONPATH="$(dirname "$dba")/python" \
+  /usr/bin/python3 -c "
+import sys
+import numpy as np
+import dba
+a, b = dba.read_problem('$tmp/rig.dba').cameras, dba.read_problem('$tmp/held.dba').cameras
+held, moved = np.abs(a[1] - b[1]).max(), np.abs(a[3] - b[3]).max()
+print(f'image 1 off by {held:.3g}, image 3 moved by {moved:.3g}', file=sys.stderr)
+sys.exit(0 if held <= 1e-12 and moved > 1e-6 else 1)"
 
 "$dba" solve "$tmp/rig.dba" -q --max-iterations 0 -o "$tmp/same.dba" > /dev/null 2>&1
 "$dba" solve "$tmp/same.dba" -q --max-iterations 0 --report "$tmp/same.json" > /dev/null 2>&1
@@ -149,6 +166,26 @@ check "a lever arm without priors is refused" contains "$tmp/refused.txt" \
 check "a lever arm of two numbers is refused" contains "$tmp/refused.txt" "--lever-arm: '1,2' is not X,Y,Z"
 "$dba" generate --rig oblique5 --images 50 "$tmp/bal.txt" > "$tmp/refused2.txt" 2>&1
 check "a rig needs the photo model" contains "$tmp/refused2.txt" "--rig needs --model photo"
+# What generate cannot honour with a rig is refused (exit 2), not rounded or
+# dropped: images that are not whole frames (ring6: 7 would be 12), fewer
+# than two frames, --cameras (a rig's sensors are its cameras).
+generate_refused() {  # generate_refused SAYS ARGS...
+  local says=$1; shift
+  "$dba" generate --model photo "$@" "$tmp/refused.dba" > "$tmp/refused4.txt" 2>&1
+  local status=$?
+  check "generate $*: exit 2 (got $status)" test "$status" -eq 2
+  check "generate $*: says '$says'" contains "$tmp/refused4.txt" "$says"
+  check "generate $*: nothing written" test ! -e "$tmp/refused.dba"
+}
+generate_refused "--images 7: every frame of a ring6 rig holds its 6 sensors' images, and a survey two frames or more: give a multiple of 6 from 12 (e.g. 12)" \
+  --rig ring6 --images 7
+generate_refused "--images 1000: every frame of a ring6 rig holds its 6 sensors' images, and a survey two frames or more: give a multiple of 6 from 12 (e.g. 996 or 1002)" \
+  --rig ring6
+generate_refused "give a multiple of 2 from 4 (e.g. 4)" --rig stereo --images 2
+generate_refused "--cameras: not with --rig (the stereo rig's 2 sensors are its cameras)" \
+  --rig stereo --images 40 --cameras 3
+generate_refused "--cameras: not with --rig (the oblique5 rig's 5 sensors are its cameras)" \
+  --rig oblique5 --images 40 --cameras 1
 "$dba" convert "$tmp/rig.dba" "$tmp/rig.txt" > "$tmp/refused3.txt" 2>&1
 check "BAL cannot hold a rig" contains "$tmp/refused3.txt" "converts to .dba only"
 finish

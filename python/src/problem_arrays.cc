@@ -9,6 +9,7 @@
 
 #include "dba/camera/rig_pose.h"
 #include "dba/problem/lens_ranges.h"
+#include "dba/problem/rig_frames.h"
 
 namespace dba::python {
 namespace {
@@ -229,6 +230,12 @@ void RigsFromArrays(const ProblemArrays& in, int64_t n, Problem* p) {
                 ": expected 0 (the rig's origin, a zero pose), 1 (refined) or 2 (held)");
     }
     p->sensor_kind.push_back(static_cast<uint8_t>(kind));
+  }
+  if (const SensorTwice t = FindSensorTwice(*p); t.frame >= 0) {
+    throw Bad("frame_indices: frame " + std::to_string(t.frame) + " holds images " +
+              std::to_string(t.first) + " and " + std::to_string(t.second) +
+              " of sensor (group) " + std::to_string(t.group) +
+              " (a frame is one exposure: one image per sensor)");
   }
   p->cameras.insert(p->cameras.end(), frame_poses.begin(), frame_poses.end());
   p->cameras.insert(p->cameras.end(), sensor_poses.begin(), sensor_poses.end());

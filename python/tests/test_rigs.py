@@ -2,7 +2,8 @@
 # rig .dba's frames and sensors; solve_arrays given them solves the rig (6
 # unknowns per frame and 6 per refined sensor) to the file's final cost with
 # a tight direct solve (1e-9), returns the solved frames and sensors, holds
-# them with rig_geometry='fixed', and refuses rig arrays that do not fit.
+# them with rig_geometry='fixed', holds a fixed image's pose (its frame and
+# its sensor), and refuses rig arrays that do not fit.
 import subprocess
 
 import numpy as np
@@ -58,6 +59,22 @@ def test_solve_arrays_solves_the_rig_as_the_file(rig, rig_path):
     assert np.array_equal(held.problem.sensor_from_rig, rig.sensor_from_rig)
 
 
+def test_fix_images_holds_the_images_pose(rig, rig_path):
+    # Image 1 (the second camera in frame 0): its frame and its sensor held
+    # (in every frame), so its pose is the input's where image 3 moves; the
+    # file's solve the same.
+    r = dba.solve_arrays(rig.cameras, rig.points, rig.observations, rig.camera_indices,
+                         rig.point_indices, **arrays(rig), fix_images=[1], max_iterations=5,
+                         **TIGHT)
+    from_file = dba.solve(rig_path, fix_images=[1], max_iterations=5, **TIGHT)
+    for out in (r, from_file):
+        assert out.summary.report["camera_unknowns"] == 39 * 6 + 2 * 3
+        assert np.abs(out.problem.cameras[1] - rig.cameras[1]).max() <= 1e-12
+        assert np.abs(out.problem.cameras[3] - rig.cameras[3]).max() > 1e-6
+    assert np.array_equal(r.problem.sensor_from_rig, rig.sensor_from_rig)
+    assert np.array_equal(r.problem.rig_from_world[0], rig.rig_from_world[0])
+
+
 def test_rig_arrays_that_do_not_fit_are_refused(rig):
     def solve(**change):
         a = {**arrays(rig), **change}
@@ -71,6 +88,9 @@ def test_rig_arrays_that_do_not_fit_are_refused(rig):
         solve(sensor_kinds=np.array([0, 0]))
     with pytest.raises(ValueError, match="need frame_indices"):
         solve(frame_indices=None)
+    with pytest.raises(ValueError, match=r"frame_indices: frame 0 holds images 0 and 2 of sensor "
+                                         r"\(group\) 0 \(a frame is one exposure"):
+        solve(frame_indices=np.where(np.arange(80) == 2, 0, rig.frame_indices))
 
 
 def test_solve_arrays_with_gnss_on_the_frames_and_a_lever_arm(tmp_path):

@@ -252,11 +252,13 @@ static void PrintInfoUsage(std::ostream& out) {
 
 int InfoMain(const std::vector<std::string>& args) {
   const bool option = args.size() == 1 && args[0].size() > 1 && args[0][0] == '-';
-  if (WantsHelp(args) || args.size() != 1 || option) {
+  const bool empty = args.size() == 1 && args[0].empty();
+  if (WantsHelp(args) || args.size() != 1 || option || empty) {
     if (!WantsHelp(args)) {
       std::cerr << "dba info: "
                 << (args.empty() ? std::string("missing FILE")
                     : option     ? "unknown option '" + args[0] + "'"
+                    : empty      ? "an empty path names no file"
                                  : "one FILE, not " + std::to_string(args.size()) + " arguments")
                 << "\n\n";
     }

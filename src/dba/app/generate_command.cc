@@ -24,6 +24,7 @@ namespace {
 struct GenerateArgs {
   UavSurveyOptions survey;
   std::string output, truth;
+  bool cameras_given = false;  // --cameras, refused with --rig
 };
 using Spec = OptionSpec<GenerateArgs>;
 #define DBA_FIELD(path) [](auto& a) -> auto& { return a.path; }
@@ -39,16 +40,22 @@ std::vector<Spec> SurveyOptions() {
                                          DBA_FIELD(survey.forward_overlap), 0.05, 0.95));
   t.push_back(NumberOption<GenerateArgs>("--side-overlap", "X", "between-strip overlap",
                                          DBA_FIELD(survey.side_overlap), 0.05, 0.95));
-  t.push_back(IntegerOption<GenerateArgs>(
+  Spec cameras = IntegerOption<GenerateArgs>(
       "--cameras", "C",
-      "physical cameras, one per strip in turn, whose intrinsics their images share",
-      DBA_FIELD(survey.physical_cameras), 1, 1000000));
+      "physical cameras, one per strip in turn, whose intrinsics their images share (not "
+      "with --rig, whose sensors are its cameras)",
+      DBA_FIELD(survey.physical_cameras), 1, 1000000);
+  cameras.set = [set = cameras.set](GenerateArgs& a, const std::string& v) {
+    set(a, v);
+    a.cameras_given = true;
+  };
+  t.push_back(cameras);
   t.push_back(ChoiceOption<GenerateArgs>(
       "--rig", {"none", "oblique5", "stereo", "ring6"},
       "multi-camera rigs (--model photo): every exposure (frame) fires all of the rig's "
       "sensors; oblique5 a nadir and four 45-degree obliques, stereo two nadir cameras 60 cm "
-      "apart, ring6 six 45-degree obliques around the vertical; --images counts the images "
-      "(frames = images / sensors); the sensors' true poses are off the nominal by ~0.3 "
+      "apart, ring6 six 45-degree obliques around the vertical; --images counts the images, "
+      "a multiple of the sensors (frames = images / sensors, two or more); the sensors' true poses are off the nominal by ~0.3 "
       "degrees and ~1 cm, which the problem starts from; .dba version 4",
       [](GenerateArgs& a, size_t i) {
         static const char* const names[] = {"", "oblique5", "stereo", "ring6"};
@@ -203,6 +210,7 @@ void CheckGenerateArgs(const GenerateArgs& a) {
     throw std::invalid_argument(
         "--model photo needs .dba files (the BAL text format cannot hold shared intrinsics)");
   }
+  CheckRigSurvey(o, a.cameras_given);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "dba/io/atomic_output_file.h"
 #include "dba/io/binary_file.h"
 #include "dba/problem/lens_ranges.h"
+#include "dba/problem/rig_frames.h"
 
 namespace dba {
 namespace {
@@ -159,6 +160,12 @@ void ReadRigs(const BinaryFile& f, const BinaryProblemHeader& h, CameraSide* p) 
   }
   for (int64_t fr = 0; fr < h.num_frames; ++fr) {
     if (!used[fr]) throw InputError(f.path(), 0, "frame " + std::to_string(fr) + " has no image");
+  }
+  if (const SensorTwice t = FindSensorTwice(*p); t.frame >= 0) {
+    throw InputError(f.path(), 0, "frame " + std::to_string(t.frame) + ": images " +
+                                      std::to_string(t.first) + " and " + std::to_string(t.second) +
+                                      " are both of sensor (group) " + std::to_string(t.group) +
+                                      " (a frame is one exposure: one image per sensor)");
   }
   for (int64_t g = 0; g < h.num_intrinsics; ++g) {
     const uint8_t kind = p->sensor_kind[g];

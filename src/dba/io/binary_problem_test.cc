@@ -745,6 +745,10 @@ TEST(BinaryProblemRigs, RefusesFramesAndKindsThatDoNotFit) {
   b[h.rig_offset + 4 * h.num_cameras + 1] = 0;  // a sensor with a pose called the origin
   expect_refused(b, "is its rig's origin but its sensor pose is not zero");
   b = bytes;
+  const int32_t first_frame = 0;  // image 2, sensor 0 of frame 1, into frame 0
+  std::memcpy(&b[h.rig_offset + 8], &first_frame, 4);
+  expect_refused(b, "frame 0: images 0 and 2 are both of sensor (group) 0 (a frame is one exposure");
+  b = bytes;
   const uint64_t frames = 1000;
   std::memcpy(&b[128], &frames, 8);
   expect_refused(b, "frames for");

@@ -43,9 +43,10 @@ std::string Num(double v) {
 // The rigs and frames against the model: rig ids unique, a camera in at
 // most one rig and in the model; each frame names a rig of the model, each
 // of its data a sensor of that rig, a camera's an image of the model with
-// that camera; no image in two frames and (when there are frames) every
-// image in one: COLMAP >= 3.12 takes each image's pose from its frame and
-// cannot load an image without one.
+// that camera, one per camera (a frame is one exposure); no image in two
+// frames and (when there are frames) every image in one: COLMAP >= 3.12
+// takes each image's pose from its frame and cannot load an image without
+// one.
 void CheckRigsAndFrames(const ColmapModel& model, const std::string& dir, bool binary) {
   if (model.frames.empty() && model.rigs.empty()) return;
   const std::string ext = binary ? ".bin" : ".txt";
@@ -79,6 +80,7 @@ void CheckRigsAndFrames(const ColmapModel& model, const std::string& dir, bool b
     if (rig == rig_of_id.end()) {
       throw InputError(frames, 0, frame + "names rig " + std::to_string(f.rig_id) + ", which the rigs do not hold");
     }
+    std::unordered_map<uint32_t, uint64_t> image_of_camera;  // this frame's
     for (const ColmapFrameData& d : f.data) {
       const ColmapRig& r = *rig->second;
       const bool of_rig = (r.ref.type == d.type && r.ref.id == d.sensor_id) ||
@@ -99,6 +101,12 @@ void CheckRigsAndFrames(const ColmapModel& model, const std::string& dir, bool b
       if (!frame_of_image.emplace(d.data_id, f.frame_id).second) {
         throw InputError(frames, 0, frame + "image " + std::to_string(d.data_id) + " is also in frame " +
                                         std::to_string(frame_of_image[d.data_id]));
+      }
+      if (const auto [other, fresh] = image_of_camera.emplace(d.sensor_id, d.data_id); !fresh) {
+        throw InputError(frames, 0, frame + "images " + std::to_string(other->second) + " and " +
+                                        std::to_string(d.data_id) + " are both of camera " +
+                                        std::to_string(d.sensor_id) +
+                                        " (a frame is one exposure: one image per sensor)");
       }
     }
   }
@@ -236,6 +244,11 @@ std::string FirstColmapModelDifference(const ColmapModel& a, const ColmapModel& 
 
 namespace colmap_internal {
 
+bool IsRotationQuaternion(const std::array<double, 4>& q) {
+  const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  return norm > 0 && std::isfinite(norm);
+}
+
 // A value no camera has: an image of no pixels (or beyond a million on a
 // side), a parameter out of its lens model's range (problem/lens_ranges.h),
 // an EQUIRECTANGULAR whose w, h differ from the image's size; empty when none.
@@ -333,6 +346,7 @@ void ValidateColmapModel(const ColmapModel& model, const std::string& dir,
     if (!finite(im.qvec.data(), 4) || !finite(im.tvec.data(), 3)) {
       throw InputError(images_file, line, at() + "non-finite qvec or tvec");
     }
+    if (!IsRotationQuaternion(im.qvec)) throw InputError(images_file, line, at() + "qvec" + kNotARotation);
     for (size_t k = 0; k < im.points2D.size(); ++k) {
       const ColmapPoint2D& p = im.points2D[k];
       if (!std::isfinite(p.x) || !std::isfinite(p.y)) {

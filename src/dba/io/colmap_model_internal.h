@@ -4,6 +4,7 @@
 // Thread safety: pure functions.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -12,6 +13,13 @@
 
 namespace dba {
 namespace colmap_internal {
+
+// Whether q (w, x, y, z) reads as a rotation: its norm finite and not zero
+// (it is normalised). The one check of every quaternion COLMAP's files hold
+// (the images', the frames', the sensors'), refused with kNotARotation after
+// what names it.
+bool IsRotationQuaternion(const std::array<double, 4>& q);
+inline constexpr char kNotARotation[] = " is zero or its norm is not finite";
 
 // "<dir>/<name>" (no separator doubled).
 std::string JoinPath(const std::string& dir, const std::string& name);

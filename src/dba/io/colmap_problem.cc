@@ -13,6 +13,7 @@
 #include "dba/camera/observation_residual.h"
 #include "dba/camera/rig_pose.h"
 #include "dba/common/error.h"
+#include "dba/io/colmap_model_internal.h"
 
 namespace dba {
 namespace {
@@ -299,12 +300,9 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
   bp.cameras.assign(kPhotoPoseSize * n + int64_t{bp.intrinsics_size} * num_groups, 0.0);
   for (int64_t i = 0; i < n; ++i) {
     const ColmapImage& im = model.images[out.image_index[i]];
-    const double qnorm = std::sqrt(im.qvec[0] * im.qvec[0] + im.qvec[1] * im.qvec[1] +
-                                   im.qvec[2] * im.qvec[2] + im.qvec[3] * im.qvec[3]);
-    if (!(qnorm > 0) || !std::isfinite(qnorm)) {
-      throw InputError(source, 0,
-                       "image " + std::to_string(im.image_id) + " (" + im.name +
-                           "): the quaternion is zero or not finite");
+    if (!colmap_internal::IsRotationQuaternion(im.qvec)) {
+      throw InputError(source, 0, "image " + std::to_string(im.image_id) + " (" + im.name +
+                                      "): its quaternion" + colmap_internal::kNotARotation);
     }
     const Vec3 omega = QuaternionToAngleAxis(im.qvec);
     double* pose = bp.camera(i);

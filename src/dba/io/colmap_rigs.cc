@@ -13,120 +13,75 @@
 //               u32 sensor id, u64 data id (the image id)
 // NUM_SENSORS counts the reference sensor. Sensor type 0 (text CAMERA) is a
 // camera, 1 (IMU) is not.
-#include <charconv>
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "dba/common/error.h"
 #include "dba/io/binary_file.h"
+#include "dba/io/colmap_lines_internal.h"
 #include "dba/io/colmap_model_internal.h"
-#include "dba/io/text_tokens.h"
 
 namespace dba {
 namespace colmap_internal {
 namespace {
 
-// One data line of rigs.txt or frames.txt, split at blanks, and a cursor.
-struct Fields {
-  std::vector<std::string> v;
-  size_t at = 0;
-  const std::string& path;
-  int64_t line;
-  const std::string& Next(const char* what) {
-    if (at >= v.size()) throw InputError(path, line, std::string("too few fields: no ") + what);
-    return v[at++];
-  }
-  uint64_t Unsigned(const char* what, uint64_t max) {
-    const std::string& f = Next(what);
-    uint64_t x = 0;
-    const auto [end, err] = std::from_chars(f.data(), f.data() + f.size(), x);
-    if (err != std::errc() || end != f.data() + f.size() || x > max) {
-      throw InputError(path, line, std::string(what) + ": '" + Clipped(f) + "' is not an id");
-    }
-    return x;
-  }
-  double Double(const char* what) {
-    const std::string& f = Next(what);
-    double x = 0;
-    if (ParseDouble(f, &x) != NumberStatus::kOk) {
-      throw InputError(path, line, std::string(what) + ": '" + Clipped(f) + "' is not a finite number");
-    }
-    return x;
-  }
-  int32_t SensorType() {
-    const std::string& f = Next("a sensor type");
-    if (f == "CAMERA") return 0;
-    if (f == "IMU") return 1;
-    throw InputError(path, line, "sensor type '" + Clipped(f) + "' (COLMAP's are CAMERA and IMU)");
-  }
-  template <size_t N>
-  void Doubles(std::array<double, N>* out, const char* what) {
-    for (double& x : *out) x = Double(what);
-  }
-  void End() {
-    if (at != v.size()) {
-      throw InputError(path, line, std::to_string(v.size() - at) + " fields after the entry's last");
-    }
-  }
-};
+constexpr uint64_t kMaxU32 = UINT32_MAX;
 
-// Calls `take` with each data line's fields.
-template <typename Take>
-void ForEachDataLine(const std::string& path, Take take) {
-  std::ifstream in(path);
-  std::string line;
-  for (int64_t n = 1; in && std::getline(in, line); ++n) {
-    std::istringstream tokens(line);
-    Fields f{{std::istream_iterator<std::string>(tokens), {}}, 0, path, n};
-    if (!f.v.empty() && f.v[0][0] != '#') take(f);
+int32_t SensorType(Tokens& t) {
+  const std::string_view f = t.Next("a sensor type");
+  if (f == "CAMERA") return 0;
+  if (f == "IMU") return 1;
+  t.Fail("sensor type " + Quote(f) + " (COLMAP's are CAMERA and IMU)");
+}
+
+void ReadRigsText(const std::string& path, ColmapModel* model) {
+  LineFile file(path);
+  std::string_view line;
+  while (file.NextData(&line)) {
+    Tokens t(file, line);
+    ColmapRig rig;
+    rig.rig_id = static_cast<uint32_t>(t.Unsigned("RIG_ID", kMaxU32));
+    const uint64_t n = t.Unsigned("NUM_SENSORS", 1u << 20);
+    if (n == 0) file.Fail("a rig without sensors");
+    rig.ref.type = SensorType(t);
+    rig.ref.id = static_cast<uint32_t>(t.Unsigned("REF_SENSOR_ID", kMaxU32));
+    for (uint64_t k = 1; k < n; ++k) {
+      ColmapSensor s;
+      s.type = SensorType(t);
+      s.id = static_cast<uint32_t>(t.Unsigned("SENSOR_ID", kMaxU32));
+      s.has_pose = t.Unsigned("HAS_POSE", 1) == 1;
+      if (s.has_pose) t.Pose("the sensor's quaternion", &s.qvec, &s.tvec);
+      rig.sensors.push_back(s);
+    }
+    t.End();
+    model->rigs.push_back(std::move(rig));
   }
 }
 
-void ReadText(const std::string& dir, ColmapModel* model) {
-  const std::string rigs = JoinPath(dir, "rigs.txt"), frames = JoinPath(dir, "frames.txt");
-  ForEachDataLine(rigs, [&](Fields& f) {
-    ColmapRig rig;
-    rig.rig_id = static_cast<uint32_t>(f.Unsigned("RIG_ID", UINT32_MAX));
-    const uint64_t n = f.Unsigned("NUM_SENSORS", 1u << 20);
-    if (n == 0) throw InputError(rigs, f.line, "a rig without sensors");
-    rig.ref.type = f.SensorType();
-    rig.ref.id = static_cast<uint32_t>(f.Unsigned("REF_SENSOR_ID", UINT32_MAX));
-    for (uint64_t k = 1; k < n; ++k) {
-      ColmapSensor s;
-      s.type = f.SensorType();
-      s.id = static_cast<uint32_t>(f.Unsigned("SENSOR_ID", UINT32_MAX));
-      s.has_pose = f.Unsigned("HAS_POSE", 1) == 1;
-      if (s.has_pose) {
-        f.Doubles(&s.qvec, "a sensor's quaternion");
-        f.Doubles(&s.tvec, "a sensor's translation");
-      }
-      rig.sensors.push_back(s);
-    }
-    f.End();
-    model->rigs.push_back(std::move(rig));
-  });
-  ForEachDataLine(frames, [&](Fields& f) {
+void ReadFramesText(const std::string& path, ColmapModel* model) {
+  LineFile file(path);
+  std::string_view line;
+  while (file.NextData(&line)) {
+    Tokens t(file, line);
     ColmapFrame frame;
-    frame.frame_id = static_cast<uint32_t>(f.Unsigned("FRAME_ID", UINT32_MAX));
-    frame.rig_id = static_cast<uint32_t>(f.Unsigned("RIG_ID", UINT32_MAX));
-    f.Doubles(&frame.qvec, "the frame's quaternion");
-    f.Doubles(&frame.tvec, "the frame's translation");
-    const uint64_t n = f.Unsigned("NUM_DATA_IDS", 1u << 20);
+    frame.frame_id = static_cast<uint32_t>(t.Unsigned("FRAME_ID", kMaxU32));
+    frame.rig_id = static_cast<uint32_t>(t.Unsigned("RIG_ID", kMaxU32));
+    t.Pose("the frame's quaternion", &frame.qvec, &frame.tvec);
+    const uint64_t n = t.Unsigned("NUM_DATA_IDS", 1u << 20);
     for (uint64_t k = 0; k < n; ++k) {
       ColmapFrameData d;
-      d.type = f.SensorType();
-      d.sensor_id = static_cast<uint32_t>(f.Unsigned("SENSOR_ID", UINT32_MAX));
-      d.data_id = f.Unsigned("DATA_ID", UINT64_MAX);
+      d.type = SensorType(t);
+      d.sensor_id = static_cast<uint32_t>(t.Unsigned("SENSOR_ID", kMaxU32));
+      d.data_id = t.Unsigned("DATA_ID", UINT64_MAX);
       frame.data.push_back(d);
     }
-    f.End();
+    t.End();
     model->frames.push_back(std::move(frame));
-  });
+  }
 }
 
 ColmapSensor ReadSensor(BinaryFile& in) {
@@ -137,6 +92,18 @@ ColmapSensor ReadSensor(BinaryFile& in) {
   }
   s.id = in.Get<uint32_t>("the sensor's id");
   return s;
+}
+
+// A pose of rigs.bin or frames.bin (7 f64): the quaternion a rotation
+// (IsRotationQuaternion), the translation finite.
+void ReadBinaryPose(BinaryFile& in, const char* what, std::array<double, 4>* q,
+                    std::array<double, 3>* t) {
+  in.Read(q->data(), sizeof *q, what);
+  if (!IsRotationQuaternion(*q)) in.Fail(in.Entry() + what + "'s quaternion" + kNotARotation);
+  in.Read(t->data(), sizeof *t, what);
+  if (!std::all_of(t->begin(), t->end(), [](double v) { return std::isfinite(v); })) {
+    in.Fail(in.Entry() + what + "'s translation is not finite");
+  }
 }
 
 void ReadBinaryRigs(const std::string& path, ColmapModel* model) {
@@ -155,10 +122,7 @@ void ReadBinaryRigs(const std::string& path, ColmapModel* model) {
       const uint8_t has_pose = in.Get<uint8_t>("has_pose");
       if (has_pose > 1) in.Fail(in.Entry() + "has_pose " + std::to_string(has_pose) + " is not 0 or 1");
       s.has_pose = has_pose == 1;
-      if (s.has_pose) {
-        in.Read(s.qvec.data(), sizeof s.qvec, "sensor_from_rig");
-        in.Read(s.tvec.data(), sizeof s.tvec, "sensor_from_rig");
-      }
+      if (s.has_pose) ReadBinaryPose(in, "sensor_from_rig", &s.qvec, &s.tvec);
       rig.sensors.push_back(s);
     }
     model->rigs.push_back(std::move(rig));
@@ -175,8 +139,7 @@ void ReadBinaryFrames(const std::string& path, ColmapModel* model) {
     frame.frame_id = in.Get<uint32_t>("frame_id");
     in.SetEntryId(frame.frame_id);
     frame.rig_id = in.Get<uint32_t>("rig_id");
-    in.Read(frame.qvec.data(), sizeof frame.qvec, "rig_from_world");
-    in.Read(frame.tvec.data(), sizeof frame.tvec, "rig_from_world");
+    ReadBinaryPose(in, "rig_from_world", &frame.qvec, &frame.tvec);
     const uint32_t data = in.Get<uint32_t>("num_data_ids");
     for (uint32_t k = 0; k < data; ++k) {
       const ColmapSensor s = ReadSensor(in);
@@ -199,7 +162,10 @@ void ReadRigsAndFrames(const std::string& dir, bool binary, ColmapModel* model) 
                      "missing: COLMAP >= 3.12 writes rigs and frames together");
   }
   if (!have_rigs) return;
-  if (!binary) return ReadText(dir, model);
+  if (!binary) {
+    ReadRigsText(rigs, model);
+    return ReadFramesText(frames, model);
+  }
   ReadBinaryRigs(rigs, model);
   ReadBinaryFrames(frames, model);
 }

@@ -2,9 +2,8 @@
 #include "dba/io/colmap_text.h"
 
 #include "dba/io/atomic_output_file.h"
+#include "dba/io/colmap_lines_internal.h"
 #include "dba/io/colmap_model_internal.h"
-#include "dba/io/text_line_reader.h"
-#include "dba/io/text_tokens.h"
 
 #include <charconv>
 #include <cmath>
@@ -19,101 +18,9 @@ namespace dba {
 namespace {
 
 using colmap_internal::JoinPath;
-
-std::string Quote(std::string_view tok) {
-  std::string q(1, '\'');
-  q.append(tok.substr(0, 40));
-  q.append(tok.size() > 40 ? "...'" : "'");
-  return q;
-}
-
-// A text file read line by line, counting lines from 1 (line length
-// bounded by TextLineReader). A file must end with a line end: one cut short
-// could otherwise end inside its last number and be read without error.
-class LineFile {
- public:
-  explicit LineFile(std::string path) : reader_(path) {}
-  const std::string& path() const { return reader_.path(); }
-  int64_t line_number() const { return reader_.line_number(); }
-
-  // The next line without its line end; false at the end of the file.
-  bool Next(std::string_view* line) {
-    if (!reader_.ReadLine(line)) return false;
-    if (reader_.last_line_unterminated() && !TrimBlanks(*line).empty()) {
-      Fail("the file ends inside this line (no line end after the last record): cut short?");
-    }
-    return true;
-  }
-  // The next line that is neither empty nor a comment.
-  bool NextData(std::string_view* line) {
-    while (Next(line)) {
-      std::string_view t = TrimBlanks(*line);
-      if (!t.empty() && t.front() != '#') {
-        *line = t;
-        return true;
-      }
-    }
-    return false;
-  }
-  [[noreturn]] void Fail(const std::string& what) const {
-    throw InputError(path(), line_number(), what);
-  }
-
- private:
-  TextLineReader reader_;
-};
-
-// Blank-separated tokens of one line; errors name the file and line.
-class Tokens {
- public:
-  Tokens(const LineFile& file, std::string_view line) : file_(file), tokens_(line) {}
-
-  bool Done() const { return tokens_.Done(); }
-  std::string_view Next(const char* what) {
-    std::string_view tok;
-    if (!tokens_.Next(&tok)) file_.Fail(std::string("expected ") + what + ", found the end of the line");
-    return tok;
-  }
-  // Everything left on the line, trimmed.
-  std::string_view Rest() const { return tokens_.Rest(); }
-
-  double Double(const char* what) {
-    const std::string_view tok = Next(what);
-    double v = 0;
-    const NumberStatus status = ParseDouble(tok, &v);
-    if (status == NumberStatus::kNotFinite) {
-      file_.Fail(std::string(what) + " is not finite: " + Quote(tok));
-    }
-    if (status != NumberStatus::kOk) {
-      file_.Fail(std::string("expected ") + what + " (a number), found " + Quote(tok));
-    }
-    return v;
-  }
-  uint64_t Unsigned(const char* what, uint64_t max) {
-    const std::string_view tok = Next(what);
-    uint64_t v = 0;
-    if (ParseInteger(tok, &v) != NumberStatus::kOk || v > max) {
-      file_.Fail(std::string("expected ") + what + " (an integer from 0 to " +
-                 std::to_string(max) + "), found " + Quote(tok));
-    }
-    return v;
-  }
-  // A point3D_id in images.txt: -1 (or COLMAP's invalid id 2^64-1) for none.
-  int64_t Point3DRef(const char* what) {
-    const std::string_view tok = Next(what);
-    int64_t v = 0;
-    if (ParseInteger(tok, &v) == NumberStatus::kOk && v >= -1) return v;
-    uint64_t u = 0;
-    if (ParseInteger(tok, &u) == NumberStatus::kOk && u == std::numeric_limits<uint64_t>::max()) {
-      return kColmapNoPoint3D;
-    }
-    file_.Fail(std::string("expected ") + what + " (-1 or a point3D_id), found " + Quote(tok));
-  }
-
- private:
-  const LineFile& file_;
-  LineTokens tokens_;
-};
+using colmap_internal::LineFile;
+using colmap_internal::Quote;
+using colmap_internal::Tokens;
 
 constexpr uint64_t kMaxU32 = std::numeric_limits<uint32_t>::max();
 constexpr uint64_t kMaxI64 = std::numeric_limits<int64_t>::max();
@@ -159,10 +66,7 @@ void ReadImages(const std::string& path, ColmapModel* model,
     Tokens t(file, line);
     ColmapImage im;
     im.image_id = static_cast<uint32_t>(t.Unsigned("IMAGE_ID", kMaxU32));
-    static const char* const kQ[] = {"QW", "QX", "QY", "QZ"};
-    static const char* const kT[] = {"TX", "TY", "TZ"};
-    for (int k = 0; k < 4; ++k) im.qvec[k] = t.Double(kQ[k]);
-    for (int k = 0; k < 3; ++k) im.tvec[k] = t.Double(kT[k]);
+    t.Pose("the image's quaternion", &im.qvec, &im.tvec);
     im.camera_id = static_cast<uint32_t>(t.Unsigned("CAMERA_ID", kMaxU32));
     im.name = std::string(t.Rest());
     if (im.name.empty()) file.Fail("expected NAME after CAMERA_ID");

@@ -87,16 +87,20 @@ void ApplyFixings(const Fixings& f, CameraSide* problem) {
     }
   }
   std::vector<uint16_t> fixed = FixedIntrinsicsAfter(f, *problem);
-  for (int64_t g = 0; g < static_cast<int64_t>(problem->sensor_kind.size()); ++g) {
-    const bool listed = std::find(f.sensors.begin(), f.sensors.end(), g) != f.sensors.end();
-    if (problem->sensor_kind[g] == kSensorRefined && (f.all_sensors || listed)) {
-      problem->sensor_kind[g] = kSensorHeld;
-    }
-  }
   if (!f.images.empty() || f.all_images) {
     problem->fixed_cameras.resize(problem->num_images(), 0);
     for (int64_t i : f.images) problem->fixed_cameras[i] = 1;
     if (f.all_images) std::fill(problem->fixed_cameras.begin(), problem->fixed_cameras.end(), 1);
+  }
+  // A held image's pose is its frame's (held by the layout) composed with
+  // its sensor's: the sensor is held too, in every frame.
+  std::vector<uint8_t> held(problem->sensor_kind.size(), f.all_sensors ? 1 : 0);
+  for (int64_t g : f.sensors) held[g] = 1;
+  for (int64_t i = 0; problem->has_rigs() && i < problem->num_images(); ++i) {
+    if (problem->camera_fixed(i)) held[problem->camera_intrinsics[i]] = 1;
+  }
+  for (size_t g = 0; g < held.size(); ++g) {
+    if (held[g] && problem->sensor_kind[g] == kSensorRefined) problem->sensor_kind[g] = kSensorHeld;
   }
   problem->fixed_intrinsics = std::move(fixed);
 }

@@ -45,7 +45,9 @@ struct Fixings {
 };
 
 // Adds `f` to what the camera side already holds fixed: each name to the
-// groups it targets whose model has it; a refined sensor pose becomes held. std::invalid_argument for an image
+// groups it targets whose model has it; a refined sensor pose becomes held,
+// also the sensor of every held image (its pose is its frame's, held, and
+// its sensor's: docs/design.md §1.7). std::invalid_argument for an image
 // or group index out of range, fixed intrinsics of a BAL problem, and a name
 // that none of the targeted groups' models has (listing their models and
 // parameter names). Nothing is changed when it throws.

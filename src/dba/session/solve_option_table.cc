@@ -170,7 +170,9 @@ std::vector<Spec> FixingOptions() {
   Spec images = Base("--fix-images", OptionKind::kList, "LIST",
                      "hold these images' poses fixed: all, or COLMAP image ids or names for a "
                      "COLMAP input, 0-based camera indices otherwise (a BAL camera is then "
-                     "fixed whole)");
+                     "fixed whole); with rigs an image's frame and its sensor's pose in the rig "
+                     "are held (that sensor in every frame: an image of the rig's origin "
+                     "sensor holds its frame alone)");
   images.set = [](SolveOptions& o, const std::string& v) {
     o.unknowns.fixed_images.clear();
     o.unknowns.fixed_image_names.clear();

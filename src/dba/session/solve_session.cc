@@ -110,11 +110,19 @@ int64_t RefuseNonFiniteResiduals(const std::string& input, const Problem& proble
                            "beyond double range)");
 }
 
-SetupFingerprint SolveSetup(const SolveOptions& options, const Georeference& geo) {
+SetupFingerprint SolveSetup(const SolveOptions& options, const Georeference& geo, bool rigs) {
   SetupFingerprint f;
   const RobustLoss& loss = options.lm.loss;
   f.Add("--loss", LossName(loss.type));
   f.Add("--loss", loss.scale);
+  const UnknownsOptions& u = options.unknowns;
+  if (rigs && (!u.refine_rig_geometry || !u.held_sensors.empty())) {
+    std::vector<int64_t> held = u.held_sensors;
+    std::sort(held.begin(), held.end());
+    held.erase(std::unique(held.begin(), held.end()), held.end());
+    f.Add("--rig-geometry", u.refine_rig_geometry ? "fixed:IDS" : "fixed");
+    f.Add("--rig-geometry", held.data(), held.size() * sizeof held[0]);
+  }
   for (const CameraCentrePrior& p : geo.priors.priors) {
     f.Add("--camera-priors", &p.image, sizeof p.image);
     f.Add("--camera-priors", p.centre.data(), 3 * sizeof(double));
@@ -184,7 +192,7 @@ SolveResult SolveSession::Run(SolveInput input) {
     if (!options_.free_gauge && (!result_.geo.priors.empty() || result_.geo.control_points > 0)) {
       gauge_.hold = GaugeHold::kExternal;
     }
-    setup_ = SolveSetup(options_, result_.geo);
+    setup_ = SolveSetup(options_, result_.geo, result_.problem.has_rigs());
     Resume();
     if (!options_.truth_path.empty()) CheckTruthFile(options_.truth_path, result_.report);
     result_.report.load_seconds = load.Seconds();

@@ -123,9 +123,10 @@ class SolveSession {
 
 // What shapes a solve's result besides its input: the loss, the camera
 // priors (as placed in the solve's frame) and their loss, the control
-// points, the rejection criteria. A checkpoint written with another is
-// refused (io/checkpoint.h).
-SetupFingerprint SolveSetup(const SolveOptions& options, const Georeference& geo);
+// points, the rejection criteria, and with `rigs` the rig geometry held
+// (--rig-geometry fixed or fixed:IDS; refine adds nothing). A checkpoint
+// written with another is refused (io/checkpoint.h).
+SetupFingerprint SolveSetup(const SolveOptions& options, const Georeference& geo, bool rigs);
 
 // The log line of one round of --reject-outliers.
 std::string RejectionRoundLine(const RejectionCriteria& criteria, int r,

@@ -104,6 +104,10 @@ double FootprintReach(const Pose6& s, double height, double focal_px, double ima
 
 }  // namespace
 
+int64_t RigSensorCount(const std::string& name) {
+  return static_cast<int64_t>(NominalAboutNadir(name).size());
+}
+
 RigSensors MakeRigSensors(const std::string& name, uint64_t seed, double flying_height,
                           double focal_px, double image_size) {
   const std::vector<Pose6> about_nadir = NominalAboutNadir(name);

@@ -41,6 +41,10 @@ struct RigSensors {
   double reach = 0.0;
 };
 
+// How many sensors the named rig has; std::invalid_argument for an unknown
+// name.
+int64_t RigSensorCount(const std::string& name);
+
 // Throws std::invalid_argument for an unknown name.
 RigSensors MakeRigSensors(const std::string& name, uint64_t seed, double flying_height,
                           double focal_px, double image_size);

@@ -321,6 +321,28 @@ void WriteGroundControl(const UavSurveyOptions& o, const Layout& l, int64_t imag
   WriteFileAtomically(o.gcps_path, text);
 }
 
+void CheckRigSurvey(const UavSurveyOptions& o, bool cameras_given) {
+  if (o.rig.empty()) return;
+  if (o.model != CameraModel::kPhoto || o.unaligned) {
+    throw std::invalid_argument(
+        "generate: --rig needs --model photo, and is not combined with --unaligned yet");
+  }
+  const int64_t s = RigSensorCount(o.rig);
+  if (cameras_given || o.physical_cameras != 1) {
+    throw std::invalid_argument("--cameras: not with --rig (the " + o.rig + " rig's " +
+                                std::to_string(s) + " sensors are its cameras)");
+  }
+  if (o.images % s != 0 || o.images < 2 * s) {
+    const int64_t below = o.images / s * s;
+    throw std::invalid_argument(
+        "--images " + std::to_string(o.images) + ": every frame of a " + o.rig + " rig holds its " +
+        std::to_string(s) + " sensors' images, and a survey two frames or more: give a multiple of " +
+        std::to_string(s) + " from " + std::to_string(2 * s) + " (e.g. " +
+        (below >= 2 * s ? std::to_string(below) + " or " : std::string()) +
+        std::to_string(std::max(below + s, 2 * s)) + ")");
+  }
+}
+
 UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::string& path,
                                    const std::string& truth_path,
                                    const std::function<void(double)>& progress) {
@@ -348,14 +370,11 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
   }
   RigSensors rig;
   const bool rigs = !o.rig.empty();
+  CheckRigSurvey(o);
   if (rigs) {
-    if (!photo || o.unaligned) {
-      throw std::invalid_argument(
-          "generate: --rig needs --model photo, and is not combined with --unaligned yet");
-    }
     rig = MakeRigSensors(o.rig, o.seed, o.flying_height, o.focal_px, o.image_size);
     const int64_t sensors = static_cast<int64_t>(rig.keep.size());
-    o.images = std::max<int64_t>(2, (o.images + sensors - 1) / sensors);  // frames
+    o.images /= sensors;  // frames
     o.physical_cameras = static_cast<int>(sensors);
   }
   Timer timer;

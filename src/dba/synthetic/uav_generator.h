@@ -98,9 +98,9 @@ struct UavSurveyOptions {
   // before georeferencing; the truth stays in the world frame.
   bool unaligned = false;
   // Rigs (synthetic/rig_survey.h): "" (every image its own exposure), or
-  // oblique5, stereo, ring6: `images` / sensors frames (rounded up) along
-  // the strips, each an exposure of every sensor (kPhoto, .dba version 4;
-  // `physical_cameras` is then one per sensor).
+  // oblique5, stereo, ring6: `images` / sensors frames along the strips,
+  // each an exposure of every sensor (kPhoto, .dba version 4; each sensor
+  // its own physical camera, `physical_cameras` left at 1; CheckRigSurvey).
   std::string rig;
 };
 
@@ -131,13 +131,20 @@ struct UavSurveySummary {
   double seconds = 0.0;
 };
 
+// A rig survey's options that cannot be honoured, refused by name
+// (std::invalid_argument): a rig but the photo model, or --unaligned;
+// `images` not a multiple of the rig's sensors or under two frames;
+// --cameras given (`cameras_given`) or `physical_cameras` other than 1 (each
+// sensor is a camera). Nothing without a rig.
+void CheckRigSurvey(const UavSurveyOptions& o, bool cameras_given = false);
+
 // Writes the noisy, perturbed problem to `path` (dba binary if it ends in
 // .dba, else BAL text; BAL text holds it in memory, so use it for small
 // sizes) and, if `truth_path` is not empty, the ground truth (true
 // parameters, noise-free observations) in the same format. Both are written
 // to temporary names and renamed when complete. `progress` (optional) is
 // told the fraction done. Throws std::invalid_argument for bad options,
-// including kPhoto with an output that is not .dba.
+// including kPhoto with an output that is not .dba and CheckRigSurvey's.
 UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::string& path,
                                    const std::string& truth_path,
                                    const std::function<void(double)>& progress = {});
