@@ -256,7 +256,8 @@ run() {
 # cost first reaches TARGET; "none" if never. dba's history gives the cost at
 # the start of each iteration and the candidate's; Ceres's the cost at the end.
 dba_curve() {
-  jq -r '((.seconds.load // 0) + (.seconds.distribution // 0) + (.seconds.setup // 0)) as $s0
+  jq -r '((.seconds.startup // 0) + (.seconds.read // 0) + (.seconds.load // 0) + (.seconds.distribution // 0)
+      + (.seconds.setup // 0)) as $s0
     | ([$s0, .initial_cost], (foreach (.history // [])[] as $h ($s0; . + $h.seconds;
         [., (if $h.accepted then $h.candidate_cost else $h.cost end)])), [.seconds.total, .final_cost])
     | "\(.[0]) \(.[1])"' "$1"
@@ -590,7 +591,7 @@ for problem in "${problems[@]}"; do
   cat "$not_ok" >>"$configs"
   # Where the time goes (median runs).
   {
-    jq -r '.seconds as $s | [$s.total, (($s.load // 0) + ($s.distribution // 0)), ($s.setup // 0), ($s.rcs_formation // 0),
+    jq -r '.seconds as $s | [$s.total, (($s.startup // 0) + ($s.read // 0) + ($s.load // 0) + ($s.distribution // 0)), ($s.setup // 0), ($s.rcs_formation // 0),
       ($s.linear_solve // $s.pcg // 0), ($s.back_substitution // 0), .iterations, (.pcg_iterations // 0)] | @tsv' "$dj"
     jq -r '.seconds as $s | [$s.total, ($s.load + $s.build_problem + $s.preprocessor), $s.jacobian_evaluation,
       $s.linear_solver, $s.residual_evaluation, .iterations, .linear_solver_iterations] | @tsv' "$cj"

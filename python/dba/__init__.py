@@ -103,7 +103,9 @@ class Summary:
     termination: str
     termination_message: str
     linear_solver: str
-    seconds: dict          # load, setup, rcs_formation, linear_solve, back_substitution, write, total
+    # Wall time per phase from the call's start (startup, read, load, distribution, setup,
+    # rcs_formation, linear_solve, back_substitution, write, other), adding up to total.
+    seconds: dict
     history: list = field(repr=False)  # of Iteration
     report: dict = field(repr=False)
 

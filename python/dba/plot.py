@@ -33,8 +33,9 @@ def plot_report(report, output, title=None):
     if not history:
         raise ValueError("the report has no per-iteration history")
     seconds = r["seconds"]
-    # Time at the end of each LM iteration, from the start of the program.
-    start = seconds.get("load", 0.0) + seconds.get("distribution", 0.0) + seconds.get("setup", 0.0)
+    # Time at the end of each LM iteration, from the start of the program
+    # (reports before the start-up and the read were counted begin later).
+    start = sum(seconds.get(k, 0.0) for k in ("startup", "read", "load", "distribution", "setup"))
     times, t = [], start
     for it in history:
         t += it["seconds"]
@@ -88,9 +89,9 @@ def plot_report(report, output, title=None):
                  f'(green: model test, red: cap, grey: factorized or other)')
 
     ax = axes[1][1]
-    phases = [("load", "load"), ("setup", "setup"), ("rcs_formation", "RCS formation"),
-              ("linear_solve", "linear solve"), ("back_substitution", "back-substitution"),
-              ("write", "write")]
+    phases = [("startup", "start-up"), ("read", "read"), ("load", "checks"), ("setup", "setup"),
+              ("rcs_formation", "RCS formation"), ("linear_solve", "linear solve"),
+              ("back_substitution", "back-substitution"), ("write", "write"), ("other", "other")]
     values = [seconds.get(k, 0.0) for k, _ in phases]
     ax.barh([name for _, name in phases], values, color="C4")
     for y, v in enumerate(values):

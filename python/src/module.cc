@@ -24,6 +24,7 @@
 
 #include "dba/common/error.h"
 #include "dba/common/memory.h"
+#include "dba/common/timer.h"
 #include "dba/io/read_problem.h"
 #include "dba/session/solve_option_table.h"
 #include "dba/session/solve_options.h"
@@ -52,6 +53,7 @@ SolveOptions Parse(const std::vector<std::string>& args) {
 // dba.solve: the whole of `dba solve ARGS` in this process (one rank), its
 // outputs (-o, --report, --ply) included.
 py::tuple Solve(const std::vector<std::string>& args, bool verbose) {
+  const Timer since_call;  // the report's phases: from the call's start
   SolveOptions options = Parse(args);
   options.progress = verbose;  // the terminal's progress line only when printing the log
   std::ostringstream log;
@@ -59,7 +61,7 @@ py::tuple Solve(const std::vector<std::string>& args, bool verbose) {
   {
     py::gil_scoped_release release;
     Communicator comm(Communicator::SingleRank{});
-    result = RunSolve(options, &comm, verbose ? std::cout : log);
+    result = RunSolve(options, &comm, verbose ? std::cout : log, since_call);
     if (verbose) std::cout.flush();
   }
   return Outcome(result.report, result.problem, log.str());
@@ -70,6 +72,7 @@ py::tuple Solve(const std::vector<std::string>& args, bool verbose) {
 // input's own.
 py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string>& option_args,
                       bool verbose) {
+  const Timer since_call;  // the report's phases: from the call's start
   std::vector<std::string> args = {"<arrays>"};
   args.insert(args.end(), option_args.begin(), option_args.end());
   SolveOptions options = Parse(args);
@@ -83,10 +86,13 @@ py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string
       }
     }
   }
+  const double startup_seconds = since_call.Seconds();
+  const Timer read;
   SolveInput input;
   input.name = "<arrays>";
   input.problem = ProblemFromArrays(arrays);
   ApplyFixings(options.unknowns, &input.problem);  // fix_images, fix_intrinsics
+  input.read_seconds = read.Seconds();
   std::ostringstream log;
   SolveResult result;
   {
@@ -95,7 +101,9 @@ py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string
     Communicator comm(Communicator::SingleRank{});
     std::ostream& out = verbose ? std::cout : log;
     result = SolveSession(options, &comm, out).Run(std::move(input));
+    result.report.startup_seconds = startup_seconds;
     result.report.peak_memory_bytes = PeakResidentBytes();
+    result.report.total_seconds = since_call.Seconds();
     PrintSolveReport(result.report, out);
     out.flush();
   }

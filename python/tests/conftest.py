@@ -20,6 +20,10 @@ LADYBUG = REPO_DATA / "problem-49-7776-pre.txt.bz2"
 LADYBUG_INITIAL_COST = 8.509125e+05
 LADYBUG_EXACT_COST = 1.334432e+04
 
+# The report's time phases (summary.seconds), which add up to its total.
+TIME_PHASES = ("startup", "read", "load", "distribution", "setup", "rcs_formation", "linear_solve",
+               "back_substitution", "write", "other")
+
 
 @pytest.fixture(scope="session")
 def ladybug_result():

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import dba
-from conftest import LADYBUG, LADYBUG_EXACT_COST, SHARED_DATA
+from conftest import LADYBUG, LADYBUG_EXACT_COST, SHARED_DATA, TIME_PHASES
 
 
 def solve_problem(p, **options):
@@ -125,3 +125,10 @@ def test_bad_arrays_are_refused(ladybug_problem):
     with pytest.raises(ValueError, match="output: solve_arrays returns its result"):
         dba.solve_arrays(p.cameras, p.points, p.observations, p.camera_indices,
                          p.point_indices, output="x.txt")
+
+
+def test_times_add_up_from_the_call(ladybug_problem):
+    s = solve_problem(ladybug_problem, threads=1).summary
+    assert sum(s.seconds[k] for k in TIME_PHASES) == pytest.approx(s.seconds["total"], abs=1e-9)
+    assert s.seconds["read"] > 0 and s.seconds["other"] >= 0
+    assert s.seconds["total"] >= s.seconds["rcs_formation"] + s.seconds["linear_solve"]

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import dba
-from conftest import LADYBUG, LADYBUG_EXACT_COST, LADYBUG_INITIAL_COST, SHARED_DATA
+from conftest import LADYBUG, LADYBUG_EXACT_COST, LADYBUG_INITIAL_COST, SHARED_DATA, TIME_PHASES
 
 
 def test_reaches_the_exact_final_cost(ladybug_result):
@@ -30,11 +30,22 @@ def test_summary_holds_history_and_times(ladybug_result):
     accepted = [it for it in s.history if it.accepted]
     assert len(accepted) == s.accepted_iterations
     assert accepted[-1].candidate_cost == pytest.approx(s.final_cost, rel=1e-12)
-    for phase in ("load", "setup", "rcs_formation", "linear_solve", "back_substitution", "total"):
+    for phase in TIME_PHASES[:-1] + ("total",):
         assert s.seconds[phase] >= 0
     assert s.seconds["total"] > 0
     assert s.report["num_cameras"] == 49 and s.report["num_observations"] == 31843
     assert "final cost" in ladybug_result.log
+
+
+def test_times_add_up_to_the_wall_time_from_the_call():
+    # From the call's start (not the interpreter's) to the report: the phases
+    # and the rest add up to the total, within the wall time around the call.
+    before = time.perf_counter()
+    s = dba.solve(str(LADYBUG), quiet=True).summary
+    wall = time.perf_counter() - before
+    assert sum(s.seconds[k] for k in TIME_PHASES) == pytest.approx(s.seconds["total"], abs=1e-9)
+    assert 0.75 * wall - 0.3 <= s.seconds["total"] <= wall
+    assert s.seconds["read"] > 0.05  # the .bz2's decompression
 
 
 def test_returns_the_adjusted_arrays(ladybug_result, ladybug_problem):

@@ -10,7 +10,9 @@
 namespace dba {
 
 // `dba solve ARGS...`: parses, runs, reports errors; returns the exit status
-// (0 success, 1 failure, 2 bad arguments).
+// (0 after help, 1 failure, 2 bad arguments). A solve that succeeds ends the
+// process with status 0 without returning (its outputs committed, MPI
+// ended, nothing freed: solve_command.cc).
 int SolveMain(const std::vector<std::string>& args);
 // The same, each error message passed through `said` before it is printed
 // (the COLMAP drop-in names its own options for the dba options it gave).

@@ -54,6 +54,9 @@ class Communicator {
   // A rank over a transport of its own (the in-process one of tests).
   explicit Communicator(std::unique_ptr<Transport> transport);
   ~Communicator();
+  // Ends the transport now (MPI_Finalize, collective: every rank calls it);
+  // nothing is exchanged after. The destructor does it otherwise.
+  void End() { transport_.reset(); }
   Communicator(const Communicator&) = delete;
   Communicator& operator=(const Communicator&) = delete;
 

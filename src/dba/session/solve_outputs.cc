@@ -123,8 +123,8 @@ void CheckSolveOutputs(const SolveOptions& options, const SolveInput& input,
   }
 }
 
-void WriteSolveOutputs(const SolveOptions& options, int ranks, SolveResult* result,
-                       std::ostream& out) {
+void WriteSolveOutputs(const SolveOptions& options, int ranks, const Timer& since_start,
+                       SolveResult* result, std::ostream& out) {
   // Every output of the run appears when all are written, or none does.
   OutputTransaction outputs;
   SolveReport& report = result->report;
@@ -152,9 +152,11 @@ void WriteSolveOutputs(const SolveOptions& options, int ranks, SolveResult* resu
   }
   report.write_seconds = write_timer.Seconds();
   report.peak_memory_bytes = PeakResidentBytes();
-  if (!options.report_path.empty()) WriteFileAtomically(options.report_path, SolveReportJson(report));
+  report.total_seconds = since_start.Seconds();
+  const nlohmann::ordered_json summary = SolveSummary(report);
+  if (!options.report_path.empty()) WriteFileAtomically(options.report_path, summary.dump(2) + "\n");
   outputs.Commit();
-  PrintSolveReport(report, out);
+  PrintSolveSummary(summary, out);
   if (!options.output.empty()) out << "  output              " << options.output << "\n";
   if (!options.ply_path.empty()) out << "  point cloud         " << options.ply_path << "\n";
   if (!options.report_path.empty()) out << "  report              " << options.report_path << "\n";
@@ -164,12 +166,17 @@ void WriteSolveOutputs(const SolveOptions& options, int ranks, SolveResult* resu
 
 namespace dba {
 
-SolveResult RunSolve(const SolveOptions& options, Communicator* comm, std::ostream& out) {
+SolveResult RunSolve(const SolveOptions& options, Communicator* comm, std::ostream& out,
+                     const Timer& since_start) {
+  const double startup_seconds = since_start.Seconds();
   if (comm->is_main()) CheckSolveFiles(options);
+  const Timer read;
   SolveInput input = LoadInput(options, *comm);
+  input.read_seconds = read.Seconds();
   CheckSolveOutputs(options, input, *comm);
   SolveResult result = SolveSession(options, comm, out).Run(std::move(input));
-  if (comm->is_main()) WriteSolveOutputs(options, comm->size(), &result, out);
+  result.report.startup_seconds = startup_seconds;
+  if (comm->is_main()) WriteSolveOutputs(options, comm->size(), since_start, &result, out);
   return result;
 }
 

@@ -10,6 +10,7 @@
 
 #include <iosfwd>
 
+#include "dba/common/timer.h"
 #include "dba/session/solve_options.h"
 #include "dba/session/solve_session.h"
 
@@ -27,13 +28,17 @@ void CheckSolveOutputs(const SolveOptions& options, const SolveInput& input,
                        const Communicator& comm);
 
 // Writes every output `options` names from `result` (a solve on `ranks`
-// ranks), then prints the summary to `out`.
-void WriteSolveOutputs(const SolveOptions& options, int ranks, SolveResult* result,
-                       std::ostream& out);
+// ranks), then the report (its total: `since_start` when it is made) and
+// prints the summary to `out`.
+void WriteSolveOutputs(const SolveOptions& options, int ranks, const Timer& since_start,
+                       SolveResult* result, std::ostream& out);
 
 // A whole solve as `dba solve` runs it, on every rank of `comm`: the files
 // checked, the input loaded, the session run, the outputs written (main
-// rank). Returns the main rank's result.
-SolveResult RunSolve(const SolveOptions& options, Communicator* comm, std::ostream& out);
+// rank). `since_start` is the run's clock: from the process's start on the
+// command line (common/process_start.h), from the call in Python; the
+// report's phases add up to it. Returns the main rank's result.
+SolveResult RunSolve(const SolveOptions& options, Communicator* comm, std::ostream& out,
+                     const Timer& since_start);
 
 }  // namespace dba

@@ -1,13 +1,15 @@
-// A solve's report: its totals and the iteration log's lines; see solve_report.h.
+// A solve's report: the rest of its time and the iteration log's lines; see solve_report.h.
 #include "dba/session/solve_report.h"
 
 #include <cstdio>
 
 namespace dba {
 
-double SolveReport::TotalSeconds() const {
-  return load_seconds + solve.distribution_seconds + solve.ba.symbolic_seconds +
-         solve.ba.lm.times.total + write_seconds;
+double SolveReport::OtherSeconds() const {
+  const PhaseTimes& lm = solve.ba.lm.times;
+  return total_seconds - (startup_seconds + read_seconds + load_seconds +
+                          solve.distribution_seconds + solve.ba.symbolic_seconds +
+                          lm.rcs_formation + lm.linear_solve + lm.back_substitution + write_seconds);
 }
 
 std::string IterationLogHeader() {

@@ -41,8 +41,18 @@ struct SolveReport {
   // The loss of the final cost: `loss`, or the squared loss when outlier
   // rejection solved again without it.
   RobustLoss final_loss;
-  double load_seconds = 0.0;
-  double write_seconds = 0.0;
+  // Wall time in seconds from the run's start (the process's start on the
+  // command line, common/process_start.h; the call's in Python), phase by
+  // phase in the order they run, to the report (total_seconds, taken when
+  // the report is made). The solve's phases are `solve`'s. OtherSeconds()
+  // is the rest, between the phases (the LM's own work beside its three
+  // phases, the gauge and the measurements after the solve), so that the
+  // phases and it add up to the total.
+  double startup_seconds = 0.0;  // to the solve's first work: exec, libraries, arguments, MPI
+  double read_seconds = 0.0;     // reading the input, decompression included
+  double load_seconds = 0.0;     // the checks and set-up after reading
+  double write_seconds = 0.0;    // the outputs but the report, each on disk
+  double total_seconds = 0.0;
   int64_t peak_memory_bytes = 0;  // main rank
   int64_t problem_bytes = 0;      // main rank's problem arrays before the solve
   // One process: the peak estimated before S's values were allocated
@@ -67,7 +77,7 @@ struct SolveReport {
   bool has_truth = false;
   GroundTruthErrors truth;        // against a generated problem's ground truth
 
-  double TotalSeconds() const;
+  double OtherSeconds() const;
 };
 
 // One line per LM iteration, and its header.

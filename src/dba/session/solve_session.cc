@@ -212,6 +212,7 @@ SolveResult SolveSession::Run(SolveInput input) {
 void SolveSession::Start(const SolveInput& input) {
   SolveReport& report = result_.report;
   report.input = input.name;
+  report.read_seconds = input.read_seconds;
   report.threads = lm_.num_threads;
   report.loss = lm_.loss;
   report.final_loss = lm_.loss;
@@ -346,8 +347,9 @@ void SolveSession::PrintStart() {
   // Large problems spend a while here before the first iteration line.
   char line[160];
   std::snprintf(line, sizeof line,
-                "loaded in %.1f s; building the RCS structure, then one line per LM iteration\n",
-                report.load_seconds);
+                "loaded in %.1f s (read %.1f s, checks %.1f s); building the RCS structure, then "
+                "one line per LM iteration\n",
+                report.read_seconds + report.load_seconds, report.read_seconds, report.load_seconds);
   out_ << line;
   // One process: the header follows the memory estimate (the symbolic
   // phase's end).

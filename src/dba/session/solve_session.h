@@ -44,6 +44,7 @@ struct SolveInput {
   bool ranks_read_file = false;
   ImageNames names;  // a COLMAP input's image names (empty otherwise)
   ColmapCameraCounts colmap_cameras;  // a COLMAP input's (zero otherwise)
+  double read_seconds = 0.0;  // the wall time reading it took (the report's `read`)
 };
 
 // Reads options.input on the main rank: the whole problem, or, when every

@@ -84,14 +84,17 @@ void SolverFigures(const SolveReport& r, Json& j) {
   }
   j["termination"] = TerminationReasonName(lm.termination);
   j["termination_message"] = lm.termination_message;
-  j["seconds"] = {{"load", r.load_seconds},
+  j["seconds"] = {{"startup", r.startup_seconds},
+                  {"read", r.read_seconds},
+                  {"load", r.load_seconds},
                   {"distribution", r.solve.distribution_seconds},
                   {"setup", r.solve.ba.symbolic_seconds},
                   {"rcs_formation", lm.times.rcs_formation},
                   {"linear_solve", lm.times.linear_solve},
                   {"back_substitution", lm.times.back_substitution},
                   {"write", r.write_seconds},
-                  {"total", r.TotalSeconds()}};
+                  {"other", r.OtherSeconds()},
+                  {"total", r.total_seconds}};
 }
 
 void MemoryFigures(const SolveReport& r, Json& j) {
