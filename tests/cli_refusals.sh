@@ -97,6 +97,10 @@ awk 'NR == 3 {$4 = 1e20} {print}' "$tmp/wgs84.txt" >"$tmp/high.txt"
 refuse 1 "m from the WGS84 ellipsoid, beyond the 1e7 m dba accepts" "$tmp/geo.dba" --camera-priors "$tmp/high.txt" --prior-crs EPSG:4979
 refuse 2 "--prior-crs: PROJ cannot parse the CRS '+proj=foo'" "$tmp/geo.dba" --camera-priors "$tmp/wgs84.txt" --prior-crs +proj=foo
 check "PROJ's own log stays off stderr" lacks "$tmp/log" "proj_create"
+refuse 2 "--prior-crs: PROJ takes '+proj=geocent +ellps=WGS84' as a coordinate operation, not a CRS" \
+  "$tmp/geo.dba" --camera-priors "$tmp/wgs84.txt" --prior-crs '+proj=geocent +ellps=WGS84'
+refuse 2 "--output-crs: PROJ takes '+proj=geocent' as a coordinate operation" \
+  "$tmp/geo.dba" --camera-priors "$tmp/wgs84.txt" --prior-crs EPSG:4979 --output-crs +proj=geocent
 # COLMAP models with values no camera has, or one name for two images.
 bad_model() {  # bad_model NAME AWK_PROGRAM_ON_FILE FILE: a copy of $colmap with FILE edited
   mkdir -p "$tmp/$1" && cp "$colmap"/*.txt "$tmp/$1/"
