@@ -13,7 +13,8 @@ bal=$root/data/problem-49-7776-pre.txt.bz2
 colmap=$root/../shared/data/colmap/mithunnallana_6img/sparse/0
 need_shared "$colmap" "$root/../shared/data/bal"
 printf '2 1 2\n0 0 1.0 2.0\n1 0 1.0 abc\n' >"$tmp/malformed.txt"
-printf '2 2 4\n0 0 1.0 2.0\n1 0 1.5 2.0\n0 1 1.0 1e200\n1 1 3.0 2.0\n0 0 0 0 0 -5 500 0 0\n0.01 0 0 0 0 -5 500 0 0\n0 0 1\n0.1 0.1 0.5\n' >"$tmp/nonfinite.txt"
+printf '2 2 4\n0 0 1.0 2.0\n1 0 1.5 2.0\n0 1 1.0 2.0\n1 1 3.0 2.0\n0 0 0 0 0 -5 500 0 0\n0.01 0 0 0 0 -5 500 0 0\n0 0 1\n1e200 0.1 0.5\n' >"$tmp/nonfinite.txt"
+printf '2 2 4\n0 0 1.0 2.0\n1 0 1.5 2.0\n0 1 1.0 1e80\n1 1 3.0 2.0\n0 0 0 0 0 -5 500 0 0\n0.01 0 0 0 0 -5 500 0 0\n0 0 1\n0.1 0.1 0.5\n' >"$tmp/bigpixel.txt"
 "$dba" generate "$tmp/photo.dba" --model photo --images 20 >/dev/null
 
 n=0
@@ -68,6 +69,7 @@ refuse 2 "not a COLMAP model directory" "$colmap" -o "$tmp/x.dba" --colmap-forma
 refuse 1 "$tmp/none.txt" "$tmp/none.txt"
 refuse 1 "$tmp/malformed.txt:3" "$tmp/malformed.txt"
 refuse 1 "observation 2 (camera 0, point 1)" "$tmp/nonfinite.txt"
+refuse 1 "$tmp/bigpixel.txt:4: observation 2: pixel (1, 1e+80) is beyond 1e7 px from the origin" "$tmp/bigpixel.txt"
 refuse 1 "$tmp/no_truth.txt" "$bal" --truth "$tmp/no_truth.txt"
 refuse 1 "does not exist" "$bal" -o "$tmp/no_dir/out.txt"
 refuse 1 "does not exist" "$bal" --ply "$tmp/no_dir/p.ply"
@@ -78,6 +80,10 @@ refuse 1 "$tmp/cut.txt:$(($(wc -l <"$tmp/cut.txt") + 1)): the file ends inside t
 refuse 2 "-o: an empty value" no-o "$bal" -o ''
 refuse 2 "--prior-crs: an empty value" "$bal" --prior-crs ''
 refuse 2 "--loss-scale" "$bal" --loss cauchy --loss-scale 1e20
+# Values that ended a solve with exit 0 where it started: their range named.
+refuse 2 "--initial-lambda: expected a number in [1e-16, 10000], got '1e-320'" "$bal" --initial-lambda 1e-320
+refuse 2 "--initial-lambda: expected a number in [1e-16, 10000], got '2147483648'" "$bal" --initial-lambda 2147483648
+refuse 2 "--loss-scale: expected a number in [0.01, 10000], got '1e-6'" "$bal" --loss tukey --loss-scale 1e-6
 refuse 2 "--prior-sigma" "$bal" --camera-priors "$tmp/none.txt" --prior-sigma 1e-300
 # A rejection that leaves nothing: refused, with how much it dropped.
 refuse 1 "outlier rejection dropped every observation (31843 observations and 7776 points" \

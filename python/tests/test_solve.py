@@ -66,7 +66,7 @@ def test_options_have_the_command_line_names_and_checks():
         dba.solve(LADYBUG, linear_solver="qr")
     with pytest.raises(TypeError, match="unknown option 'frobnicate'"):
         dba.solve(LADYBUG, frobnicate=1)
-    with pytest.raises(ValueError, match=r"--loss-scale: expected a number in \[1e-06, 10000\]"):
+    with pytest.raises(ValueError, match=r"--loss-scale: expected a number in \[0.01, 10000\]"):
         dba.solve(LADYBUG, loss="huber", loss_scale=-1.0)
 
 

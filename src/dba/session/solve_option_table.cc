@@ -197,10 +197,13 @@ std::vector<Spec> LossOptions() {
       "the cost is 1/2 sum rho(s) (trivial: rho(s) = s)",
       [](SolveOptions& o, size_t i) { o.lm.loss.type = LossOf(i); },
       [](const SolveOptions& o) { return std::string(LossName(o.lm.loss.type)); }));
+  // No image measurement is finer than about 0.02 px (a centroided
+  // target): a scale under 0.01 px makes every observation an outlier, and
+  // Tukey's loss gives those no weight (1e-6 ended at iteration 0).
   t.push_back(Number("--loss-scale", "PX",
                      "the loss's scale a in pixels: residuals beyond it are down-weighted (and "
                      "count as outliers in the RMS figures)",
-                     DBA_FIELD(lm.loss.scale), 1e-6, 1e4));
+                     DBA_FIELD(lm.loss.scale), 0.01, 1e4));
   t.push_back(Number("--reject-outliers", "PX",
                      "after the solve, drop observations whose reprojection error exceeds PX "
                      "pixels and points left with fewer than 2 or seen under "
@@ -311,8 +314,12 @@ std::vector<Spec> LmOptionsTable() {
                      "stop when |step| <= X (|x| + X), |x| with camera centres and points about "
                      "their centroids",
                      DBA_FIELD(lm.parameter_tolerance), 0, 1));
+  // Under 1e-16, 1 + lambda rounds to 1: no damping at all (an RCS with a
+  // free gauge is singular). Over 1e4 (1e8 times the default), the first
+  // step is too short to count: at 1e7 problem-49-7776's fell below
+  // --parameter-tolerance and LM ended where it started.
   t.push_back(Number("--initial-lambda", "X", "initial LM damping",
-                     DBA_FIELD(lm.initial_lambda), 0, 1e16, true));
+                     DBA_FIELD(lm.initial_lambda), 1e-16, 1e4));
   return t;
 }
 
