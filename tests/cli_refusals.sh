@@ -56,7 +56,15 @@ refuse 2 "--intrinsics: expected shared or per-image" "$bal" --intrinsics some
 refuse 2 "--linear-solver" "$bal" --linear-solver qr
 refuse 2 "--loss" "$bal" --loss l1
 refuse 2 "--partition" "$bal" --partition random
-refuse 2 "--colmap-format: no -o output" no-o "$bal" --colmap-format text
+refuse 2 "--colmap-format needs -o" no-o "$bal" --colmap-format text
+# Options that mean nothing without another, refused by name (the option
+# table's needs).
+refuse 2 "--prior-crs needs --camera-priors or --gcps" "$bal" --prior-crs EPSG:4979
+refuse 2 "--lever-arm needs --camera-priors" "$tmp/photo.dba" --lever-arm 0,0,0.1
+refuse 2 "--min-triangulation-angle needs --reject-outliers" "$bal" --min-triangulation-angle 3
+refuse 2 "--eta needs --linear-solver pcg or auto" "$bal" --linear-solver sparse --eta 0.5
+refuse 2 "--rig-geometry: the problem has no rigs" "$tmp/photo.dba" --rig-geometry fixed
+refuse 2 "--rig-geometry: the problem has no rigs" "$colmap" --rig-geometry refine
 # Arguments that do not fit the input (exit 2, found after reading it).
 refuse 2 "--fix-images" "$bal" --fix-images 99
 refuse 2 "COLMAP models only" "$bal" --intrinsics per-image
@@ -96,6 +104,10 @@ awk '!/^#/ {printf "%s %.9f %.9f %.3f 2 4\n", $1, 47 + $3 / 111000, 8 + $2 / 760
   "$tmp/geo.txt" >"$tmp/wgs84.txt"
 "$dba" solve "$tmp/geo.dba" --camera-priors "$tmp/wgs84.txt" --prior-crs EPSG:4979 --max-iterations 2 >"$tmp/log" 2>&1
 check "the WGS84 priors themselves are taken" contains "$tmp/log" "camera priors: 20"
+# A refined lever arm where every image with a prior is held: nothing in
+# the solve places it (it stayed at its start, exit 0).
+refuse 2 "--refine-lever-arm: every image with a camera prior is held (--fix-images)" \
+  "$tmp/geo.dba" --camera-priors "$tmp/geo.txt" --refine-lever-arm --fix-images all
 awk 'NR == 3 {$3 = 400} {print}' "$tmp/wgs84.txt" >"$tmp/lon400.txt"
 refuse 1 "lon400.txt: image 2: (46.99998446, 400, 609.183)" "$tmp/geo.dba" --camera-priors "$tmp/lon400.txt" --prior-crs EPSG:4979
 check "the wrapped longitude is named" contains "$tmp/log" "is outside the CRS's range"

@@ -380,5 +380,9 @@ check "report has the history, costs never rising" json "$tmp/report.json" \
 "$dba" solve "$tmp/adjusted.txt" -q --max-iterations 0 >"$tmp/out2" 2>&1
 check "output re-reads" test $? -eq 0
 check "output is at the optimum" grep -qE "initial cost +1\.25169" "$tmp/out2"
+# After "--" an argument is INPUT, even one that starts with '-'.
+cp "$tmp/adjusted.txt" "$tmp/-adjusted.txt"
+(cd "$tmp" && "$dba" solve -q --max-iterations 0 -- -adjusted.txt) >"$tmp/out3" 2>&1
+check "-- then -adjusted.txt solves that file" grep -qE "initial cost +1\.25169" "$tmp/out3"
 
 finish
