@@ -13,7 +13,8 @@ bal=$root/data/problem-49-7776-pre.txt.bz2
 colmap=$root/../shared/data/colmap/mithunnallana_6img/sparse/0
 need_shared "$colmap" "$root/../shared/data/bal"
 printf '2 1 2\n0 0 1.0 2.0\n1 0 1.0 abc\n' >"$tmp/malformed.txt"
-printf '2 2 4\n0 0 1.0 2.0\n1 0 1.5 2.0\n0 1 1.0 1e200\n1 1 3.0 2.0\n0 0 0 0 0 -5 500 0 0\n0.01 0 0 0 0 -5 500 0 0\n0 0 1\n0.1 0.1 0.5\n' >"$tmp/nonfinite.txt"
+printf '2 2 4\n0 0 1.0 2.0\n1 0 1.5 2.0\n0 1 1.0 2.0\n1 1 3.0 2.0\n0 0 0 0 0 -5 500 0 0\n0.01 0 0 0 0 -5 500 0 0\n0 0 1\n1e200 0.1 0.5\n' >"$tmp/nonfinite.txt"
+printf '2 2 4\n0 0 1.0 2.0\n1 0 1.5 2.0\n0 1 1.0 1e80\n1 1 3.0 2.0\n0 0 0 0 0 -5 500 0 0\n0.01 0 0 0 0 -5 500 0 0\n0 0 1\n0.1 0.1 0.5\n' >"$tmp/bigpixel.txt"
 "$dba" generate "$tmp/photo.dba" --model photo --images 20 >/dev/null
 
 n=0
@@ -55,7 +56,15 @@ refuse 2 "--intrinsics: expected shared or per-image" "$bal" --intrinsics some
 refuse 2 "--linear-solver" "$bal" --linear-solver qr
 refuse 2 "--loss" "$bal" --loss l1
 refuse 2 "--partition" "$bal" --partition random
-refuse 2 "--colmap-format: no -o output" no-o "$bal" --colmap-format text
+refuse 2 "--colmap-format needs -o" no-o "$bal" --colmap-format text
+# Options that mean nothing without another, refused by name (the option
+# table's needs).
+refuse 2 "--prior-crs needs --camera-priors or --gcps" "$bal" --prior-crs EPSG:4979
+refuse 2 "--lever-arm needs --camera-priors" "$tmp/photo.dba" --lever-arm 0,0,0.1
+refuse 2 "--min-triangulation-angle needs --reject-outliers" "$bal" --min-triangulation-angle 3
+refuse 2 "--eta needs --linear-solver pcg or auto" "$bal" --linear-solver sparse --eta 0.5
+refuse 2 "--rig-geometry: the problem has no rigs" "$tmp/photo.dba" --rig-geometry fixed
+refuse 2 "--rig-geometry: the problem has no rigs" "$colmap" --rig-geometry refine
 # Arguments that do not fit the input (exit 2, found after reading it).
 refuse 2 "--fix-images" "$bal" --fix-images 99
 refuse 2 "COLMAP models only" "$bal" --intrinsics per-image
@@ -68,6 +77,7 @@ refuse 2 "not a COLMAP model directory" "$colmap" -o "$tmp/x.dba" --colmap-forma
 refuse 1 "$tmp/none.txt" "$tmp/none.txt"
 refuse 1 "$tmp/malformed.txt:3" "$tmp/malformed.txt"
 refuse 1 "observation 2 (camera 0, point 1)" "$tmp/nonfinite.txt"
+refuse 1 "$tmp/bigpixel.txt:4: observation 2: pixel (1, 1e+80) is beyond 1e7 px from the origin" "$tmp/bigpixel.txt"
 refuse 1 "$tmp/no_truth.txt" "$bal" --truth "$tmp/no_truth.txt"
 refuse 1 "does not exist" "$bal" -o "$tmp/no_dir/out.txt"
 refuse 1 "does not exist" "$bal" --ply "$tmp/no_dir/p.ply"
@@ -78,6 +88,10 @@ refuse 1 "$tmp/cut.txt:$(($(wc -l <"$tmp/cut.txt") + 1)): the file ends inside t
 refuse 2 "-o: an empty value" no-o "$bal" -o ''
 refuse 2 "--prior-crs: an empty value" "$bal" --prior-crs ''
 refuse 2 "--loss-scale" "$bal" --loss cauchy --loss-scale 1e20
+# Values that ended a solve with exit 0 where it started: their range named.
+refuse 2 "--initial-lambda: expected a number in [1e-16, 10000], got '1e-320'" "$bal" --initial-lambda 1e-320
+refuse 2 "--initial-lambda: expected a number in [1e-16, 10000], got '2147483648'" "$bal" --initial-lambda 2147483648
+refuse 2 "--loss-scale: expected a number in [0.01, 10000], got '1e-6'" "$bal" --loss tukey --loss-scale 1e-6
 refuse 2 "--prior-sigma" "$bal" --camera-priors "$tmp/none.txt" --prior-sigma 1e-300
 # A rejection that leaves nothing: refused, with how much it dropped.
 refuse 1 "outlier rejection dropped every observation (31843 observations and 7776 points" \
@@ -90,6 +104,10 @@ awk '!/^#/ {printf "%s %.9f %.9f %.3f 2 4\n", $1, 47 + $3 / 111000, 8 + $2 / 760
   "$tmp/geo.txt" >"$tmp/wgs84.txt"
 "$dba" solve "$tmp/geo.dba" --camera-priors "$tmp/wgs84.txt" --prior-crs EPSG:4979 --max-iterations 2 >"$tmp/log" 2>&1
 check "the WGS84 priors themselves are taken" contains "$tmp/log" "camera priors: 20"
+# A refined lever arm where every image with a prior is held: nothing in
+# the solve places it (it stayed at its start, exit 0).
+refuse 2 "--refine-lever-arm: every image with a camera prior is held (--fix-images)" \
+  "$tmp/geo.dba" --camera-priors "$tmp/geo.txt" --refine-lever-arm --fix-images all
 awk 'NR == 3 {$3 = 400} {print}' "$tmp/wgs84.txt" >"$tmp/lon400.txt"
 refuse 1 "lon400.txt: image 2: (46.99998446, 400, 609.183)" "$tmp/geo.dba" --camera-priors "$tmp/lon400.txt" --prior-crs EPSG:4979
 check "the wrapped longitude is named" contains "$tmp/log" "is outside the CRS's range"
@@ -97,6 +115,10 @@ awk 'NR == 3 {$4 = 1e20} {print}' "$tmp/wgs84.txt" >"$tmp/high.txt"
 refuse 1 "m from the WGS84 ellipsoid, beyond the 1e7 m dba accepts" "$tmp/geo.dba" --camera-priors "$tmp/high.txt" --prior-crs EPSG:4979
 refuse 2 "--prior-crs: PROJ cannot parse the CRS '+proj=foo'" "$tmp/geo.dba" --camera-priors "$tmp/wgs84.txt" --prior-crs +proj=foo
 check "PROJ's own log stays off stderr" lacks "$tmp/log" "proj_create"
+refuse 2 "--prior-crs: PROJ takes '+proj=geocent +ellps=WGS84' as a coordinate operation, not a CRS" \
+  "$tmp/geo.dba" --camera-priors "$tmp/wgs84.txt" --prior-crs '+proj=geocent +ellps=WGS84'
+refuse 2 "--output-crs: PROJ takes '+proj=geocent' as a coordinate operation" \
+  "$tmp/geo.dba" --camera-priors "$tmp/wgs84.txt" --prior-crs EPSG:4979 --output-crs +proj=geocent
 # COLMAP models with values no camera has, or one name for two images.
 bad_model() {  # bad_model NAME AWK_PROGRAM_ON_FILE FILE: a copy of $colmap with FILE edited
   mkdir -p "$tmp/$1" && cp "$colmap"/*.txt "$tmp/$1/"

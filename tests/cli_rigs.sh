@@ -161,7 +161,14 @@ check "two priors on one frame are refused by name" contains "$tmp/refused.txt" 
   "$tmp/twice.txt: images 0 and 1 are one frame (one exposure of a rig)"
 "$dba" solve "$tmp/gnss.dba" -q --refine-lever-arm > "$tmp/refused.txt" 2>&1
 check "a lever arm without priors is refused" contains "$tmp/refused.txt" \
-  "--refine-lever-arm: the lever arm is the camera priors' antenna's; give --camera-priors"
+  "--refine-lever-arm needs --camera-priors"
+# Every exposure with a prior held: nothing places a refined lever arm (it
+# stayed at its start with exit 0).
+"$dba" solve "$tmp/gnss.dba" -q --camera-priors "$tmp/gnss.txt" --refine-lever-arm --fix-images all \
+  > "$tmp/refused.txt" 2>&1
+check "a refined lever arm with every exposure held exits 2" test $? -eq 2
+check "a refined lever arm with every exposure held is refused by name" contains "$tmp/refused.txt" \
+  "--refine-lever-arm: every image with a camera prior is held (--fix-images)"
 "$dba" solve "$tmp/gnss.dba" -q --camera-priors "$tmp/gnss.txt" --lever-arm 1,2 > "$tmp/refused.txt" 2>&1
 check "a lever arm of two numbers is refused" contains "$tmp/refused.txt" "--lever-arm: '1,2' is not X,Y,Z"
 "$dba" generate --rig oblique5 --images 50 "$tmp/bal.txt" > "$tmp/refused2.txt" 2>&1

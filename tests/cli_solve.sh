@@ -277,7 +277,7 @@ check "--fix-images beyond the cameras is named" contains "$tmp/out" "--fix-imag
 "$dba" solve "$bal5" -q -o "$tmp/out.xyz" >"$tmp/out" 2>&1
 check "-o of an unknown kind exits 2" test $? -eq 2
 check "nothing written for -o out.xyz" test ! -e "$tmp/out.xyz"
-printf '2 2 4\n0 0 1.0 2.0\n1 0 1.5 2.0\n0 1 1.0 1e200\n1 1 3.0 2.0\n0 0 0 0 0 -5 500 0 0\n0.01 0 0 0 0 -5 500 0 0\n0 0 1\n0.1 0.1 0.5\n' >"$tmp/nan.txt"
+printf '2 2 4\n0 0 1.0 2.0\n1 0 1.5 2.0\n0 1 1.0 2.0\n1 1 3.0 2.0\n0 0 0 0 0 -5 500 0 0\n0.01 0 0 0 0 -5 500 0 0\n0 0 1\n1e200 0.1 0.5\n' >"$tmp/nan.txt"
 "$dba" solve "$tmp/nan.txt" -q -o "$tmp/nan_out.txt" >"$tmp/out" 2>&1
 check "non-finite initial cost exits 1" test $? -eq 1
 check "non-finite initial cost names the observation" contains "$tmp/out" "observation 2 (camera 0, point 1)"
@@ -380,5 +380,9 @@ check "report has the history, costs never rising" json "$tmp/report.json" \
 "$dba" solve "$tmp/adjusted.txt" -q --max-iterations 0 >"$tmp/out2" 2>&1
 check "output re-reads" test $? -eq 0
 check "output is at the optimum" grep -qE "initial cost +1\.25169" "$tmp/out2"
+# After "--" an argument is INPUT, even one that starts with '-'.
+cp "$tmp/adjusted.txt" "$tmp/-adjusted.txt"
+(cd "$tmp" && "$dba" solve -q --max-iterations 0 -- -adjusted.txt) >"$tmp/out3" 2>&1
+check "-- then -adjusted.txt solves that file" grep -qE "initial cost +1\.25169" "$tmp/out3"
 
 finish

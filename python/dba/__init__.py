@@ -218,7 +218,8 @@ def _arguments(options, mode):
 def solve_options():
     """dba solve's options, as the keywords of solve and solve_arrays take
     them: one dict per option (keyword, flag, kind, choices, min, max,
-    repeatable, file and arrays: where it applies, not_here: why not, help)."""
+    repeatable, file and arrays: where it applies, not_here: why not, needs:
+    the option it means nothing without, e.g. '--camera-priors', help)."""
     return [dict(o) for o in _OPTIONS.values()]
 
 
@@ -231,7 +232,8 @@ def _result(outcome):
 def solve(path, *, verbose=False, **options) -> Result:
     """Bundle-adjusts the problem at `path` as `dba solve path --option value ...`
     does (outputs included: output=, report=, ply=). Returns a Result."""
-    return _result(_dba.solve([os.fspath(path)] + _arguments(options, "file"), verbose))
+    # After "--" the path is a path, whatever it starts with ('-').
+    return _result(_dba.solve(_arguments(options, "file") + ["--", os.fspath(path)], verbose))
 
 
 def solve_arrays(cameras, points, observations, camera_indices, point_indices, *,

@@ -112,7 +112,7 @@ py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string
 
 // The option table (session/solve_option_table.h) for the Python keywords:
 // per option its keyword, flag, kind, choices, range, whether it repeats,
-// where it applies and why not elsewhere.
+// where it applies and why not elsewhere, what it needs.
 py::list SolveOptionList() {
   py::list out;
   for (const OptionSpec<SolveOptions>& s : SolveOptionTable()) {
@@ -127,6 +127,7 @@ py::list SolveOptionList() {
     d["file"] = (s.modes & kModePythonFile) != 0;
     d["arrays"] = (s.modes & kModePythonArrays) != 0;
     d["not_here"] = s.not_here;
+    d["needs"] = s.needs;
     d["help"] = s.help;
     out.append(d);
   }

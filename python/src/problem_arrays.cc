@@ -9,6 +9,7 @@
 
 #include "dba/camera/rig_pose.h"
 #include "dba/problem/lens_ranges.h"
+#include "dba/problem/pixel_range.h"
 #include "dba/problem/rig_frames.h"
 
 namespace dba::python {
@@ -154,9 +155,8 @@ void ObservationsFromArrays(const ProblemArrays& in, int64_t n, int64_t num_poin
       throw Bad("point_indices[" + std::to_string(o) + "] = " + std::to_string(pt[o]) +
                 ": out of range (" + std::to_string(num_points) + " points)");
     }
-    if (!std::isfinite(px[2 * o]) || !std::isfinite(px[2 * o + 1])) {
-      throw Bad("observations[" + std::to_string(o) + "]: not finite");
-    }
+    const std::string out_of_range = PixelOutOfRange(px[2 * o], px[2 * o + 1]);
+    if (!out_of_range.empty()) throw Bad("observations[" + std::to_string(o) + "]: " + out_of_range);
     ++p->point_offsets[pt[o] + 1];
   }
   for (int64_t k = 0; k < num_points; ++k) {

@@ -122,6 +122,10 @@ def test_bad_arrays_are_refused(ladybug_problem):
     points[2, 1] = np.nan
     with pytest.raises(ValueError, match="points: value 7 is not finite"):
         dba.solve_arrays(p.cameras, points, p.observations, p.camera_indices, p.point_indices)
+    far = p.observations.copy()
+    far[3, 0] = 1e80
+    with pytest.raises(ValueError, match=r"observations\[3\]: pixel \(1e\+80, .*\) is beyond 1e7 px"):
+        dba.solve_arrays(p.cameras, p.points, far, p.camera_indices, p.point_indices)
     with pytest.raises(ValueError, match="output: solve_arrays returns its result"):
         dba.solve_arrays(p.cameras, p.points, p.observations, p.camera_indices,
                          p.point_indices, output="x.txt")

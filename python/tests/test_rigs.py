@@ -116,3 +116,12 @@ def test_solve_arrays_with_gnss_on_the_frames_and_a_lever_arm(tmp_path):
     assert np.array_equal(held[:3], given[:3])
     scale = held[3] / given[3]
     assert abs(scale - 1) < 0.02 and np.allclose(held[3:], scale * given[3:], rtol=0, atol=1e-15)
+
+
+def test_rig_geometry_without_rigs_is_refused(rig):
+    # The arrays without frames are a problem without rigs: nothing to hold.
+    a = {k: v for k, v in arrays(rig).items()
+         if k not in ("frame_indices", "rig_from_world", "sensor_from_rig", "sensor_kinds")}
+    with pytest.raises(ValueError, match="--rig-geometry: the problem has no rigs"):
+        dba.solve_arrays(rig.cameras, rig.points, rig.observations, rig.camera_indices,
+                         rig.point_indices, **a, rig_geometry="fixed", **TIGHT)

@@ -2,6 +2,7 @@
 # summary's fields and history, outputs written like the command line's, and
 # options parsed and refused as on the command line.
 import math
+import shutil
 import threading
 import time
 
@@ -72,12 +73,22 @@ def test_output_file_holds_the_returned_arrays(tmp_path):
     assert again.summary.initial_cost == pytest.approx(r.summary.final_cost, rel=1e-12)
 
 
+def test_a_path_starting_with_a_dash_is_a_path(tmp_path, monkeypatch):
+    # Never taken for an option: '-l.bz2' and even '--help' name files.
+    monkeypatch.chdir(tmp_path)
+    for name in ("-l.txt.bz2", "--help"):
+        shutil.copy(LADYBUG, tmp_path / name)
+        r = dba.solve(name, threads=2, max_iterations=1)
+        assert r.summary.initial_cost == pytest.approx(LADYBUG_INITIAL_COST, rel=1e-6)
+        assert r.summary.iterations == 1
+
+
 def test_options_have_the_command_line_names_and_checks():
     with pytest.raises(ValueError, match="--linear-solver: expected auto, dense, sparse or pcg, got 'qr'"):
         dba.solve(LADYBUG, linear_solver="qr")
     with pytest.raises(TypeError, match="unknown option 'frobnicate'"):
         dba.solve(LADYBUG, frobnicate=1)
-    with pytest.raises(ValueError, match=r"--loss-scale: expected a number in \[1e-06, 10000\]"):
+    with pytest.raises(ValueError, match=r"--loss-scale: expected a number in \[0.01, 10000\]"):
         dba.solve(LADYBUG, loss="huber", loss_scale=-1.0)
 
 

@@ -3,7 +3,6 @@
 
 #include <dlfcn.h>
 
-#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <stdexcept>
@@ -18,10 +17,16 @@ struct OpenBlas {
   void (*set_threads)(int) = nullptr;
   int (*get_threads)() = nullptr;
   int (*shutdown)() = nullptr;
+  // The calling thread's work buffer: mapped by the first alloc, kept
+  // mapped (and reused) after a free.
+  void* (*memory_alloc)(int) = nullptr;
+  void (*memory_free)(void*) = nullptr;
   OpenBlas() {
     set_threads = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
     get_threads = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
     shutdown = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "blas_thread_shutdown_"));
+    memory_alloc = reinterpret_cast<void* (*)(int)>(dlsym(RTLD_DEFAULT, "blas_memory_alloc"));
+    memory_free = reinterpret_cast<void (*)(void*)>(dlsym(RTLD_DEFAULT, "blas_memory_free"));
   }
   bool loaded() const { return set_threads && get_threads && shutdown; }
 };
@@ -32,11 +37,22 @@ const OpenBlas& Blas() {
 }
 
 // What OpenBLAS maps, and retries forever when a limit on the address space
-// refuses it: a 128 MiB buffer for the calling thread (once), and for each
-// further thread its buffer, a malloc arena (64 MiB) and a stack.
+// refuses it: a 128 MiB buffer for the calling thread (once).
 constexpr int64_t kBlasBufferBytes = int64_t{129} << 20;
-constexpr int64_t kBlasWorkerBytes = kBlasBufferBytes + (int64_t{80} << 20);
+// What the factorization maps before BLAS first runs: CHOLMOD's OpenMP team
+// (4 threads in Debian's SuiteSparse 5, whatever -t says) starts 3 threads,
+// 8 MiB of stack each (their malloc arenas are given up quietly when
+// refused). Measured: 2 of them took 80 MiB between the check and the
+// buffer, and OpenBLAS spun under ulimit -v 300000.
+constexpr int64_t kCholmodTeamBytes = int64_t{32} << 20;
 std::atomic<bool> main_buffer_taken{false};
+
+// Maps the calling thread's BLAS buffer now, while the room is known to
+// hold it; OpenBLAS keeps it for the calls that follow.
+void TakeMainBuffer() {
+  if (Blas().memory_alloc == nullptr || Blas().memory_free == nullptr) return;
+  Blas().memory_free(Blas().memory_alloc(1));
+}
 
 }  // namespace
 
@@ -49,22 +65,23 @@ void StopBlasThreads() {
 int BlasThreadsThatFit(int num_threads) {
   const int64_t room = AddressSpaceRoomBytes();
   if (room < 0) return num_threads;
-  const int64_t main = main_buffer_taken.load() ? 0 : kBlasBufferBytes;
-  if (room < main) {
+  if (main_buffer_taken.load()) return 1;
+  const int64_t need = kBlasBufferBytes + kCholmodTeamBytes;
+  if (room < need) {
     throw std::runtime_error(
         "the address-space limit (ulimit -v, RLIMIT_AS) leaves " + std::to_string(room >> 20) +
-        " MiB; the BLAS under the sparse factorization needs " +
-        std::to_string(main >> 20) + " MiB more and would wait for it forever: raise the "
-        "limit, or solve with --linear-solver pcg");
+        " MiB; the BLAS under the sparse factorization needs " + std::to_string(need >> 20) +
+        " MiB and would wait for it forever: raise the limit, or solve with --linear-solver "
+        "pcg");
   }
-  return static_cast<int>(
-      std::clamp<int64_t>(1 + (room - main) / kBlasWorkerBytes, 1, std::max(num_threads, 1)));
+  TakeMainBuffer();
+  main_buffer_taken = true;
+  return 1;
 }
 
 BlasThreads::BlasThreads(int num_threads) {
   if (!Blas().loaded()) return;
   num_threads = BlasThreadsThatFit(num_threads);
-  main_buffer_taken = true;
   const int current = Blas().get_threads();
   // One thread where one is set: nothing to change, restore or shut down. (A
   // restore that shut the pool down took about a millisecond, which a coarse

@@ -24,13 +24,16 @@ namespace dba {
 void StopBlasThreads();
 
 // Under a limit on the address space (RLIMIT_AS) OpenBLAS, refused a
-// buffer, retries forever: the threads that fit in what the limit leaves,
-// at most `num_threads`; std::runtime_error when not even the calling
-// thread's buffer fits (the sparse factorization would hang).
+// buffer, retries forever, and a thread maps its buffer when BLAS first runs
+// on it, inside the factorization, after CHOLMOD has mapped what it needs:
+// no check can see that moment. So under a limit BLAS runs on the calling
+// thread alone (1), whose buffer is mapped here, while the room is known to
+// hold it and what CHOLMOD maps first; std::runtime_error when it does not
+// (the sparse factorization would hang). Without a limit, `num_threads`.
 int BlasThreadsThatFit(int num_threads);
 
-// `num_threads` BLAS threads for the scope (as many as fit:
-// BlasThreadsThatFit); after it, the count it found,
+// `num_threads` BLAS threads for the scope (BlasThreadsThatFit's count);
+// after it, the count it found,
 // and after a multithreaded scope (not one that only lowered the count) the
 // pool's threads joined (a later multithreaded call starts them again). A
 // one-thread scope where one thread is set changes nothing.

@@ -1,6 +1,7 @@
 // Options declared once: each option of a command is one entry of a table
 // (its name, the kind of value it takes and that value's range, its help,
-// its default, where it applies and how it lands in the options struct),
+// its default, what it needs, where it applies and how it lands in the
+// options struct),
 // and the parser, `--help`, the Python keywords and the README's table are
 // all made from the table (session/solve_option_table.h for `dba solve`).
 //
@@ -57,6 +58,12 @@ struct OptionSpec {
   bool repeatable = false;           // may be given more than once
   unsigned modes = kModeAll;
   std::string not_here;  // why the modes left out do not take it
+  // What the option means nothing without, as the help says it
+  // ("--camera-priors or --gcps"), and whether parsed options have it
+  // (defaults included); empty: it stands alone. Given without it, it is
+  // refused: "--prior-crs needs --camera-priors or --gcps".
+  std::string needs;
+  std::function<bool(const Options&)> needs_met;
 };
 
 // The Python keyword of an option: its long name without the dashes, '-'
@@ -65,9 +72,11 @@ std::string PythonKeyword(const std::string& name);
 
 // Parses `args` into `options` by the table: every option by name or alias
 // (a flag alone, others followed by a non-empty value), everything else
-// handed to `positional`. Throws std::invalid_argument for an unknown
-// option, a missing or empty value, a value out of its range, and an option
-// given twice that is not repeatable. Sets *help on -h/--help and stops.
+// handed to `positional`, and everything after "--" too (a path may start
+// with '-'). Throws std::invalid_argument for an unknown option, a missing
+// or empty value, a value out of its range, an option given twice that is
+// not repeatable, and an option given without what it needs. Sets *help on
+// -h/--help and stops.
 template <typename Options>
 void ParseOptions(const std::vector<OptionSpec<Options>>& table,
                   const std::vector<std::string>& args, Options* options,
@@ -75,12 +84,13 @@ void ParseOptions(const std::vector<OptionSpec<Options>>& table,
                   const char* command);
 
 // The options as `--help` lists them: name, value, help wrapped to 80
-// columns, "(default X)" from `defaults`.
+// columns, "(needs X; default Y)" from `needs` and `defaults`.
 template <typename Options>
 void PrintOptions(const std::vector<OptionSpec<Options>>& table, const Options& defaults,
                   std::ostream& out);
 
-// The table as Markdown (README.md's): option, value, default, help, where.
+// The table as Markdown (README.md's): option, value, default, Python
+// keyword, help (with what it needs).
 template <typename Options>
 std::string OptionsMarkdown(const std::vector<OptionSpec<Options>>& table,
                             const Options& defaults);
@@ -96,6 +106,14 @@ size_t OptionChoice(const std::string& flag, const std::string& value,
                     const std::vector<std::string>& choices);
 // "%g" of a number, for defaults.
 std::string OptionNumberText(double value);
+
+// What `spec` needs (OptionSpec::needs): `text` for the help and the
+// refusal, `met` judging the parsed options.
+template <typename Options, typename Met>
+void SetNeeds(OptionSpec<Options>* spec, std::string text, Met met) {
+  spec->needs = std::move(text);
+  spec->needs_met = met;
+}
 
 // Entries of a table, by kind; `field` is a (generic) lambda giving the
 // options' field the value lands in, const or not:

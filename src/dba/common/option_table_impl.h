@@ -24,13 +24,18 @@ void ParseOptions(const std::vector<OptionSpec<Options>>& table,
                   const char* command) {
   *help = false;
   std::set<std::string> given;
+  bool options_end = false;  // after "--": positional only
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
-    if (a == "-h" || a == "--help") {
+    if (!options_end && a == "--") {
+      options_end = true;
+      continue;
+    }
+    if (!options_end && (a == "-h" || a == "--help")) {
       *help = true;
       return;
     }
-    if (a.size() < 2 || a[0] != '-') {
+    if (options_end || a.size() < 2 || a[0] != '-') {
       positional(a);
       continue;
     }
@@ -40,7 +45,7 @@ void ParseOptions(const std::vector<OptionSpec<Options>>& table,
     if (spec == table.end()) {
       throw std::invalid_argument("unknown option '" + a + "' (see dba " + command + " --help)");
     }
-    if (!spec->repeatable && !given.insert(spec->name).second) {
+    if (!given.insert(spec->name).second && !spec->repeatable) {
       throw std::invalid_argument(a + ": given twice (it is not repeatable)");
     }
     std::string value;
@@ -50,6 +55,11 @@ void ParseOptions(const std::vector<OptionSpec<Options>>& table,
       value = args[++i];
     }
     spec->set(*options, value);
+  }
+  for (const OptionSpec<Options>& s : table) {
+    if (s.needs_met && given.contains(s.name) && !s.needs_met(*options)) {
+      throw std::invalid_argument(s.name + " needs " + s.needs);
+    }
   }
 }
 
@@ -62,7 +72,11 @@ void PrintOptions(const std::vector<OptionSpec<Options>>& table, const Options& 
     if (!s.value.empty()) head += " " + s.value;
     std::string help = s.help;
     const std::string d = s.default_text ? s.default_text(defaults) : std::string();
-    if (!d.empty()) help += " (default " + d + ")";
+    const std::string needs = s.needs.empty() ? "" : "needs " + s.needs;
+    if (!needs.empty() || !d.empty()) {
+      help += " (" + needs + (needs.empty() || d.empty() ? "" : "; ") +
+              (d.empty() ? "" : "default " + d) + ")";
+    }
     if (head.size() + 1 > kColumn) {
       out << head << "\n" << std::string(kColumn, ' ');
     } else {
@@ -85,7 +99,7 @@ std::string OptionsMarkdown(const std::vector<OptionSpec<Options>>& table,
     std::string python = "`" + PythonKeyword(s.name) + "`";
     if (!(s.modes & kModePythonArrays)) python += " (not solve_arrays)";
     if (!(s.modes & kModePythonFile)) python = "–";
-    std::string help = s.help;
+    std::string help = s.help + (s.needs.empty() ? "" : " (needs " + s.needs + ")");
     std::replace(help.begin(), help.end(), '\n', ' ');
     std::replace(help.begin(), help.end(), '|', '/');
     md << "| `" << (s.alias.empty() ? "" : s.alias + "`, `") << s.name << "` | "

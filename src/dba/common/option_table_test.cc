@@ -49,6 +49,7 @@ TEST(OptionTable, RefusesWithTheFlagAndTheValue) {
 struct Toy {
   int n = 3;
   bool flag = false;
+  int size = 1;
   std::vector<std::string> words;
   std::vector<std::string> positional;
 };
@@ -64,6 +65,9 @@ std::vector<OptionSpec<Toy>> ToyTable() {
   word.set = [](Toy& o, const std::string& v) { o.words.push_back(v); };
   t.push_back(word);
   t.back().alias = "-w";
+  t.push_back(IntegerOption<Toy>("--size", "S", "its size",
+                                 [](auto& o) -> auto& { return o.size; }, 1, 9));
+  SetNeeds(&t.back(), "--flag or a --word", [](const Toy& o) { return o.flag || !o.words.empty(); });
   return t;
 }
 
@@ -95,12 +99,49 @@ TEST(OptionTable, ParsesByTheTable) {
   EXPECT_TRUE(help);
 }
 
+// An option given without what it needs is refused by name, wherever the
+// need comes in the arguments; never given, it needs nothing.
+TEST(OptionTable, AnOptionWithoutWhatItNeedsIsRefused) {
+  const auto parse = [](std::vector<std::string> args) {
+    Toy t;
+    bool h = false;
+    ParseOptions(ToyTable(), args, &t, [&](const std::string& p) { t.positional.push_back(p); },
+                 &h, "toy");
+    return t;
+  };
+  try {
+    parse({"a", "--size", "4"});
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "--size needs --flag or a --word");
+  }
+  EXPECT_EQ(parse({"--size", "4", "-w", "x"}).size, 4);
+  EXPECT_EQ(parse({"--flag", "--size", "5"}).size, 5);
+  EXPECT_EQ(parse({"--n", "2"}).n, 2);
+}
+
+// After "--" every argument is positional: a path may start with '-'.
+TEST(OptionTable, AfterTwoDashesEverythingIsPositional) {
+  Toy toy;
+  bool help = false;
+  ParseOptions(ToyTable(), {"--n", "4", "--", "-w", "--help", "--"}, &toy,
+               [&](const std::string& p) { toy.positional.push_back(p); }, &help, "toy");
+  EXPECT_EQ(toy.n, 4);
+  EXPECT_FALSE(help);
+  EXPECT_TRUE(toy.words.empty());
+  EXPECT_EQ(toy.positional, (std::vector<std::string>{"-w", "--help", "--"}));
+}
+
 TEST(OptionTable, HelpWrapsAndShowsDefaults) {
   std::ostringstream out;
   PrintOptions(ToyTable(), Toy(), out);
   EXPECT_NE(out.str().find("  --n N                      a count"), std::string::npos) << out.str();
   EXPECT_NE(out.str().find("(default 3)"), std::string::npos) << out.str();
   EXPECT_NE(out.str().find("  -w, --word W"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find("its size (needs --flag or a --word; default 1)"), std::string::npos)
+      << out.str();
+  EXPECT_NE(OptionsMarkdown(ToyTable(), Toy()).find("| its size (needs --flag or a --word) |"),
+            std::string::npos);
   std::istringstream lines(out.str());
   for (std::string line; std::getline(lines, line);) EXPECT_LE(line.size(), 80u) << line;
 }

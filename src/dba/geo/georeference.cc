@@ -202,6 +202,18 @@ void RefuseTwoPriorsOnAFrame(const std::string& path, const Georeference& geo,
   }
 }
 
+// Whether every prior is on a held exposure: its image held, or with rigs
+// its frame (held when one of its images is, as rcs/unknown_layout holds it).
+bool EveryPriorHeld(const CameraPriors& priors, const CameraSide& side) {
+  std::vector<uint8_t> held_frame(side.has_rigs() ? side.num_frames() : 0, 0);
+  for (int64_t i = 0; side.has_rigs() && i < side.num_images(); ++i) {
+    if (side.camera_fixed(i)) held_frame[side.image_frame[i]] = 1;
+  }
+  return std::all_of(priors.priors.begin(), priors.priors.end(), [&](const CameraCentrePrior& p) {
+    return side.has_rigs() ? held_frame[side.image_frame[p.image]] != 0 : side.camera_fixed(p.image);
+  });
+}
+
 }  // namespace
 
 Georeference PrepareGeoreference(const GeoreferenceOptions& options, const ImageNames& names,
@@ -218,6 +230,16 @@ Georeference PrepareGeoreference(const GeoreferenceOptions& options, const Image
                                   options.prior_sigma, options.prior_loss);
     geo.priors.lever_arm = options.lever_arm;
     geo.priors.refine_lever_arm = options.refine_lever_arm;
+    // A lever arm shows as the antennas' offset from cameras that can move;
+    // held ones keep the offset the alignment gave them (it stayed at its
+    // start: 0.002, 0.000, -0.003 m for a true 0.25, -0.15, -0.4).
+    if (options.refine_lever_arm && EveryPriorHeld(geo.priors, *problem)) {
+      throw UsageError(
+          "--refine-lever-arm: every image with a camera prior is held (--fix-images), so nothing "
+          "in the solve places the lever arm (the alignment onto the priors gives the held cameras "
+          "the antennas' offset, which they keep); give it with --lever-arm X,Y,Z, or hold fewer "
+          "images");
+    }
     if (problem->has_rigs()) RefuseTwoPriorsOnAFrame(options.camera_priors_path, geo, *problem);
   }
   if (!options.gcps_path.empty()) {

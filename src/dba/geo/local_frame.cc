@@ -11,8 +11,12 @@
 namespace dba {
 namespace {
 
+// PROJ's reason for the context's last failure; "" when it gives none (a
+// null char*, as for errno 0: never handed to std::string).
 std::string ProjError(PJ_CONTEXT* ctx) {
-  return proj_context_errno_string(ctx, proj_context_errno(ctx));
+  const int error = proj_context_errno(ctx);
+  const char* why = error == 0 ? nullptr : proj_context_errno_string(ctx, error);
+  return why != nullptr ? why : "";
 }
 
 // The number of axes of a CRS (a compound CRS: its parts'), or 0.
@@ -41,12 +45,20 @@ CrsToGeocentric::CrsToGeocentric(const std::string& crs) {
   // each failure itself, with PROJ's reason from the context's errno.
   proj_log_func(ctx, nullptr, [](void*, int, const char*) {});
   PJ* source = proj_create(ctx, crs.c_str());
-  if (source == nullptr || !proj_is_crs(source)) {
+  if (source == nullptr) {
     const std::string why = ProjError(ctx);
-    if (source != nullptr) proj_destroy(source);
     proj_context_destroy(ctx);
     throw std::invalid_argument("PROJ cannot parse the CRS '" + crs + "'" +
                                 (why.empty() ? "" : ": " + why));
+  }
+  if (!proj_is_crs(source)) {
+    // A PROJ string without +type=crs ("+proj=geocent +ellps=WGS84") is a
+    // coordinate operation to PROJ, whatever it names.
+    proj_destroy(source);
+    proj_context_destroy(ctx);
+    throw std::invalid_argument(
+        "PROJ takes '" + crs + "' as a coordinate operation, not a CRS: name a CRS (e.g. "
+        "EPSG:4979, EPSG:4978), or end a PROJ string with +type=crs");
   }
   const int axes = AxisCount(ctx, source);
   height_kind_ = proj_get_type(source) == PJ_TYPE_COMPOUND_CRS ? "geoid/other" : "ellipsoidal";

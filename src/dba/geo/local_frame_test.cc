@@ -94,5 +94,23 @@ TEST(LocalFrame, RefusesWhatPROJCannotParseAnd2dCrs) {
   }
 }
 
+// A PROJ string without +type=crs parses as a coordinate operation, with no
+// error number: named as such (PROJ's null reason once reached std::string,
+// "basic_string: construction from null is not valid"); with +type=crs it
+// is the geocentric CRS.
+TEST(LocalFrame, AProjOperationIsRefusedAsNotACrs) {
+  try {
+    CrsToGeocentric operation("+proj=geocent +ellps=WGS84");
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(),
+                 "PROJ takes '+proj=geocent +ellps=WGS84' as a coordinate operation, not a CRS: "
+                 "name a CRS (e.g. EPSG:4979, EPSG:4978), or end a PROJ string with +type=crs");
+  }
+  const CrsToGeocentric crs("+proj=geocent +datum=WGS84 +type=crs");
+  const Eigen::Vector3d x(4193000.0, 815000.0, 4717000.0);
+  EXPECT_LT((crs.Forward(x) - x).norm(), 1e-6);
+}
+
 }  // namespace
 }  // namespace dba

@@ -15,6 +15,7 @@
 #include "dba/common/error.h"
 #include "dba/io/text_line_reader.h"
 #include "dba/io/text_tokens.h"
+#include "dba/problem/pixel_range.h"
 
 namespace dba {
 namespace {
@@ -198,8 +199,11 @@ Problem ReadBal(const std::string& path) {
               " is out of range [0, " + Str(num_points) + ")");
     }
     PushCapped(problem.obs_camera, static_cast<int32_t>(c), num_observations);
-    PushCapped(problem.obs_pixel, in.Double(what), 2 * num_observations);
-    PushCapped(problem.obs_pixel, in.Double(what), 2 * num_observations);
+    const double x = in.Double(what), y = in.Double(what);
+    const std::string out_of_range = PixelOutOfRange(x, y);
+    if (!out_of_range.empty()) in.Fail("observation " + Str(j) + ": " + out_of_range);
+    PushCapped(problem.obs_pixel, x, 2 * num_observations);
+    PushCapped(problem.obs_pixel, y, 2 * num_observations);
     if (grouped && k < last_point) {
       // Not grouped after all: recover the (sorted) point ids so far.
       grouped = false;

@@ -237,6 +237,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"trailing_chars_in_value", kHead + "0 0 1 2\n1 0 3 4x\n", 3,
                 "found '4x' (not a number)"},
         BadCase{"nan_pixel", kHead + "0 0 nan 2\n", 2, "non-finite value 'nan'"},
+        BadCase{"pixel_beyond_any_image", kHead + "0 0 1 2\n1 0 3 4\n1 1 1e80 6\n", 4,
+                "observation 2: pixel (1e+80, 6) is beyond 1e7 px from the origin: no image is "
+                "that large"},
         BadCase{"inf_camera", kHead + kObs + "0 0 0 0 0 0 1 0 0\n0 0 0 inf 0 0 1 0 0\n", 6,
                 "non-finite value 'inf'"},
         BadCase{"huge_value", kHead + kObs + kCams + "1 2 3\n4 5 1e999\n", 8,

@@ -14,6 +14,7 @@
 #include "dba/io/atomic_output_file.h"
 #include "dba/io/binary_file.h"
 #include "dba/problem/lens_ranges.h"
+#include "dba/problem/pixel_range.h"
 #include "dba/problem/rig_frames.h"
 
 namespace dba {
@@ -112,6 +113,19 @@ void CheckFinite(const BinaryFile& f, const std::vector<double>& v, const char* 
     if (!std::isfinite(v[i])) {
       throw InputError(f.path(), 0, std::string("non-finite value in ") + what + " at index " +
                                         std::to_string(i));
+    }
+  }
+}
+
+// Observation first_observation + i's pixel at pixels[2i, 2i+1], each in
+// range (problem/pixel_range.h).
+void CheckPixels(const std::string& path, std::span<const double> pixels,
+                 int64_t first_observation) {
+  for (size_t i = 0; i + 1 < pixels.size(); i += 2) {
+    const std::string out_of_range = PixelOutOfRange(pixels[i], pixels[i + 1]);
+    if (!out_of_range.empty()) {
+      throw InputError(path, 0, "observation " + std::to_string(first_observation + i / 2) +
+                                    ": " + out_of_range);
     }
   }
 }
@@ -475,7 +489,7 @@ Problem ReadBinaryProblem(const std::string& path) {
   p.obs_camera = f.ReadArrayAt<int32_t>(h.obs_camera_offset, h.num_observations, "observation cameras");
   CheckCameras(f, p.obs_camera, h.num_cameras, 0);
   p.obs_pixel = f.ReadArrayAt<double>(h.obs_pixel_offset, 2 * h.num_observations, "observation pixels");
-  CheckFinite(f, p.obs_pixel, "observation pixels");
+  CheckPixels(path, p.obs_pixel, 0);
   return p;
 }
 
@@ -522,7 +536,7 @@ void ForEachObservationChunk(
         pixels.resize(2 * (obs1 - obs0));
         f.ReadAt(h.obs_pixel_offset + 16 * obs0, pixels.data(), 16 * (obs1 - obs0),
                "observation pixels");
-        CheckFinite(f, pixels, "observation pixels");
+        CheckPixels(path, pixels, obs0);
       }
       fn(k0 + a, std::span<const int64_t>(offsets.data() + a, b - a + 1), cameras, pixels);
       a = b;
@@ -591,12 +605,9 @@ Problem ReadBinaryPoints(const std::string& path, std::span<const int32_t> point
           p.points.insert(p.points.end(), xyz.begin() + 3 * k, xyz.begin() + 3 * k + 3);
           for (int64_t o = offsets[k]; o < offsets[k + 1]; ++o) {
             p.obs_camera.push_back(cameras[o - obs0]);
-            const double x = pixels[2 * (o - obs0)], y = pixels[2 * (o - obs0) + 1];
-            if (!std::isfinite(x) || !std::isfinite(y)) {
-              throw InputError(path, 0, "non-finite pixel in observation " + std::to_string(o));
-            }
-            p.obs_pixel.push_back(x);
-            p.obs_pixel.push_back(y);
+            const std::span<const double> pixel(pixels.data() + 2 * (o - obs0), 2);
+            CheckPixels(path, pixel, o);
+            p.obs_pixel.insert(p.obs_pixel.end(), pixel.begin(), pixel.end());
           }
           p.point_offsets.push_back(p.num_observations());
         }

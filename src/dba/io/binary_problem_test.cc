@@ -150,7 +150,11 @@ TEST_F(CorruptBinaryTest, RefusesEachFailureMode) {
   b = bytes_;
   const double nan = std::nan("");
   std::memcpy(b.data() + h.obs_pixel_offset, &nan, 8);
-  ExpectRefused(b, "non-finite");
+  ExpectRefused(b, "observation 0: pixel (nan, 2) is not finite");
+  b = bytes_;
+  const double far = -2e7;  // observation 1's y: beyond any image (problem/pixel_range.h)
+  std::memcpy(b.data() + h.obs_pixel_offset + 8 * 3, &far, 8);
+  ExpectRefused(b, "observation 1: pixel (3, -20000000) is beyond 1e7 px from the origin");
 }
 
 // Issue "Nothing lost, nothing wrong", items 7 and 8: counts whose layout

@@ -28,6 +28,7 @@
 #include "dba/io/colmap_binary.h"
 #include "dba/io/colmap_text.h"
 #include "dba/problem/lens_ranges.h"
+#include "dba/problem/pixel_range.h"
 
 namespace dba {
 namespace {
@@ -253,7 +254,7 @@ bool IsRotationQuaternion(const std::array<double, 4>& q) {
 // side), a parameter out of its lens model's range (problem/lens_ranges.h),
 // an EQUIRECTANGULAR whose w, h differ from the image's size; empty when none.
 std::string AbsurdCameraValue(const ColmapCamera& c, const ColmapCameraModelInfo& m) {
-  constexpr uint64_t kMaxSide = 1000000;
+  constexpr auto kMaxSide = static_cast<uint64_t>(kMaxImageSidePixels);
   if (c.width < 1 || c.height < 1 || c.width > kMaxSide || c.height > kMaxSide) {
     return "image size " + std::to_string(c.width) + " x " + std::to_string(c.height) +
            " is outside 1 to 1000000 pixels a side";
@@ -349,9 +350,10 @@ void ValidateColmapModel(const ColmapModel& model, const std::string& dir,
     if (!IsRotationQuaternion(im.qvec)) throw InputError(images_file, line, at() + "qvec" + kNotARotation);
     for (size_t k = 0; k < im.points2D.size(); ++k) {
       const ColmapPoint2D& p = im.points2D[k];
-      if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+      const std::string out_of_range = PixelOutOfRange(p.x, p.y);
+      if (!out_of_range.empty()) {
         throw InputError(images_file, line > 0 ? line + 1 : 0,
-                         at() + "point2D " + std::to_string(k) + " is not finite");
+                         at() + "point2D " + std::to_string(k) + ": " + out_of_range);
       }
       if (p.point3D_id < kColmapNoPoint3D) {
         throw InputError(images_file, line > 0 ? line + 1 : 0,

@@ -7,6 +7,7 @@
 #include "dba/io/sigma_fields.h"
 #include "dba/io/text_line_reader.h"
 #include "dba/io/text_tokens.h"
+#include "dba/problem/pixel_range.h"
 
 namespace dba {
 namespace {
@@ -37,8 +38,10 @@ std::vector<GroundControlRow> ReadGroundControlFile(const std::string& path) {
     const std::vector<std::string> f = CommentFreeFields(view);
     if (f.empty()) continue;
     if (f.size() == 4) {
-      measurements.push_back({f[0], {f[1], {Number(path, line, "x", f[2]),
-                                            Number(path, line, "y", f[3])}, line}});
+      const double x = Number(path, line, "x", f[2]), y = Number(path, line, "y", f[3]);
+      const std::string out_of_range = PixelOutOfRange(x, y);
+      if (!out_of_range.empty()) throw InputError(path, line, "measurement: " + out_of_range);
+      measurements.push_back({f[0], {f[1], {x, y}, line}});
       continue;
     }
     if (f.size() != 7) {

@@ -66,6 +66,8 @@ TEST(GroundControlFile, RefusesBadInputWithFileAndLine) {
       {point + "B 0 1 2\n", "g.txt:3: measurement of 'B', which no line"},
       {point + "A 0 5 5\n", "g.txt:3: point 'A' is already measured in image '0' (line 2)"},
       {point + "A 1 x 5\n", "g.txt:3: x: 'x' is not a finite number"},
+      {point + "A 1 5 -3e7\n",
+       "g.txt:3: measurement: pixel (5, -30000000) is beyond 1e7 px from the origin"},
       {"A 1 2 3 0.02 0.02 check\nA 0 1 2\n", "g.txt:1: check point 'A' is measured in 1 image(s)"},
       {"A 1 2 3 0.02 0.02 control\n", "g.txt:1: control point 'A' is measured in 0 image(s)"},
       {"# nothing\n", "g.txt: no points"},

@@ -135,6 +135,7 @@ void ApplyFixings(const UnknownsOptions& u, Problem* p) {
 }
 
 void ParseRigGeometry(const std::string& flag, const std::string& value, UnknownsOptions* u) {
+  u->rig_geometry_given = true;
   u->held_sensors.clear();
   u->refine_rig_geometry = value != "fixed";
   if (value == "refine" || value == "fixed") return;
@@ -146,7 +147,21 @@ void ParseRigGeometry(const std::string& flag, const std::string& value, Unknown
   u->held_sensors = ParseIdList(flag, value.substr(6));
 }
 
+namespace {
+
+// --rig-geometry on a problem without rigs has nothing to hold or refine.
+void RefuseRigGeometryWithoutRigs(const UnknownsOptions& u, const CameraSide& side) {
+  if (u.rig_geometry_given && !side.has_rigs()) {
+    throw UsageError(
+        "--rig-geometry: the problem has no rigs (a .dba version 4 problem, a COLMAP model with "
+        "rigs beyond single cameras, or arrays with frame_indices have them)");
+  }
+}
+
+}  // namespace
+
 Fixings CheckedFixings(const UnknownsOptions& u, const CameraSide& side) {
+  RefuseRigGeometryWithoutRigs(u, side);
   for (int64_t i : u.fixed_images) {
     if (i >= side.num_images()) {
       throw UsageError("--fix-images: camera " + std::to_string(i) +
@@ -276,6 +291,7 @@ ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unkn
   in.format = *DetectColmapFormat(path);
   in.model = ReadColmapModel(path);
   in.source = ProblemFromColmap(in.model, ColmapOptions(unknowns), path);
+  RefuseRigGeometryWithoutRigs(unknowns, in.source.problem);
   Fixings fixings = ColmapFixings(in.model, in.source, fixed_ids, unknowns.fixed_image_names,
                                   unknowns.fixed_intrinsics, path);
   fixings.all_images = unknowns.fix_all_images;

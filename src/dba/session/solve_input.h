@@ -51,6 +51,7 @@ struct UnknownsOptions {
   // groups of a .dba problem or arrays).
   bool refine_rig_geometry = true;
   std::vector<int64_t> held_sensors;
+  bool rig_geometry_given = false;  // --rig-geometry: the problem must have rigs
 };
 
 // --fix-images's value into `u`: all, or comma-separated ids and (COLMAP)

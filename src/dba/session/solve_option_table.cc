@@ -63,6 +63,18 @@ Spec Choice(std::string name, std::vector<std::string> choices, std::string help
                                     current);
 }
 
+// What options need (OptionSpec::needs), judged on the parsed options.
+bool HasPriors(const SolveOptions& o) { return !o.geo.camera_priors_path.empty(); }
+bool HasPriorsOrGcps(const SolveOptions& o) { return o.geo.any(); }
+bool HasGcps(const SolveOptions& o) { return !o.geo.gcps_path.empty(); }
+bool HasOutput(const SolveOptions& o) { return !o.output.empty(); }
+bool Rejects(const SolveOptions& o) { return o.reject_outliers_px > 0; }
+bool MaySolveByPcg(const SolveOptions& o) {
+  const LinearSolverType t = o.lm.linear_solver.type;
+  return t == LinearSolverType::kPcg || t == LinearSolverType::kAuto;
+}
+constexpr const char* kPcgNeeds = "--linear-solver pcg or auto";
+
 const std::vector<std::string> kLosses = {"trivial", "huber", "soft_l1", "cauchy", "arctan", "tukey"};
 
 LossType LossOf(size_t i) {
@@ -85,6 +97,7 @@ std::vector<Spec> OutputOptions() {
       [](const SolveOptions&) { return std::string(); }));
   t.back().modes = kNotArrays;
   t.back().not_here = kColmapOnly;
+  SetNeeds(&t.back(), "-o", HasOutput);
   t.push_back(Choice(
       "--colmap-version", {"newest", "3.8"},
       "the COLMAP a COLMAP output is for: 3.8 (Debian 12's) refuses, before the solve, a model "
@@ -94,6 +107,7 @@ std::vector<Spec> OutputOptions() {
       [](const SolveOptions& o) { return std::string(o.colmap_38 ? "3.8" : "newest"); }));
   t.back().modes = kNotArrays;
   t.back().not_here = kColmapOnly;
+  SetNeeds(&t.back(), "-o", HasOutput);
   t.push_back(Path("--ply", "FILE",
                    "write the adjusted points as a binary PLY point cloud, with the COLMAP "
                    "colours, else coloured by height z from blue (low) to red (high)",
@@ -110,6 +124,7 @@ std::vector<Spec> OutputOptions() {
                      "at most one checkpoint per S seconds (0: after every accepted iteration; "
                      "the step that ends the solve is always written)",
                      DBA_FIELD(checkpoint_every_s), 0, 1e9));
+  SetNeeds(&t.back(), "--checkpoint", [](const SolveOptions& o) { return !o.checkpoint_path.empty(); });
   t.push_back(Path("--resume", "FILE",
                    "continue the solve of INPUT from a --checkpoint FILE written with the same "
                    "input, fixings, loss, priors, control points and rejection: it ends where "
@@ -125,6 +140,7 @@ std::vector<Spec> OutputOptions() {
                    "with --truth: compare with no alignment (a georeferenced solve is in the "
                    "truth's frame)",
                    DBA_FIELD(truth_absolute)));
+  SetNeeds(&t.back(), "--truth", [](const SolveOptions& o) { return !o.truth_path.empty(); });
   return t;
 }
 
@@ -200,10 +216,13 @@ std::vector<Spec> LossOptions() {
       "the cost is 1/2 sum rho(s) (trivial: rho(s) = s)",
       [](SolveOptions& o, size_t i) { o.lm.loss.type = LossOf(i); },
       [](const SolveOptions& o) { return std::string(LossName(o.lm.loss.type)); }));
+  // No image measurement is finer than about 0.02 px (a centroided
+  // target): a scale under 0.01 px makes every observation an outlier, and
+  // Tukey's loss gives those no weight (1e-6 ended at iteration 0).
   t.push_back(Number("--loss-scale", "PX",
                      "the loss's scale a in pixels: residuals beyond it are down-weighted (and "
                      "count as outliers in the RMS figures)",
-                     DBA_FIELD(lm.loss.scale), 1e-6, 1e4));
+                     DBA_FIELD(lm.loss.scale), 0.01, 1e4));
   t.push_back(Number("--reject-outliers", "PX",
                      "after the solve, drop observations whose reprojection error exceeds PX "
                      "pixels and points left with fewer than 2 or seen under "
@@ -215,11 +234,13 @@ std::vector<Spec> LossOptions() {
   t.back().default_text = [](const SolveOptions&) { return std::string("off"); };
   t.push_back(Flag("--reject-keep-loss", "keep --loss in the solves after a rejection round",
                    DBA_FIELD(reject_keep_loss)));
+  SetNeeds(&t.back(), "--reject-outliers", Rejects);
   t.push_back(Number("--min-triangulation-angle", "DEG",
                      "with --reject-outliers: a point whose rays meet at less than DEG degrees "
                      "(the largest angle between two of its observations' rays) goes too: its "
                      "depth is not determined (COLMAP's default; 0: off)",
                      DBA_FIELD(min_triangulation_angle_deg), 0, 179.9));
+  SetNeeds(&t.back(), "--reject-outliers", Rejects);
   return t;
 }
 
@@ -237,6 +258,7 @@ std::vector<Spec> GeoreferencingOptions() {
                    "its outputs are then in a local east-north-up frame at the priors' centre "
                    "(origin and PROJ pipeline in the report)",
                    DBA_FIELD(geo.prior_crs)));
+  SetNeeds(&t.back(), "--camera-priors or --gcps", HasPriorsOrGcps);
   t.push_back(Path("--gcps", "FILE",
                    "ground control and check points: per point a line NAME X Y Z SIGMA_XY "
                    "SIGMA_Z control|check, and per measurement NAME IMAGE x y (the input's pixel "
@@ -248,10 +270,14 @@ std::vector<Spec> GeoreferencingOptions() {
                    "refused where PROJ has only a ballpark height transformation (a missing "
                    "geoid grid)",
                    DBA_FIELD(geo.gcp_crs)));
+  SetNeeds(&t.back(), "--gcps", HasGcps);
   t.push_back(Text("--output-crs", "CRS",
                    "with a CRS given: --ply and --camera-centres in this 3D CRS (converted back "
                    "from the local frame by PROJ); the problem outputs stay in the local frame",
                    DBA_FIELD(geo.output_crs)));
+  SetNeeds(&t.back(), "--prior-crs or --gcp-crs", [](const SolveOptions& o) {
+    return !o.geo.prior_crs.empty() || !o.geo.gcp_crs.empty();
+  });
   t.back().modes = kNotArrays;
   t.back().not_here =
       "converts the files --ply and --camera-centres, which solve_arrays does not write; its "
@@ -262,6 +288,7 @@ std::vector<Spec> GeoreferencingOptions() {
                    "with --camera-priors or --gcps: the figures as a table, and each prior's, "
                    "control and check point's dx, dy, dz, squared Mahalanobis distance and flag",
                    DBA_FIELD(geo.accuracy_report_path), kNotArrays, kNoArrayFiles));
+  SetNeeds(&t.back(), "--camera-priors or --gcps", HasPriorsOrGcps);
   Spec sigma = Base("--prior-sigma", OptionKind::kText, "XY,Z",
                     "sigma of the priors that give none (metres; sigma_xy per horizontal axis)");
   sigma.set = [](SolveOptions& o, const std::string& v) {
@@ -269,13 +296,16 @@ std::vector<Spec> GeoreferencingOptions() {
     o.geo.prior_sigma = Eigen::Vector2d(xy, z);
   };
   t.push_back(sigma);
+  SetNeeds(&t.back(), "--camera-priors", HasPriors);
   t.push_back(Choice(
       "--prior-loss", kLosses,
       "the priors' robust loss, in units of sigma (chosen by measurement: bench/README.md)",
       [](SolveOptions& o, size_t i) { o.geo.prior_loss.type = LossOf(i); },
       [](const SolveOptions& o) { return std::string(LossName(o.geo.prior_loss.type)); }));
+  SetNeeds(&t.back(), "--camera-priors", HasPriors);
   t.push_back(Number("--prior-loss-scale", "S", "its scale in units of sigma",
                      DBA_FIELD(geo.prior_loss.scale), 1e-3, 1e3));
+  SetNeeds(&t.back(), "--camera-priors", HasPriors);
   Spec lever = Base("--lever-arm", OptionKind::kText, "X,Y,Z",
                     "where the GNSS antenna of the camera priors is, in metres, in the "
                     "camera's frame (x right, y down, z forward), with rigs in the rig's (its "
@@ -286,11 +316,13 @@ std::vector<Spec> GeoreferencingOptions() {
     o.geo.lever_arm = Eigen::Vector3d(a[0], a[1], a[2]);
   };
   t.push_back(lever);
+  SetNeeds(&t.back(), "--camera-priors", HasPriors);
   t.push_back(Flag("--refine-lever-arm",
                    "estimate the lever arm (3 unknowns shared by every prior; --lever-arm is "
                    "its start): needs priors seen from several headings, and for its vertical "
                    "part control points; one process only yet",
                    DBA_FIELD(geo.refine_lever_arm)));
+  SetNeeds(&t.back(), "--camera-priors", HasPriors);
   return t;
 }
 
@@ -314,8 +346,12 @@ std::vector<Spec> LmOptionsTable() {
                      "stop when |step| <= X (|x| + X), |x| with camera centres and points about "
                      "their centroids",
                      DBA_FIELD(lm.parameter_tolerance), 0, 1));
+  // Under 1e-16, 1 + lambda rounds to 1: no damping at all (an RCS with a
+  // free gauge is singular). Over 1e4 (1e8 times the default), the first
+  // step is too short to count: at 1e7 problem-49-7776's fell below
+  // --parameter-tolerance and LM ended where it started.
   t.push_back(Number("--initial-lambda", "X", "initial LM damping",
-                     DBA_FIELD(lm.initial_lambda), 0, 1e16, true));
+                     DBA_FIELD(lm.initial_lambda), 1e-16, 1e4));
   return t;
 }
 
@@ -385,6 +421,19 @@ std::vector<Spec> LinearSolverOptionsTable() {
                           &o.lm.linear_solver.pcg.precision);
       },
       [](const SolveOptions& o) { return std::string(PcgPrecisionName(o.lm.linear_solver.pcg.precision)); }));
+  // Every option after --linear-solver is PCG's; --coarse-* the two-level
+  // preconditioner's.
+  for (size_t k = 1; k < t.size(); ++k) {
+    if (t[k].name.starts_with("--coarse-")) {
+      SetNeeds(&t[k], "--preconditioner two-level, with " + std::string(kPcgNeeds),
+               [](const SolveOptions& o) {
+                 return MaySolveByPcg(o) &&
+                        o.lm.linear_solver.preconditioner == PreconditionerType::kTwoLevel;
+               });
+    } else {
+      SetNeeds(&t[k], kPcgNeeds, MaySolveByPcg);
+    }
+  }
   return t;
 }
 

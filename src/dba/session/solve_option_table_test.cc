@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -34,6 +35,27 @@ std::string GoodValue(const OptionSpec<SolveOptions>& s) {
   return "";
 }
 
+// What gives an option what it needs (OptionSpec::needs); nothing where
+// the defaults do (--linear-solver auto, --preconditioner two-level).
+std::vector<std::string> Companions(const OptionSpec<SolveOptions>& s) {
+  const std::map<std::string, std::vector<std::string>> by_needs = {
+      {"", {}},
+      {"-o", {"-o", "out"}},
+      {"--checkpoint", {"--checkpoint", "c"}},
+      {"--truth", {"--truth", "t"}},
+      {"--camera-priors", {"--camera-priors", "p"}},
+      {"--camera-priors or --gcps", {"--gcps", "g"}},
+      {"--gcps", {"--gcps", "g"}},
+      {"--prior-crs or --gcp-crs", {"--camera-priors", "p", "--prior-crs", "EPSG:4979"}},
+      {"--reject-outliers", {"--reject-outliers", "3"}},
+      {"--linear-solver pcg or auto", {}},
+      {"--preconditioner two-level, with --linear-solver pcg or auto", {}},
+  };
+  const auto c = by_needs.find(s.needs);
+  if (c == by_needs.end()) ADD_FAILURE() << s.name << " needs '" << s.needs << "': add its companion";
+  return c == by_needs.end() ? std::vector<std::string>{} : c->second;
+}
+
 TEST(SolveOptionTable, EveryOptionIsInTheHelpAndParses) {
   std::ostringstream help;
   PrintSolveHelp(help);
@@ -41,16 +63,18 @@ TEST(SolveOptionTable, EveryOptionIsInTheHelpAndParses) {
     EXPECT_NE(help.str().find(s.name), std::string::npos) << s.name << " not in --help";
     std::vector<std::string> args = {"in.dba", s.name};
     if (s.kind != OptionKind::kFlag) args.push_back(GoodValue(s));
-    // What needs a companion to be accepted.
-    if (s.name == "--colmap-format") args.insert(args.end(), {"-o", "out"});
-    if (s.name == "--checkpoint-every") args.insert(args.end(), {"--checkpoint", "c"});
-    if (s.name == "--truth-absolute") args.insert(args.end(), {"--truth", "t"});
-    if (s.name == "--gcp-crs") args.insert(args.end(), {"--gcps", "g"});
-    if (s.name == "--output-crs" || s.name == "--accuracy-report") {
-      args.insert(args.end(), {"--camera-priors", "p"});
-    }
-    if (s.name == "--rcs") args.insert(args.end(), {"--linear-solver", "pcg"});
     bool asked = false;
+    const std::vector<std::string> companions = Companions(s);
+    if (!companions.empty()) {  // alone, refused naming what it needs
+      try {
+        ParseSolveArguments(args, &asked);
+        ADD_FAILURE() << s.name << " accepted without " << s.needs;
+      } catch (const std::invalid_argument& e) {
+        EXPECT_EQ(std::string(e.what()), s.name + " needs " + s.needs);
+      }
+    }
+    args.insert(args.end(), companions.begin(), companions.end());
+    if (s.name == "--rcs") args.insert(args.end(), {"--linear-solver", "pcg"});
     EXPECT_NO_THROW(ParseSolveArguments(args, &asked)) << s.name << " " << GoodValue(s);
     EXPECT_EQ(s.modes & kModeCommandLine, kModeCommandLine) << s.name;
     if (!(s.modes & kModePythonArrays)) {

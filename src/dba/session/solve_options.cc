@@ -48,6 +48,8 @@ void PrintSolveHelp(std::ostream& out) {
   PrintOptions(SolveOptionTable(), SolveOptions(), out);
   out << "  --list-camera-models       print the lens models and their parameter names\n"
          "  -h, --help                 this text\n"
+         "  --                         ends the options: what follows is INPUT (a path\n"
+         "                             may start with '-')\n"
          "\n"
          "Outputs (-o, --report, --ply, --checkpoint, --camera-centres,\n"
          "--accuracy-report) are checked before the solve. A file, or a path that does\n"
@@ -79,24 +81,6 @@ SolveOptions ParseSolveArguments(const std::vector<std::string>& args, bool* hel
       help, "solve");
   if (*help) return o;
   if (o.input.empty()) throw std::invalid_argument("missing INPUT (see dba solve --help)");
-  if (o.colmap_format.has_value() && o.output.empty()) {
-    throw std::invalid_argument("--colmap-format: no -o output to write");
-  }
-  if (o.checkpoint_every_s > 0 && o.checkpoint_path.empty()) {
-    throw std::invalid_argument("--checkpoint-every: no --checkpoint to write");
-  }
-  if (!o.geo.accuracy_report_path.empty() && !o.geo.any()) {
-    throw std::invalid_argument("--accuracy-report needs --camera-priors FILE or --gcps FILE");
-  }
-  if (!o.geo.output_crs.empty() && !o.geo.any()) {
-    throw std::invalid_argument("--output-crs needs --camera-priors or --gcps in a CRS");
-  }
-  if (!o.geo.gcp_crs.empty() && o.geo.gcps_path.empty()) {
-    throw std::invalid_argument("--gcp-crs: no --gcps FILE");
-  }
-  if (o.truth_absolute && o.truth_path.empty()) {
-    throw std::invalid_argument("--truth-absolute needs --truth FILE");
-  }
   if (o.distributed.rcs == DistributedOptions::Rcs::kDistributed) {
     if (o.lm.linear_solver.type == LinearSolverType::kDense ||
         o.lm.linear_solver.type == LinearSolverType::kSparse) {

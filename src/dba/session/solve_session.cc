@@ -28,17 +28,12 @@
 namespace dba {
 namespace {
 
-// A lever arm without priors, and what a refined one does not reach yet:
-// its 3 unknowns are the LM's beside the problem's cameras, which the RCS
-// spread over ranks does not hold. Refused by name before any work.
+// What a refined lever arm does not reach yet: its 3 unknowns are the LM's
+// beside the problem's cameras, which the RCS spread over ranks does not
+// hold. Refused by name before any work (a lever arm without priors is the
+// option table's: it needs --camera-priors).
 void RefuseUnbuiltLeverArmUses(const SolveOptions& options, int ranks) {
-  const GeoreferenceOptions& geo = options.geo;
-  if (geo.camera_priors_path.empty() && (geo.refine_lever_arm || !geo.lever_arm.isZero(0.0))) {
-    throw UsageError(std::string(geo.refine_lever_arm ? "--refine-lever-arm" : "--lever-arm") +
-                     ": the lever arm is the camera priors' antenna's; give --camera-priors");
-  }
-  if (!options.geo.refine_lever_arm) return;
-  if (ranks > 1) {
+  if (options.geo.refine_lever_arm && ranks > 1) {
     throw UsageError("--refine-lever-arm is not combined with more than one MPI rank yet: give "
                      "the lever arm (--lever-arm X,Y,Z) held, or solve in one process");
   }
