@@ -1,7 +1,10 @@
-// BAL text parser: tokens and numbers by io/text_tokens over the lines;
-// observations go straight to their point-major place when the file groups
-// them by point, else a stable counting sort follows; see bal_reader.h.
+// BAL text: read in parallel (io/bal_parallel_reader), or, for any file that
+// reader does not take, line by line here: tokens and numbers by
+// io/text_tokens over the lines, observations to their point-major place by
+// io/point_major_order; see bal_reader.h.
 #include "dba/io/bal_reader.h"
+
+#include <omp.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -13,6 +16,8 @@
 #include <vector>
 
 #include "dba/common/error.h"
+#include "dba/io/bal_parallel_reader.h"
+#include "dba/io/point_major_order.h"
 #include "dba/io/text_line_reader.h"
 #include "dba/io/text_tokens.h"
 
@@ -124,7 +129,7 @@ void PushCapped(std::vector<T>& v, T value, int64_t limit) {
 
 }  // namespace
 
-Problem ReadBal(const std::string& path) {
+Problem ReadBalLineByLine(const std::string& path) {
   Parser in(path);
 
   // Header.
@@ -157,9 +162,6 @@ Problem ReadBal(const std::string& path) {
   // observations is ever made. Only if a point index goes down do we start
   // recording point indices, and sort at the end.
   Problem problem;
-  std::vector<int64_t>& offsets = problem.point_offsets;
-  offsets.assign(1, 0);
-  offsets.reserve(std::min(num_points, kMaxReserve) + 1);
   // Reserve what the header says, as far as the file can hold it: pages are
   // only backed once written, so a header that lies costs address space,
   // not memory, but a plain file's size bounds even that (a 43-byte file
@@ -173,10 +175,7 @@ Problem ReadBal(const std::string& path) {
     std::vector<int32_t>().swap(problem.obs_camera);
     std::vector<double>().swap(problem.obs_pixel);
   }
-  std::vector<int64_t> counts;        // observations per point, by point id
-  std::vector<int64_t> file_point;    // point of every observation, once unsorted
-  bool grouped = true;
-  int64_t last_point = -1;
+  PointMajorOrder order;
   for (int64_t j = 0; j < num_observations; ++j) {
     auto what = [&] {
       return "observation " + Str(j) + " of " + Str(num_observations) +
@@ -200,22 +199,7 @@ Problem ReadBal(const std::string& path) {
     PushCapped(problem.obs_camera, static_cast<int32_t>(c), num_observations);
     PushCapped(problem.obs_pixel, in.Double(what), 2 * num_observations);
     PushCapped(problem.obs_pixel, in.Double(what), 2 * num_observations);
-    if (grouped && k < last_point) {
-      // Not grouped after all: recover the (sorted) point ids so far.
-      grouped = false;
-      file_point.reserve(std::min(num_observations, kMaxReserve));
-      for (int64_t p = 0; p < static_cast<int64_t>(counts.size()); ++p) {
-        file_point.insert(file_point.end(), counts[p], p);
-      }
-    }
-    if (grouped) {
-      if (k >= static_cast<int64_t>(counts.size())) counts.resize(k + 1, 0);
-    } else {
-      file_point.push_back(k);
-      if (k >= static_cast<int64_t>(counts.size())) counts.resize(k + 1, 0);
-    }
-    ++counts[k];
-    last_point = k;
+    order.Add(k);
   }
 
   // Cameras.
@@ -228,42 +212,33 @@ Problem ReadBal(const std::string& path) {
   }
   problem.cameras.shrink_to_fit();
 
-  // Points (num_points <= num_observations, which are now in memory, so these
-  // allocations are backed by real data).
-  counts.resize(num_points, 0);
-  offsets.assign(num_points + 1, 0);
-  for (int64_t k = 0; k < num_points; ++k) offsets[k + 1] = counts[k];
-  std::vector<int64_t>().swap(counts);
+  // Points (num_points <= num_observations, which are now in memory, so this
+  // allocation is backed by real data).
   problem.points.resize(kPointSize * num_points);
   for (int64_t k = 0; k < num_points; ++k) {
     auto what = [&] {
       return Str(kPointSize) + " coordinates for point " + Str(k);
     };
     for (int q = 0; q < kPointSize; ++q) problem.points[kPointSize * k + q] = in.Double(what);
-    if (offsets[k + 1] == 0) in.Fail("point " + Str(k) + " has no observation");
+    if (order.count(k) == 0) in.Fail("point " + Str(k) + " has no observation");
   }
   std::string_view extra;
   if (in.Next(&extra)) {
     in.Fail("expected end of file after the last point coordinate, found '" +
             Clipped(extra) + "' (do the header counts match the data?)");
   }
-
-  for (int64_t k = 0; k < num_points; ++k) offsets[k + 1] += offsets[k];
-  if (!grouped) {
-    // Stable counting sort by point: offsets[k] .. offsets[k+1] is point k.
-    std::vector<int64_t> next(offsets.begin(), offsets.end() - 1);
-    std::vector<int32_t> camera(num_observations);
-    std::vector<double> pixel(2 * num_observations);
-    for (int64_t j = 0; j < num_observations; ++j) {
-      const int64_t d = next[file_point[j]]++;
-      camera[d] = problem.obs_camera[j];
-      pixel[2 * d] = problem.obs_pixel[2 * j];
-      pixel[2 * d + 1] = problem.obs_pixel[2 * j + 1];
-    }
-    problem.obs_camera.swap(camera);
-    problem.obs_pixel.swap(pixel);
-  }
+  order.Finish(num_points, &problem);
   return problem;
+}
+
+Problem ReadBal(const std::string& path, int threads) {
+  std::optional<Problem> problem =
+      ReadBalInParallel(path, threads > 0 ? threads : omp_get_max_threads());
+  if (problem.has_value()) return std::move(*problem);
+  // Not a file the parallel reader takes as it is: read line by line, for
+  // the message naming the line (or, for a valid file it does not take
+  // whole, the problem).
+  return ReadBalLineByLine(path);
 }
 
 }  // namespace dba
