@@ -224,6 +224,7 @@ void ParallelBalReader::ReadHeader() {
     std::shared_ptr<const TextPiece> piece = NextPiece();
     if (piece != nullptr) {
       Track(*piece);
+      if (head.size() + piece->text.size() > kMaxHeaderText) throw Irregular{};
       head.append(piece->text.begin(), piece->text.end());
     }
     int64_t counts[3] = {0, 0, 0};
@@ -245,7 +246,7 @@ void ParallelBalReader::ReadHeader() {
       at = p;
       break;
     }
-    if (piece == nullptr || head.size() > kMaxHeaderText) throw Irregular{};
+    if (piece == nullptr) throw Irregular{};
   }
   auto rest = std::make_shared<TextPiece>();
   rest->text.assign(head.begin() + static_cast<std::ptrdiff_t>(at), head.end());
@@ -326,17 +327,22 @@ void ParallelBalReader::Send(std::shared_ptr<Job> job, int64_t tokens) {
   if (job->first_token < layout_.cameras_begin) job->points.reserve(tokens / 4 + 1);
   const Targets to{problem_.obs_camera.data(), problem_.obs_pixel.data(),
                    problem_.cameras.data(), problem_.points.data()};
-  source_.pool()->Submit(
-      [job, to, layout = layout_] {
-        try {
-          RunJob(job.get(), layout, to);
-        } catch (...) {
-          job->failure = std::current_exception();
-        }
-        job->done.store(true);
-      },
-      true);
-  jobs_.push_back(std::move(job));
+  jobs_.push_back(job);  // first: the destructor waits for every job sent
+  try {
+    source_.pool()->Submit(
+        [job = std::move(job), to, layout = layout_] {
+          try {
+            RunJob(job.get(), layout, to);
+          } catch (...) {
+            job->failure = std::current_exception();
+          }
+          job->done.store(true);
+        },
+        true);
+  } catch (...) {
+    jobs_.pop_back();  // not sent
+    throw;
+  }
 }
 
 // The arrays hold every place of the tokens below token_end; to grow them

@@ -1,8 +1,8 @@
 // Tests of io/bal_parallel_reader: a multi-block .bz2 and its plain text
 // give the same problem, bit for bit, on 1-4 threads and equal to the line
 // by line reader's (grouped or not, tokens cut between pieces); a bad token
-// deep in a multi-block file is refused by ReadBal naming its exact line; a
-// corrupt block names its bytes.
+// deep in a multi-block file is refused by ReadBal naming its exact line;
+// damage anywhere (a block, the stream's CRC, a cut) names file and byte.
 #include "dba/io/bal_parallel_reader.h"
 
 #include <bzlib.h>
@@ -146,20 +146,37 @@ TEST(BalParallelReaderTest, ABadTokenDeepInAMultiBlockFileNamesItsLine) {
   }
 }
 
-TEST(BalParallelReaderTest, ACorruptBlockIsRefusedNamingFileAndBytes) {
-  std::string packed = Bz2Compress(SharedText("problem-49-7776-pre.txt.bz2"), 1);
-  packed[packed.size() / 2] = static_cast<char>(packed[packed.size() / 2] ^ 0x20);
-  const std::string path = WriteFile("corrupt.bz2", packed);
-  EXPECT_FALSE(ReadBalInParallel(path, 2).has_value());
-  try {
-    ReadBal(path, 2);
-    FAIL() << "no error";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), path);
-    EXPECT_GT(e.line(), 1000);  // the lines of the blocks before were read
-    EXPECT_NE(std::string(e.what()).find("corrupt bzip2 data in the block at bytes "),
-              std::string::npos)
-        << e.what();
+TEST(BalParallelReaderTest, DamagedBz2IsRefusedNamingFileAndByte) {
+  const std::string text = SharedText("problem-49-7776-pre.txt.bz2");
+  const std::string good = Bz2Compress(text, 1);  // 18 blocks
+  auto flipped = [&](size_t at) {
+    std::string bad = good;
+    bad[at] = static_cast<char>(bad[at] ^ 0x20);
+    return bad;
+  };
+  struct Case {
+    std::string bytes, phrase;
+    int64_t min_line;  // the lines of the blocks before were read
+  };
+  const Case cases[] = {
+      {flipped(60), "corrupt bzip2 data in the block at bytes 4-", 1},
+      {flipped(good.size() / 2), "corrupt bzip2 data in the block at bytes ", 20000},
+      {flipped(good.size() - 200), "corrupt bzip2 data in the block at bytes ", 50000},
+      {flipped(good.size() - 2), "corrupt bzip2 data: the stream's combined CRC at byte ", 55614},
+      {good.substr(0, good.size() * 2 / 3), "truncated bzip2 data: the file ends inside the block at byte ",
+       30000},
+  };
+  for (const Case& c : cases) {
+    const std::string path = WriteFile("damaged.bz2", c.bytes);
+    EXPECT_FALSE(ReadBalInParallel(path, 2).has_value());
+    try {
+      ReadBal(path, 2);
+      ADD_FAILURE() << "no error: " << c.phrase;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), path);
+      EXPECT_GE(e.line(), c.min_line) << e.what();
+      EXPECT_NE(std::string(e.what()).find(c.phrase), std::string::npos) << e.what();
+    }
   }
 }
 

@@ -127,80 +127,93 @@ void PushCapped(std::vector<T>& v, T value, int64_t limit) {
   v.push_back(value);
 }
 
-}  // namespace
+struct Header {
+  int64_t cameras = 0, points = 0, observations = 0;
+  int extra = 0;  // tokens after the third on its line
+};
 
-Problem ReadBalLineByLine(const std::string& path) {
-  Parser in(path);
-
-  // Header.
+Header ReadHeader(Parser& in) {
   auto header = [] {
     return std::string("header 'num_cameras num_points num_observations'");
   };
-  const int64_t num_cameras = in.Int(header);
-  if (num_cameras <= 0) in.Fail("num_cameras must be positive, found " + Str(num_cameras));
-  if (num_cameras > kMaxCameras) {
-    in.Fail("num_cameras " + Str(num_cameras) +
-            " exceeds the 32-bit camera id limit " + Str(kMaxCameras));
+  Header h;
+  h.cameras = in.Int(header);
+  if (h.cameras <= 0) in.Fail("num_cameras must be positive, found " + Str(h.cameras));
+  if (h.cameras > kMaxCameras) {
+    in.Fail("num_cameras " + Str(h.cameras) + " exceeds the 32-bit camera id limit " +
+            Str(kMaxCameras));
   }
-  const int64_t num_points = in.Int(header);
-  if (num_points <= 0) in.Fail("num_points must be positive, found " + Str(num_points));
-  const int64_t num_observations = in.Int(header);
+  h.points = in.Int(header);
+  if (h.points <= 0) in.Fail("num_points must be positive, found " + Str(h.points));
+  h.observations = in.Int(header);
   // Tokens may split over lines any way, but a header line with one number
   // too many (four counts, or a first observation glued on) is the likely
   // cause when the first observation then fails: say so there.
-  const int header_extra = in.TokensLeftOnLine();
-  if (num_observations <= 0) {
-    in.Fail("num_observations must be positive, found " + Str(num_observations));
+  h.extra = in.TokensLeftOnLine();
+  if (h.observations <= 0) {
+    in.Fail("num_observations must be positive, found " + Str(h.observations));
   }
-  if (num_points > num_observations) {
-    in.Fail("num_points " + Str(num_points) + " exceeds num_observations " +
-            Str(num_observations) + ": every point needs an observation");
+  if (h.points > h.observations) {
+    in.Fail("num_points " + Str(h.points) + " exceeds num_observations " +
+            Str(h.observations) + ": every point needs an observation");
   }
+  return h;
+}
 
-  // Observations, written straight into their point-major place while the
-  // file lists them grouped by point (as BAL files do): then no copy of the
-  // observations is ever made. Only if a point index goes down do we start
-  // recording point indices, and sort at the end.
-  Problem problem;
+// Observations, written straight into their point-major place while the
+// file lists them grouped by point (as BAL files do): then no copy of the
+// observations is ever made. Only if a point index goes down does `order`
+// start recording point indices, to sort at the end.
+void ReadObservations(Parser& in, const std::string& path, const Header& h, Problem* problem,
+                      PointMajorOrder* order) {
   // Reserve what the header says, as far as the file can hold it: pages are
   // only backed once written, so a header that lies costs address space,
   // not memory, but a plain file's size bounds even that (a 43-byte file
   // claiming 182M observations made 2.9 GB of reservations; fuzz/run.sh). If
   // even the address space is refused, grow as the data comes.
-  const int64_t reserve = std::min(num_observations, in.MaxObservations(path));
+  const int64_t reserve = std::min(h.observations, in.MaxObservations(path));
   try {
-    problem.obs_camera.reserve(reserve);
-    problem.obs_pixel.reserve(2 * reserve);
+    problem->obs_camera.reserve(reserve);
+    problem->obs_pixel.reserve(2 * reserve);
   } catch (const std::bad_alloc&) {
-    std::vector<int32_t>().swap(problem.obs_camera);
-    std::vector<double>().swap(problem.obs_pixel);
+    std::vector<int32_t>().swap(problem->obs_camera);
+    std::vector<double>().swap(problem->obs_pixel);
   }
-  PointMajorOrder order;
-  for (int64_t j = 0; j < num_observations; ++j) {
+  for (int64_t j = 0; j < h.observations; ++j) {
     auto what = [&] {
-      return "observation " + Str(j) + " of " + Str(num_observations) +
-             " ('camera point x y')";
+      return "observation " + Str(j) + " of " + Str(h.observations) + " ('camera point x y')";
     };
     const int64_t c = in.Int(what);
-    if (c < 0 || c >= num_cameras) {
+    if (c < 0 || c >= h.cameras) {
       in.Fail("camera index " + Str(c) + " of observation " + Str(j) + " is out of range [0, " +
-              Str(num_cameras) + ")" +
-              (j == 0 && header_extra % 4 != 0
-                   ? " (the header's line has " + Str(header_extra) +
+              Str(h.cameras) + ")" +
+              (j == 0 && h.extra % 4 != 0
+                   ? " (the header's line has " + Str(h.extra) +
                          " more value(s) after 'num_cameras num_points num_observations': a "
                          "BAL header holds exactly three)"
                    : std::string()));
     }
     const int64_t k = in.Int(what);
-    if (k < 0 || k >= num_points) {
-      in.Fail("point index " + Str(k) + " of observation " + Str(j) +
-              " is out of range [0, " + Str(num_points) + ")");
+    if (k < 0 || k >= h.points) {
+      in.Fail("point index " + Str(k) + " of observation " + Str(j) + " is out of range [0, " +
+              Str(h.points) + ")");
     }
-    PushCapped(problem.obs_camera, static_cast<int32_t>(c), num_observations);
-    PushCapped(problem.obs_pixel, in.Double(what), 2 * num_observations);
-    PushCapped(problem.obs_pixel, in.Double(what), 2 * num_observations);
-    order.Add(k);
+    PushCapped(problem->obs_camera, static_cast<int32_t>(c), h.observations);
+    PushCapped(problem->obs_pixel, in.Double(what), 2 * h.observations);
+    PushCapped(problem->obs_pixel, in.Double(what), 2 * h.observations);
+    order->Add(k);
   }
+}
+
+}  // namespace
+
+Problem ReadBalLineByLine(const std::string& path) {
+  Parser in(path);
+  const Header h = ReadHeader(in);
+  const int64_t num_cameras = h.cameras, num_points = h.points;
+  Problem problem;
+  PointMajorOrder order;
+  ReadObservations(in, path, h, &problem, &order);
 
   // Cameras.
   problem.cameras.reserve(kBalCameraSize * std::min(num_cameras, kMaxReserve));

@@ -11,6 +11,7 @@ namespace dba {
 namespace {
 
 constexpr size_t kPlainPiece = size_t{1} << 20;
+constexpr size_t kWindowBytes = size_t{64} << 20;
 
 std::string Bytes(const Bz2Block& b) {
   return "bytes " + std::to_string(b.file_byte) + "-" + std::to_string(b.file_end_byte);
@@ -41,6 +42,7 @@ TextPieceSource::TextPieceSource(const std::string& path, int threads, Prepare p
   // A window of a few blocks per thread keeps every thread busy while the
   // reader is held up (its first piece allocates the problem's arrays).
   const int workers = std::max(1, threads);
+  threads_ = static_cast<size_t>(workers);
   window_size_ = static_cast<size_t>(std::min(8 * workers + 8, 512));
   if (bz2 || prepare_) pool_ = std::make_unique<TaskPool>(workers);
 }
@@ -112,6 +114,11 @@ void TextPieceSource::AddPlainPiece() {
   window_.push_back(std::move(slot));
 }
 
+size_t TextPieceSource::WindowSlots() const {
+  if (largest_piece_ == 0) return threads_ + 1;  // until the first piece says how large
+  return std::clamp(kWindowBytes / largest_piece_, threads_ + 1, window_size_);
+}
+
 void TextPieceSource::Fill(size_t slots) {
   while (!ended_ && window_.size() < slots) {
     if (!splitter_) {
@@ -131,7 +138,7 @@ void TextPieceSource::Fill(size_t slots) {
 
 std::shared_ptr<const TextPiece> TextPieceSource::Next() {
   for (;;) {
-    Fill(window_size_);
+    Fill(WindowSlots());
     if (window_.empty()) return nullptr;
     Slot& s = *window_.front();
     switch (s.unit.kind) {
@@ -151,6 +158,7 @@ std::shared_ptr<const TextPiece> TextPieceSource::Next() {
     if (!s.ok) JoinOrRefuse();
     if (splitter_) combined_crc_ = CombineBz2Crc(combined_crc_, s.unit.block.crc);
     std::shared_ptr<const TextPiece> piece = std::move(s.piece);
+    largest_piece_ = std::max(largest_piece_, piece->text.size());
     window_.pop_front();
     return piece;
   }

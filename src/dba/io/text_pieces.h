@@ -5,6 +5,9 @@
 // block's CRC and every stream's combined CRC are checked; a block that fails
 // to decode is tried joined to the next ones of its stream (a magic by chance
 // inside compressed data), then refused. Plain text is read in 1 MiB pieces.
+// The window is 8 blocks per thread, fewer when blocks are large (a block
+// of long runs decodes to up to 46 MB): about 64 MiB of text ahead at most,
+// and one block per thread and one more at least.
 // An optional `prepare` runs on each piece on the pool (the BAL reader counts
 // its tokens there) before it is handed out.
 //
@@ -68,6 +71,7 @@ class TextPieceSource {
     std::string why;
     std::exception_ptr failure;
   };
+  size_t WindowSlots() const;
   void Fill(size_t slots);
   void AddBlock(Bz2Unit unit);
   void AddPlainPiece();
@@ -85,7 +89,9 @@ class TextPieceSource {
   std::unique_ptr<Bz2BlockSplitter> splitter_;
   std::vector<char> first_;  // plain text: the bytes read while sniffing
   std::deque<std::shared_ptr<Slot>> window_;
+  size_t threads_ = 1;
   size_t window_size_ = 0;
+  size_t largest_piece_ = 0;  // of those handed out
   bool ended_ = false;  // the last unit is in the window
   uint32_t combined_crc_ = 0;
 };
