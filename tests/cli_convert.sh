@@ -114,6 +114,36 @@ done
 check "info '': exit 2, as other empty values" test $? -eq 2
 check "info '': says so, then the usage" grep -qF -- "dba info: an empty path names no file" "$tmp/ierr"
 check "info '': ... then the usage" grep -qF -- "Usage: dba info FILE" "$tmp/ierr"
+# A multi-block .bz2 (bzip2 -1: 100 kB blocks) is decoded and parsed on
+# every thread: info says what it says of the text, on 1 thread and 3; a
+# flipped byte in a middle block is refused naming file, line and the
+# block's bytes, and so is the file cut short.
+bzcat "$data/problem-49-7776-pre.txt.bz2" >"$tmp/p49.txt"
+bzip2 -1 -c "$tmp/p49.txt" >"$tmp/p49.bz2"
+"$dba" info "$tmp/p49.txt" | tail -n +2 | grep -v "peak memory" >"$tmp/info_txt"
+for t in 1 3; do
+  OMP_NUM_THREADS=$t "$dba" info "$tmp/p49.bz2" | tail -n +2 | grep -v "peak memory" >"$tmp/info_bz2"
+  check "info on a multi-block .bz2, $t threads, as on its text" cmp -s "$tmp/info_txt" "$tmp/info_bz2"
+done
+size=$(stat -c %s "$tmp/p49.bz2")
+mid=$((size / 2))
+cp "$tmp/p49.bz2" "$tmp/flipped.bz2"
+byte=$(od -An -tu1 -j "$mid" -N1 "$tmp/p49.bz2" | tr -d ' ')
+printf "\\$(printf %o $(((byte + 1) % 256)))" | dd of="$tmp/flipped.bz2" bs=1 seek="$mid" conv=notrunc 2>/dev/null
+check "the flipped file differs in one byte" test "$(cmp -l "$tmp/p49.bz2" "$tmp/flipped.bz2" | wc -l)" -eq 1
+"$dba" info "$tmp/flipped.bz2" >"$tmp/ierr" 2>&1
+check "info on a flipped byte: exit 1" test $? -eq 1
+check "info on a flipped byte names file, line and block" \
+  grep -qE "^dba info: error: $tmp/flipped.bz2:[0-9]+: corrupt bzip2 data in the block at bytes [0-9]+-[0-9]+ \(checksum or format error\)$" "$tmp/ierr"
+from=$(sed -E 's/.*bytes ([0-9]+)-([0-9]+).*/\1/' "$tmp/ierr")
+to=$(sed -E 's/.*bytes ([0-9]+)-([0-9]+).*/\2/' "$tmp/ierr")
+check "the block named holds the flipped byte ($from <= $mid < $to)" test "$from" -le "$mid" -a "$mid" -lt "$to"
+head -c "$mid" "$tmp/p49.bz2" >"$tmp/cut.bz2"
+"$dba" info "$tmp/cut.bz2" >"$tmp/ierr" 2>&1
+check "info on a .bz2 cut short: exit 1" test $? -eq 1
+check "info on a .bz2 cut short says so" \
+  grep -qE "$tmp/cut.bz2:[0-9]+: truncated bzip2 data: the file ends inside the block at byte [0-9]+$" "$tmp/ierr"
+
 printf '2 1 2\n0 0 1.0 2.0\n1 0 1.0 2.5' >"$tmp/cut_info.txt"
 "$dba" info "$tmp/cut_info.txt" >"$tmp/ierr" 2>&1
 check "info on a cut file: exit 1, file and line" test $? -eq 1

@@ -76,6 +76,10 @@ refuse 2 "not a COLMAP model directory" "$colmap" -o "$tmp/x.dba" --colmap-forma
 # Input and environment (exit 1).
 refuse 1 "$tmp/none.txt" "$tmp/none.txt"
 refuse 1 "$tmp/malformed.txt:3" "$tmp/malformed.txt"
+# A byte of a middle block of a multi-block .bz2 changed (bzip2 -1).
+bzcat "$bal" | bzip2 -1 >"$tmp/flipped.bz2"
+printf 'X' | dd of="$tmp/flipped.bz2" bs=1 seek=$(($(stat -c %s "$tmp/flipped.bz2") / 2)) conv=notrunc 2>/dev/null
+refuse 1 "corrupt bzip2 data in the block at bytes" "$tmp/flipped.bz2"
 refuse 1 "observation 2 (camera 0, point 1)" "$tmp/nonfinite.txt"
 refuse 1 "$tmp/bigpixel.txt:4: observation 2: pixel (1, 1e+80) is beyond 1e7 px from the origin" "$tmp/bigpixel.txt"
 refuse 1 "$tmp/no_truth.txt" "$bal" --truth "$tmp/no_truth.txt"

@@ -1,7 +1,10 @@
-// BAL text parser: tokens and numbers by io/text_tokens over the lines;
-// observations go straight to their point-major place when the file groups
-// them by point, else a stable counting sort follows; see bal_reader.h.
+// BAL text: read in parallel (io/bal_parallel_reader), or, for any file that
+// reader does not take, line by line here: tokens and numbers by
+// io/text_tokens over the lines, observations to their point-major place by
+// io/point_major_order; see bal_reader.h.
 #include "dba/io/bal_reader.h"
+
+#include <omp.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -13,6 +16,8 @@
 #include <vector>
 
 #include "dba/common/error.h"
+#include "dba/io/bal_parallel_reader.h"
+#include "dba/io/point_major_order.h"
 #include "dba/io/text_line_reader.h"
 #include "dba/io/text_tokens.h"
 #include "dba/problem/pixel_range.h"
@@ -123,104 +128,96 @@ void PushCapped(std::vector<T>& v, T value, int64_t limit) {
   v.push_back(value);
 }
 
-}  // namespace
+struct Header {
+  int64_t cameras = 0, points = 0, observations = 0;
+  int extra = 0;  // tokens after the third on its line
+};
 
-Problem ReadBal(const std::string& path) {
-  Parser in(path);
-
-  // Header.
+Header ReadHeader(Parser& in) {
   auto header = [] {
     return std::string("header 'num_cameras num_points num_observations'");
   };
-  const int64_t num_cameras = in.Int(header);
-  if (num_cameras <= 0) in.Fail("num_cameras must be positive, found " + Str(num_cameras));
-  if (num_cameras > kMaxCameras) {
-    in.Fail("num_cameras " + Str(num_cameras) +
-            " exceeds the 32-bit camera id limit " + Str(kMaxCameras));
+  Header h;
+  h.cameras = in.Int(header);
+  if (h.cameras <= 0) in.Fail("num_cameras must be positive, found " + Str(h.cameras));
+  if (h.cameras > kMaxCameras) {
+    in.Fail("num_cameras " + Str(h.cameras) + " exceeds the 32-bit camera id limit " +
+            Str(kMaxCameras));
   }
-  const int64_t num_points = in.Int(header);
-  if (num_points <= 0) in.Fail("num_points must be positive, found " + Str(num_points));
-  const int64_t num_observations = in.Int(header);
+  h.points = in.Int(header);
+  if (h.points <= 0) in.Fail("num_points must be positive, found " + Str(h.points));
+  h.observations = in.Int(header);
   // Tokens may split over lines any way, but a header line with one number
   // too many (four counts, or a first observation glued on) is the likely
   // cause when the first observation then fails: say so there.
-  const int header_extra = in.TokensLeftOnLine();
-  if (num_observations <= 0) {
-    in.Fail("num_observations must be positive, found " + Str(num_observations));
+  h.extra = in.TokensLeftOnLine();
+  if (h.observations <= 0) {
+    in.Fail("num_observations must be positive, found " + Str(h.observations));
   }
-  if (num_points > num_observations) {
-    in.Fail("num_points " + Str(num_points) + " exceeds num_observations " +
-            Str(num_observations) + ": every point needs an observation");
+  if (h.points > h.observations) {
+    in.Fail("num_points " + Str(h.points) + " exceeds num_observations " +
+            Str(h.observations) + ": every point needs an observation");
   }
+  return h;
+}
 
-  // Observations, written straight into their point-major place while the
-  // file lists them grouped by point (as BAL files do): then no copy of the
-  // observations is ever made. Only if a point index goes down do we start
-  // recording point indices, and sort at the end.
-  Problem problem;
-  std::vector<int64_t>& offsets = problem.point_offsets;
-  offsets.assign(1, 0);
-  offsets.reserve(std::min(num_points, kMaxReserve) + 1);
+// Observations, written straight into their point-major place while the
+// file lists them grouped by point (as BAL files do): then no copy of the
+// observations is ever made. Only if a point index goes down does `order`
+// start recording point indices, to sort at the end.
+void ReadObservations(Parser& in, const std::string& path, const Header& h, Problem* problem,
+                      PointMajorOrder* order) {
   // Reserve what the header says, as far as the file can hold it: pages are
   // only backed once written, so a header that lies costs address space,
   // not memory, but a plain file's size bounds even that (a 43-byte file
   // claiming 182M observations made 2.9 GB of reservations; fuzz/run.sh). If
   // even the address space is refused, grow as the data comes.
-  const int64_t reserve = std::min(num_observations, in.MaxObservations(path));
+  const int64_t reserve = std::min(h.observations, in.MaxObservations(path));
   try {
-    problem.obs_camera.reserve(reserve);
-    problem.obs_pixel.reserve(2 * reserve);
+    problem->obs_camera.reserve(reserve);
+    problem->obs_pixel.reserve(2 * reserve);
   } catch (const std::bad_alloc&) {
-    std::vector<int32_t>().swap(problem.obs_camera);
-    std::vector<double>().swap(problem.obs_pixel);
+    std::vector<int32_t>().swap(problem->obs_camera);
+    std::vector<double>().swap(problem->obs_pixel);
   }
-  std::vector<int64_t> counts;        // observations per point, by point id
-  std::vector<int64_t> file_point;    // point of every observation, once unsorted
-  bool grouped = true;
-  int64_t last_point = -1;
-  for (int64_t j = 0; j < num_observations; ++j) {
+  for (int64_t j = 0; j < h.observations; ++j) {
     auto what = [&] {
-      return "observation " + Str(j) + " of " + Str(num_observations) +
-             " ('camera point x y')";
+      return "observation " + Str(j) + " of " + Str(h.observations) + " ('camera point x y')";
     };
     const int64_t c = in.Int(what);
-    if (c < 0 || c >= num_cameras) {
+    if (c < 0 || c >= h.cameras) {
       in.Fail("camera index " + Str(c) + " of observation " + Str(j) + " is out of range [0, " +
-              Str(num_cameras) + ")" +
-              (j == 0 && header_extra % 4 != 0
-                   ? " (the header's line has " + Str(header_extra) +
+              Str(h.cameras) + ")" +
+              (j == 0 && h.extra % 4 != 0
+                   ? " (the header's line has " + Str(h.extra) +
                          " more value(s) after 'num_cameras num_points num_observations': a "
                          "BAL header holds exactly three)"
                    : std::string()));
     }
     const int64_t k = in.Int(what);
-    if (k < 0 || k >= num_points) {
-      in.Fail("point index " + Str(k) + " of observation " + Str(j) +
-              " is out of range [0, " + Str(num_points) + ")");
+    if (k < 0 || k >= h.points) {
+      in.Fail("point index " + Str(k) + " of observation " + Str(j) + " is out of range [0, " +
+              Str(h.points) + ")");
     }
-    PushCapped(problem.obs_camera, static_cast<int32_t>(c), num_observations);
+    PushCapped(problem->obs_camera, static_cast<int32_t>(c), h.observations);
     const double x = in.Double(what), y = in.Double(what);
     const std::string out_of_range = PixelOutOfRange(x, y);
     if (!out_of_range.empty()) in.Fail("observation " + Str(j) + ": " + out_of_range);
-    PushCapped(problem.obs_pixel, x, 2 * num_observations);
-    PushCapped(problem.obs_pixel, y, 2 * num_observations);
-    if (grouped && k < last_point) {
-      // Not grouped after all: recover the (sorted) point ids so far.
-      grouped = false;
-      file_point.reserve(std::min(num_observations, kMaxReserve));
-      for (int64_t p = 0; p < static_cast<int64_t>(counts.size()); ++p) {
-        file_point.insert(file_point.end(), counts[p], p);
-      }
-    }
-    if (grouped) {
-      if (k >= static_cast<int64_t>(counts.size())) counts.resize(k + 1, 0);
-    } else {
-      file_point.push_back(k);
-      if (k >= static_cast<int64_t>(counts.size())) counts.resize(k + 1, 0);
-    }
-    ++counts[k];
-    last_point = k;
+    PushCapped(problem->obs_pixel, x, 2 * h.observations);
+    PushCapped(problem->obs_pixel, y, 2 * h.observations);
+    order->Add(k);
   }
+}
+
+}  // namespace
+
+Problem ReadBalLineByLine(const std::string& path) {
+  Parser in(path);
+  const Header h = ReadHeader(in);
+  const int64_t num_cameras = h.cameras, num_points = h.points;
+  Problem problem;
+  PointMajorOrder order;
+  ReadObservations(in, path, h, &problem, &order);
 
   // Cameras.
   problem.cameras.reserve(kBalCameraSize * std::min(num_cameras, kMaxReserve));
@@ -232,42 +229,33 @@ Problem ReadBal(const std::string& path) {
   }
   problem.cameras.shrink_to_fit();
 
-  // Points (num_points <= num_observations, which are now in memory, so these
-  // allocations are backed by real data).
-  counts.resize(num_points, 0);
-  offsets.assign(num_points + 1, 0);
-  for (int64_t k = 0; k < num_points; ++k) offsets[k + 1] = counts[k];
-  std::vector<int64_t>().swap(counts);
+  // Points (num_points <= num_observations, which are now in memory, so this
+  // allocation is backed by real data).
   problem.points.resize(kPointSize * num_points);
   for (int64_t k = 0; k < num_points; ++k) {
     auto what = [&] {
       return Str(kPointSize) + " coordinates for point " + Str(k);
     };
     for (int q = 0; q < kPointSize; ++q) problem.points[kPointSize * k + q] = in.Double(what);
-    if (offsets[k + 1] == 0) in.Fail("point " + Str(k) + " has no observation");
+    if (order.count(k) == 0) in.Fail("point " + Str(k) + " has no observation");
   }
   std::string_view extra;
   if (in.Next(&extra)) {
     in.Fail("expected end of file after the last point coordinate, found '" +
             Clipped(extra) + "' (do the header counts match the data?)");
   }
-
-  for (int64_t k = 0; k < num_points; ++k) offsets[k + 1] += offsets[k];
-  if (!grouped) {
-    // Stable counting sort by point: offsets[k] .. offsets[k+1] is point k.
-    std::vector<int64_t> next(offsets.begin(), offsets.end() - 1);
-    std::vector<int32_t> camera(num_observations);
-    std::vector<double> pixel(2 * num_observations);
-    for (int64_t j = 0; j < num_observations; ++j) {
-      const int64_t d = next[file_point[j]]++;
-      camera[d] = problem.obs_camera[j];
-      pixel[2 * d] = problem.obs_pixel[2 * j];
-      pixel[2 * d + 1] = problem.obs_pixel[2 * j + 1];
-    }
-    problem.obs_camera.swap(camera);
-    problem.obs_pixel.swap(pixel);
-  }
+  order.Finish(num_points, &problem);
   return problem;
+}
+
+Problem ReadBal(const std::string& path, int threads) {
+  std::optional<Problem> problem =
+      ReadBalInParallel(path, threads > 0 ? threads : omp_get_max_threads());
+  if (problem.has_value()) return std::move(*problem);
+  // Not a file the parallel reader takes as it is: read line by line, for
+  // the message naming the line (or, for a valid file it does not take
+  // whole, the problem).
+  return ReadBalLineByLine(path);
 }
 
 }  // namespace dba

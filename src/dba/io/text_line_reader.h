@@ -1,29 +1,31 @@
 // Line-by-line reading of a text file that is either plain or bzip2-compressed.
 //
 // The format is detected from the content ("BZh" magic), not from the file
-// name. bzip2 data is decompressed in a streaming fashion (fixed-size chunks
-// through BZ2_bzDecompress), so memory stays bounded by the longest line, and
-// concatenated bzip2 streams (as written by `pbzip2` or `cat a.bz2 b.bz2`) are
-// read as one text. Errors (unreadable file, corrupt or truncated bzip2 data)
-// are thrown as dba::InputError naming the file and line.
+// name. The text comes from io/text_pieces: bzip2 blocks decoded on the
+// run's threads a window ahead (docs/design.md §4.3), so memory stays
+// bounded by the window and the longest line, and concatenated bzip2 streams
+// (as written by `pbzip2` or `cat a.bz2 b.bz2`) are read as one text. Errors
+// (unreadable file, corrupt or truncated bzip2 data, naming its byte) are
+// thrown as dba::InputError naming the file and line.
 //
 // Not thread-safe: one reader per thread.
 #pragma once
 
 #include <cstdint>
-#include <cstdio>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "dba/io/text_pieces.h"
 
 namespace dba {
 
 class TextLineReader {
  public:
   // Opens `path`; throws InputError when it cannot be opened or read.
-  explicit TextLineReader(const std::string& path);
-  ~TextLineReader();
+  // bzip2 is decoded on `threads` threads (0: OpenMP's count, the run's -t).
+  explicit TextLineReader(const std::string& path, int threads = 0);
   TextLineReader(const TextLineReader&) = delete;
   TextLineReader& operator=(const TextLineReader&) = delete;
 
@@ -44,28 +46,18 @@ class TextLineReader {
   // 1-based number of the line last returned by ReadLine (0 before the first).
   int64_t line_number() const { return line_; }
   // True when the file is bzip2-compressed.
-  bool is_bz2() const { return bz2_; }
+  bool is_bz2() const { return source_.is_bz2(); }
   const std::string& path() const { return path_; }
 
  private:
-  void RefillInput();                  // next raw chunk of the file
-  size_t Fill(char* dst, size_t cap);  // next decoded bytes; 0 at end
+  size_t Fill(char* dst, size_t cap);  // next text bytes; 0 at end
   [[noreturn]] void Fail(const std::string& what) const;
 
   std::string path_;
-  FILE* file_ = nullptr;
+  TextPieceSource source_;
+  std::shared_ptr<const TextPiece> piece_;  // the text being read
+  size_t piece_at_ = 0;
   bool unterminated_ = false;
-  bool bz2_ = false;
-
-  // Raw bytes from the file; the stream's next_in / avail_in mark the unread part
-  // (also in plain mode, for the bytes read while sniffing the magic).
-  std::vector<char> in_;
-  bool in_eof_ = false;
-  struct Stream;                  // libbz2's bz_stream, kept out of this header
-  std::unique_ptr<Stream> stream_;
-  Stream& strm();
-  bool in_stream_ = false;      // strm_ is initialised for decompression
-  bool stream_ended_ = false;   // at least one bzip2 stream was completed
 
   // Decoded text; [begin_, end_) is not yet returned.
   std::vector<char> buf_;

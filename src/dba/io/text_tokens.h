@@ -17,6 +17,23 @@ inline bool IsBlank(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
 }
 
+// A blank or a line end: what separates tokens in a text read whole.
+inline bool IsSeparator(char c) { return IsBlank(c) || c == '\n'; }
+
+// What a reader of text in pieces needs of each piece before parsing it in
+// parallel (io/bal_parallel_reader): its tokens (separated by IsSeparator;
+// a piece starting with a non-separator counts one there), its line ends,
+// and where its first and last separator and line end are (npos: none).
+struct TextCounts {
+  int64_t tokens = 0;
+  int64_t newlines = 0;
+  size_t first_separator = std::string_view::npos;
+  size_t last_separator = std::string_view::npos;
+  size_t first_newline = std::string_view::npos;
+  size_t last_newline = std::string_view::npos;
+};
+TextCounts CountText(std::string_view text);
+
 inline std::string_view TrimBlanks(std::string_view s) {
   while (!s.empty() && IsBlank(s.front())) s.remove_prefix(1);
   while (!s.empty() && IsBlank(s.back())) s.remove_suffix(1);

@@ -132,13 +132,15 @@ std::vector<uint64_t> WithLeverArmColumn(std::vector<uint64_t> blocks, int32_t c
 std::vector<uint64_t> RcsBlockPattern(int64_t num_cameras,
                                       std::span<const int64_t> point_offsets,
                                       std::span<const int32_t> obs_camera) {
-  return PatternOf(static_cast<int32_t>(num_cameras),
-                   static_cast<int64_t>(point_offsets.size()) - 1,
-                   [&](int64_t k, std::vector<int32_t>& rows) {
-                     for (int64_t a = point_offsets[k]; a < point_offsets[k + 1]; ++a) {
-                       rows.push_back(obs_camera[a]);
-                     }
-                   });
+  auto rows_of = [&](int64_t k, std::vector<int32_t>& rows) {
+    for (int64_t a = point_offsets[k]; a < point_offsets[k + 1]; ++a) rows.push_back(obs_camera[a]);
+  };
+  const int64_t num_points = static_cast<int64_t>(point_offsets.size()) - 1;
+  const auto rows = static_cast<int32_t>(num_cameras);
+  // Row by row as below (dba info of 1.7M observations: its sort was a third
+  // of the time after the load, on one thread).
+  return num_points <= int64_t{UINT32_MAX} ? PatternByRows(rows, num_points, rows_of)
+                                           : PatternOf(rows, num_points, rows_of);
 }
 
 std::vector<uint64_t> RcsBlockPattern(const Problem& problem, const UnknownLayout& layout) {

@@ -41,7 +41,12 @@ void RefuseUnbuiltLeverArmUses(const SolveOptions& options, int ranks) {
 
 }  // namespace
 
+int ThreadsPerRank(int asked, const Communicator& comm) {
+  return asked > 0 ? asked : std::max(1, DefaultThreads() / comm.ranks_on_node());
+}
+
 SolveInput LoadInput(const SolveOptions& options, const Communicator& comm) {
+  omp_set_num_threads(ThreadsPerRank(options.lm.num_threads, comm));
   SolveInput input;
   input.name = options.input;
   // Distributed runs on a binary file: every rank reads its own points and
@@ -151,7 +156,7 @@ SetupFingerprint SolveSetup(const SolveOptions& options, const Georeference& geo
 
 SolveSession::SolveSession(const SolveOptions& options, Communicator* comm, std::ostream& log)
     : options_(options), comm_(comm), out_(log), lm_(options.lm) {
-  if (lm_.num_threads == 0) lm_.num_threads = std::max(1, DefaultThreads() / comm->ranks_on_node());
+  lm_.num_threads = ThreadsPerRank(lm_.num_threads, *comm);
   // Every parallel region without a count of its own (loading, the
   // symbolic phase) takes the solve's threads too.
   omp_set_num_threads(lm_.num_threads);

@@ -47,9 +47,13 @@ struct SolveInput {
   double read_seconds = 0.0;  // the wall time reading it took (the report's `read`)
 };
 
+// The threads of each rank: -t, else the node's cores divided by its ranks.
+int ThreadsPerRank(int asked, const Communicator& comm);
+
 // Reads options.input on the main rank: the whole problem, or, when every
 // rank of a distributed run reads its own points of a .dba, only its counts.
-// Fixings are checked against it (UsageError).
+// Fixings are checked against it (UsageError). Reading takes the rank's
+// threads (a .bz2's blocks and BAL text are read in parallel).
 SolveInput LoadInput(const SolveOptions& options, const Communicator& comm);
 
 // What the main rank holds after the solve.
