@@ -79,7 +79,8 @@ void PrintHelp(std::ostream& out) {
   for (const char* n : kNoEffect) out << n << " ";
   out << "   accepted; they change how COLMAP runs, not its result\n"
          "Refused: --project_path (give the options on the command line) and any other option.\n"
-         "The gauge is held as dba holds it; the final cost is COLMAP's optimum's.\n";
+         "The gauge is COLMAP's (--gauge colmap): the first image's pose and the x of the second's\n"
+         "translation (the model's file order) are kept; the final cost is COLMAP's optimum's.\n";
 }
 
 }  // namespace
@@ -118,6 +119,7 @@ std::vector<std::string> SolveArgumentsOfColmap(const std::vector<std::string>& 
     if (!given.count(colmap)) solve.insert(solve.end(), {"--" + std::string(tolerance) + "-tolerance", "0"});
   }
   if (!given.count(std::string(kBa) + "max_num_iterations")) solve.insert(solve.end(), {"--max-iterations", "100"});
+  solve.insert(solve.end(), {"--gauge", "colmap"});  // what COLMAP holds (camera/gauge_hold.h)
   std::set<std::string> holds;
   for (const auto& [name, r] : Refinements()) {
     if (!given.count(name) || ParseBool(name, given[name]) == r.colmap_default) continue;

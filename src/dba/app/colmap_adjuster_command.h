@@ -3,9 +3,10 @@
 // defaults (100 iterations, tolerances 0, principal point fixed), maps each
 // option onto `dba solve`'s and runs that solve (one process, or every rank
 // under mpirun); an option dba cannot honour is refused by name (exit 2).
-// The gauge is held as dba holds it (the first image's pose and its distance
-// to the next; COLMAP holds the first image and one coordinate of the
-// second): the optimum and its cost are COLMAP's.
+// The gauge is COLMAP's (`--gauge colmap`, camera/gauge_hold.h): the first
+// image's pose and the x of the second's translation, in the model's file
+// order, as COLMAP 3.8 holds them; the optimum, its cost and its frame are
+// COLMAP's.
 #pragma once
 
 #include <string>
