@@ -13,11 +13,7 @@ dba=$1
 root=$2
 colmap_data=$root/../shared/data/colmap
 need_shared "$colmap_data"
-if ! command -v colmap >/dev/null; then
-  echo "FAILED: colmap is not installed (scripts/install-deps.sh installs Debian's colmap package)" >&2
-  exit 1
-fi
-export QT_QPA_PLATFORM=offscreen
+need_colmap
 
 # cost MODEL: the cost of a model as it is (dba solve, no iteration).
 cost() {

@@ -25,8 +25,9 @@ def survey(survey_dir):
     return dba.read_problem(survey_dir / "s.dba")
 
 
-# The free gauge: renumbering the cameras makes another image the first,
-# which the held gauge keeps where it was given (tests/cli_gauge.sh).
+# The free gauge: LM's own optimum is compared (the held gauge,
+# tests/cli_gauge.sh, would map both alike: it is the cameras' mean, the
+# same in any numbering).
 def solve(cameras, points, observations, camera_indices, point_indices, **options):
     return dba.solve_arrays(cameras, points, observations, camera_indices, point_indices,
                             camera_model="bal", threads=2, linear_solver="sparse",

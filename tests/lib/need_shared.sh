@@ -15,6 +15,17 @@ need_shared() {
   fi
 }
 
+# need_colmap: the real COLMAP (Debian's colmap 3.8), run headless; without
+# it the script fails at once and says why.
+need_colmap() {
+  if ! command -v colmap >/dev/null; then
+    echo "FAILED: colmap is not installed (scripts/install-deps.sh installs Debian's colmap package)" >&2
+    echo "0 passed, 1 failed"
+    exit 1
+  fi
+  export QT_QPA_PLATFORM=offscreen
+}
+
 # ply_matches_points3d PLY POINTS3D_TXT: every vertex of a binary PLY (x y z
 # as doubles, r g b) equals the X Y Z R G B of the same line of a COLMAP
 # points3D.txt (coordinates to 1e-12 relative, colours exactly), and the

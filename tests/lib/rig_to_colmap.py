@@ -13,21 +13,13 @@ import sys
 import numpy as np
 
 import dba
+from gauge_check import angle_axis as rot  # R(ω), Rodrigues
 
 path, sensors, out = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 no_pose = "--no-pose" in sys.argv
 imu = "--imu-origin" in sys.argv
 p = dba.read_problem(path)
 n = len(p.cameras)
-
-
-def rot(w):
-    th = np.linalg.norm(w)
-    if th == 0:
-        return np.eye(3)
-    k = w / th
-    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    return np.eye(3) + np.sin(th) * K + (1 - np.cos(th)) * K @ K
 
 
 def quat(R):

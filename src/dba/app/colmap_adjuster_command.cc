@@ -90,7 +90,9 @@ void PrintHelp(std::ostream& out) {
          "or off in any case; an option takes the next argument as its value, or --name=value;\n"
          "an unambiguous start of a name stands for it. Any other option, an option given\n"
          "twice or a word that is no option's value is refused (exit 2).\n"
-         "The gauge is held as dba holds it; the final cost is COLMAP's optimum's.\n";
+         "The gauge is COLMAP's (--gauge colmap): the first image's pose and the x of the\n"
+         "second's translation (the model's file order) are kept; the final cost is COLMAP's\n"
+         "optimum's.\n";
 }
 
 // The option `name` stands for: its own, or the one it starts (as boost
@@ -221,6 +223,7 @@ std::vector<std::string> SolveArguments(const std::map<const ColmapOption*, std:
     }
   }
   solve.insert(solve.end(), {"--colmap-format", "binary"});
+  solve.insert(solve.end(), {"--gauge", "colmap"});  // what COLMAP holds (camera/gauge_hold.h)
   return solve;
 }
 

@@ -8,9 +8,10 @@
 // mpirun), writing the model in COLMAP's binary format as COLMAP 3.8 does
 // whatever the input's. An option dba cannot honour, a repeated one and a
 // stray word are refused by name (exit 2); every message names COLMAP's
-// option. The gauge is held as dba holds it (the first image's pose and its
-// distance to the next; COLMAP holds the first image and one coordinate of
-// the second): the optimum and its cost are COLMAP's.
+// option. The gauge is COLMAP's (`--gauge colmap`, camera/gauge_hold.h):
+// the first image's pose and the x of the second's translation, in the
+// model's file order, as COLMAP 3.8 holds them; the optimum, its cost and
+// its frame are COLMAP's.
 #pragma once
 
 #include <string>

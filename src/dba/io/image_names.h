@@ -20,6 +20,10 @@ struct ImageNames {
   // Each problem image's width and height in pixels (its COLMAP camera's).
   std::vector<std::array<uint64_t, 2>> size;
   std::unordered_map<std::string, int32_t> index;  // problem's names -> index
+  std::vector<int64_t> id;  // each problem image's COLMAP image id
+  // The problem's images in the order the model's images file lists them
+  // (the order COLMAP registers them in: --gauge colmap).
+  std::vector<int32_t> read_order;
 };
 
 }  // namespace dba

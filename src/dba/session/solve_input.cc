@@ -4,6 +4,7 @@
 #include "dba/camera/rig_pose.h"
 
 #include <algorithm>
+#include <numeric>
 #include <unordered_map>
 
 
@@ -218,7 +219,14 @@ Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
         names->others.erase(im.name);
         const ColmapCamera& c = in.model.cameras[in.source.group_camera[p.camera_intrinsics[i]]];
         names->size.push_back({c.width, c.height});
+        names->id.push_back(im.image_id);
       }
+      std::vector<int32_t>& order = names->read_order;
+      order.resize(in.source.image_index.size());
+      std::iota(order.begin(), order.end(), 0);
+      std::sort(order.begin(), order.end(), [&](int32_t a, int32_t b) {
+        return in.source.image_index[a] < in.source.image_index[b];
+      });
     }
     return std::move(in.source.problem);
   }

@@ -75,6 +75,7 @@ bool MaySolveByPcg(const SolveOptions& o) {
 }
 constexpr const char* kPcgNeeds = "--linear-solver pcg or auto";
 
+const std::vector<std::string> kGauges = {"hold", "free", "colmap"};  // GaugeRule's order
 const std::vector<std::string> kLosses = {"trivial", "huber", "soft_l1", "cauchy", "arctan", "tukey"};
 
 LossType LossOf(size_t i) {
@@ -197,14 +198,16 @@ std::vector<Spec> FixingOptions() {
   };
   t.push_back(images);
   t.push_back(Choice(
-      "--gauge", {"hold", "free"},
+      "--gauge", kGauges,
       "hold: what nothing else holds of the 7 degrees of freedom of the world (rotation, "
-      "translation, scale) stays as loaded: the first image (a COLMAP model's lowest image id; "
-      "the first image held fixed, if any) keeps its pose and its distance to the next image "
-      "(the optimum is mapped back by a similarity; the cost is unchanged); camera priors, "
-      "control points or two fixed images hold it themselves. free: the optimum where LM ends",
-      [](SolveOptions& o, size_t i) { o.free_gauge = i == 1; },
-      [](const SolveOptions& o) { return std::string(o.free_gauge ? "free" : "hold"); }));
+      "translation, scale) stays as loaded, the optimum mapped back by a similarity (the cost "
+      "is unchanged): the images' centroid, the RMS spread of their centres about it and their "
+      "mean orientation; with one image held fixed, the spread; camera priors, control points "
+      "or two fixed images hold it themselves. free: the optimum where LM ends. "
+      "colmap: what colmap bundle_adjuster holds, the first image's pose and the x of the "
+      "second's translation (a COLMAP model's file order)",
+      [](SolveOptions& o, size_t i) { o.gauge = static_cast<GaugeRule>(i); },
+      [](const SolveOptions& o) { return kGauges[static_cast<size_t>(o.gauge)]; }));
   return t;
 }
 

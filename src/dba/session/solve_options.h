@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "dba/camera/gauge_hold.h"
 #include "dba/cluster/distributed_solve.h"
 #include "dba/geo/georeference.h"
 #include "dba/lm/levenberg_marquardt.h"
@@ -47,9 +48,10 @@ struct SolveOptions {
   // One process: refuse to start when the memory estimate exceeds what the
   // machine (or the cgroup) has available; false: --no-memory-check.
   bool memory_check = true;
-  // The 7 degrees of freedom nothing else holds are held (camera/gauge_hold.h);
-  // true: --gauge free, the optimum where LM ends.
-  bool free_gauge = false;
+  // What is held of the 7 degrees of freedom nothing else holds
+  // (camera/gauge_hold.h): --gauge hold, free (the optimum where LM ends)
+  // or colmap (colmap bundle_adjuster's).
+  GaugeRule gauge = GaugeRule::kHold;
   LmOptions lm;             // num_threads 0: the node's cores / its ranks
   DistributedOptions distributed;
 };

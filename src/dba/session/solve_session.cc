@@ -71,9 +71,7 @@ SolveInput LoadInput(const SolveOptions& options, const Communicator& comm) {
     ApplyFixings(options.unknowns, &input.problem);
     return input;
   }
-  const bool names = options.geo.any() || !options.geo.camera_centres_path.empty();
-  input.problem = LoadSolveInput(options.input, options.unknowns, names ? &input.names : nullptr,
-                                 &input.colmap_cameras);
+  input.problem = LoadSolveInput(options.input, options.unknowns, &input.names, &input.colmap_cameras);
   return input;
 }
 
@@ -187,9 +185,10 @@ SolveResult SolveSession::Run(SolveInput input) {
           RefuseNonFiniteResiduals(input_.name, result_.problem, load_order_);
     }
     // The gauge's reference as loaded (before an alignment or a resume).
-    if (!options_.free_gauge) gauge_ = TakeGaugeReference(result_.problem, false);
+    gauge_ = TakeGaugeReference(result_.problem, options_.gauge, input_.names.read_order);
     if (options_.geo.any()) PrepareGeoreferencing();
-    if (!options_.free_gauge && (!result_.geo.priors.empty() || result_.geo.control_points > 0)) {
+    if (options_.gauge != GaugeRule::kFree &&
+        (!result_.geo.priors.empty() || result_.geo.control_points > 0)) {
       gauge_.hold = GaugeHold::kExternal;
     }
     setup_ = SolveSetup(options_, result_.geo, result_.problem.has_rigs());
@@ -364,11 +363,11 @@ void SolveSession::HoldGauge() {
   const Similarity s = GaugeMapping(gauge_, result_.problem);
   const bool identity = s.scale == 1.0 && s.rotation == Mat3::Identity() && s.translation.isZero(0);
   if (!identity) {
-    MoveCameras(s, gauge_, &result_.problem);
+    MoveCameras(s, &result_.problem);
     MovePoints(s, &result_.problem.points);
     if (result_.kept) MovePoints(s, &result_.all_points, result_.kept->point);
   }
-  result_.report.gauge = DescribeGauge(gauge_, s);
+  result_.report.gauge = DescribeGauge(gauge_, s, input_.names.id);
 }
 
 // Georeferencing measured (the control points, the last points, out again),
