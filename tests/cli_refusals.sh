@@ -97,10 +97,15 @@ refuse 2 "--initial-lambda: expected a number in [1e-16, 10000], got '1e-320'" "
 refuse 2 "--initial-lambda: expected a number in [1e-16, 10000], got '2147483648'" "$bal" --initial-lambda 2147483648
 refuse 2 "--loss-scale: expected a number in [0.01, 10000], got '1e-6'" "$bal" --loss tukey --loss-scale 1e-6
 refuse 2 "--prior-sigma" "$bal" --camera-priors "$tmp/none.txt" --prior-sigma 1e-300
-# A rejection that leaves nothing: refused, with how much it dropped.
-refuse 1 "outlier rejection dropped every observation (31843 observations and 7776 points" \
+# A rejection round past --reject-max-share stops the run, saying the share;
+# one that leaves nothing (the guard off) is refused, with how much it dropped.
+refuse 1 "outlier rejection round 1 (|r| > 1e-06 px) would drop 31843 of 31843 observations (100.0%), more than --reject-max-share 0.25" \
   "$bal" --reject-outliers 1e-6
-refuse 1 "outlier rejection dropped every observation" "$bal" --reject-outliers 1e6 --min-triangulation-angle 179
+refuse 1 "outlier rejection dropped every observation (31843 observations and 7776 points" \
+  "$bal" --reject-outliers 1e-6 --reject-max-share 1
+refuse 1 "outlier rejection dropped every observation" "$bal" --reject-outliers 1e6 \
+  --min-triangulation-angle 179 --reject-max-share 1
+refuse 2 "--reject-max-share" "$bal" --reject-outliers 3 --reject-max-share 0
 # Priors in a CRS: a wrapped longitude, a blunder of a height; a PROJ string
 # that is no CRS is the flag's error, PROJ's own log kept off stderr.
 "$dba" generate "$tmp/geo.dba" --images 20 --priors "$tmp/geo.txt" >/dev/null

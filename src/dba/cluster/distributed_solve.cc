@@ -424,8 +424,13 @@ BundleAdjustSummary DistributedPointSide::Solve(
 }
 
 RejectionRound DistributedPointSide::DropOutliers(const RejectionCriteria& criteria,
-                                                  int num_threads, bool keep_loss) {
-  const RejectionRound round = workers_->DropOutliers(criteria, num_threads, &own_rejection_);
+                                                  int num_threads, bool keep_loss,
+                                                  PoseObservations* poses) {
+  *poses = PoseObservations();
+  poses->before.assign(problem_->num_frames(), 0);
+  poses->after.assign(problem_->num_frames(), 0);
+  const RejectionRound round =
+      workers_->DropOutliers(criteria, num_threads, &own_rejection_, poses);
   num_observations_ = round.observations_left;
   stale_ = true;
   keep_loss_ = keep_loss;

@@ -110,9 +110,10 @@ class DistributedPointSide {
   BundleAdjustSummary Solve(const LmOptions& options, const CameraPriors& priors,
                             const std::function<void(const IterationSummary&)>& on_iteration);
   // One round of outlier rejection on every rank's share (the next Solve
-  // rebuilds the workers on what is left, with `keep_loss`'s loss).
+  // rebuilds the workers on what is left, with `keep_loss`'s loss); each
+  // pose's observations before and after it into `poses`, over every rank.
   RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads,
-                              bool keep_loss);
+                              bool keep_loss, PoseObservations* poses);
   // Every rank's current points into `points` (global numbering, resized to
   // hold all; points dropped keep what was there).
   void CollectPoints(std::vector<double>* points);

@@ -68,7 +68,8 @@ RanksRun SolveOnRanks(int ranks, const Problem& problem, const std::string& bina
     DistributedPointSide side(&comm, o, d, binary, &p);
     BundleAdjustSummary s = side.Solve(o, {}, {});
     if (reject > 0) {
-      side.DropOutliers({reject, 0.0}, 1, true);
+      PoseObservations poses;
+      side.DropOutliers({reject, 0.0}, 1, true, &poses);
       s = side.Solve(o, {}, {});
       run.kept = side.Kept();
     }

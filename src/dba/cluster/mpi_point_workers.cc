@@ -387,14 +387,21 @@ void MpiPointWorkers::ReceivePoints(std::vector<double>* points) {
 }
 
 RejectionRound MpiPointWorkers::DropOutliers(const RejectionCriteria& criteria, int num_threads,
-                                             ShareRejection* own_state) {
+                                             ShareRejection* own_state, PoseObservations* poses) {
   BroadcastCommand(comm_, {Op::kReject, 0, criteria.max_error_px,
                            criteria.min_triangulation_angle_deg});
   std::vector<double> mine(kPackedRound, 0.0);
   if (own_ != nullptr) {
-    mine = Pack(DropShareOutliers(criteria, num_threads, own_share_, own_state));
+    mine = Pack(DropShareOutliers(criteria, num_threads, own_share_, own_state, poses));
   }
   const std::vector<double> all = comm_->Gather(Traffic::kControl, mine);
+  for (int r = 1; r < comm_->size(); ++r) {  // each rank's poses, summed
+    for (std::vector<int64_t>* counts : {&poses->before, &poses->after}) {
+      const auto theirs = comm_->RecvVector<int64_t>(r, Traffic::kControl);
+      if (theirs.size() > counts->size()) counts->resize(theirs.size(), 0);
+      for (size_t f = 0; f < theirs.size(); ++f) (*counts)[f] += theirs[f];
+    }
+  }
   RejectionRound sum;
   for (int r = 0; r < comm_->size(); ++r) {
     const double* v = all.data() + kPackedRound * r;
@@ -510,11 +517,15 @@ RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers
       case Op::kCollect:
         send_points();
         break;
-      case Op::kReject:
+      case Op::kReject: {
+        PoseObservations poses;
         comm->Gather(Traffic::kControl,
                      Pack(DropShareOutliers({c.lambda, c.value}, workers->num_threads(), share,
-                                            rejection)));
+                                            rejection, &poses)));
+        comm->SendVector(0, Traffic::kControl, poses.before);
+        comm->SendVector(0, Traffic::kControl, poses.after);
         break;
+      }
       case Op::kRebuild:
         return {true, c.accept != 0};
       case Op::kLeft:

@@ -114,12 +114,13 @@ class MpiPointWorkers : public PointWorkers {
 
   // --reject-outliers (cluster/share_outliers.h), between solves: every
   // rank drops from its share (the main rank from its own, `own_state`);
-  // the round summed over the ranks. Then either Rebuild (every rank's
+  // the round summed over the ranks, and into `poses` each pose's
+  // observations before and after it, summed too. Then either Rebuild (every rank's
   // workers are stale: the caller makes new ones, the ranks too, and the
   // next solve runs with the loss or the squared one) or CollectLeft and
   // Finish.
   RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads,
-                              ShareRejection* own_state);
+                              ShareRejection* own_state, PoseObservations* poses);
   void Rebuild(bool keep_loss);
   // What is left of every share (the main rank's first, if it forms).
   std::vector<ShareLeft> CollectLeft(const ShareRejection* own_state);

@@ -4,15 +4,18 @@
 namespace dba {
 
 RejectionRound DropShareOutliers(const RejectionCriteria& criteria, int num_threads,
-                                 RankShare* share, ShareRejection* state) {
+                                 RankShare* share, ShareRejection* state,
+                                 PoseObservations* poses) {
   if (!state->started) {
     state->started = true;
     state->loaded_point = share->global_point;
     state->loaded_offsets = share->problem.point_offsets;
     state->original = OriginalIndices::Identity(share->problem);
   }
+  if (poses != nullptr) CountPoseObservations(share->problem, share->CameraRowIds(), &poses->before);
   const RejectionRound round =
       DropOutliers(criteria, num_threads, &share->problem, &state->original);
+  if (poses != nullptr) CountPoseObservations(share->problem, share->CameraRowIds(), &poses->after);
   share->global_point.resize(state->original.point.size());
   for (size_t k = 0; k < state->original.point.size(); ++k) {
     share->global_point[k] = state->loaded_point[state->original.point[k]];

@@ -13,6 +13,7 @@
 
 #include "dba/cluster/rank_share.h"
 #include "dba/lm/outlier_rejection.h"
+#include "dba/lm/rejection_guard.h"
 
 namespace dba {
 
@@ -24,9 +25,12 @@ struct ShareRejection {
   OriginalIndices original;            // current -> loaded, in the share
 };
 
-// One round on the share; its global_point follows the points left.
+// One round on the share; its global_point follows the points left. With
+// `poses`, each global pose's observations in the share before and after
+// the round are added to it (lm/rejection_guard.h).
 RejectionRound DropShareOutliers(const RejectionCriteria& criteria, int num_threads,
-                                 RankShare* share, ShareRejection* state);
+                                 RankShare* share, ShareRejection* state,
+                                 PoseObservations* poses = nullptr);
 
 // What is left of a share, in its loaded order: each loaded point's global id
 // and number of observations, a flag per loaded point and per loaded

@@ -1,12 +1,15 @@
 // Outlier rejection on rank shares: the shares together drop what one
 // process drops from the whole problem, over two rounds, for any split, and
-// the main rank's merge of what is left gives back one process's problem.
+// count each pose's observations before and after as one process does
+// (the guard's figures); the main rank's merge of what is left gives back
+// one process's problem.
 #include "dba/cluster/share_outliers.h"
 
 #include <gtest/gtest.h>
 
 #include "dba/cluster/partition.h"
 #include "dba/testing/synthetic_bal.h"
+#include "dba/testing/synthetic_rig.h"
 
 namespace dba {
 namespace {
@@ -25,8 +28,14 @@ TEST(ShareOutliers, SharesDropWhatOneProcessDrops) {
 
   Problem whole = loaded;
   OriginalIndices original = OriginalIndices::Identity(whole);
+  const int64_t images = loaded.num_images();
+  std::vector<int64_t> whole_counts[3];  // before round 1, after it, after round 2
+  for (auto& c : whole_counts) c.assign(images, 0);
+  CountPoseObservations(whole, {}, &whole_counts[0]);
   const RejectionRound w1 = DropOutliers(first, 1, &whole, &original);
+  CountPoseObservations(whole, {}, &whole_counts[1]);
   const RejectionRound w2 = DropOutliers(second, 1, &whole, &original);
+  CountPoseObservations(whole, {}, &whole_counts[2]);
   ASSERT_GT(w1.observations_dropped, 0);
   ASSERT_GT(w2.observations_dropped, 0);
 
@@ -36,9 +45,10 @@ TEST(ShareOutliers, SharesDropWhatOneProcessDrops) {
     std::vector<ShareRejection> states(3);
     for (int g = 0; g < 3; ++g) shares.push_back(ExtractShare(loaded, group, g));
     RejectionRound s1, s2;
+    PoseObservations p1, p2;  // summed over the shares
     for (int g = 0; g < 3; ++g) {
-      const RejectionRound a = DropShareOutliers(first, 2, &shares[g], &states[g]);
-      const RejectionRound b = DropShareOutliers(second, 2, &shares[g], &states[g]);
+      const RejectionRound a = DropShareOutliers(first, 2, &shares[g], &states[g], &p1);
+      const RejectionRound b = DropShareOutliers(second, 2, &shares[g], &states[g], &p2);
       s1.observations_dropped += a.observations_dropped;
       s1.points_dropped += a.points_dropped;
       s2.observations_dropped += b.observations_dropped;
@@ -56,6 +66,11 @@ TEST(ShareOutliers, SharesDropWhatOneProcessDrops) {
     EXPECT_EQ(s2.points_dropped, w2.points_dropped);
     EXPECT_EQ(s2.points_left, whole.num_points());
     EXPECT_EQ(s2.observations_left, whole.num_observations());
+    for (auto* c : {&p1.before, &p1.after, &p2.before, &p2.after}) c->resize(images, 0);
+    EXPECT_EQ(p1.before, whole_counts[0]);
+    EXPECT_EQ(p1.after, whole_counts[1]);
+    EXPECT_EQ(p2.before, whole_counts[1]);
+    EXPECT_EQ(p2.after, whole_counts[2]);
 
     std::vector<ShareLeft> left;
     for (int g = 0; g < 3; ++g) left.push_back(LeftOfShare(shares[g], states[g]));
@@ -73,6 +88,28 @@ TEST(ShareOutliers, SharesDropWhatOneProcessDrops) {
     EXPECT_EQ(reduced.obs_pixel, whole.obs_pixel);
     EXPECT_EQ(reduced.points, whole.points);
   }
+}
+
+// With rigs a pose is a frame: the shares' counts, by their global frames,
+// sum to the whole problem's.
+TEST(ShareOutliers, RigSharesCountEachFrameAsTheWhole) {
+  testing::SyntheticRigOptions o;
+  o.frames = 6;
+  o.sensors = 3;
+  const Problem loaded = testing::MakeSyntheticRig(o).problem;
+  std::vector<int64_t> whole(loaded.num_frames(), 0);
+  CountPoseObservations(loaded, {}, &whole);
+  const auto group = PartitionPoints(loaded, 3, PartitionScheme::kCameraLocality);
+  PoseObservations poses;
+  for (int g = 0; g < 3; ++g) {
+    RankShare share = ExtractShare(loaded, group, g);
+    ShareRejection state;
+    DropShareOutliers({1e6, 0.0}, 1, &share, &state, &poses);  // drops nothing
+  }
+  poses.before.resize(whole.size(), 0);
+  poses.after.resize(whole.size(), 0);
+  EXPECT_EQ(poses.before, whole);
+  EXPECT_EQ(poses.after, whole);
 }
 
 TEST(ShareOutliers, AShareNeverRejectedIsLeftWhole) {

@@ -10,6 +10,10 @@
 
 namespace dba {
 
+RobustLoss RejectionStartLoss(double max_error_px) {
+  return RobustLoss{LossType::kCauchy, 2.0 * max_error_px};
+}
+
 OriginalIndices OriginalIndices::Identity(const Problem& problem) {
   OriginalIndices o;
   o.observation.resize(problem.num_observations());

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "dba/problem/problem.h"
+#include "dba/rcs/robust_loss.h"
 
 namespace dba {
 
@@ -25,6 +26,15 @@ struct RejectionCriteria {
   // COLMAP's default, 1.5 degrees.
   double min_triangulation_angle_deg = 1.5;
 };
+
+// The first solve's loss under rejection at τ = max_error_px when no loss
+// is given: Cauchy, ρ(s) = a² log(1 + s/a²), at a = 2τ. A squared first
+// solve is dragged by the mismatches and its round then drops the inliers
+// (3% uniform mismatches: 98.7% of them); Cauchy gives a mismatch 50 px out
+// a weight under 0.04 at τ = 3 px, and at 2τ rather than τ it drops fewer
+// inliers in the round after it and lands the cameras closer (bench/README.md,
+// "Rejection that starts robust").
+RobustLoss RejectionStartLoss(double max_error_px);
 
 struct RejectionRound {
   int64_t observations_dropped = 0;

@@ -66,7 +66,7 @@ void LocalPointSide::GivenOrder() {
 }
 
 RejectionRound LocalPointSide::DropOutliers(const RejectionCriteria& criteria, int num_threads,
-                                            bool) {
+                                            bool, PoseObservations* poses) {
   if (!cut_) {
     original_ = OriginalIndices::Identity(*problem_);
     all_ = problem_->points;
@@ -74,7 +74,13 @@ RejectionRound LocalPointSide::DropOutliers(const RejectionCriteria& criteria, i
   } else {
     AllPoints(&all_);
   }
-  return dba::DropOutliers(criteria, num_threads, problem_, &original_);
+  *poses = PoseObservations();
+  poses->before.assign(problem_->num_frames(), 0);
+  poses->after.assign(problem_->num_frames(), 0);
+  CountPoseObservations(*problem_, {}, &poses->before);
+  const RejectionRound round = dba::DropOutliers(criteria, num_threads, problem_, &original_);
+  CountPoseObservations(*problem_, {}, &poses->after);
+  return round;
 }
 
 void LocalPointSide::AllPoints(std::vector<double>* points) {

@@ -16,6 +16,7 @@
 #include "dba/cluster/distributed_solve.h"
 #include "dba/lm/bundle_adjust.h"
 #include "dba/lm/outlier_rejection.h"
+#include "dba/lm/rejection_guard.h"
 #include "dba/rcs/camera_centre_prior.h"
 
 namespace dba {
@@ -30,9 +31,10 @@ class PointSide {
                                     const IterationHook& hook,
                                     const std::function<void(const RcsSystem&)>& before_values) = 0;
   // One round of rejection at the current parameters; the next Solve works
-  // on what is left (with --loss kept, or the squared one).
+  // on what is left (with --loss kept, or the squared one). Each pose's
+  // observations before and after it into `poses` (lm/rejection_guard.h).
   virtual RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads,
-                                      bool keep_loss) = 0;
+                                      bool keep_loss, PoseObservations* poses) = 0;
   // Every point the side was given (those dropped with their last values),
   // and what is left of them and of their observations.
   virtual void AllPoints(std::vector<double>* points) = 0;
@@ -56,7 +58,7 @@ class LocalPointSide : public PointSide {
                             const IterationHook& hook,
                             const std::function<void(const RcsSystem&)>& before_values) override;
   RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads,
-                              bool keep_loss) override;
+                              bool keep_loss, PoseObservations* poses) override;
   void AllPoints(std::vector<double>* points) override;
   KeptObservations Kept() override;
   void AllCameras(std::vector<double>* cameras) override;
@@ -94,8 +96,8 @@ class RankPointSide : public PointSide {
     return side_->Solve(options, priors, hook);
   }
   RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads,
-                              bool keep_loss) override {
-    return side_->DropOutliers(criteria, num_threads, keep_loss);
+                              bool keep_loss, PoseObservations* poses) override {
+    return side_->DropOutliers(criteria, num_threads, keep_loss, poses);
   }
   void AllPoints(std::vector<double>* points) override;
   KeptObservations Kept() override { return side_->Kept(); }

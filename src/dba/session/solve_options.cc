@@ -81,6 +81,12 @@ SolveOptions ParseSolveArguments(const std::vector<std::string>& args, bool* hel
       help, "solve");
   if (*help) return o;
   if (o.input.empty()) throw std::invalid_argument("missing INPUT (see dba solve --help)");
+  // Rejection without a loss starts robust (the scale --loss-scale's if given).
+  if (o.reject_outliers_px > 0 && !o.loss_given) {
+    const double scale = o.lm.loss.scale;
+    o.lm.loss = RejectionStartLoss(o.reject_outliers_px);
+    if (o.loss_scale_given) o.lm.loss.scale = scale;
+  }
   if (o.distributed.rcs == DistributedOptions::Rcs::kDistributed) {
     if (o.lm.linear_solver.type == LinearSolverType::kDense ||
         o.lm.linear_solver.type == LinearSolverType::kSparse) {

@@ -14,6 +14,7 @@
 #include "dba/geo/georeference.h"
 #include "dba/lm/levenberg_marquardt.h"
 #include "dba/lm/outlier_rejection.h"
+#include "dba/lm/rejection_guard.h"
 #include "dba/session/solve_input.h"
 
 namespace dba {
@@ -44,6 +45,14 @@ struct SolveOptions {
   // The solves after a rejection round keep the robust loss (false: the
   // squared loss, the efficient estimator once the outliers are gone).
   bool reject_keep_loss = false;
+  // A rejection round that would drop more than this share of the
+  // observations, or leave a pose without the observations that determine
+  // it, stops the run (lm/rejection_guard.h); 1: no guard.
+  double reject_max_share = RejectionGuard().max_share;
+  // Whether --loss and --loss-scale were given: with --reject-outliers and
+  // no --loss, the first solve takes RejectionStartLoss.
+  bool loss_given = false;
+  bool loss_scale_given = false;
   GeoreferenceOptions geo;  // --camera-priors, --gcps and their CRSs
   // One process: refuse to start when the memory estimate exceeds what the
   // machine (or the cgroup) has available; false: --no-memory-check.
@@ -57,7 +66,9 @@ struct SolveOptions {
 };
 
 // Parses the arguments after `solve`. Throws std::invalid_argument with a
-// message naming the bad argument. Sets *help when --help was given.
+// message naming the bad argument. Sets *help when --help was given. With
+// --reject-outliers and no --loss, lm.loss is the first solve's
+// (RejectionStartLoss).
 SolveOptions ParseSolveArguments(const std::vector<std::string>& args,
                                         bool* help);
 void PrintSolveHelp(std::ostream& out);

@@ -225,8 +225,9 @@ static void RefuseAnEmptyProblem(const std::vector<RejectionRound>& rounds) {
       "--reject-outliers or lower --min-triangulation-angle");
 }
 
-// Rounds of --reject-outliers after the first solve. A checkpoint written
-// after a round resumes in the solve after it.
+// Rounds of --reject-outliers after the first solve, each checked by the
+// guard (lm/rejection_guard.h) before the solve after it. A checkpoint
+// written after a round resumes in the solve after it.
 void SolveSession::RejectionRounds(PointSide* side, const IterationHook& log,
                                    std::function<void(const RcsSystem&)> check_memory) {
   SolveReport& report = result_.report;
@@ -234,9 +235,16 @@ void SolveSession::RejectionRounds(PointSide* side, const IterationHook& log,
                                    options_.min_triangulation_angle_deg};
   bool resumed_round = resumed_round_ > 0;
   bool first_solve = resumed_round;  // no solve yet in this run
+  // The solve before a round: the first, or the one after the last round.
+  SolveBeforeRound before{report.solve.ba.lm.termination, lm_.loss.trivial()};
   report.rejection = RunRejectionRounds(
       [&] {
-        rounds_.push_back(side->DropOutliers(criteria, lm_.num_threads, options_.reject_keep_loss));
+        PoseObservations poses;
+        rounds_.push_back(
+            side->DropOutliers(criteria, lm_.num_threads, options_.reject_keep_loss, &poses));
+        CheckRejectionRound({options_.reject_max_share}, criteria.max_error_px,
+                            static_cast<int>(rounds_.size()), rounds_.back(), poses,
+                            result_.problem, before);
         RefuseAnEmptyProblem(rounds_);
         return rounds_.back();
       },
@@ -247,6 +255,7 @@ void SolveSession::RejectionRounds(PointSide* side, const IterationHook& log,
         const BundleAdjustSummary s =
             side->Solve(o, result_.geo.priors, log, std::exchange(check_memory, {}));
         KeepLeverArm(s);
+        before = {s.lm.termination, o.loss.trivial()};
         if (first_solve) {
           report.solve.ba = s;
         } else {
