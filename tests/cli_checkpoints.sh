@@ -105,6 +105,26 @@ killed_and_resumed rej_first 2 .dba "$tmp/s.dba" --reject-outliers 3
 killed_and_resumed rej_later $((accepted - 1)) .dba "$tmp/s.dba" --reject-outliers 3
 check "rej_later: resumed after a rejection round" contains "$tmp/rej_later.log" "after rejection round"
 killed_and_resumed rej_last "$accepted" .dba "$tmp/s.dba" --reject-outliers 3
+# Without --loss the first solve's is cauchy at 2 PX, in the setup as --loss:
+# the same loss given resumes to the same bytes, the squared one is refused.
+"$dba" solve "$tmp/s.dba" -q -t 2 --reject-outliers 3 --loss cauchy --loss-scale 6 \
+  --resume "$tmp/rej_last.ckpt" -o "$tmp/rej_explicit.dba" >/dev/null 2>&1
+check "rejection: resumed with its loss given, the same bytes" cmp -s "$tmp/rej_last.full.dba" "$tmp/rej_explicit.dba"
+"$dba" solve "$tmp/s.dba" -q -t 2 --reject-outliers 3 --loss trivial --resume "$tmp/rej_last.ckpt" \
+  -o "$tmp/rej_squared.dba" >"$tmp/log" 2>&1
+check "rejection: resumed with --loss trivial, refused (exit 2)" test $? -eq 2
+check "rejection: resumed with --loss trivial, says the loss differs" contains "$tmp/log" "written with other --loss"
+# A run the guard stopped keeps the checkpoint of the solve before the
+# round; resumed with the guard raised, it ends where an unstopped run ends.
+"$dba" solve "$tmp/s.dba" -q -t 2 --reject-outliers 3 --loss trivial --checkpoint "$tmp/guard.ckpt" \
+  -o "$tmp/guard.dba" >"$tmp/log" 2>&1
+check "guard: a squared first solve is stopped (exit 1)" test $? -eq 1
+check "guard: nothing written" test ! -e "$tmp/guard.dba"
+"$dba" solve "$tmp/s.dba" -q -t 2 --reject-outliers 3 --loss trivial --reject-max-share 1 \
+  --resume "$tmp/guard.ckpt" -o "$tmp/guard.dba" >/dev/null 2>&1
+"$dba" solve "$tmp/s.dba" -q -t 2 --reject-outliers 3 --loss trivial --reject-max-share 1 \
+  -o "$tmp/unguarded.dba" >/dev/null 2>&1
+check "guard: resumed with --reject-max-share 1, the unguarded run's bytes" cmp -s "$tmp/unguarded.dba" "$tmp/guard.dba"
 
 # Rigs (frames and sensors are the parameters), and with GNSS on the frames
 # and a refined lever arm (its 3 values in the checkpoint after the cameras):

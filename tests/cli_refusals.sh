@@ -98,11 +98,12 @@ refuse 2 "--initial-lambda: expected a number in [1e-16, 10000], got '2147483648
 refuse 2 "--loss-scale: expected a number in [0.01, 10000], got '1e-6'" "$bal" --loss tukey --loss-scale 1e-6
 refuse 2 "--prior-sigma" "$bal" --camera-priors "$tmp/none.txt" --prior-sigma 1e-300
 # A rejection round past --reject-max-share stops the run, saying the share;
-# one that leaves nothing (the guard off) is refused, with how much it dropped.
-refuse 1 "outlier rejection round 1 (|r| > 1e-06 px) would drop 31843 of 31843 observations (100.0%), more than --reject-max-share 0.25" \
+# one that leaves nothing (the guard off, a squared first solve: the robust
+# one at 2e-6 px fits 374 observations) is refused, with how much it dropped.
+refuse 1 "outlier rejection round 1 (|r| > 1e-06 px) would drop 31469 of 31843 observations (98.8%; with 10 points under --min-triangulation-angle), more than --reject-max-share 0.25" \
   "$bal" --reject-outliers 1e-6
 refuse 1 "outlier rejection dropped every observation (31843 observations and 7776 points" \
-  "$bal" --reject-outliers 1e-6 --reject-max-share 1
+  "$bal" --reject-outliers 1e-6 --loss trivial --reject-max-share 1
 refuse 1 "outlier rejection dropped every observation" "$bal" --reject-outliers 1e6 \
   --min-triangulation-angle 179 --reject-max-share 1
 refuse 2 "--reject-max-share" "$bal" --reject-outliers 3 --reject-max-share 0

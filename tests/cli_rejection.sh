@@ -66,11 +66,11 @@ stopped() {
   check "$name: no temporary" test -z "$(find "$tmp" -name '*.tmp.*')"
 }
 survey m0.4 0.4
-stopped "40% mismatches" "would drop 38509 of 94501 observations (40.7%), more than --reject-max-share 0.25: the solve before it did not settle on the inliers, the threshold is below the noise, or that many are mismatches; nothing was written. Raise --reject-max-share (1: no guard) to drop them anyway, or --reject-outliers" \
+stopped "40% mismatches" "would drop 38509 of 94501 observations (40.7%; with 1 point under --min-triangulation-angle), more than --reject-max-share 0.25: the solve before it did not settle on the inliers, the threshold is below the noise, or that many are mismatches; nothing was written. Raise --reject-max-share (1: no guard) to drop them anyway, or --reject-outliers" \
   "$tmp/m0.4.dba" --reject-outliers 3
-stopped "a squared first solve" "(98.6%), more than --reject-max-share 0.25: the solve before it had the squared loss, which mismatches drag, and stopped at --max-iterations unconverged" \
+stopped "a squared first solve" "would drop 93173 of 94501 observations (98.6%; with 93 points under --min-triangulation-angle), more than --reject-max-share 0.25: the solve before it had the squared loss, which mismatches drag, and stopped at --max-iterations unconverged" \
   "$tmp/m0.03.dba" --reject-outliers 3 --loss trivial
-stopped "an unconverged first solve" "(94.9%), more than --reject-max-share 0.25: the solve before it stopped at --max-iterations unconverged" \
+stopped "an unconverged first solve" "would drop 89694 of 94501 observations (94.9%), more than --reject-max-share 0.25: the solve before it stopped at --max-iterations unconverged" \
   "$tmp/m0.03.dba" --reject-outliers 3 --max-iterations 0
 # The guard raised: the 40% survey goes through.
 "$dba" solve "$tmp/m0.4.dba" -q -t 2 --reject-outliers 3 --reject-max-share 0.5 -o "$tmp/m0.4.out.dba" \

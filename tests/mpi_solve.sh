@@ -514,6 +514,37 @@ else
   fail "COLMAP --reject-outliers -np 3: other links or tracks than one process"
 fi
 
+# Without --loss the ranks start robust as one process does (every rank
+# parses the same options: cauchy at 2 PX), with the same rounds and cost;
+# and the guard stops 2 ranks where it stops one (40% mismatches): exit 1,
+# the same share in the message, nothing written.
+"$dba" solve "$tmp/outl.dba" -q "${tight[@]}" --reject-outliers 4 --report "$tmp/rd1.json" >/dev/null 2>&1
+if mpirun_n 2 "$dba" solve "$tmp/outl.dba" -q "${tight[@]}" --reject-outliers 4 --report "$tmp/rd2.json" \
+     >"$tmp/rd.out" 2>&1 && python3 - "$tmp/rd1.json" "$tmp/rd2.json" <<'PY'
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:])
+sys.exit(0 if a["loss"] == b["loss"] == {"type": "cauchy", "scale_px": 8.0}
+         and a["outlier_rejection"]["rounds"] == b["outlier_rejection"]["rounds"]
+         and abs(a["final_cost"] - b["final_cost"]) <= 1e-9 * a["final_cost"] else 1)
+PY
+then
+  passes=$((passes + 1)); echo "ok   --reject-outliers without --loss -np 2: one process's robust start, rounds and cost"
+else
+  fail "--reject-outliers without --loss -np 2 differs from one process: $(cat "$tmp/rd.out")"
+fi
+"$dba" generate "$tmp/outl40.dba" --model photo --images 80 --cameras 2 --seed 5 --outliers 0.4 >/dev/null
+"$dba" solve "$tmp/outl40.dba" -q --reject-outliers 4 -o "$tmp/g1.dba" >"$tmp/g1.out" 2>&1
+status1=$?
+mpirun_n 2 "$dba" solve "$tmp/outl40.dba" -q --reject-outliers 4 -o "$tmp/g2.dba" >"$tmp/g2.out" 2>&1
+status2=$?
+share=$(grep -o 'would drop [0-9]* of [0-9]* observations ([0-9.]*%), more than --reject-max-share 0.25' "$tmp/g1.out")
+if [ "$status1" = 1 ] && [ "$status2" = 1 ] && [ -n "$share" ] && grep -qF "$share" "$tmp/g2.out" \
+   && [ ! -e "$tmp/g1.dba" ] && [ ! -e "$tmp/g2.dba" ]; then
+  passes=$((passes + 1)); echo "ok   the guard stops 40% mismatches on 2 ranks as in one process: $share"
+else
+  fail "the guard on 2 ranks: exit $status1 and $status2, $(cat "$tmp/g1.out" "$tmp/g2.out")"
+fi
+
 # Checkpoint and resume, distributed: a 3-rank run killed (SIGKILL on rank 0)
 # right after its second accepted iteration's checkpoint, resumed on 2 ranks
 # and in one process, ends at the uninterrupted single-process cost (1e-9)

@@ -53,6 +53,17 @@ def one_frame_per_image(d):
                 sensor_from_rig=np.zeros((2, 6)), sensor_kinds=np.array([0, 1]))
 
 
+def first_round_share(r):
+    first = rep(r)["outlier_rejection"]["rounds"][0]
+    return first["observations_dropped"] / (first["observations_dropped"] + first["observations_left"])
+
+
+def stopped_at_the_default_share(d):
+    with pytest.raises(RuntimeError, match=r"would drop .* more than --reject-max-share 0\.25"):
+        solve(d, reject_outliers=1.5)
+    return True
+
+
 def linear(r):
     return [it.linear_iterations for it in r.summary.history]
 
@@ -107,7 +118,11 @@ EFFECTS = {
                         lambda r, b, d: rep(r)["outlier_rejection"]["rounds"][0]["observations_dropped"] > 0),
     "reject_keep_loss": (lambda d: dict(loss="huber", reject_outliers=3.0, reject_keep_loss=True),
                          lambda r, b, d: rep(r)["final_loss"]["type"] == "huber"),
-    "min_triangulation_angle": (lambda d: dict(reject_outliers=1000.0, min_triangulation_angle=20.0),
+    # The guard raised lets through a round the default (0.25) stops.
+    "reject_max_share": (lambda d: dict(reject_outliers=1.5, reject_max_share=0.9),
+                         lambda r, b, d: stopped_at_the_default_share(d) and first_round_share(r) > 0.25),
+    "min_triangulation_angle": (lambda d: dict(reject_outliers=1000.0, min_triangulation_angle=20.0,
+                                               reject_max_share=1.0),
                                 lambda r, b, d: rep(r)["outlier_rejection"]["rounds"][0]["points_dropped_for_angle"] > 0),
     "camera_priors": (lambda d: dict(camera_priors=d / "p.txt"),
                       lambda r, b, d: rep(r)["camera_priors"]["count"] == 40),

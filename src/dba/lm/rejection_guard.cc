@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 
 namespace dba {
 
@@ -60,12 +61,19 @@ void CheckRejectionRound(const RejectionGuard& guard, double max_error_px, int r
   if (guard.max_share >= 1.0) return;
   const int64_t started = round.observations_dropped + round.observations_left;
   const double share = started > 0 ? static_cast<double>(round.observations_dropped) / started : 0;
-  char head[200];
+  char head[300];
   std::snprintf(head, sizeof head,
                 "outlier rejection round %d (|r| > %g px) would drop %lld of %lld observations "
-                "(%.1f%%)",
+                "(%.1f%%",
                 r, max_error_px, static_cast<long long>(round.observations_dropped),
                 static_cast<long long>(started), 100.0 * share);
+  if (round.points_small_angle > 0) {  // their observations go with them
+    std::snprintf(head + std::strlen(head), sizeof head - std::strlen(head),
+                  "; with %lld point%s under --min-triangulation-angle",
+                  static_cast<long long>(round.points_small_angle),
+                  round.points_small_angle == 1 ? "" : "s");
+  }
+  std::strcat(head, ")");
   const std::string stop = "; nothing was written. ";
   if (share > guard.max_share) {
     char limit[80];
