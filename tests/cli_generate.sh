@@ -205,7 +205,7 @@ sys.exit(0 if len(c) == 300 and near >= 0.95 * 300 else 1)
 PY
 "$dba" solve "$tmp/g.dba" -q --camera-priors "$tmp/g.priors" --output-crs EPSG:4979 >"$tmp/gerr" 2>&1
 check "--output-crs with priors in a Cartesian frame exits 2" test $? -eq 2
-check "and says why" grep -q -- "--output-crs: the solve is in a Cartesian frame of its own" "$tmp/gerr"
+check "and says why" grep -q -- "--output-crs needs --prior-crs or --gcp-crs" "$tmp/gerr"
 "$dba" solve "$tmp/g.dba" -q --camera-priors "$tmp/g84.priors" --prior-crs EPSG:4326 >"$tmp/gerr" 2>&1
 check "a 2D CRS exits 2" test $? -eq 2
 check "and says why" grep -q -- "--prior-crs: the CRS 'EPSG:4326' has 2 axes: a 3D CRS is needed" "$tmp/gerr"

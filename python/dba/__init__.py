@@ -15,13 +15,17 @@ camera_priors="p.txt", checkpoint=path, quiet=True, ... Flags take True or
 False, numbers take numbers, paths str or os.PathLike, lists sequences of
 integers: anything else is a TypeError, never cast. solve_arrays takes every
 option but the file outputs (its result is returned) and a COLMAP input's or
-the MPI ranks' own, which it refuses (ValueError) naming why.
+the MPI ranks' own, which it refuses (ValueError) naming why. Its arrays
+too are checked, not cast: integer dtypes for indices, bool for fixed
+flags, float or integer for values (else a TypeError naming the argument).
+A path is a path, even one starting with '-'.
 verbose=True prints the per-iteration log and summary to the process's
 stdout while solving; otherwise they are returned in Result.log.
 
 Errors raise with the command line's messages: InputError (a ValueError,
 with .file and .line) for malformed input, ValueError for bad options,
-RuntimeError for other failures. The GIL is released during the solve.
+RuntimeError for other failures. The GIL is released during the solve, and
+Ctrl-C stops it: KeyboardInterrupt, with nothing written.
 """
 # This file: keyword options -> command-line arguments, and the extension's
 # results (a JSON report and dicts of arrays) -> the dataclasses below.

@@ -7,7 +7,8 @@
 // the command line does (RunSolve: the files checked, loaded, solved,
 // written), on arrays from the problem they make. Options are parsed by
 // ParseSolveArguments, so names, defaults and validation are the command
-// line's. The GIL is released while reading and solving. C++ exceptions
+// line's. The GIL is released while reading and solving; Ctrl-C stops a
+// solve (KeyboardInterrupt, nothing written: PythonSignals). C++ exceptions
 // become Python exceptions with the same messages: dba::InputError ->
 // dba.InputError (a ValueError, with .file and .line), std::invalid_argument
 // -> ValueError, other errors -> RuntimeError.
@@ -23,6 +24,7 @@
 #include <pybind11/stl.h>
 
 #include "dba/common/error.h"
+#include "dba/common/interrupt.h"
 #include "dba/common/memory.h"
 #include "dba/common/timer.h"
 #include "dba/io/read_problem.h"
@@ -43,6 +45,48 @@ py::tuple Outcome(const SolveReport& report, const Problem& problem, const std::
   return py::make_tuple(SolveReportJson(report), ProblemToArrays(problem), log);
 }
 
+// Ctrl-C during a solve (common/interrupt.h): the solve polls on this
+// thread, and at most every 50 ms a poll takes the GIL and runs Python's
+// signal handlers (PyErr_CheckSignals; they run in the main thread only). A
+// handler's exception (KeyboardInterrupt) is kept, the solve unwound by
+// Interrupted before it writes anything, and the exception raised again
+// once the GIL is back.
+class PythonSignals {
+ public:
+  struct Interrupted {};
+  void Poll() {
+    if (since_.Seconds() < 0.05) return;
+    since_.Reset();
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() == 0) return;
+    PyErr_Fetch(&type_, &value_, &trace_);
+    throw Interrupted();
+  }
+  // With the GIL: the kept exception, raised.
+  [[noreturn]] void Raise() {
+    PyErr_Restore(type_, value_, trace_);
+    throw py::error_already_set();
+  }
+
+ private:
+  Timer since_;
+  PyObject *type_ = nullptr, *value_ = nullptr, *trace_ = nullptr;
+};
+
+// `solve()` with the GIL released, stopped by a Python signal handler's
+// exception (PythonSignals).
+template <class Solve>
+SolveResult Interruptible(const Solve& solve) {
+  PythonSignals signals;
+  try {
+    py::gil_scoped_release release;
+    const InterruptCheck check([&] { signals.Poll(); });
+    return solve();
+  } catch (const PythonSignals::Interrupted&) {
+    signals.Raise();
+  }
+}
+
 SolveOptions Parse(const std::vector<std::string>& args) {
   bool help = false;
   SolveOptions options = ParseSolveArguments(args, &help);
@@ -57,13 +101,12 @@ py::tuple Solve(const std::vector<std::string>& args, bool verbose) {
   SolveOptions options = Parse(args);
   options.progress = verbose;  // the terminal's progress line only when printing the log
   std::ostringstream log;
-  SolveResult result;
-  {
-    py::gil_scoped_release release;
+  const SolveResult result = Interruptible([&] {
     Communicator comm(Communicator::SingleRank{});
-    result = RunSolve(options, &comm, verbose ? std::cout : log, since_call);
+    SolveResult r = RunSolve(options, &comm, verbose ? std::cout : log, since_call);
     if (verbose) std::cout.flush();
-  }
+    return r;
+  });
   return Outcome(result.report, result.problem, log.str());
 }
 
@@ -94,20 +137,27 @@ py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string
   ApplyFixings(options.unknowns, &input.problem);  // fix_images, fix_intrinsics
   input.read_seconds = read.Seconds();
   std::ostringstream log;
-  SolveResult result;
-  {
-    py::gil_scoped_release release;
+  const SolveResult result = Interruptible([&] {
     CheckSolveFiles(options);
     Communicator comm(Communicator::SingleRank{});
     std::ostream& out = verbose ? std::cout : log;
-    result = SolveSession(options, &comm, out).Run(std::move(input));
-    result.report.startup_seconds = startup_seconds;
-    result.report.peak_memory_bytes = PeakResidentBytes();
-    result.report.total_seconds = since_call.Seconds();
-    PrintSolveReport(result.report, out);
+    SolveResult r = SolveSession(options, &comm, out).Run(std::move(input));
+    r.report.startup_seconds = startup_seconds;
+    r.report.peak_memory_bytes = PeakResidentBytes();
+    r.report.total_seconds = since_call.Seconds();
+    PrintSolveReport(r.report, out);
     out.flush();
-  }
+    return r;
+  });
   return Outcome(result.report, result.problem, log.str());
+}
+
+// An optional argument of solve_arrays: None, or the array `as` makes of it.
+template <class Array>
+std::optional<Array> Optional(const py::object& value, const char* name,
+                              Array (*as)(const py::handle&, const char*)) {
+  if (value.is_none()) return std::nullopt;
+  return as(value, name);
 }
 
 // The option table (session/solve_option_table.h) for the Python keywords:
@@ -175,30 +225,28 @@ PYBIND11_MODULE(_dba, m) {
         "dba solve ARGS in this process: (report JSON, adjusted problem arrays, printed text)");
   m.def(
       "solve_arrays",
-      [](const std::string& camera_model, DoubleArray cameras, DoubleArray points,
-         DoubleArray observations, IndexArray camera_indices, IndexArray point_indices,
-         std::optional<DoubleArray> intrinsics, std::optional<IndexArray> camera_intrinsics,
-         std::optional<FlagArray> fixed_cameras, std::optional<FlagArray> fixed_intrinsics,
-         std::optional<std::vector<std::string>> lens_models,
-         const std::vector<std::string>& args, bool verbose, std::optional<IndexArray> frame_indices,
-         std::optional<DoubleArray> rig_from_world, std::optional<DoubleArray> sensor_from_rig,
-         std::optional<IndexArray> sensor_kinds) {
+      [](const std::string& camera_model, py::object cameras, py::object points,
+         py::object observations, py::object camera_indices, py::object point_indices,
+         py::object intrinsics, py::object camera_intrinsics, py::object fixed_cameras,
+         py::object fixed_intrinsics, std::optional<std::vector<std::string>> lens_models,
+         const std::vector<std::string>& args, bool verbose, py::object frame_indices,
+         py::object rig_from_world, py::object sensor_from_rig, py::object sensor_kinds) {
         ProblemArrays a;
         a.camera_model = camera_model;
-        a.cameras = std::move(cameras);
-        a.points = std::move(points);
-        a.observations = std::move(observations);
-        a.camera_indices = std::move(camera_indices);
-        a.point_indices = std::move(point_indices);
-        a.intrinsics = std::move(intrinsics);
-        a.camera_intrinsics = std::move(camera_intrinsics);
-        a.fixed_cameras = std::move(fixed_cameras);
-        a.fixed_intrinsics = std::move(fixed_intrinsics);
+        a.cameras = AsDoubleArray(cameras, "cameras");
+        a.points = AsDoubleArray(points, "points");
+        a.observations = AsDoubleArray(observations, "observations");
+        a.camera_indices = AsIndexArray(camera_indices, "camera_indices");
+        a.point_indices = AsIndexArray(point_indices, "point_indices");
+        a.intrinsics = Optional(intrinsics, "intrinsics", AsDoubleArray);
+        a.camera_intrinsics = Optional(camera_intrinsics, "camera_intrinsics", AsIndexArray);
+        a.fixed_cameras = Optional(fixed_cameras, "fixed_cameras", AsFlagArray);
+        a.fixed_intrinsics = Optional(fixed_intrinsics, "fixed_intrinsics", AsFlagArray);
         a.lens_models = std::move(lens_models);
-        a.frame_indices = std::move(frame_indices);
-        a.rig_from_world = std::move(rig_from_world);
-        a.sensor_from_rig = std::move(sensor_from_rig);
-        a.sensor_kinds = std::move(sensor_kinds);
+        a.frame_indices = Optional(frame_indices, "frame_indices", AsIndexArray);
+        a.rig_from_world = Optional(rig_from_world, "rig_from_world", AsDoubleArray);
+        a.sensor_from_rig = Optional(sensor_from_rig, "sensor_from_rig", AsDoubleArray);
+        a.sensor_kinds = Optional(sensor_kinds, "sensor_kinds", AsIndexArray);
         return SolveArrays(a, args, verbose);
       },
       py::arg("camera_model"), py::arg("cameras"), py::arg("points"), py::arg("observations"),

@@ -53,7 +53,36 @@ py::array_t<T> Array(const std::vector<T>& v, std::vector<py::ssize_t> shape) {
   return a;
 }
 
+// `value` as an array whose dtype is of one of `kinds` (NumPy's dtype.kind
+// letters), else py::type_error naming `name`, the dtype and `expected`.
+py::array OfKind(const py::handle& value, const char* name, const std::string& kinds,
+                 const char* expected) {
+  const py::array a = py::array::ensure(value);
+  if (!a) {
+    PyErr_Clear();
+    throw py::type_error(std::string(name) + ": expected " + expected + ", got " +
+                         std::string(py::str(py::type::of(value).attr("__name__"))));
+  }
+  if (a.size() > 0 && kinds.find(a.dtype().kind()) == std::string::npos) {
+    throw py::type_error(std::string(name) + ": expected " + expected + ", got dtype " +
+                         std::string(py::str(a.dtype())));
+  }
+  return a;
+}
+
 }  // namespace
+
+DoubleArray AsDoubleArray(const py::handle& value, const char* name) {
+  return DoubleArray::ensure(OfKind(value, name, "fiu", "an array of numbers (float or integer)"));
+}
+
+IndexArray AsIndexArray(const py::handle& value, const char* name) {
+  return IndexArray::ensure(OfKind(value, name, "iu", "an integer array"));
+}
+
+FlagArray AsFlagArray(const py::handle& value, const char* name) {
+  return FlagArray::ensure(OfKind(value, name, "b", "a boolean array"));
+}
 
 namespace {
 

@@ -48,6 +48,16 @@ struct ProblemArrays {
   std::optional<DoubleArray> rig_from_world, sensor_from_rig;
 };
 
+// An argument of solve_arrays as the array it must be, its dtype checked
+// first and never cast across kinds: numbers (float or integer dtypes) for
+// a DoubleArray, integers for an IndexArray, booleans for a FlagArray (a
+// sequence is taken as NumPy makes it an array; an empty one of any dtype).
+// py::type_error naming the argument, the dtype given and the one expected:
+// "camera_indices: expected an integer array, got dtype float64".
+DoubleArray AsDoubleArray(const py::handle& value, const char* name);
+IndexArray AsIndexArray(const py::handle& value, const char* name);
+FlagArray AsFlagArray(const py::handle& value, const char* name);
+
 // Builds the problem (observations stored point-major, stable). Throws
 // std::invalid_argument naming the array and what is wrong: a shape, an
 // index out of range, a non-finite value, a point without observations.

@@ -136,3 +136,42 @@ def test_times_add_up_from_the_call(ladybug_problem):
     assert sum(s.seconds[k] for k in TIME_PHASES) == pytest.approx(s.seconds["total"], abs=1e-9)
     assert s.seconds["read"] > 0 and s.seconds["other"] >= 0
     assert s.seconds["total"] >= s.seconds["rcs_formation"] + s.seconds["linear_solve"]
+
+
+def test_arrays_of_the_wrong_dtype_are_refused_not_cast(ladybug_problem):
+    # Indices must be integers, flags booleans, values numbers: a float,
+    # bool or str array was cast silently (1.7 -> 1, '12' -> 12, True -> 1).
+    # Named: the argument, the dtype given, the one expected.
+    p = ladybug_problem
+
+    def solve(**change):
+        a = dict(cameras=p.cameras, points=p.points, observations=p.observations,
+                 camera_indices=p.camera_indices, point_indices=p.point_indices)
+        a.update(change)
+        return dba.solve_arrays(**a, max_iterations=1)
+    cases = [
+        (dict(camera_indices=p.camera_indices.astype(float)),
+         "camera_indices: expected an integer array, got dtype float64"),
+        (dict(point_indices=p.point_indices.astype(bool)),
+         "point_indices: expected an integer array, got dtype bool"),
+        (dict(camera_indices=p.camera_indices.astype(str)),
+         "camera_indices: expected an integer array, got dtype <U2"),
+        (dict(fixed_cameras=np.zeros(49, dtype=np.int64)),
+         "fixed_cameras: expected a boolean array, got dtype int64"),
+        (dict(fixed_cameras=np.zeros(49)),
+         "fixed_cameras: expected a boolean array, got dtype float64"),
+        (dict(observations=p.observations.astype(str)),
+         r"observations: expected an array of numbers \(float or integer\), got dtype <U"),
+        (dict(cameras=p.cameras.astype(complex)),
+         r"cameras: expected an array of numbers \(float or integer\), got dtype complex128"),
+        (dict(points=[[1, 2, "x"]]),
+         r"points: expected an array of numbers \(float or integer\), got dtype <U"),
+    ]
+    for change, message in cases:
+        with pytest.raises(TypeError, match=message):
+            solve(**change)
+    # Any integer width is an index, and integer values are numbers.
+    r = solve(camera_indices=p.camera_indices.astype(np.int32),
+              point_indices=p.point_indices.astype(np.uint32),
+              fixed_cameras=np.zeros(49, dtype=bool), points=p.points.astype(np.float32))
+    assert r.summary.iterations == 1

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "dba/common/interrupt.h"
 #include "dba/common/timer.h"
 #include "dba/lm/nielsen_damping.h"
 #include "dba/lm/parameter_norm.h"
@@ -104,6 +105,7 @@ class Minimizer {
     delta_c_.resize(sys_->layout.num_unknowns());
     candidate_.resize(cameras_->size());
     for (bool done = false; !done;) {
+      PollInterrupt();  // a host's request to stop (common/interrupt.h)
       if (ReachedIterationLimit()) break;
       Timer iteration_timer;
       IterationSummary it = StartIteration();

@@ -14,11 +14,13 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "dba/bsmc/bsmc_matrix.h"
+#include "dba/common/interrupt.h"
 #include "dba/lm/levenberg_marquardt.h"
 #include "dba/lm/point_workers.h"
 #include "dba/rcs/form_rcs.h"
@@ -309,6 +311,24 @@ TEST(LmControl, LambdaAndNuFollowNielsensUpdate) {
   EXPECT_EQ(run.summary.initial_cost, 100.0);
   // 100 − 10 − 7.5 − 2.5 − 5 − 9 − 20
   EXPECT_NEAR(run.summary.final_cost, 46.0, 1e-12);
+}
+
+// A host's request to stop (common/interrupt.h: Python's Ctrl-C) is polled
+// before each iteration: what its check throws leaves the loop there, with
+// the steps before it taken and no later one started.
+TEST(LmControl, AnInterruptCheckStopsTheLoopBetweenIterations) {
+  LmRun run;
+  ScriptedWorkers w(100.0, {Rho(1.0), Rho(1.0), Rho(1.0), Rho(1.0)}, &run.cameras);
+  int polls = 0;
+  const InterruptCheck check([&] {
+    if (++polls == 3) throw std::runtime_error("interrupted");
+  });
+  LmOptions options = Options();
+  options.max_iterations = 4;
+  EXPECT_THROW(Solve(options, &w, &run), std::runtime_error);
+  EXPECT_EQ(polls, 3);
+  EXPECT_EQ(w.finished(), (std::vector<bool>{true, true}));
+  EXPECT_EQ(run.callbacks.size(), 2u);
 }
 
 // A mixed-precision PCG's damping floor (solver/pcg.h): a good step that it

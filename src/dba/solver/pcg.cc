@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 
+#include "dba/common/interrupt.h"
 #include "dba/common/progress.h"
 
 namespace dba {
@@ -83,6 +84,7 @@ PcgSummary SolveTextbook(const PcgOperator& S, const Preconditioner& M, const do
   ProgressPhase progress("PCG");
   for (int k = 1; k <= options.max_iterations; ++k) {
     progress.Report(0.0);
+    PollInterrupt();
     S.Multiply(d, Sd);
     double dSd = Dot(d, Sd, n, nt);
     S.SumOverRanks(std::span<double>(&dSd, 1));
@@ -177,6 +179,7 @@ PcgSummary SolveOneReduction(const PcgOperator& S, const Preconditioner& M, cons
   ProgressPhase progress("PCG");
   for (int k = 1; k <= options.max_iterations; ++k) {
     progress.Report(0.0);
+    PollInterrupt();
     const double dSd = sums[kDSd], rz = sums[kRz];
     if (!(dSd > 0.0) || !std::isfinite(dSd) || !std::isfinite(sums[kSdMSd])) {
       summary.stop = PcgStop::kBreakdown;
