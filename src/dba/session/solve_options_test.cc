@@ -89,5 +89,27 @@ TEST(SolveArguments, AcceptedOptionsLandInTheOptions) {
   EXPECT_TRUE(help);
 }
 
+// --reject-outliers without --loss starts robust: Cauchy at 2 PX (its scale
+// --loss-scale's when given); a --loss given, even the squared one, stays;
+// without rejection the default loss is the squared one.
+TEST(SolveArguments, RejectionWithoutALossStartsWithCauchyAtTwiceTheThreshold) {
+  bool help = false;
+  auto loss = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), "in.dba");
+    return ParseSolveArguments(args, &help).lm.loss;
+  };
+  const RobustLoss start = loss({"--reject-outliers", "3"});
+  EXPECT_EQ(start.type, LossType::kCauchy);
+  EXPECT_EQ(start.scale, 6.0);
+  EXPECT_EQ(loss({"--reject-outliers", "3", "--loss-scale", "4"}).scale, 4.0);
+  EXPECT_EQ(loss({"--reject-outliers", "3", "--loss", "trivial"}).type, LossType::kTrivial);
+  const RobustLoss huber = loss({"--loss", "huber", "--loss-scale", "2", "--reject-outliers", "3"});
+  EXPECT_EQ(huber.type, LossType::kHuber);
+  EXPECT_EQ(huber.scale, 2.0);
+  EXPECT_EQ(loss({}).type, LossType::kTrivial);
+  EXPECT_EQ(ParseSolveArguments({"in.dba"}, &help).reject_max_share, 0.25);
+  EXPECT_EQ(ParseSolveArguments({"in.dba", "--reject-max-share", "0.5"}, &help).reject_max_share, 0.5);
+}
+
 }  // namespace
 }  // namespace dba
