@@ -110,6 +110,7 @@ TEST(SolveArguments, AcceptedOptionsLandInTheOptions) {
   EXPECT_TRUE(help);
 }
 
+<<<<<<< HEAD
 // What an option needs may come before or after it, and a default that has
 // it counts (auto may solve by PCG; two-level is the default preconditioner).
 TEST(SolveArguments, OptionsWithWhatTheyNeedAreAccepted) {
@@ -125,6 +126,30 @@ TEST(SolveArguments, OptionsWithWhatTheyNeedAreAccepted) {
   EXPECT_EQ(o.checkpoint_every_s, 2.0);
   // "--" ends the options: an input whose name starts with '-'.
   EXPECT_EQ(ParseSolveArguments({"-q", "--", "-in.dba"}, &help).input, "-in.dba");
+=======
+// --reject-outliers without --loss starts robust: Cauchy at 2 PX (its scale
+// --loss-scale's when given); a --loss given, even the squared one, stays;
+// without rejection the default loss is the squared one.
+TEST(SolveArguments, RejectionWithoutALossStartsWithCauchyAtTwiceTheThreshold) {
+  bool help = false;
+  auto loss = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), "in.dba");
+    return ParseSolveArguments(args, &help).lm.loss;
+  };
+  const RobustLoss start = loss({"--reject-outliers", "3"});
+  EXPECT_EQ(start.type, LossType::kCauchy);
+  EXPECT_EQ(start.scale, 6.0);
+  EXPECT_EQ(loss({"--reject-outliers", "3", "--loss-scale", "4"}).scale, 4.0);
+  EXPECT_EQ(loss({"--reject-outliers", "3", "--loss", "trivial"}).type, LossType::kTrivial);
+  const RobustLoss huber = loss({"--loss", "huber", "--loss-scale", "2", "--reject-outliers", "3"});
+  EXPECT_EQ(huber.type, LossType::kHuber);
+  EXPECT_EQ(huber.scale, 2.0);
+  EXPECT_EQ(loss({}).type, LossType::kTrivial);
+  EXPECT_EQ(ParseSolveArguments({"in.dba"}, &help).reject_max_share, 0.25);
+  EXPECT_EQ(ParseSolveArguments({"in.dba", "--reject-outliers", "3", "--reject-max-share", "0.5"}, &help)
+                .reject_max_share,
+            0.5);
+>>>>>>> h1
 }
 
 }  // namespace
