@@ -110,7 +110,6 @@ TEST(SolveArguments, AcceptedOptionsLandInTheOptions) {
   EXPECT_TRUE(help);
 }
 
-<<<<<<< HEAD
 // What an option needs may come before or after it, and a default that has
 // it counts (auto may solve by PCG; two-level is the default preconditioner).
 TEST(SolveArguments, OptionsWithWhatTheyNeedAreAccepted) {
@@ -126,7 +125,8 @@ TEST(SolveArguments, OptionsWithWhatTheyNeedAreAccepted) {
   EXPECT_EQ(o.checkpoint_every_s, 2.0);
   // "--" ends the options: an input whose name starts with '-'.
   EXPECT_EQ(ParseSolveArguments({"-q", "--", "-in.dba"}, &help).input, "-in.dba");
-=======
+}
+
 // --reject-outliers without --loss starts robust: Cauchy at 2 PX (its scale
 // --loss-scale's when given); a --loss given, even the squared one, stays;
 // without rejection the default loss is the squared one.
@@ -149,7 +149,6 @@ TEST(SolveArguments, RejectionWithoutALossStartsWithCauchyAtTwiceTheThreshold) {
   EXPECT_EQ(ParseSolveArguments({"in.dba", "--reject-outliers", "3", "--reject-max-share", "0.5"}, &help)
                 .reject_max_share,
             0.5);
->>>>>>> h1
 }
 
 }  // namespace
