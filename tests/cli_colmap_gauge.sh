@@ -46,11 +46,12 @@ for m in mithunnallana_6img statue_of_liberty_small_txt reordered; do
   check "$m: dba colmap-bundle-adjuster exits 0" test $? -eq 0
   check "$m: the drop-in runs dba solve with --gauge colmap" contains "$tmp/$m.d.log" "--gauge colmap"
   as_text "$tmp/$m.c" "$tmp/$m.ct"
+  as_text "$tmp/$m.d" "$tmp/$m.dt"  # the drop-in writes binary, as COLMAP 3.8 does
   as_text "$model" "$tmp/$m.in"
-  check "$m: dba's centres overlay COLMAP's (1e-6 of their spread)" gauge overlay "$tmp/$m.ct" "$tmp/$m.d" 1e-6
+  check "$m: dba's centres overlay COLMAP's (1e-6 of their spread)" gauge overlay "$tmp/$m.ct" "$tmp/$m.dt" 1e-6
   read -r first second < <(listed "$model" | head -2 | paste -sd' ')
   check "$m: the first image listed ($first) keeps its pose, the second ($second) its x translation" \
-    gauge colmap "$tmp/$m.in" "$tmp/$m.d" "$first" "$second"
+    gauge colmap "$tmp/$m.in" "$tmp/$m.dt" "$first" "$second"
   check "$m: ... as COLMAP's do" gauge colmap "$tmp/$m.in" "$tmp/$m.ct" "$first" "$second"
 done
 check "the summary names COLMAP's gauge by image id" \
