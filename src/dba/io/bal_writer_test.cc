@@ -72,7 +72,9 @@ Problem TrickyProblem() {
   p.points = {std::nextafter(1.0, 2.0), -2.5e-7, 4.9406564584124654e-320};
   p.point_offsets = {0, 2};
   p.obs_camera = {0, 0};
-  p.obs_pixel = {-332.65, 262.09, 1e22, -0.0};
+  // Pixels as far out as a reader takes (problem/pixel_range.h: 1e7 px) and
+  // a negative zero; the extremes of a double are in the cameras above.
+  p.obs_pixel = {-332.65, 262.09, 9999999.999999998, -0.0};
   return p;
 }
 
