@@ -13,6 +13,10 @@ data=$root/../shared/data/bal
 need_shared "$data"
 p49=$data/problem-49-7776-pre.txt.bz2
 small=$data/balbianello-5-544-from-bundler.txt.bz2
+# The kernel records a process's start in clock ticks (common/process_start.h):
+# its age is known to half a tick, so a total may pass the wall time around
+# the process by that much (measured: 2 ms at 100 ticks a second).
+tick=$(python3 -c 'import os; print(1.0 / os.sysconf("SC_CLK_TCK"))')
 
 # timed OUT COMMAND...: runs COMMAND with stdout and stderr in OUT; the wall
 # time around it in $wall (seconds), its status in $status.
@@ -51,13 +55,13 @@ PY
 
 # One process: the total is the wall time from the start to the report,
 # within 25% + 0.3 s of the wall time around the process (which adds the
-# report's writing and the exit), never above it; reading a .bz2 is most of
+# report's writing and the exit), never above it by more than the tick; reading a .bz2 is most of
 # the time before the solve.
 timed "$tmp/p49.out" "$dba" solve "$p49" -o "$tmp/p49.txt" --report "$tmp/p49.json"
 check "problem-49 solves (exit 0)" test "$status" -eq 0
 check "problem-49's phases add up to its total (report and summary)" sums "$tmp/p49.json" "$tmp/p49.out"
 check "problem-49's total is the wall time around the process, within 25% + 0.3 s" json "$tmp/p49.json" \
-  "$wall * 0.75 - 0.3 <= d['seconds']['total'] <= $wall"
+  "$wall * 0.75 - 0.3 <= d['seconds']['total'] <= $wall + $tick"
 check "problem-49's read and start-up are counted" json "$tmp/p49.json" \
   "d['seconds']['read'] > 0.05 and d['seconds']['startup'] > 0"
 # The fast exit leaves the outputs committed and the summary printed whole
@@ -72,7 +76,7 @@ check "the summary printed into a file is whole" test "$(tail -1 "$tmp/p49.out")
 timed "$tmp/late.out" sh -c 'sleep 1; exec "$0" solve "$1" -q --report "$2"' "$dba" "$small" "$tmp/late.json"
 check "dba exec'd after 1 s solves (exit 0)" test "$status" -eq 0
 check "the start-up counts from the process's start, before its exec" json "$tmp/late.json" \
-  "d['seconds']['startup'] >= 0.99 and d['seconds']['total'] <= $wall"
+  "d['seconds']['startup'] >= 0.99 and d['seconds']['total'] <= $wall + $tick"
 check "the late start's phases add up to its total" sums "$tmp/late.json" "$tmp/late.out"
 
 # Over MPI ranks: the main rank's report adds up the same; every rank ends.
@@ -82,7 +86,7 @@ if command -v mpirun >/dev/null; then
   check "2 ranks solve (exit 0)" test "$status" -eq 0
   check "2 ranks: the phases add up to the total" sums "$tmp/mpi.json" "$tmp/mpi.out"
   check "2 ranks: the total is within the wall time around mpirun" json "$tmp/mpi.json" \
-    "0 < d['seconds']['total'] <= $wall and d['ranks'] == 2"
+    "0 < d['seconds']['total'] <= $wall + $tick and d['ranks'] == 2"
   check "2 ranks: the output is committed" test -s "$tmp/mpi.txt"
 fi
 
