@@ -62,6 +62,30 @@ env_of_waiting_dba -u GOMP_SPINCOUNT OMP_WAIT_POLICY=active >"$tmp/env.policy"
 check "a user's OMP_WAIT_POLICY is kept, no spin count added" \
   test "$(cat "$tmp/env.policy")" = "$(printf 'dba\nOMP_WAIT_POLICY=active')"
 
+# A FIFO is opened once (nothing looks at it first, nothing reads it again):
+# empty, it is refused at once; a .bz2 through it is read as the file; a
+# malformed one is refused with its line.
+start=$EPOCHREALTIME
+timeout 20 sh -c ': >"$1"' sh "$tmp/wait.fifo" &
+timeout 20 "$dba" info "$tmp/wait.fifo" >"$tmp/fifo.out" 2>&1
+check "an empty FIFO is refused (exit 1) with the end of file on line 1" \
+  test $? -eq 1 -a -n "$(grep -F "wait.fifo:1: expected header" "$tmp/fifo.out")"
+check "an empty FIFO is refused at once, not after a second open's wait" \
+  python3 -c 'import sys; sys.exit(float(sys.argv[2]) - float(sys.argv[1]) > 5)' "$start" "$EPOCHREALTIME"
+wait
+p49=$data/problem-49-7776-pre.txt.bz2
+timeout 20 sh -c 'cat "$1" >"$2"' sh "$p49" "$tmp/wait.fifo" &
+timeout 20 "$dba" info "$tmp/wait.fifo" >"$tmp/fifo.out" 2>&1
+check "a .bz2 through a FIFO is read (exit 0)" test $? -eq 0
+check "a .bz2 through a FIFO is the file's problem" \
+  test "$(grep -A4 model "$tmp/fifo.out")" = "$("$dba" info "$p49" | grep -A4 model)"
+wait
+timeout 20 sh -c 'bzcat "$1" | head -100 >"$2"' sh "$p49" "$tmp/wait.fifo" &
+timeout 20 "$dba" info "$tmp/wait.fifo" >"$tmp/fifo.out" 2>&1
+check "a FIFO cut short is refused with its line (exit 1)" \
+  test $? -eq 1 -a -n "$(grep -F "wait.fifo:100: expected observation 99 of 31843" "$tmp/fifo.out")"
+wait
+
 # Bad arguments: exit 2 and a message naming the argument.
 "$dba" solve >"$tmp/out" 2>&1; check "missing input exits 2" test $? -eq 2
 check "missing input is named" contains "$tmp/out" "missing INPUT"
@@ -97,7 +121,6 @@ check "the report's estimate is its largest phase and within 2x of the peak" jso
 # accepted iteration's checkpoint, resumed, ends at the uninterrupted run's
 # final cost (the dense solve: exact steps); a checkpoint of another input is
 # refused and nothing is written.
-p49=$data/problem-49-7776-pre.txt.bz2
 "$dba" solve "$p49" -q --report "$tmp/whole.json" >/dev/null 2>&1
 DBA_KILL_AFTER_CHECKPOINT=2 "$dba" solve "$p49" -q --checkpoint "$tmp/p49.ckpt" >/dev/null 2>&1
 check "the killed run died by SIGKILL" test $? -eq 137

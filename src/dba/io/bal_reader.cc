@@ -28,7 +28,6 @@ namespace {
 // Upper bound on what is reserved from header counts before the data has been
 // seen, so a lying header fails with "end of file", not with bad_alloc.
 constexpr int64_t kMaxReserve = int64_t{1} << 22;
-constexpr int64_t kMaxCameras = int64_t{1} << 31;  // camera ids are int32
 
 // Whitespace-separated tokens over the lines of a TextLineReader. Every
 // message built through `what` reads "expected <what>, found ...".
@@ -140,9 +139,9 @@ Header ReadHeader(Parser& in) {
   Header h;
   h.cameras = in.Int(header);
   if (h.cameras <= 0) in.Fail("num_cameras must be positive, found " + Str(h.cameras));
-  if (h.cameras > kMaxCameras) {
+  if (h.cameras > kMaxBalCameras) {
     in.Fail("num_cameras " + Str(h.cameras) + " exceeds the 32-bit camera id limit " +
-            Str(kMaxCameras));
+            Str(kMaxBalCameras));
   }
   h.points = in.Int(header);
   if (h.points <= 0) in.Fail("num_points must be positive, found " + Str(h.points));
@@ -249,6 +248,9 @@ Problem ReadBalLineByLine(const std::string& path) {
 }
 
 Problem ReadBal(const std::string& path, int threads) {
+  // A pipe or FIFO can be read only once: line by line, its message whole.
+  std::error_code not_regular;
+  if (!std::filesystem::is_regular_file(path, not_regular)) return ReadBalLineByLine(path);
   std::optional<Problem> problem =
       ReadBalInParallel(path, threads > 0 ? threads : omp_get_max_threads());
   if (problem.has_value()) return std::move(*problem);

@@ -2,6 +2,7 @@
 #include "dba/io/binary_problem.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -339,6 +340,10 @@ BinaryProblemHeader CameraSideLayout(const Problem& c, int64_t points, int64_t o
 }  // namespace
 
 bool IsBinaryProblem(const std::string& path) {
+  // A .dba is read at offsets: a regular file. Opening a FIFO to look would
+  // take its writer's data from the read that follows.
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return false;
   const int fd = ::open(path.c_str(), O_RDONLY);
   if (fd < 0) return false;
   char magic[8] = {};

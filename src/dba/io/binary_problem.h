@@ -125,7 +125,7 @@ struct BinaryProblemHeader {
   }
 };
 
-// True if the file starts with the binary magic.
+// True if the file is a regular file that starts with the binary magic.
 bool IsBinaryProblem(const std::string& path);
 
 // Reads and checks the header against the file: magic, version, byte order,
