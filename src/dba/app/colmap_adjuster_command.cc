@@ -74,7 +74,7 @@ const std::vector<ColmapOption>& Options() {
   return t;
 }
 
-void PrintHelp(std::ostream& out) {
+void PrintColmapHelp(std::ostream& out) {
   out << "Usage: dba colmap-bundle-adjuster --input_path DIR --output_path DIR [COLMAP options]\n\n"
          "A drop-in for `colmap bundle_adjuster` (COLMAP 3.8's options and 3.12's), with\n"
          "COLMAP's defaults; each option becomes dba solve's:\n";
@@ -254,7 +254,7 @@ int ColmapBundleAdjusterMain(const std::vector<std::string>& args) {
     return dynamic_cast<const InputError*>(&e) != nullptr ? 1 : 2;
   }
   if (help) {
-    PrintHelp(std::cout);
+    PrintColmapHelp(std::cout);
     return args.empty() ? 2 : 0;
   }
   std::cout << "dba colmap-bundle-adjuster: dba solve";

@@ -172,7 +172,7 @@ const std::vector<Spec>& GenerateOptionTable() {
   return table;
 }
 
-void PrintHelp(std::ostream& out) {
+void PrintGenerateHelp(std::ostream& out) {
   out << "Usage: dba generate OUTPUT [options]\n"
          "\n"
          "Writes a synthetic UAV survey with a known ground truth: nadir images along\n"
@@ -229,7 +229,7 @@ int GenerateMain(const std::vector<std::string>& args) {
         },
         &help, "generate");
     if (help) {
-      PrintHelp(std::cout);
+      PrintGenerateHelp(std::cout);
       return 0;
     }
     CheckGenerateArgs(a);

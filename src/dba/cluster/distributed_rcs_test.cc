@@ -25,7 +25,7 @@ Eigen::VectorXd DenseStep(const Problem& problem, double lambda) {
   RcsSystem& sys = one.FormRcs(lambda);
   DampCameraBlocks(lambda, DampingBounds{}, sys.camera_side_jtj_diagonal, &sys.S);
   const Eigen::MatrixXd S = testing::DenseFromBsmc(sys.S);
-  return S.ldlt().solve(Eigen::Map<const Eigen::VectorXd>(sys.b.data(), S.rows()));
+  return testing::SolveSymmetric(S, Eigen::Map<const Eigen::VectorXd>(sys.b.data(), S.rows()));
 }
 
 void SolveSpread(PreconditionerType preconditioner, int ranks = 3) {

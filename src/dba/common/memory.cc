@@ -14,6 +14,18 @@
 #include <utility>
 
 namespace dba {
+
+std::string BytesText(double bytes) {
+  char text[64];
+  if (bytes >= double(int64_t{1} << 30)) {
+    std::snprintf(text, sizeof text, "%.2f GiB", bytes / double(int64_t{1} << 30));
+  } else if (bytes >= double(1 << 20)) {
+    std::snprintf(text, sizeof text, "%.1f MiB", bytes / double(1 << 20));
+  } else {
+    std::snprintf(text, sizeof text, "%.1f KiB", bytes / 1024.0);
+  }
+  return text;
+}
 namespace {
 
 // The number after `key` at the start of a line of `path` (kB in /proc's

@@ -21,7 +21,6 @@ namespace {
 
 constexpr size_t kMaxJoinedToken = 4096;
 constexpr size_t kMaxHeaderText = size_t{16} << 20;
-constexpr int64_t kMaxCameras = int64_t{1} << 31;  // camera ids are int32
 constexpr int64_t kUnknownSizeReserve = int64_t{1} << 22;
 
 // Not a file this reader takes: ReadBal reads it line by line.
@@ -260,7 +259,7 @@ void ParallelBalReader::ReadHeader() {
 }
 
 void ParallelBalReader::StartLayout(int64_t cameras, int64_t points, int64_t observations) {
-  if (cameras <= 0 || cameras > kMaxCameras || points <= 0 || observations <= 0 ||
+  if (cameras <= 0 || cameras > kMaxBalCameras || points <= 0 || observations <= 0 ||
       points > observations) {
     throw Irregular{};
   }

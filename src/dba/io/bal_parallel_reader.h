@@ -17,12 +17,16 @@
 // Thread safety: one call per file; it runs its own threads.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
 #include "dba/problem/problem.h"
 
 namespace dba {
+
+// A BAL file's most cameras: camera ids are int32 (both readers' bound).
+inline constexpr int64_t kMaxBalCameras = int64_t{1} << 31;
 
 // The problem, the same bits on any number of threads (>= 1); nullopt when
 // the file is not one this reader takes (see above). Throws InputError when

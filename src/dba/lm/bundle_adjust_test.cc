@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <Eigen/Eigenvalues>
 #include <cmath>
 
 #include "dba/testing/dense_reference.h"
@@ -50,12 +49,12 @@ TEST(BundleAdjust, SharedIntrinsicsAreRecoveredWithinTheNoise) {
   // The intrinsics' standard deviations at the optimum: σ² (JᵀJ)⁺ (pseudo-
   // inverse: the gauge leaves JᵀJ singular; intrinsics do not depend on it).
   const auto dense = testing::BuildDenseNormalEquations(p, 0.0, DampingBounds{});
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(dense.H);
-  const Eigen::VectorXd& ev = eig.eigenvalues();
+  const testing::SymmetricEigen eig = testing::EigenOfSymmetric(dense.H);
+  const Eigen::VectorXd& ev = eig.values;
   Eigen::VectorXd inv = Eigen::VectorXd::Zero(ev.size());
   for (int j = 0; j < ev.size(); ++j) inv[j] = ev[j] > 1e-10 * ev.maxCoeff() ? 1.0 / ev[j] : 0.0;
   const Eigen::MatrixXd covariance =
-      sigma * sigma * eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+      sigma * sigma * eig.vectors * inv.asDiagonal() * eig.vectors.transpose();
   const UnknownLayout layout(p);
   const testing::SyntheticProblem start = SharedIntrinsicsProblem(sigma);
   for (int g = 0; g < 2; ++g) {

@@ -6,7 +6,6 @@
 // pseudo-inverse leaves out the gauge).
 #include <gtest/gtest.h>
 
-#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <string>
 
@@ -65,9 +64,9 @@ TEST_P(LensModelRecoveryTest, IntrinsicsAreRecoveredWithinTheNoise) {
   // dropped, not weakly determined ones.
   const Eigen::MatrixXd S = testing::DenseFromBsmc(sys.S);
   const Eigen::VectorXd scale = S.diagonal().cwiseSqrt().cwiseInverse();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scale.asDiagonal() * S *
-                                                     scale.asDiagonal());
-  const Eigen::VectorXd& ev = eig.eigenvalues();
+  const testing::SymmetricEigen eig =
+      testing::EigenOfSymmetric(scale.asDiagonal() * S * scale.asDiagonal());
+  const Eigen::VectorXd& ev = eig.values;
   Eigen::VectorXd inv = Eigen::VectorXd::Zero(ev.size());
   int gauge = 0;
   for (int j = 0; j < ev.size(); ++j) {
@@ -79,8 +78,8 @@ TEST_P(LensModelRecoveryTest, IntrinsicsAreRecoveredWithinTheNoise) {
   }
   EXPECT_EQ(gauge, 7) << name;
   const Eigen::MatrixXd covariance =
-      o.pixel_noise * o.pixel_noise * scale.asDiagonal() * eig.eigenvectors() *
-      inv.asDiagonal() * eig.eigenvectors().transpose() * scale.asDiagonal();
+      o.pixel_noise * o.pixel_noise * scale.asDiagonal() * eig.vectors *
+      inv.asDiagonal() * eig.vectors.transpose() * scale.asDiagonal();
   int moved_far = 0;
   for (int64_t g = 0; g < p.num_groups(); ++g) {
     const int32_t row = sys.layout.intrinsics_row(g);

@@ -6,24 +6,13 @@
 #include <ostream>
 #include <string>
 
+#include "dba/common/memory.h"
 #include "dba/session/solve_report.h"
 
 namespace dba {
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-std::string Bytes(double b) {
-  char buf[64];
-  if (b >= double(int64_t{1} << 30)) {
-    std::snprintf(buf, sizeof buf, "%.2f GiB", b / double(int64_t{1} << 30));
-  } else if (b >= double(1 << 20)) {
-    std::snprintf(buf, sizeof buf, "%.1f MiB", b / double(1 << 20));
-  } else {
-    std::snprintf(buf, sizeof buf, "%.1f KiB", b / 1024.0);
-  }
-  return buf;
-}
 
 // printf into a string.
 template <typename... A>
@@ -94,7 +83,7 @@ void PrintSolver(const Json& j, std::ostream& out) {
       << j["accepted_iterations"].get<int>() << " accepted, " << j["pcg_iterations"].get<int>()
       << " PCG iterations)\n";
   out << "  linear solver       " << ls["type"].get<std::string>() << " ("
-      << ls["reason"].get<std::string>() << "); holds " << Bytes(ls["bytes"].get<double>())
+      << ls["reason"].get<std::string>() << "); holds " << BytesText(ls["bytes"].get<double>())
       << " beyond the RCS";
   if (const int from = ls["pcg_double_from_iteration"]; from > 0) {
     out << "; product in double from LM iteration " << from << " (damping at float's floor)";
@@ -111,11 +100,11 @@ void PrintSizes(const Json& j, std::ostream& out) {
       << " camera-side, " << 3 * points << " point coordinates)\n";
   out << "  RCS (BSMC)          " << m["rcs_block_rows"].get<int64_t>() << " block rows, "
       << m["rcs_blocks"].get<int64_t>() << " blocks, "
-      << Bytes(m["rcs_bsmc_structure_bytes"].get<double>() + m["rcs_bsmc_value_bytes"].get<double>())
-      << " (CSR: " << Bytes(m["rcs_csr_bytes"].get<double>()) << ")\n";
+      << BytesText(m["rcs_bsmc_structure_bytes"].get<double>() + m["rcs_bsmc_value_bytes"].get<double>())
+      << " (CSR: " << BytesText(m["rcs_csr_bytes"].get<double>()) << ")\n";
   out << Format("  memory              peak %s, %.1f bytes/observation "
                 "(problem data %.1f bytes/observation)\n",
-                Bytes(m["peak_bytes"].get<double>()).c_str(),
+                BytesText(m["peak_bytes"].get<double>()).c_str(),
                 m["peak_bytes_per_observation"].get<double>(),
                 m["problem_bytes_per_observation"].get<double>());
   if (m.contains("estimate")) {

@@ -6,24 +6,13 @@
 #include <string>
 #include <vector>
 
+#include "dba/common/memory.h"
 #include "dba/session/solve_report.h"
 
 namespace dba {
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-std::string Bytes(double b) {
-  char buf[64];
-  if (b >= double(int64_t{1} << 30)) {
-    std::snprintf(buf, sizeof buf, "%.2f GiB", b / double(int64_t{1} << 30));
-  } else if (b >= double(1 << 20)) {
-    std::snprintf(buf, sizeof buf, "%.1f MiB", b / double(1 << 20));
-  } else {
-    std::snprintf(buf, sizeof buf, "%.1f KiB", b / 1024.0);
-  }
-  return buf;
-}
 
 // A group's errors: (name, value) in its model's order.
 std::vector<std::pair<std::string, double>> GroupErrors(const Json& group) {
@@ -83,19 +72,19 @@ void PrintRank(const Json& k, bool spread, std::ostream& out) {
                 "sub-RCS %8ld blocks %10s  peak %s (estimated %s)\n",
                 k["rank"].get<int>(), k["points"].get<long>(), k["observations"].get<long>(),
                 k["cameras"].get<long>(), k["sub_rcs_blocks"].get<long>(),
-                Bytes(k["sub_rcs_bytes"].get<double>()).c_str(),
-                Bytes(k["peak_memory_bytes"].get<double>()).c_str(),
-                Bytes(k["memory_estimate_bytes"].get<double>()).c_str());
+                BytesText(k["sub_rcs_bytes"].get<double>()).c_str(),
+                BytesText(k["peak_memory_bytes"].get<double>()).c_str(),
+                BytesText(k["memory_estimate_bytes"].get<double>()).c_str());
   out << buf;
   if (!spread) return;
   const Json& c = k["communication"];
-  const auto bytes = [&](const char* t) { return Bytes(c[t]["bytes"].get<double>()); };
+  const auto bytes = [&](const char* t) { return BytesText(c[t]["bytes"].get<double>()); };
   const auto seconds = [&](const char* t) { return c[t]["seconds"].get<double>(); };
   std::snprintf(buf, sizeof buf,
                 "              owns %ld RCS rows, %ld blocks, %s with its solve (halo %ld "
                 "rows); reduce-scatter %s %.3f s, halo %s %.3f s, reductions %s %.3f s\n",
                 k["owned_rows"].get<long>(), k["owned_blocks"].get<long>(),
-                Bytes(k["owned_bytes"].get<double>()).c_str(), k["halo_rows"].get<long>(),
+                BytesText(k["owned_bytes"].get<double>()).c_str(), k["halo_rows"].get<long>(),
                 bytes("sub_rcs").c_str(), seconds("sub_rcs"), bytes("halo").c_str(),
                 seconds("halo"), bytes("reduction").c_str(), seconds("reduction"));
   out << buf;
@@ -111,13 +100,13 @@ void PrintCommunication(const Json& d, double total_seconds, std::ostream& out) 
     const double bytes = t[c]["bytes"], seconds = t[c]["seconds"];
     std::snprintf(buf, sizeof buf,
                   "    %-14s %12s %9.3f s  (waits %8.3f s)  per iteration %10s %8.4f s\n", c,
-                  Bytes(bytes).c_str(), seconds, t[c]["wait_seconds"].get<double>(),
-                  Bytes(bytes / iters).c_str(), seconds / iters);
+                  BytesText(bytes).c_str(), seconds, t[c]["wait_seconds"].get<double>(),
+                  BytesText(bytes / iters).c_str(), seconds / iters);
     out << buf;
   }
   std::snprintf(buf, sizeof buf,
                 "    %-14s %12s %9.3f s  (waits %8.3f s)  transfers are %.1f%% of the solve\n",
-                "total", Bytes(t["total"]["bytes"].get<double>()).c_str(),
+                "total", BytesText(t["total"]["bytes"].get<double>()).c_str(),
                 t["total"]["seconds"].get<double>(), t["total"]["wait_seconds"].get<double>(),
                 100.0 * t["total"]["seconds"].get<double>() / std::max(total_seconds, 1e-9));
   out << buf;

@@ -6,9 +6,6 @@
 
 #include <gtest/gtest.h>
 
-#include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
-#include <Eigen/LU>
 #include <random>
 
 #include "dba/testing/dense_reference.h"
@@ -37,7 +34,7 @@ TEST(Pcg, MatchesDenseCholesky) {
     const BsmcMatrix S = SpdMatrix(seed);
     const Eigen::MatrixXd dense = testing::DenseFromBsmc(S);
     Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(S.num_rows(), -1.0, 2.0);
-    const Eigen::VectorXd expected = dense.llt().solve(b);
+    const Eigen::VectorXd expected = testing::SolveSpd(dense, b);
     const SymmetricMultiplier multiplier(S, 2);
     const BlockJacobiPreconditioner M = Jacobi(S, 2);
     Eigen::VectorXd y(S.num_rows());
@@ -63,7 +60,7 @@ TEST(Pcg, MixedPrecisionSolvesToFloatAccuracy) {
   BsmcMatrix S = SpdMatrix(5);
   const Eigen::MatrixXd dense = testing::DenseFromBsmc(S);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(S.num_rows(), -1.0, 2.0);
-  const Eigen::VectorXd expected = dense.llt().solve(b);
+  const Eigen::VectorXd expected = testing::SolveSpd(dense, b);
   const BlockJacobiPreconditioner M = Jacobi(S, 1);
   PcgOptions options;
   EXPECT_EQ(options.product_precision(), ProductPrecision::kMixed);  // the default: η = 0.1
@@ -228,7 +225,7 @@ TEST(Pcg, TightSolveOfAnIllConditionedSystemAsTheTextbookForm) {
   BsmcMatrix S = SpdMatrix(9);
   {
     const Eigen::VectorXd eigenvalues =
-        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(testing::DenseFromBsmc(S)).eigenvalues();
+        testing::EigenOfSymmetric(testing::DenseFromBsmc(S)).values;
     const double shift = eigenvalues.minCoeff() - 1e-7 * eigenvalues.maxCoeff();
     for (int32_t i = 0; i < S.num_block_rows(); ++i) {
       const int c = S.block_size(i);
@@ -245,7 +242,7 @@ TEST(Pcg, TightSolveOfAnIllConditionedSystemAsTheTextbookForm) {
   for (int32_t i = 0; i < S.num_block_rows(); ++i) {
     const int64_t o = S.scalar_offset(i);
     const int c = S.block_size(i);
-    Minv.block(o, o, c, c) = dense.block(o, o, c, c).inverse();
+    Minv.block(o, o, c, c) = testing::Inverse(dense.block(o, o, c, c));
   }
   Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size()), r = b, z = Minv * r, d = z;
   double rz = r.dot(z);
@@ -292,7 +289,7 @@ TEST(BlockJacobi, AppliesTheInverseOfEachDiagonalBlock) {
     block_diagonal.block(o, o, c, c) = dense.block(o, o, c, c);
   }
   const Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(S.num_rows(), 1.0, 3.0);
-  const Eigen::VectorXd expected = block_diagonal.llt().solve(r);
+  const Eigen::VectorXd expected = testing::SolveSpd(block_diagonal, r);
   Eigen::VectorXd z(S.num_rows());
   Jacobi(S, 2).Apply(r.data(), z.data());
   EXPECT_LT((z - expected).norm(), 1e-10 * expected.norm());

@@ -9,7 +9,6 @@
 #include <cmath>
 #include <vector>
 
-#include <Eigen/Cholesky>
 
 #include "dba/solver/sparse_cholesky.h"
 #include "dba/solver/two_level_preconditioner.h"
@@ -53,7 +52,7 @@ TEST_P(EachSolver, SolvesLikeDenseCholesky) {
       }
       const Eigen::MatrixXd dense = testing::DenseFromBsmc(S);
       const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(S.num_rows(), -1.0, 2.0);
-      const Eigen::VectorXd expected = dense.llt().solve(b);
+      const Eigen::VectorXd expected = testing::SolveSpd(dense, b);
       Eigen::VectorXd x(S.num_rows());
       const LinearSolveSummary s = solver->Solve(S, b.data(), x.data());
       ASSERT_TRUE(s.ok) << "seed " << seed << " round " << round;

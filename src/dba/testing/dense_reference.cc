@@ -2,6 +2,7 @@
 #include "dba/testing/dense_reference.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
 #include "dba/camera/bal_camera.h"
@@ -118,7 +119,7 @@ Eigen::VectorXd DenseNormalEquations::ReducedRhs() const {
 }
 
 Eigen::VectorXd DenseNormalEquations::SolveStep() const {
-  return H.ldlt().solve(-g);
+  return SolveSymmetric(H, -g);
 }
 
 Eigen::MatrixXd DenseFromBsmc(const BsmcMatrix& S) {
@@ -135,6 +136,21 @@ Eigen::MatrixXd DenseFromBsmc(const BsmcMatrix& S) {
     }
   }
   return D;
+}
+
+Eigen::VectorXd SolveSpd(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
+  return A.llt().solve(b);
+}
+
+Eigen::VectorXd SolveSymmetric(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
+  return A.ldlt().solve(b);
+}
+
+Eigen::MatrixXd Inverse(const Eigen::MatrixXd& A) { return A.inverse(); }
+
+SymmetricEigen EigenOfSymmetric(const Eigen::MatrixXd& A) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(A);
+  return {eig.eigenvalues(), eig.eigenvectors()};
 }
 
 }  // namespace dba::testing

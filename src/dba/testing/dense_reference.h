@@ -42,4 +42,19 @@ DenseNormalEquations BuildDenseNormalEquations(const Problem& problem,
 // The symmetric matrix stored in a BSMC, both triangles filled.
 Eigen::MatrixXd DenseFromBsmc(const BsmcMatrix& S);
 
+// Dense references' factorizations, compiled once here: instantiated in a
+// test file each costs it 5-9 s of compilation.
+// A⁻¹ b for a symmetric positive definite A (Cholesky).
+Eigen::VectorXd SolveSpd(const Eigen::MatrixXd& A, const Eigen::VectorXd& b);
+// A⁻¹ b for a symmetric A (LDLᵀ).
+Eigen::VectorXd SolveSymmetric(const Eigen::MatrixXd& A, const Eigen::VectorXd& b);
+// A⁻¹ (LU with partial pivoting).
+Eigen::MatrixXd Inverse(const Eigen::MatrixXd& A);
+// A = V diag(values) Vᵀ for a symmetric A, values ascending.
+struct SymmetricEigen {
+  Eigen::VectorXd values;
+  Eigen::MatrixXd vectors;
+};
+SymmetricEigen EigenOfSymmetric(const Eigen::MatrixXd& A);
+
 }  // namespace dba::testing
