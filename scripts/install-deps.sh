@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake
+  build-essential cmake ninja-build
   libeigen3-dev libbz2-dev bzip2 nlohmann-json3-dev
   libgtest-dev googletest libbenchmark-dev
   openmpi-bin libopenmpi-dev

@@ -25,6 +25,16 @@ for want in "cameras       49" "points        7776" "observations  31843" "track
 done
 
 check "info shows the BAL model" grep -qF "model         BAL" "$tmp/info"
+# The camera graph (from the RCS's pattern when its rows are the cameras, else
+# built apart): problem-49's figures, and a COLMAP model's, whose RCS has its
+# intrinsic groups' rows too.
+check "info's camera graph of problem-49" \
+  grep -qF "cameras sharing a point with a camera   min 29  mean 39.9  max 48" "$tmp/info"
+"$dba" info "$root/../shared/data/colmap/statue_of_liberty_small_txt/sparse/0" >"$tmp/info_statue" 2>&1
+check "info's camera graph of a COLMAP model" \
+  grep -qF "cameras sharing a point with a camera   min 20  mean 35.9  max 39" "$tmp/info_statue"
+check "info's RCS of the COLMAP model: its images' and groups' rows" \
+  grep -qF "RCS: 41 block rows, 242 unknowns" "$tmp/info_statue"
 
 differ() { ! cmp -s "$1" "$2"; }
 

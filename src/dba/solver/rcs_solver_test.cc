@@ -100,6 +100,10 @@ TEST(PcgSolver, OnlyAutosMixedProductDropsTheDampingFloor) {
     options.pcg.precision = precision;
     options.pcg.relative_tolerance = 1e-13;
     options.pcg.eta = 1e-30;  // on (auto is mixed), but never the stop
+    // Block-Jacobi: the two-level preconditioner's coarse factor goes through
+    // threaded BLAS, whose sums differed between runs on a loaded machine
+    // (1.9e-9 apart, as far as the mixed product's 3e-9).
+    options.preconditioner = PreconditionerType::kBlockJacobi;
     return MakeRcsSolver(*S, options);
   };
   BsmcMatrix S_double = formed;
