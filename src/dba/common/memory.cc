@@ -26,6 +26,7 @@ std::string BytesText(double bytes) {
   }
   return text;
 }
+
 namespace {
 
 // The number after `key` at the start of a line of `path` (kB in /proc's

@@ -10,10 +10,10 @@
 
 namespace dba {
 
-// Peak resident set size (VmHWM) in bytes, 0 if unknown.
 // A size for people: "512.0 KiB", "3.5 MiB", "1.25 GiB".
 std::string BytesText(double bytes);
 
+// Peak resident set size (VmHWM) in bytes, 0 if unknown.
 int64_t PeakResidentBytes();
 // Current resident set size (VmRSS) in bytes, 0 if unknown.
 int64_t CurrentResidentBytes();
