@@ -170,7 +170,13 @@ show_spread() {  # FORMAT "median min max"
   awk -v f="$1" -v s="$2" 'BEGIN {split(s, x, " ");
     if (sprintf(f, x[2]) == sprintf(f, x[3])) printf f, x[1]; else printf f " (" f "–" f ")", x[1], x[2], x[3]}'
 }
-seconds_of() { awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, t, ":"); s = 0; for (i = 1; i <= n; ++i) s = s * 60 + t[i]; print s}' "$1"; }
+# Wall seconds of a run: to the microsecond around it (TAG.wall, beside
+# TAG.time), else /usr/bin/time's, to the hundredth (too coarse for the
+# small problems' tens of milliseconds).
+seconds_of() {
+  if [ -f "${1%.time}.wall" ]; then cat "${1%.time}.wall"; return; fi
+  awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, t, ":"); s = 0; for (i = 1; i <= n; ++i) s = s * 60 + t[i]; print s}' "$1"
+}
 kib_of() { awk -F': ' '/Maximum resident set size/ {print $2}' "$1"; }
 cpu_of() { awk -F': ' '/User time|System time/ {s += $2} END {print s}' "$1"; }
 # Configuration ids: dba, ceres2.2-sparse_schur, ...
@@ -236,6 +242,7 @@ run() {
   local cfg=$1 problem=$2 tag=$3 limit=$4 rc=0
   echo "$limit" >"$work/$tag.limit"
   wait_quiet
+  local t0=$EPOCHREALTIME
   if [ "$cfg" = dba ]; then
     /usr/bin/time -v timeout -k 10 "$limit" "$dba" solve "$problem" -t "$threads" -q ${dba_args[@]+"${dba_args[@]}"} \
       --report "$work/$tag.json" >"$work/$tag.out" 2>"$work/$tag.time" || rc=$?
@@ -244,6 +251,7 @@ run() {
       ${ceres_args[@]+"${ceres_args[@]}"} --report "$work/$tag.json" >"$work/$tag.out" 2>"$work/$tag.time" || rc=$?
   fi
   echo "$rc" >"$work/$tag.rc"
+  awk -v a="$t0" -v b="$EPOCHREALTIME" 'BEGIN {printf "%.4f\n", b - a}' >"$work/$tag.wall"
   # Background load: CPU time of the whole machine from the start of the
   # last quiet check (one idle second) to the end of the run, minus the
   # solver's own, per second of that window.
@@ -557,14 +565,14 @@ for problem in "${problems[@]}"; do
   dt=$(median <"$work/dba.t"); ct=$(median <"$work/$c22.t")
   c21_time=-; c21_name=-; c21_ratio=-
   if [ -n "$c21" ]; then
-    c21_time=$(show_spread %.2f "$(spread "$work/$c21.t")")
+    c21_time=$(show_spread %.3f "$(spread "$work/$c21.t")")
     c21_name=$(display_of "$c21" | sed 's/^2\.1 //'); [ "$c21_within" = yes ] || c21_name="$c21_name (see note)"
     c21_ratio=$(awk -v a="$(median <"$work/$c21.t")" -v b="$dt" 'BEGIN {printf "%.2fx", a / b}')
   fi
   c22_name=$(display_of "$c22" | sed 's/^2\.2 //'); [ "$c22_within" = yes ] || c22_name="$c22_name (see note)"
   awk -v n="$name" -v c="$(jq .num_cameras "$dj")" -v p="$(jq .num_points "$dj")" -v o="$(jq .num_observations "$dj")" \
       -v dc="$dc" -v cc="$cc" -v ag="$agree" -v dt="$dt" -v ct="$ct" -v dtt="$dtt" -v ctt="$ctt" \
-      -v dts="$(show_spread %.2f "$(spread "$work/dba.t")")" -v cts="$(show_spread %.2f "$(spread "$work/$c22.t")")" \
+      -v dts="$(show_spread %.3f "$(spread "$work/dba.t")")" -v cts="$(show_spread %.3f "$(spread "$work/$c22.t")")" \
       -v cfg="$c22_name" -v dm="$(median <"$work/dba.m")" -v cm="$(median <"$work/$c22.m")" \
       -v dms="$(show_spread %.1f "$(spread "$work/dba.m" | awk '{printf "%.1f %.1f %.1f", $1 / 1024, $2 / 1024, $3 / 1024}')")" \
       -v cms="$(show_spread %.1f "$(spread "$work/$c22.m" | awk '{printf "%.1f %.1f %.1f", $1 / 1024, $2 / 1024, $3 / 1024}')")" \
@@ -580,7 +588,7 @@ for problem in "${problems[@]}"; do
     j=$out/$name.$c.json
     mark=""; [ "$c" = "$c22" ] && mark="fastest 2.2"; [ "$c" = "$c21" ] && mark="fastest 2.1"
     lin=$(jq '.pcg_iterations // .linear_solver_iterations // 0' "$j")
-    awk -v n="$name" -v s="$(display_of "$c")" -v ts="$(show_spread %.2f "$(spread "$work/$c.t")")" \
+    awk -v n="$name" -v s="$(display_of "$c")" -v ts="$(show_spread %.3f "$(spread "$work/$c.t")")" \
         -v t="$(median <"$work/$c.t")" -v dt="$dt" \
         -v ms="$(show_spread %.1f "$(spread "$work/$c.m" | awk '{printf "%.1f %.1f %.1f", $1 / 1024, $2 / 1024, $3 / 1024}')")" \
         -v cost="$(jq .final_cost "$j")" -v best="$best" -v it="$(jq .iterations "$j")" -v lin="$lin" \
@@ -635,8 +643,10 @@ ceres_options="iteration limit 100, function tolerance 1e-6"; [ ${#ceres_args[@]
   echo "  first comes within $gap_label of the lowest final cost any configuration reached on"
   echo "  that problem (from the per-iteration histories; \"not reached\" if never)."
   cat <<'EOF'
-- *time*: wall clock of the whole program (loading included) and *peak*:
-  maximum resident set size, both from `/usr/bin/time -v`.
+- *time*: wall clock of the whole program (loading included; to the
+  microsecond around `/usr/bin/time` and `timeout`, the same for every
+  configuration) and *peak*:
+  maximum resident set size (`/usr/bin/time -v`).
 - *others' load*: cores used by other processes during the runs (whole
   machine CPU time from /proc/stat minus the solver's own, per wall second,
   over the run and the idle second before it; median over the runs). This

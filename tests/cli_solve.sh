@@ -61,6 +61,22 @@ check "a user's GOMP_SPINCOUNT is kept" test "$(cat "$tmp/env.user")" = "$(print
 env_of_waiting_dba -u GOMP_SPINCOUNT OMP_WAIT_POLICY=active >"$tmp/env.policy"
 check "a user's OMP_WAIT_POLICY is kept, no spin count added" \
   test "$(cat "$tmp/env.policy")" = "$(printf 'dba\nOMP_WAIT_POLICY=active')"
+OMP_DISPLAY_ENV=verbose "$dba" --help 2>&1 >/dev/null | tr -d ' ' >"$tmp/gomp.env"
+check "libgomp reads the spin count dba started with" contains "$tmp/gomp.env" "GOMP_SPINCOUNT='1000'"
+
+# PROJ and CHOLMOD are opened at their first use (common/shared_library.h),
+# not linked: a small dense solve loads neither; a sparse solve loads CHOLMOD
+# (with its BLAS) and a CRS loads PROJ, and both solve.
+small=$data/balbianello-5-544-from-bundler.txt.bz2
+ldd "$dba" >"$tmp/ldd"
+check "dba does not link libproj or libcholmod" test -z "$(grep -E 'libproj|libcholmod|libopenblas' "$tmp/ldd")"
+LD_DEBUG=files "$dba" solve "$small" -q -o "$tmp/small_dense.txt" >"$tmp/loads.dense" 2>&1
+check "a dense solve loads neither PROJ nor CHOLMOD" \
+  test $? -eq 0 -a -z "$(grep -E 'file=lib(proj|cholmod)' "$tmp/loads.dense")"
+LD_DEBUG=files "$dba" solve "$small" -q --linear-solver sparse -o "$tmp/small_sparse.txt" \
+  >"$tmp/loads.sparse" 2>&1
+check "a sparse solve loads CHOLMOD and solves" \
+  test $? -eq 0 -a -n "$(grep -E 'file=libcholmod' "$tmp/loads.sparse")" -a -s "$tmp/small_sparse.txt"
 
 # A FIFO is opened once (nothing looks at it first, nothing reads it again):
 # empty, it is refused at once; a .bz2 through it is read as the file; a

@@ -1,5 +1,4 @@
 // The dba command-line program: dispatches to the subcommands.
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -50,25 +49,22 @@ void PrintUsage(std::ostream& out) {
 }
 
 // Before any library's constructor (the executable's .preinit_array), the
-// environment two libraries read once, when they load (glibc sets the
-// environment up again after this function, so only a new exec passes a
-// change on; tools/dba_main.cc starts again at most once):
-// - OpenBLAS starts one thread per core when it loads, each mapping a 128
-//   MiB buffer, and under a limit on the address space (ulimit -v) a refused
-//   buffer is retried forever, so every command hung before main. Under such
-//   a limit: OPENBLAS_NUM_THREADS=1 (no thread at load; the sparse
-//   factorization takes the threads that fit, common/blas_threads.h).
-// - libgomp's threads spin at a barrier for GOMP_SPINCOUNT rounds (300,000
-//   by default, milliseconds) before they sleep: on a machine another
-//   process keeps busy a thread spins while its partner waits for the core,
-//   and PCG, with seven parallel regions per iteration, slowed 8x under
-//   three busy processes. Unless the user chose (GOMP_SPINCOUNT
-//   or OMP_WAIT_POLICY set): GOMP_SPINCOUNT=kSpinCount. 1000 rather than
-//   10,000: under three busy processes PCG slowed 4.36x where formation
-//   slowed 2.79x with 10,000, 3.54x against 2.58x with 1000 (uavtxt-2500
-//   shuffled); idle the same within noise (alternating, medians of 5-7:
-//   0.996-1.036x on uavtxt-2500/10000 and problems 49, 16); passive waiting
-//   (OMP_WAIT_POLICY=passive) cost 18% idle. bench/README.md, bench/busy.sh.
+// environment libgomp reads once, when it loads (glibc sets the environment
+// up again after this function, so only a new exec passes a change on;
+// tools/dba_main.cc starts again at most once, for about 3 ms: the
+// libraries linked, PROJ and CHOLMOD not among them, common/shared_library.h):
+// libgomp's threads spin at a barrier for GOMP_SPINCOUNT rounds (300,000 by
+// default, milliseconds) before they sleep: on a machine another process
+// keeps busy a thread spins while its partner waits for the core, and PCG,
+// with seven parallel regions per iteration, slowed 8x under three busy
+// processes. Unless the user chose (GOMP_SPINCOUNT or OMP_WAIT_POLICY set):
+// GOMP_SPINCOUNT=kSpinCount. 1000 rather than 10,000: under three busy
+// processes PCG slowed 4.36x where formation slowed 2.79x with 10,000, 3.54x
+// against 2.58x with 1000 (uavtxt-2500 shuffled); idle the same within noise
+// (alternating, medians of 5-7: 0.996-1.036x on uavtxt-2500/10000 and
+// problems 49, 16); passive waiting (OMP_WAIT_POLICY=passive) cost 18% idle.
+// bench/README.md, bench/busy.sh. (OpenBLAS's environment under a limit on
+// the address space is set when CHOLMOD loads: common/blas_threads.h.)
 constexpr const char* kSpinCount = "GOMP_SPINCOUNT=1000";
 
 bool Named(const char* entry, const char* name) {
@@ -77,24 +73,16 @@ bool Named(const char* entry, const char* name) {
 }
 
 void StartWithTheLibrariesEnvironment(int, char** argv, char** envp) {
-  struct rlimit limit {};
-  const bool address_limit = ::getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY;
-  static char one_blas[] = "OPENBLAS_NUM_THREADS=1";
   static char spin[64];
   std::strncpy(spin, kSpinCount, sizeof spin - 1);
-  bool add_blas = address_limit, add_spin = true;
   static char* env[4096];
   size_t n = 0;
   for (char** e = envp; *e != nullptr; ++e) {
-    if (std::strcmp(*e, one_blas) == 0) add_blas = false;
-    if (Named(*e, "GOMP_SPINCOUNT") || Named(*e, "OMP_WAIT_POLICY")) add_spin = false;
-    if (address_limit && Named(*e, "OPENBLAS_NUM_THREADS") && std::strcmp(*e, one_blas) != 0) continue;
-    if (n + 3 >= sizeof env / sizeof env[0]) return;
+    if (Named(*e, "GOMP_SPINCOUNT") || Named(*e, "OMP_WAIT_POLICY")) return;
+    if (n + 2 >= sizeof env / sizeof env[0]) return;
     env[n++] = *e;
   }
-  if (!add_blas && !add_spin) return;
-  if (add_blas) env[n++] = one_blas;
-  if (add_spin) env[n++] = spin;
+  env[n++] = spin;
   env[n] = nullptr;
   // The program's own path, not /proc/self/exe: ps and top show "dba".
   static char self[4096];

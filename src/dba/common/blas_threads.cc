@@ -5,6 +5,8 @@
 
 #include <atomic>
 #include <cstdint>
+#include <cstdlib>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -31,10 +33,17 @@ struct OpenBlas {
   bool loaded() const { return set_threads && get_threads && shutdown; }
 };
 
-const OpenBlas& Blas() {
-  static const OpenBlas blas;
+// OpenBLAS's functions, looked up again until found: the BLAS loads with
+// CHOLMOD (OpenLibraryWithBlas), after the program's start.
+OpenBlas Blas() {
+  static std::mutex mutex;
+  static OpenBlas blas;
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (!blas.loaded()) blas = OpenBlas();
   return blas;
 }
+
+std::atomic<bool> program_owns_blas{false};
 
 // What OpenBLAS maps, and retries forever when a limit on the address space
 // refuses it: a 128 MiB buffer for the calling thread (once).
@@ -50,16 +59,27 @@ std::atomic<bool> main_buffer_taken{false};
 // Maps the calling thread's BLAS buffer now, while the room is known to
 // hold it; OpenBLAS keeps it for the calls that follow.
 void TakeMainBuffer() {
-  if (Blas().memory_alloc == nullptr || Blas().memory_free == nullptr) return;
-  Blas().memory_free(Blas().memory_alloc(1));
+  const OpenBlas blas = Blas();
+  if (blas.memory_alloc == nullptr || blas.memory_free == nullptr) return;
+  blas.memory_free(blas.memory_alloc(1));
 }
 
 }  // namespace
 
 void StopBlasThreads() {
-  if (!Blas().loaded()) return;
-  Blas().set_threads(1);
-  Blas().shutdown();
+  program_owns_blas = true;
+  const OpenBlas blas = Blas();
+  if (!blas.loaded()) return;
+  blas.set_threads(1);
+  blas.shutdown();
+}
+
+SharedLibrary OpenLibraryWithBlas(const std::string& soname, const std::string& purpose) {
+  const bool owned = program_owns_blas.load();
+  if (owned && AddressSpaceRoomBytes() >= 0) ::setenv("OPENBLAS_NUM_THREADS", "1", 1);
+  SharedLibrary library(soname, purpose, /*global=*/true);
+  if (owned) StopBlasThreads();
+  return library;
 }
 
 int BlasThreadsThatFit(int num_threads) {
@@ -80,9 +100,10 @@ int BlasThreadsThatFit(int num_threads) {
 }
 
 BlasThreads::BlasThreads(int num_threads) {
-  if (!Blas().loaded()) return;
+  const OpenBlas blas = Blas();
+  if (!blas.loaded()) return;
   num_threads = BlasThreadsThatFit(num_threads);
-  const int current = Blas().get_threads();
+  const int current = blas.get_threads();
   // One thread where one is set: nothing to change, restore or shut down. (A
   // restore that shut the pool down took about a millisecond, which a coarse
   // solve of the two-level preconditioner paid per PCG iteration: 5x its own
@@ -92,14 +113,15 @@ BlasThreads::BlasThreads(int num_threads) {
   // A multithreaded call leaves its pool spinning beside the caller's
   // threads: shut it down after, unless the scope only lowered the count.
   raised_ = num_threads > 1 && num_threads >= current;
-  Blas().set_threads(num_threads);
+  blas.set_threads(num_threads);
 }
 
 BlasThreads::~BlasThreads() {
   if (previous_ == 0) return;
-  Blas().set_threads(previous_);
+  const OpenBlas blas = Blas();
+  blas.set_threads(previous_);
   // Threads this scope started would spin beside the caller's own threads.
-  if (raised_) Blas().shutdown();
+  if (raised_) blas.shutdown();
 }
 
 }  // namespace dba

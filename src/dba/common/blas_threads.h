@@ -12,16 +12,29 @@
 // BlasThreads scope, which stops the pool when it ends.
 //
 // Everything looks OpenBLAS up at run time (the BLAS behind CHOLMOD is
-// chosen by Debian's alternatives) and does nothing under another BLAS.
+// chosen by Debian's alternatives, and loads with CHOLMOD, after the
+// program's start) and does nothing under another BLAS or none.
 // Thread safety: while no other thread uses BLAS.
 #pragma once
 
+#include <string>
+
+#include "dba/common/shared_library.h"
+
 namespace dba {
 
-// For a program's start: one BLAS thread, and the pool's threads joined
-// (blas_thread_shutdown_). Not for a library: it would take the host
-// program's (numpy's) BLAS threads too.
+// For a program's start: the program owns the BLAS: one BLAS thread, and
+// the pool's threads joined (blas_thread_shutdown_), now if the BLAS is
+// loaded and again when OpenLibraryWithBlas loads it. Not for a library: it
+// would take the host program's (numpy's) BLAS threads too.
 void StopBlasThreads();
+
+// Opens a library that brings the BLAS (CHOLMOD), its symbols global so that
+// the functions here find OpenBLAS. In a program that owns the BLAS
+// (StopBlasThreads), under a limit on the address space OpenBLAS loads with
+// OPENBLAS_NUM_THREADS=1 (its pool would map a buffer per thread at load
+// and, refused one, retry forever), and its threads are stopped after.
+SharedLibrary OpenLibraryWithBlas(const std::string& soname, const std::string& purpose);
 
 // Under a limit on the address space (RLIMIT_AS) OpenBLAS, refused a
 // buffer, retries forever, and a thread maps its buffer when BLAS first runs

@@ -2,11 +2,12 @@
 // local_frame.h.
 #include "dba/geo/local_frame.h"
 
-#include <proj.h>
 
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+
+#include "dba/geo/proj_library.h"
 
 namespace dba {
 namespace {
@@ -14,68 +15,71 @@ namespace {
 // PROJ's reason for the context's last failure; "" when it gives none (a
 // null char*, as for errno 0: never handed to std::string).
 std::string ProjError(PJ_CONTEXT* ctx) {
-  const int error = proj_context_errno(ctx);
-  const char* why = error == 0 ? nullptr : proj_context_errno_string(ctx, error);
+  const ProjFunctions& api = Proj();
+  const int error = api.proj_context_errno(ctx);
+  const char* why = error == 0 ? nullptr : api.proj_context_errno_string(ctx, error);
   return why != nullptr ? why : "";
 }
 
 // The number of axes of a CRS (a compound CRS: its parts'), or 0.
 int AxisCount(PJ_CONTEXT* ctx, PJ* crs) {
-  if (proj_get_type(crs) == PJ_TYPE_COMPOUND_CRS) {
+  const ProjFunctions& api = Proj();
+  if (api.proj_get_type(crs) == PJ_TYPE_COMPOUND_CRS) {
     int n = 0;
     for (int i = 0; i < 2; ++i) {
-      PJ* part = proj_crs_get_sub_crs(ctx, crs, i);
-      if (part != nullptr) n += AxisCount(ctx, part), proj_destroy(part);
+      PJ* part = api.proj_crs_get_sub_crs(ctx, crs, i);
+      if (part != nullptr) n += AxisCount(ctx, part), api.proj_destroy(part);
     }
     return n;
   }
-  PJ* cs = proj_crs_get_coordinate_system(ctx, crs);
+  PJ* cs = api.proj_crs_get_coordinate_system(ctx, crs);
   if (cs == nullptr) return 0;
-  const int n = proj_cs_get_axis_count(ctx, cs);
-  proj_destroy(cs);
+  const int n = api.proj_cs_get_axis_count(ctx, cs);
+  api.proj_destroy(cs);
   return n;
 }
 
 }  // namespace
 
 CrsToGeocentric::CrsToGeocentric(const std::string& crs) {
-  PJ_CONTEXT* ctx = proj_context_create();
+  const ProjFunctions& api = Proj();
+  PJ_CONTEXT* ctx = api.proj_context_create();
   context_ = ctx;
   // PROJ's own log goes to stderr ("cart: Invalid latitude"); dba words
   // each failure itself, with PROJ's reason from the context's errno.
-  proj_log_func(ctx, nullptr, [](void*, int, const char*) {});
-  PJ* source = proj_create(ctx, crs.c_str());
+  api.proj_log_func(ctx, nullptr, [](void*, int, const char*) {});
+  PJ* source = api.proj_create(ctx, crs.c_str());
   if (source == nullptr) {
     const std::string why = ProjError(ctx);
-    proj_context_destroy(ctx);
+    api.proj_context_destroy(ctx);
     throw std::invalid_argument("PROJ cannot parse the CRS '" + crs + "'" +
                                 (why.empty() ? "" : ": " + why));
   }
-  if (!proj_is_crs(source)) {
+  if (!api.proj_is_crs(source)) {
     // A PROJ string without +type=crs ("+proj=geocent +ellps=WGS84") is a
     // coordinate operation to PROJ, whatever it names.
-    proj_destroy(source);
-    proj_context_destroy(ctx);
+    api.proj_destroy(source);
+    api.proj_context_destroy(ctx);
     throw std::invalid_argument(
         "PROJ takes '" + crs + "' as a coordinate operation, not a CRS: name a CRS (e.g. "
         "EPSG:4979, EPSG:4978), or end a PROJ string with +type=crs");
   }
   const int axes = AxisCount(ctx, source);
-  height_kind_ = proj_get_type(source) == PJ_TYPE_COMPOUND_CRS ? "geoid/other" : "ellipsoidal";
+  height_kind_ = api.proj_get_type(source) == PJ_TYPE_COMPOUND_CRS ? "geoid/other" : "ellipsoidal";
   if (axes != 3) {
-    proj_destroy(source);
-    proj_context_destroy(ctx);
+    api.proj_destroy(source);
+    api.proj_context_destroy(ctx);
     throw std::invalid_argument("the CRS '" + crs + "' has " + std::to_string(axes) +
                                 " axes: a 3D CRS is needed (with heights), e.g. EPSG:4979 "
                                 "(WGS84 latitude, longitude, ellipsoidal height)");
   }
-  PJ* target = proj_create(ctx, "EPSG:4978");
-  PJ* t = proj_create_crs_to_crs_from_pj(ctx, source, target, nullptr, nullptr);
-  proj_destroy(source);
-  proj_destroy(target);
+  PJ* target = api.proj_create(ctx, "EPSG:4978");
+  PJ* t = api.proj_create_crs_to_crs_from_pj(ctx, source, target, nullptr, nullptr);
+  api.proj_destroy(source);
+  api.proj_destroy(target);
   if (t == nullptr) {
     const std::string why = ProjError(ctx);
-    proj_context_destroy(ctx);
+    api.proj_context_destroy(ctx);
     throw std::invalid_argument("PROJ has no transformation from '" + crs +
                                 "' to geocentric coordinates: " + why);
   }
@@ -83,8 +87,9 @@ CrsToGeocentric::CrsToGeocentric(const std::string& crs) {
 }
 
 CrsToGeocentric::~CrsToGeocentric() {
-  proj_destroy(static_cast<PJ*>(transform_));
-  proj_context_destroy(static_cast<PJ_CONTEXT*>(context_));
+  const ProjFunctions& api = Proj();
+  api.proj_destroy(static_cast<PJ*>(transform_));
+  api.proj_context_destroy(static_cast<PJ_CONTEXT*>(context_));
 }
 
 Eigen::Vector3d CrsToGeocentric::Forward(const Eigen::Vector3d& xyz) const {
@@ -96,8 +101,9 @@ Eigen::Vector3d CrsToGeocentric::Inverse(const Eigen::Vector3d& ecef) const {
 }
 
 Eigen::Vector3d CrsToGeocentric::Transform(const Eigen::Vector3d& xyz, bool forward) const {
-  PJ_COORD c = proj_coord(xyz.x(), xyz.y(), xyz.z(), 0.0);
-  const PJ_COORD r = proj_trans(static_cast<PJ*>(transform_), forward ? PJ_FWD : PJ_INV, c);
+  const ProjFunctions& api = Proj();
+  PJ_COORD c = api.proj_coord(xyz.x(), xyz.y(), xyz.z(), 0.0);
+  const PJ_COORD r = api.proj_trans(static_cast<PJ*>(transform_), forward ? PJ_FWD : PJ_INV, c);
   const Eigen::Vector3d out(r.xyz.x, r.xyz.y, r.xyz.z);
   if (!out.allFinite() || std::abs(out.x()) == HUGE_VAL) {
     throw std::runtime_error("PROJ cannot transform (" + std::to_string(xyz.x()) + ", " +
@@ -109,11 +115,11 @@ Eigen::Vector3d CrsToGeocentric::Transform(const Eigen::Vector3d& xyz, bool forw
   // A ballpark transformation takes geoid (or other) heights as
   // ellipsoidal ones, tens of metres off: the classic georeferencing
   // mistake, refused (PROJ picks it when the grid it needs is missing).
-  PJ* used = proj_trans_get_last_used_operation(static_cast<PJ*>(transform_));
+  PJ* used = api.proj_trans_get_last_used_operation(static_cast<PJ*>(transform_));
   const bool ballpark =
-      used != nullptr && proj_coordoperation_has_ballpark_transformation(
+      used != nullptr && api.proj_coordoperation_has_ballpark_transformation(
                              static_cast<PJ_CONTEXT*>(context_), used) != 0;
-  if (used != nullptr) proj_destroy(used);
+  if (used != nullptr) api.proj_destroy(used);
   if (ballpark) {
     throw std::runtime_error(
         "PROJ has only a ballpark transformation to geocentric coordinates for this CRS (its "
@@ -125,7 +131,8 @@ Eigen::Vector3d CrsToGeocentric::Transform(const Eigen::Vector3d& xyz, bool forw
 }
 
 std::string CrsToGeocentric::Pipeline() const {
-  const PJ_PROJ_INFO info = proj_pj_info(static_cast<PJ*>(transform_));
+  const ProjFunctions& api = Proj();
+  const PJ_PROJ_INFO info = api.proj_pj_info(static_cast<PJ*>(transform_));
   return info.definition != nullptr ? info.definition : "";
 }
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "dba/common/shared_library.h"
 #include "dba/solver/pcg_rcs_solver.h"
 #include "dba/solver/rcs_solver.h"
 
@@ -62,7 +63,11 @@ MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& stru
   }
   const LinearSolverOptions linear = LinearSolverOptionsFor(
       options, num_observations >= 0 ? num_observations : problem.num_observations());
+  // The choice can load the sparse solver's libraries (CHOLMOD, LAPACK,
+  // OpenBLAS: about 8 MiB resident, common/shared_library.h): the process's.
+  const int64_t libraries = SharedLibrariesResidentBytes();
   const RcsSolverChoice choice = ChooseRcsSolver(S, linear);
+  e.resident += SharedLibrariesResidentBytes() - libraries;
   e.solver = choice.type;
   switch (choice.type) {
     case LinearSolverType::kDense: e.linear_solver = choice.dense_bytes; break;

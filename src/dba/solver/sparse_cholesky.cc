@@ -10,7 +10,7 @@
 
 
 #ifdef DBA_HAVE_CHOLMOD
-#include <cholmod.h>
+#include "dba/solver/cholmod_library.h"
 #else
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
@@ -94,16 +94,16 @@ namespace {
 // (bench/README.md, "Linear solvers": BLAS threads).
 constexpr double kThreadedBlasMinFlops = 1e10;
 
-struct Cholmod {
+struct CholmodSession {
   cholmod_common c;
-  Cholmod() {
-    cholmod_start(&c);
+  CholmodSession() {
+    Cholmod().cholmod_start(&c);
     c.print = 0;  // errors are reported by the caller
     c.nmethods = 1;
   }
-  ~Cholmod() { cholmod_finish(&c); }
-  Cholmod(const Cholmod&) = delete;
-  Cholmod& operator=(const Cholmod&) = delete;
+  ~CholmodSession() { Cholmod().cholmod_finish(&c); }
+  CholmodSession(const CholmodSession&) = delete;
+  CholmodSession& operator=(const CholmodSession&) = delete;
 };
 
 // The block graph of S (pattern only, lower triangle as CSC), analysed with
@@ -114,9 +114,9 @@ struct BlockAnalysis {
 };
 
 BlockAnalysis AnalyseBlockGraph(const BsmcMatrix& S) {
-  Cholmod cm;
+  CholmodSession cm;
   const int nb = S.num_block_rows();
-  cholmod_sparse* A = cholmod_allocate_sparse(nb, nb, S.num_blocks(), 1, 1, -1, CHOLMOD_PATTERN, &cm.c);
+  cholmod_sparse* A = Cholmod().cholmod_allocate_sparse(nb, nb, S.num_blocks(), 1, 1, -1, CHOLMOD_PATTERN, &cm.c);
   if (A == nullptr) throw std::runtime_error("sparse Cholesky: out of memory (block graph)");
   int* ap = static_cast<int*>(A->p);
   int* ai = static_cast<int*>(A->i);
@@ -124,14 +124,14 @@ BlockAnalysis AnalyseBlockGraph(const BsmcMatrix& S) {
   for (int64_t b = 0; b < S.num_blocks(); ++b) ai[b] = S.block_col(b);
   cm.c.method[0].ordering = CHOLMOD_AMD;
   cm.c.supernodal = CHOLMOD_SIMPLICIAL;
-  cholmod_factor* L = cholmod_analyze(A, &cm.c);
-  cholmod_free_sparse(&A, &cm.c);
+  cholmod_factor* L = Cholmod().cholmod_analyze(A, &cm.c);
+  Cholmod().cholmod_free_sparse(&A, &cm.c);
   if (L == nullptr) throw std::runtime_error("sparse Cholesky: block analysis failed");
   BlockAnalysis out;
   out.perm.assign(static_cast<int*>(L->Perm), static_cast<int*>(L->Perm) + nb);
   out.col_count.resize(nb);
   for (int k = 0; k < nb; ++k) out.col_count[k] = static_cast<int*>(L->ColCount)[k];
-  cholmod_free_factor(&L, &cm.c);
+  Cholmod().cholmod_free_factor(&L, &cm.c);
   return out;
 }
 
@@ -155,22 +155,22 @@ SparseFactorEstimate EstimateSparseFactor(const BsmcMatrix& S) {
 }
 
 struct SparseCholeskySolver::Impl {
-  Cholmod cm;
+  CholmodSession cm;
   UpperPattern pattern;
   cholmod_sparse* A = nullptr;
   cholmod_factor* L = nullptr;
   cholmod_dense *B = nullptr, *X = nullptr, *Y = nullptr, *E = nullptr;
   ~Impl() {
-    cholmod_free_dense(&B, &cm.c);
-    cholmod_free_dense(&X, &cm.c);
-    cholmod_free_dense(&Y, &cm.c);
-    cholmod_free_dense(&E, &cm.c);
-    cholmod_free_factor(&L, &cm.c);
+    Cholmod().cholmod_free_dense(&B, &cm.c);
+    Cholmod().cholmod_free_dense(&X, &cm.c);
+    Cholmod().cholmod_free_dense(&Y, &cm.c);
+    Cholmod().cholmod_free_dense(&E, &cm.c);
+    Cholmod().cholmod_free_factor(&L, &cm.c);
     if (A != nullptr) {
       // The index arrays belong to `pattern`: detach them before freeing.
       A->p = nullptr;
       A->i = nullptr;
-      cholmod_free_sparse(&A, &cm.c);
+      Cholmod().cholmod_free_sparse(&A, &cm.c);
     }
   }
 };
@@ -188,7 +188,7 @@ SparseCholeskySolver::SparseCholeskySolver(const BsmcMatrix& S, int blas_threads
   const int n = static_cast<int>(S.num_rows());
   const size_t nnz = m.pattern.row_idx.size();
   // A CSC over the pattern's arrays; values allocated by CHOLMOD.
-  m.A = static_cast<cholmod_sparse*>(cholmod_malloc(1, sizeof(cholmod_sparse), &m.cm.c));
+  m.A = static_cast<cholmod_sparse*>(Cholmod().cholmod_malloc(1, sizeof(cholmod_sparse), &m.cm.c));
   if (m.A == nullptr) throw std::runtime_error("sparse Cholesky: out of memory");
   *m.A = cholmod_sparse{};
   m.A->nrow = n;
@@ -196,7 +196,7 @@ SparseCholeskySolver::SparseCholeskySolver(const BsmcMatrix& S, int blas_threads
   m.A->nzmax = nnz;
   m.A->p = m.pattern.col_ptr.data();
   m.A->i = m.pattern.row_idx.data();
-  m.A->x = cholmod_malloc(nnz, sizeof(double), &m.cm.c);
+  m.A->x = Cholmod().cholmod_malloc(nnz, sizeof(double), &m.cm.c);
   m.A->stype = -1;  // lower triangle of S = upper triangle read by rows
   m.A->itype = CHOLMOD_INT;
   m.A->xtype = CHOLMOD_REAL;
@@ -207,12 +207,12 @@ SparseCholeskySolver::SparseCholeskySolver(const BsmcMatrix& S, int blas_threads
   m.cm.c.method[0].ordering = CHOLMOD_GIVEN;
   m.cm.c.postorder = 1;
   m.cm.c.supernodal = CHOLMOD_SUPERNODAL;
-  m.L = cholmod_analyze_p(m.A, perm.data(), nullptr, 0, &m.cm.c);
+  m.L = Cholmod().cholmod_analyze_p(m.A, perm.data(), nullptr, 0, &m.cm.c);
   if (m.L == nullptr || m.cm.c.status < 0) {
     throw std::runtime_error("sparse Cholesky: analysis failed (CHOLMOD status " +
                              std::to_string(m.cm.c.status) + ")");
   }
-  m.B = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &m.cm.c);
+  m.B = Cholmod().cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &m.cm.c);
   if (m.B == nullptr) throw std::runtime_error("sparse Cholesky: out of memory");
   // A small factor is many short BLAS calls, each a barrier for BLAS's
   // threads: one thread is as fast there, and on a loaded machine far faster.
@@ -237,7 +237,7 @@ bool SparseCholeskySolver::Factorize(const BsmcMatrix& S) {
   Impl& m = *impl_;
   FillUpperValues(S, m.pattern, static_cast<double*>(m.A->x));
   const BlasThreads blas(blas_threads_);
-  const int ok = cholmod_factorize(m.A, m.L, &m.cm.c);
+  const int ok = Cholmod().cholmod_factorize(m.A, m.L, &m.cm.c);
   if (m.cm.c.status == CHOLMOD_NOT_POSDEF) return false;
   if (!ok || m.cm.c.status < 0) {
     throw std::runtime_error("sparse Cholesky: factorization failed (CHOLMOD status " +
@@ -251,7 +251,7 @@ void SparseCholeskySolver::SolveFactored(const double* b, double* x) {
   const int64_t n = static_cast<int64_t>(m.B->nrow);
   std::copy(b, b + n, static_cast<double*>(m.B->x));
   const BlasThreads blas(blas_threads_);
-  if (!cholmod_solve2(CHOLMOD_A, m.L, m.B, nullptr, &m.X, nullptr, &m.Y, &m.E, &m.cm.c)) {
+  if (!Cholmod().cholmod_solve2(CHOLMOD_A, m.L, m.B, nullptr, &m.X, nullptr, &m.Y, &m.E, &m.cm.c)) {
     throw std::runtime_error("sparse Cholesky: solve failed (CHOLMOD status " +
                              std::to_string(m.cm.c.status) + ")");
   }
