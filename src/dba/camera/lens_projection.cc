@@ -197,56 +197,56 @@ constexpr Polynomial kNoPolynomial{0, {}, 0, {}, -1, -1, -1, -1, -1, -1};
 constexpr Polynomial Radial1(int k) { return {1, {k}, 0, {}, -1, -1, -1, -1, -1, -1}; }
 constexpr Polynomial Radial2(int k) { return {2, {k, k + 1}, 0, {}, -1, -1, -1, -1, -1, -1}; }
 
-}  // namespace
-
-Vec2 LensProject(LensModel m, const double* k, const Vec3& P, LensPointJacobian* du_dP,
-                 ParamsJ* J) {
-  if (const int num_k = lens_internal::OneFocalRadialTerms(m); num_k >= 0) {
-    return lens_internal::OneFocalRadial(num_k, k, P, du_dP, J);
-  }
-  if (m == LensModel::kEquirectangular) return Equirectangular(k, P, du_dP, J);
-  const bool want_dP = du_dP != nullptr;
-  Mat23 dn_dP;
-  const Vec2 n = Normalize(P, want_dP ? &dn_dP : nullptr);
+// Brown's affine image axes: u = A d + c, A = [f + b1, b2; 0, f], d the
+// radial-tangential distortion of n.
+Vec2 BrownProject(const double* k, const Vec2& n, const Mat23* dn_dP, LensPointJacobian* du_dP,
+                  ParamsJ* J) {
   Mat2 dd_dn;
-  Mat2* dd = want_dP ? &dd_dn : nullptr;
-  Vec2 d;
-  // Parameter layout: one focal length (f, cx, cy, extras from 3) or two
-  // (fx, fy, cx, cy, extras from 4).
-  bool two_focal = true;
+  const Vec2 d = Distort({3, {3, 4, 5}, 0, {}, 6, 7, -1, -1, -1, -1}, k, n,
+                         du_dP != nullptr ? &dd_dn : nullptr, J);
+  const double f = k[0], b1 = k[8], b2 = k[9];
+  Mat2 A;
+  A << f + b1, b2, 0.0, f;
+  if (du_dP != nullptr) *du_dP = A * dd_dn * *dn_dP;
+  if (J != nullptr) {
+    J->middleCols<5>(3) = A * J->middleCols<5>(3);
+    J->col(0) = d;
+    J->col(1) = Vec2(1.0, 0.0);
+    J->col(2) = Vec2(0.0, 1.0);
+    J->col(8) = Vec2(d.x(), 0.0);
+    J->col(9) = Vec2(d.y(), 0.0);
+  }
+  return A * d + Vec2(k[1], k[2]);
+}
+
+// The distorted normalized point d of the normalized point n, for the
+// models with focal lengths and a principal point applied after
+// (FocalAndCentre); dd_dn where asked, the distortion parameters' columns of
+// J. `two_focal`: whether the layout is (fx, fy, cx, cy, extras from 4)
+// rather than (f, cx, cy, extras from 3).
+Vec2 DistortNormalized(LensModel m, const double* k, const Vec2& n, Mat2* dd_dn, ParamsJ* J,
+                       bool* two_focal) {
+  const bool want_dP = dd_dn != nullptr;
+  *two_focal = true;
   auto on_q = [&](const Polynomial& c) {  // fisheye: the polynomial acts on q
     Mat2 dq_dn;
     const Vec2 q = Equidistant(n, want_dP ? &dq_dn : nullptr);
     Mat2 dd_dq;
     const Vec2 out = Distort(c, k, q, want_dP ? &dd_dq : nullptr, J);
-    if (want_dP) dd_dn = dd_dq * dq_dn;
+    if (want_dP) *dd_dn = dd_dq * dq_dn;
     return out;
   };
   switch (m) {
     case LensModel::kPinhole:
-      d = n;
-      if (want_dP) dd_dn.setIdentity();
-      break;
-    case LensModel::kOpenCV:
-      d = Distort({2, {4, 5}, 0, {}, 6, 7, -1, -1, -1, -1}, k, n, dd, J);
-      break;
+      if (want_dP) dd_dn->setIdentity();
+      return n;
+    case LensModel::kOpenCV: return Distort({2, {4, 5}, 0, {}, 6, 7, -1, -1, -1, -1}, k, n, dd_dn, J);
     case LensModel::kFullOpenCV:
-      d = Distort({3, {4, 5, 8}, 3, {9, 10, 11}, 6, 7, -1, -1, -1, -1}, k, n, dd, J);
-      break;
-    case LensModel::kOpenCVFisheye:
-      d = on_q({4, {4, 5, 6, 7}, 0, {}, -1, -1, -1, -1, -1, -1});
-      break;
-    case LensModel::kSimpleRadialFisheye:
-      two_focal = false;
-      d = on_q(Radial1(3));
-      break;
-    case LensModel::kRadialFisheye:
-      two_focal = false;
-      d = on_q(Radial2(3));
-      break;
-    case LensModel::kThinPrismFisheye:
-      d = on_q({4, {4, 5, 8, 9}, 0, {}, 6, 7, 10, -1, 11, -1});
-      break;
+      return Distort({3, {4, 5, 8}, 3, {9, 10, 11}, 6, 7, -1, -1, -1, -1}, k, n, dd_dn, J);
+    case LensModel::kOpenCVFisheye: return on_q({4, {4, 5, 6, 7}, 0, {}, -1, -1, -1, -1, -1, -1});
+    case LensModel::kSimpleRadialFisheye: *two_focal = false; return on_q(Radial1(3));
+    case LensModel::kRadialFisheye: *two_focal = false; return on_q(Radial2(3));
+    case LensModel::kThinPrismFisheye: return on_q({4, {4, 5, 8, 9}, 0, {}, 6, 7, 10, -1, 11, -1});
     case LensModel::kRadTanThinPrismFisheye: {
       // Two stages: y = R(θ²) q, then d = y + t(y) + s(y).
       Mat2 dy_dn;
@@ -260,65 +260,53 @@ Vec2 LensProject(LensModel m, const double* k, const Vec3& P, LensPointJacobian*
         return out;
       }();
       Mat2 dd_dy;
-      d = Distort({0, {}, 0, {}, 11, 10, 12, 13, 14, 15}, k, y, &dd_dy, J);
-      if (want_dP) dd_dn = dd_dy * dy_dn;
+      const Vec2 d = Distort({0, {}, 0, {}, 11, 10, 12, 13, 14, 15}, k, y, &dd_dy, J);
+      if (want_dP) *dd_dn = dd_dy * dy_dn;
       if (J != nullptr) J->middleCols<6>(4) = dd_dy * J_radial.middleCols<6>(4);
-      break;
+      return d;
     }
     case LensModel::kFov: {
       const int index[1] = {4};
-      d = ApplyFactor(FovFactor(k[4], n.squaredNorm()), n, index, 1, dd, J);
-      break;
+      return ApplyFactor(FovFactor(k[4], n.squaredNorm()), n, index, 1, dd_dn, J);
     }
     case LensModel::kSimpleDivision:
-      two_focal = false;
+      *two_focal = false;
       [[fallthrough]];
     case LensModel::kDivision: {
-      const int index[1] = {two_focal ? 4 : 3};
-      d = ApplyFactor(DivisionFactor(k[index[0]], n.squaredNorm()), n, index, 1, dd, J);
-      break;
+      const int index[1] = {*two_focal ? 4 : 3};
+      return ApplyFactor(DivisionFactor(k[index[0]], n.squaredNorm()), n, index, 1, dd_dn, J);
     }
     case LensModel::kSimpleFisheye:
-      two_focal = false;
+      *two_focal = false;
       [[fallthrough]];
-    case LensModel::kFisheye:
-      d = on_q(kNoPolynomial);
-      break;
+    case LensModel::kFisheye: return on_q(kNoPolynomial);
     case LensModel::kEucm: {
       const int index[2] = {4, 5};
-      d = ApplyFactor(EucmFactor(k[4], k[5], n.squaredNorm()), n, index, 2, dd, J);
-      break;
+      return ApplyFactor(EucmFactor(k[4], k[5], n.squaredNorm()), n, index, 2, dd_dn, J);
     }
-    case LensModel::kBrown: {
-      // u = A d + c, A = [f + b1, b2; 0, f].
-      d = Distort({3, {3, 4, 5}, 0, {}, 6, 7, -1, -1, -1, -1}, k, n, dd, J);
-      const double f = k[0], b1 = k[8], b2 = k[9];
-      Mat2 A;
-      A << f + b1, b2, 0.0, f;
-      if (want_dP) *du_dP = A * dd_dn * dn_dP;
-      if (J != nullptr) {
-        J->middleCols<5>(3) = A * J->middleCols<5>(3);
-        J->col(0) = d;
-        J->col(1) = Vec2(1.0, 0.0);
-        J->col(2) = Vec2(0.0, 1.0);
-        J->col(8) = Vec2(d.x(), 0.0);
-        J->col(9) = Vec2(d.y(), 0.0);
-      }
-      return A * d + Vec2(k[1], k[2]);
-    }
+    case LensModel::kBrown:  // BrownProject
     case LensModel::kSimplePinhole:
     case LensModel::kSimpleRadial:
     case LensModel::kRadial:
     case LensModel::kEquirectangular:
-      break;  // handled above
+      break;  // handled by LensProject before
   }
+  return n;
+}
+
+// u = (fx dx + cx, fy dy + cy) of the distorted normalized point d, with
+// du/dP and the focal lengths' and principal point's columns of J (the
+// distortion's columns scaled by the focal lengths).
+Vec2 FocalAndCentre(LensModel m, const double* k, const Vec2& d, bool two_focal,
+                    const Mat2* dd_dn, const Mat23* dn_dP, LensPointJacobian* du_dP, ParamsJ* J) {
   const int first_extra = two_focal ? 4 : 3;
   const double fx = k[0], fy = two_focal ? k[1] : k[0];
   const double cx = k[first_extra - 2], cy = k[first_extra - 1];
-  if (want_dP) {
-    dd_dn.row(0) *= fx;
-    dd_dn.row(1) *= fy;
-    *du_dP = dd_dn * dn_dP;
+  if (du_dP != nullptr) {
+    Mat2 du_dn = *dd_dn;
+    du_dn.row(0) *= fx;
+    du_dn.row(1) *= fy;
+    *du_dP = du_dn * *dn_dP;
   }
   if (J != nullptr) {
     const int count = LensModelParams(m);
@@ -336,6 +324,24 @@ Vec2 LensProject(LensModel m, const double* k, const Vec3& P, LensPointJacobian*
     J->col(first_extra - 1) = Vec2(0.0, 1.0);
   }
   return Vec2(fx * d.x() + cx, fy * d.y() + cy);
+}
+
+}  // namespace
+
+Vec2 LensProject(LensModel m, const double* k, const Vec3& P, LensPointJacobian* du_dP,
+                 ParamsJ* J) {
+  if (const int num_k = lens_internal::OneFocalRadialTerms(m); num_k >= 0) {
+    return lens_internal::OneFocalRadial(num_k, k, P, du_dP, J);
+  }
+  if (m == LensModel::kEquirectangular) return Equirectangular(k, P, du_dP, J);
+  const bool want_dP = du_dP != nullptr;
+  Mat23 dn_dP;
+  const Vec2 n = Normalize(P, want_dP ? &dn_dP : nullptr);
+  if (m == LensModel::kBrown) return BrownProject(k, n, &dn_dP, du_dP, J);
+  Mat2 dd_dn;
+  bool two_focal = true;
+  const Vec2 d = DistortNormalized(m, k, n, want_dP ? &dd_dn : nullptr, J, &two_focal);
+  return FocalAndCentre(m, k, d, two_focal, &dd_dn, &dn_dP, du_dP, J);
 }
 
 }  // namespace dba

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cerrno>
 #include <cmath>
@@ -352,6 +353,126 @@ bool IsBinaryProblem(const std::string& path) {
   return ok;
 }
 
+namespace {
+
+// The camera model the header names, against its version: BAL (1, size 9)
+// or, from version 2, photogrammetric (2, size 6); true for the latter.
+bool PhotoModelOf(const std::string& path, const RawHeader& raw, bool v2) {
+  const bool bal = raw.camera_model == kBalModel && raw.camera_size == kBalCameraSize;
+  const bool photo = v2 && raw.camera_model == kPhotoModel && raw.camera_size == kPhotoPoseSize;
+  if (!bal && !photo) {
+    throw InputError(path, 0, "camera model " + std::to_string(raw.camera_model) + " of size " +
+                                  std::to_string(raw.camera_size) +
+                                  " is not supported in version " + std::to_string(raw.version) +
+                                  " (expected 1, BAL, size 9" +
+                                  (v2 ? "; or 2, photogrammetric, size 6)" : ")"));
+  }
+  return photo;
+}
+
+// Version 4's rig header: {frames, rig section offset}.
+std::array<uint64_t, 2> ReadRigHeader(const std::string& path, const BinaryFile& f, int64_t size,
+                                      const RawHeader& raw) {
+  std::array<uint64_t, 2> rig_header{0, 0};
+  if (size < kHeaderSize + kRigHeaderSize) {
+    throw InputError(path, 0, "truncated: shorter than the version-4 header");
+  }
+  f.ReadAt(kHeaderSize, rig_header.data(), kRigHeaderSize, "the rig header");
+  if (rig_header[0] < 1 || rig_header[0] > raw.counts[0]) {
+    throw InputError(path, 0, "version 4 header: " + std::to_string(rig_header[0]) +
+                                  " frames for " + std::to_string(raw.counts[0]) +
+                                  " images (need 1 to one per image)");
+  }
+  return rig_header;
+}
+
+// The counts against each other and against the file's size: every camera,
+// point and observation takes bytes of the file (at least 48, 32 and 20), so
+// counts the file cannot hold are refused before any layout arithmetic,
+// which then stays far from overflow.
+void CheckHeaderCounts(const std::string& path, const RawHeader& raw, bool v2, int64_t size) {
+  const uint64_t limit = uint64_t{1} << 60;
+  if (raw.counts[0] == 0 || raw.counts[1] == 0 || raw.counts[2] == 0 || raw.counts[0] > (1u << 31) ||
+      raw.counts[1] > limit || raw.counts[2] > limit || raw.counts[1] > raw.counts[2]) {
+    throw InputError(path, 0, "implausible counts in the header");
+  }
+  const uint64_t bytes = static_cast<uint64_t>(std::max<int64_t>(size, 0));
+  if (raw.counts[0] > bytes / 48 || raw.counts[1] > bytes / 32 || raw.counts[2] > bytes / 20 ||
+      (v2 && raw.intrinsic_groups > bytes / 40)) {
+    throw InputError(path, 0,
+                     "the header's counts (" + std::to_string(raw.counts[0]) + " cameras, " +
+                         std::to_string(raw.counts[1]) + " points, " +
+                         std::to_string(raw.counts[2]) + " observations) need more than the " +
+                         std::to_string(size) + " bytes of the file (corrupt header or truncated file)");
+  }
+}
+
+// Versions 2 and 3's fields: the optional sections, the intrinsic groups
+// and the intrinsic slots per group.
+void CheckVersion2Fields(const std::string& path, const RawHeader& raw, bool v3, bool photo) {
+  const int64_t cameras = static_cast<int64_t>(raw.counts[0]);
+  if ((raw.optional_sections & ~(kHasFixedCameras | kHasIntrinsicsFree)) != 0 ||
+      (!photo && (raw.optional_sections & kHasIntrinsicsFree) != 0)) {
+    throw InputError(path, 0, "version 2/3 header: unknown optional sections " +
+                                  std::to_string(raw.optional_sections) + " for camera model " +
+                                  std::to_string(raw.camera_model));
+  }
+  if (photo ? (raw.intrinsic_groups < 1 || raw.intrinsic_groups > cameras)
+            : raw.intrinsic_groups != 0) {
+    throw InputError(path, 0, "version 2 header: intrinsic group count " +
+                                  std::to_string(raw.intrinsic_groups) +
+                                  " is inconsistent with " + std::to_string(cameras) +
+                                  (photo ? " images (need 1 to one per image)"
+                                         : " BAL cameras (need 0)"));
+  }
+  if (v3 ? !photo || raw.intrinsic_slots < 1 || raw.intrinsic_slots > kMaxIntrinsics
+         : raw.intrinsic_slots != 0) {
+    throw InputError(path, 0, "version " + std::to_string(raw.version) + " header: " +
+                                  std::to_string(raw.intrinsic_slots) +
+                                  " intrinsic slots per group (version 3: 1 to 16, "
+                                  "photogrammetric model only; version 2: 0)");
+  }
+}
+
+// The section table, the rig section (version 4) and the file size against
+// what the counts lay out (`h`).
+void CheckSectionTable(const std::string& path, const RawHeader& raw, const BinaryProblemHeader& h,
+                       bool v2, const uint64_t* rig_offset, int64_t size) {
+  if (rig_offset != nullptr && static_cast<int64_t>(*rig_offset) != h.rig_offset) {
+    throw InputError(path, 0, "version 4 header: the rig section does not match the counts "
+                              "(corrupt header)");
+  }
+  const int64_t sections[5] = {h.cameras_offset, h.points_offset, h.point_offsets_offset,
+                               h.obs_camera_offset, h.obs_pixel_offset};
+  for (int s = 0; s < 5; ++s) {
+    if (static_cast<int64_t>(raw.sections[s]) != sections[s]) {
+      throw InputError(path, 0, "section table does not match the counts (corrupt header)");
+    }
+  }
+  if (v2) {  // a v2 file may hold what v1 could
+    const int64_t sections2[3] = {h.intrinsics_offset, h.image_groups_offset, h.flags_offset};
+    for (int s = 0; s < 3; ++s) {
+      if (static_cast<int64_t>(raw.sections2[s]) != sections2[s]) {
+        throw InputError(path, 0,
+                         "version 2 header: intrinsics, image groups and flags sections do not "
+                         "match the counts (corrupt header)");
+      }
+    }
+  }
+  if (static_cast<int64_t>(raw.file_size) != h.file_size) {
+    throw InputError(path, 0, "the header's file-size field says " +
+                                  std::to_string(raw.file_size) + " bytes, its counts need " +
+                                  std::to_string(h.file_size) + " (corrupt header)");
+  }
+  if (size != h.file_size) {
+    throw InputError(path, 0, "truncated or padded: the file has " + std::to_string(size) +
+                                  " bytes, the header's counts need " +
+                                  std::to_string(h.file_size));
+  }
+}
+
+}  // namespace
+
 BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
   const BinaryFile f(path);
   const int64_t size = static_cast<int64_t>(f.size());
@@ -374,109 +495,22 @@ BinaryProblemHeader ReadBinaryProblemHeader(const std::string& path) {
   const bool v4 = raw.version == kVersion4;
   const bool v3 = raw.version == kVersion3 || v4;  // version 4 extends version 3
   const bool v2 = raw.version == kVersion2 || v3;  // version 3 extends version 2
-  uint64_t rig_header[2] = {0, 0};  // frames, rig section offset
-  if (v4) {
-    if (size < kHeaderSize + kRigHeaderSize) {
-      throw InputError(path, 0, "truncated: shorter than the version-4 header");
-    }
-    f.ReadAt(kHeaderSize, rig_header, kRigHeaderSize, "the rig header");
-    if (rig_header[0] < 1 || rig_header[0] > raw.counts[0]) {
-      throw InputError(path, 0, "version 4 header: " + std::to_string(rig_header[0]) +
-                                    " frames for " + std::to_string(raw.counts[0]) +
-                                    " images (need 1 to one per image)");
-    }
-  }
-  const bool bal = raw.camera_model == kBalModel && raw.camera_size == kBalCameraSize;
-  const bool photo = v2 && raw.camera_model == kPhotoModel && raw.camera_size == kPhotoPoseSize;
-  if (!bal && !photo) {
-    throw InputError(path, 0, "camera model " + std::to_string(raw.camera_model) + " of size " +
-                                  std::to_string(raw.camera_size) +
-                                  " is not supported in version " + std::to_string(raw.version) +
-                                  " (expected 1, BAL, size 9" +
-                                  (v2 ? "; or 2, photogrammetric, size 6)" : ")"));
-  }
-  const uint64_t limit = uint64_t{1} << 60;
-  if (raw.counts[0] == 0 || raw.counts[1] == 0 || raw.counts[2] == 0 || raw.counts[0] > (1u << 31) ||
-      raw.counts[1] > limit || raw.counts[2] > limit || raw.counts[1] > raw.counts[2]) {
-    throw InputError(path, 0, "implausible counts in the header");
-  }
-  // Every camera, point and observation takes bytes of the file (at least
-  // 48, 32 and 20): counts the file cannot hold are refused before any
-  // layout arithmetic, which then stays far from overflow.
-  const uint64_t bytes = static_cast<uint64_t>(std::max<int64_t>(size, 0));
-  if (raw.counts[0] > bytes / 48 || raw.counts[1] > bytes / 32 || raw.counts[2] > bytes / 20 ||
-      (v2 && raw.intrinsic_groups > bytes / 40)) {
-    throw InputError(path, 0,
-                     "the header's counts (" + std::to_string(raw.counts[0]) + " cameras, " +
-                         std::to_string(raw.counts[1]) + " points, " +
-                         std::to_string(raw.counts[2]) + " observations) need more than the " +
-                         std::to_string(size) + " bytes of the file (corrupt header or truncated file)");
-  }
-  const int64_t cameras = static_cast<int64_t>(raw.counts[0]);
-  if (v2) {
-    if ((raw.optional_sections & ~(kHasFixedCameras | kHasIntrinsicsFree)) != 0 ||
-        (!photo && (raw.optional_sections & kHasIntrinsicsFree) != 0)) {
-      throw InputError(path, 0, "version 2/3 header: unknown optional sections " +
-                                    std::to_string(raw.optional_sections) + " for camera model " +
-                                    std::to_string(raw.camera_model));
-    }
-    if (photo ? (raw.intrinsic_groups < 1 || raw.intrinsic_groups > cameras)
-              : raw.intrinsic_groups != 0) {
-      throw InputError(path, 0, "version 2 header: intrinsic group count " +
-                                    std::to_string(raw.intrinsic_groups) +
-                                    " is inconsistent with " + std::to_string(cameras) +
-                                    (photo ? " images (need 1 to one per image)"
-                                           : " BAL cameras (need 0)"));
-    }
-  }
-  if (v2 && (v3 ? !photo || raw.intrinsic_slots < 1 || raw.intrinsic_slots > kMaxIntrinsics
-                 : raw.intrinsic_slots != 0)) {
-    throw InputError(path, 0, "version " + std::to_string(raw.version) + " header: " +
-                                  std::to_string(raw.intrinsic_slots) +
-                                  " intrinsic slots per group (version 3: 1 to 16, "
-                                  "photogrammetric model only; version 2: 0)");
-  }
+  std::array<uint64_t, 2> rig_header{0, 0};  // frames, rig section offset
+  if (v4) rig_header = ReadRigHeader(path, f, size, raw);
+  const bool photo = PhotoModelOf(path, raw, v2);
+  CheckHeaderCounts(path, raw, v2, size);
+  if (v2) CheckVersion2Fields(path, raw, v3, photo);
   // (Version 1: the padding is not looked at, as before version 2.)
   const uint32_t optional = v2 ? raw.optional_sections : 0;
   BinaryProblemHeader h =
-      Layout(photo ? CameraModel::kPhoto : CameraModel::kBal, cameras,
+      Layout(photo ? CameraModel::kPhoto : CameraModel::kBal, static_cast<int64_t>(raw.counts[0]),
              v2 ? raw.intrinsic_groups : 0, (optional & kHasFixedCameras) != 0,
              (optional & kHasIntrinsicsFree) != 0,
              static_cast<int64_t>(raw.counts[1]), static_cast<int64_t>(raw.counts[2]), v3,
              v3 ? raw.intrinsic_slots : kPhotoIntrinsicsSize,
              v4 ? static_cast<int64_t>(rig_header[0]) : -1);
   h.version = raw.version;
-  if (v4 && static_cast<int64_t>(rig_header[1]) != h.rig_offset) {
-    throw InputError(path, 0, "version 4 header: the rig section does not match the counts "
-                              "(corrupt header)");
-  }  // a v2 file may hold what v1 could
-  const int64_t sections[5] = {h.cameras_offset, h.points_offset, h.point_offsets_offset,
-                               h.obs_camera_offset, h.obs_pixel_offset};
-  for (int s = 0; s < 5; ++s) {
-    if (static_cast<int64_t>(raw.sections[s]) != sections[s]) {
-      throw InputError(path, 0, "section table does not match the counts (corrupt header)");
-    }
-  }
-  if (v2) {
-    const int64_t sections2[3] = {h.intrinsics_offset, h.image_groups_offset, h.flags_offset};
-    for (int s = 0; s < 3; ++s) {
-      if (static_cast<int64_t>(raw.sections2[s]) != sections2[s]) {
-        throw InputError(path, 0,
-                         "version 2 header: intrinsics, image groups and flags sections do not "
-                         "match the counts (corrupt header)");
-      }
-    }
-  }
-  if (static_cast<int64_t>(raw.file_size) != h.file_size) {
-    throw InputError(path, 0, "the header's file-size field says " +
-                                  std::to_string(raw.file_size) + " bytes, its counts need " +
-                                  std::to_string(h.file_size) + " (corrupt header)");
-  }
-  if (size != h.file_size) {
-    throw InputError(path, 0, "truncated or padded: the file has " + std::to_string(size) +
-                                  " bytes, the header's counts need " +
-                                  std::to_string(h.file_size));
-  }
+  CheckSectionTable(path, raw, h, v2, v4 ? &rig_header[1] : nullptr, size);
   return h;
 }
 

@@ -269,117 +269,157 @@ std::string AbsurdCameraValue(const ColmapCamera& c, const ColmapCameraModelInfo
   return {};
 }
 
-void ValidateColmapModel(const ColmapModel& model, const std::string& dir,
-                         const std::string& extension, const ColmapSourceLines* lines) {
-  const std::string cameras_file = JoinPath(dir, "cameras" + extension);
-  const std::string images_file = JoinPath(dir, "images" + extension);
-  const std::string points_file = JoinPath(dir, "points3D" + extension);
-  auto line_of = [&](const std::vector<int64_t> ColmapSourceLines::*member, size_t i) -> int64_t {
-    if (lines == nullptr) return 0;
-    const std::vector<int64_t>& v = lines->*member;
-    return i < v.size() ? v[i] : 0;
-  };
-  // In binary files entries have no line: name them by position.
-  auto entry = [&](const char* kind, size_t i, const std::string& id) {
-    std::string s = kind;
-    if (lines == nullptr) s += " #" + std::to_string(i) + " (id " + id + ")";
-    else s += " " + id;
-    return s + ": ";
-  };
-  auto finite = [](const double* v, size_t n) {
-    for (size_t i = 0; i < n; ++i) {
-      if (!std::isfinite(v[i])) return false;
-    }
-    return true;
-  };
+namespace {
 
-  std::unordered_map<uint32_t, size_t> camera_index;
-  camera_index.reserve(model.cameras.size());
-  for (size_t i = 0; i < model.cameras.size(); ++i) {
-    const ColmapCamera& c = model.cameras[i];
-    const int64_t line = line_of(&ColmapSourceLines::cameras, i);
-    auto at = [&] { return entry("camera", i, std::to_string(c.camera_id)); };
-    if (!camera_index.emplace(c.camera_id, i).second) {
-      throw InputError(cameras_file, line, at() + "camera_id appears twice");
+bool AllFinite(const double* v, size_t n) {
+  for (size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(v[i])) return false;
+  }
+  return true;
+}
+
+// ValidateColmapModel's checks in their order: the cameras, the images and
+// their 2D points, the tracks against the images, and every 2D point that
+// names a 3D point listed by that point's track.
+class ColmapModelValidator {
+ public:
+  ColmapModelValidator(const ColmapModel& model, const std::string& dir,
+                       const std::string& extension, const ColmapSourceLines* lines)
+      : model_(model),
+        lines_(lines),
+        cameras_file_(JoinPath(dir, "cameras" + extension)),
+        images_file_(JoinPath(dir, "images" + extension)),
+        points_file_(JoinPath(dir, "points3D" + extension)) {}
+
+  void Run() {
+    CheckCameras();
+    CheckImages();
+    CheckTracks();
+    CheckEveryObservationIsTracked();
+  }
+
+ private:
+  int64_t LineOf(const std::vector<int64_t> ColmapSourceLines::*member, size_t i) const {
+    if (lines_ == nullptr) return 0;
+    const std::vector<int64_t>& v = lines_->*member;
+    return i < v.size() ? v[i] : 0;
+  }
+
+  // In binary files entries have no line: named by position.
+  std::string Entry(const char* kind, size_t i, int64_t id) const {
+    std::string s = kind;
+    if (lines_ == nullptr) s += " #" + std::to_string(i) + " (id " + std::to_string(id) + ")";
+    else s += " " + std::to_string(id);
+    return s + ": ";
+  }
+
+  void CheckCameras();
+  void CheckImages();
+  void CheckImagePoints(const ColmapImage& im, size_t i, int64_t line) const;
+  void CheckTracks();
+  void CheckEveryObservationIsTracked() const;
+
+  const ColmapModel& model_;
+  const ColmapSourceLines* lines_;
+  const std::string cameras_file_, images_file_, points_file_;
+  std::unordered_map<uint32_t, size_t> camera_index_;
+  std::unordered_map<uint32_t, size_t> image_index_;
+  std::vector<size_t> image_offset_;  // the first 2D point of each image, of all
+  std::vector<uint8_t> visited_;  // [image_offset_[i] + k]: a track lists 2D point k of image i
+  std::unordered_map<int64_t, size_t> point_index_;
+};
+
+void ColmapModelValidator::CheckCameras() {
+  camera_index_.reserve(model_.cameras.size());
+  for (size_t i = 0; i < model_.cameras.size(); ++i) {
+    const ColmapCamera& c = model_.cameras[i];
+    const int64_t line = LineOf(&ColmapSourceLines::cameras, i);
+    auto at = [&] { return Entry("camera", i, c.camera_id); };
+    if (!camera_index_.emplace(c.camera_id, i).second) {
+      throw InputError(cameras_file_, line, at() + "camera_id appears twice");
     }
     const ColmapCameraModelInfo* m = FindColmapCameraModel(c.model_id);
     if (m == nullptr) {
-      throw InputError(cameras_file, line,
+      throw InputError(cameras_file_, line,
                        at() + "unknown camera model id " + std::to_string(c.model_id));
     }
     if (c.params.size() != static_cast<size_t>(m->num_params)) {
-      throw InputError(cameras_file, line,
-                       at() + m->name + " has " + std::to_string(m->num_params) +
-                           " parameters (" + m->params + "), the camera has " +
-                           std::to_string(c.params.size()));
+      throw InputError(cameras_file_, line,
+                       at() + m->name + " has " + std::to_string(m->num_params) + " parameters (" +
+                           m->params + "), the camera has " + std::to_string(c.params.size()));
     }
-    if (!finite(c.params.data(), c.params.size())) {
-      throw InputError(cameras_file, line, at() + "non-finite camera parameter");
+    if (!AllFinite(c.params.data(), c.params.size())) {
+      throw InputError(cameras_file_, line, at() + "non-finite camera parameter");
     }
     const std::string absurd = AbsurdCameraValue(c, *m);
-    if (!absurd.empty()) throw InputError(cameras_file, line, at() + absurd);
+    if (!absurd.empty()) throw InputError(cameras_file_, line, at() + absurd);
   }
+}
 
-  std::unordered_map<uint32_t, size_t> image_index;
-  image_index.reserve(model.images.size());
+void ColmapModelValidator::CheckImages() {
+  image_index_.reserve(model_.images.size());
   std::unordered_map<std::string_view, int64_t> image_name;  // name -> its line (or entry)
-  std::vector<size_t> image_offset(model.images.size() + 1, 0);
-  for (size_t i = 0; i < model.images.size(); ++i) {
-    const ColmapImage& im = model.images[i];
-    const int64_t line = line_of(&ColmapSourceLines::images, i);
-    auto at = [&] { return entry("image", i, std::to_string(im.image_id)); };
-    if (!image_index.emplace(im.image_id, i).second) {
-      throw InputError(images_file, line, at() + "image_id appears twice");
+  image_offset_.assign(model_.images.size() + 1, 0);
+  for (size_t i = 0; i < model_.images.size(); ++i) {
+    const ColmapImage& im = model_.images[i];
+    const int64_t line = LineOf(&ColmapSourceLines::images, i);
+    auto at = [&] { return Entry("image", i, im.image_id); };
+    if (!image_index_.emplace(im.image_id, i).second) {
+      throw InputError(images_file_, line, at() + "image_id appears twice");
     }
     // Priors and ground control bind to images by name.
-    const auto [named, fresh] = image_name.emplace(im.name, lines ? line : static_cast<int64_t>(i));
+    const auto [named, fresh] = image_name.emplace(im.name, lines_ ? line : static_cast<int64_t>(i));
     if (!fresh) {
-      throw InputError(images_file, line,
+      throw InputError(images_file_, line,
                        at() + "the name '" + Clipped(im.name) + "' is also image " +
-                           (lines ? "on line " : "entry #") + std::to_string(named->second) +
+                           (lines_ ? "on line " : "entry #") + std::to_string(named->second) +
                            "'s: image names must be unique");
     }
-    if (!camera_index.contains(im.camera_id)) {
-      throw InputError(images_file, line,
-                       at() + "camera_id " + std::to_string(im.camera_id) +
-                           " is not in " + cameras_file);
+    if (!camera_index_.contains(im.camera_id)) {
+      throw InputError(images_file_, line,
+                       at() + "camera_id " + std::to_string(im.camera_id) + " is not in " +
+                           cameras_file_);
     }
-    if (!finite(im.qvec.data(), 4) || !finite(im.tvec.data(), 3)) {
-      throw InputError(images_file, line, at() + "non-finite qvec or tvec");
+    if (!AllFinite(im.qvec.data(), 4) || !AllFinite(im.tvec.data(), 3)) {
+      throw InputError(images_file_, line, at() + "non-finite qvec or tvec");
     }
-    if (!IsRotationQuaternion(im.qvec)) throw InputError(images_file, line, at() + "qvec" + kNotARotation);
-    for (size_t k = 0; k < im.points2D.size(); ++k) {
-      const ColmapPoint2D& p = im.points2D[k];
-      const std::string out_of_range = PixelOutOfRange(p.x, p.y);
-      if (!out_of_range.empty()) {
-        throw InputError(images_file, line > 0 ? line + 1 : 0,
-                         at() + "point2D " + std::to_string(k) + ": " + out_of_range);
-      }
-      if (p.point3D_id < kColmapNoPoint3D) {
-        throw InputError(images_file, line > 0 ? line + 1 : 0,
-                         at() + "point2D " + std::to_string(k) + " has point3D_id " +
-                             std::to_string(p.point3D_id) + " (expected -1 or >= 0)");
-      }
-    }
-    image_offset[i + 1] = image_offset[i] + im.points2D.size();
+    if (!IsRotationQuaternion(im.qvec)) throw InputError(images_file_, line, at() + "qvec" + kNotARotation);
+    CheckImagePoints(im, i, line);
+    image_offset_[i + 1] = image_offset_[i] + im.points2D.size();
   }
+}
 
-  // visited[image_offset[i] + k]: some track lists 2D point k of image i.
-  std::vector<uint8_t> visited(image_offset.back(), 0);
-  std::unordered_map<int64_t, size_t> point_index;
-  point_index.reserve(model.points3D.size());
-  for (size_t i = 0; i < model.points3D.size(); ++i) {
-    const ColmapPoint3D& p = model.points3D[i];
-    const int64_t line = line_of(&ColmapSourceLines::points3D, i);
-    auto at = [&] { return entry("point3D", i, std::to_string(p.point3D_id)); };
-    if (p.point3D_id < 0) {
-      throw InputError(points_file, line, at() + "point3D_id must be >= 0");
+void ColmapModelValidator::CheckImagePoints(const ColmapImage& im, size_t i, int64_t line) const {
+  for (size_t k = 0; k < im.points2D.size(); ++k) {
+    const ColmapPoint2D& p = im.points2D[k];
+    const std::string out_of_range = PixelOutOfRange(p.x, p.y);
+    if (!out_of_range.empty()) {
+      throw InputError(images_file_, line > 0 ? line + 1 : 0,
+                       Entry("image", i, im.image_id) + "point2D " + std::to_string(k) + ": " +
+                           out_of_range);
     }
-    if (!point_index.emplace(p.point3D_id, i).second) {
-      throw InputError(points_file, line, at() + "point3D_id appears twice");
+    if (p.point3D_id < kColmapNoPoint3D) {
+      throw InputError(images_file_, line > 0 ? line + 1 : 0,
+                       Entry("image", i, im.image_id) + "point2D " + std::to_string(k) +
+                           " has point3D_id " + std::to_string(p.point3D_id) +
+                           " (expected -1 or >= 0)");
     }
-    if (!finite(p.xyz.data(), 3) || !std::isfinite(p.error)) {
-      throw InputError(points_file, line, at() + "non-finite xyz or error");
+  }
+}
+
+void ColmapModelValidator::CheckTracks() {
+  visited_.assign(image_offset_.back(), 0);
+  point_index_.reserve(model_.points3D.size());
+  for (size_t i = 0; i < model_.points3D.size(); ++i) {
+    const ColmapPoint3D& p = model_.points3D[i];
+    const int64_t line = LineOf(&ColmapSourceLines::points3D, i);
+    auto at = [&] { return Entry("point3D", i, p.point3D_id); };
+    if (p.point3D_id < 0) throw InputError(points_file_, line, at() + "point3D_id must be >= 0");
+    if (!point_index_.emplace(p.point3D_id, i).second) {
+      throw InputError(points_file_, line, at() + "point3D_id appears twice");
+    }
+    if (!AllFinite(p.xyz.data(), 3) || !std::isfinite(p.error)) {
+      throw InputError(points_file_, line, at() + "non-finite xyz or error");
     }
     for (size_t t = 0; t < p.track.size(); ++t) {
       const ColmapTrackElement& e = p.track[t];
@@ -388,43 +428,51 @@ void ValidateColmapModel(const ColmapModel& model, const std::string& dir,
                std::to_string(e.image_id) + ", point2D_idx " + std::to_string(e.point2D_idx) +
                "): ";
       };
-      auto it = image_index.find(e.image_id);
-      if (it == image_index.end()) {
-        throw InputError(points_file, line, el() + "no such image in " + images_file);
+      auto it = image_index_.find(e.image_id);
+      if (it == image_index_.end()) {
+        throw InputError(points_file_, line, el() + "no such image in " + images_file_);
       }
-      const ColmapImage& im = model.images[it->second];
+      const ColmapImage& im = model_.images[it->second];
       if (e.point2D_idx >= im.points2D.size()) {
-        throw InputError(points_file, line,
+        throw InputError(points_file_, line,
                          el() + "the image has only " + std::to_string(im.points2D.size()) +
                              " 2D points");
       }
       const int64_t back = im.points2D[e.point2D_idx].point3D_id;
       if (back != p.point3D_id) {
-        throw InputError(points_file, line,
+        throw InputError(points_file_, line,
                          el() + "that 2D point refers to point3D_id " + std::to_string(back) +
                              ", not back to this point");
       }
-      uint8_t& seen = visited[image_offset[it->second] + e.point2D_idx];
-      if (seen) throw InputError(points_file, line, el() + "listed twice");
+      uint8_t& seen = visited_[image_offset_[it->second] + e.point2D_idx];
+      if (seen) throw InputError(points_file_, line, el() + "listed twice");
       seen = 1;
     }
   }
+}
 
-  for (size_t i = 0; i < model.images.size(); ++i) {
-    const ColmapImage& im = model.images[i];
-    const int64_t line = line_of(&ColmapSourceLines::images, i);
-    auto at = [&] { return entry("image", i, std::to_string(im.image_id)); };
+void ColmapModelValidator::CheckEveryObservationIsTracked() const {
+  for (size_t i = 0; i < model_.images.size(); ++i) {
+    const ColmapImage& im = model_.images[i];
+    const int64_t line = LineOf(&ColmapSourceLines::images, i);
     for (size_t k = 0; k < im.points2D.size(); ++k) {
       const int64_t id = im.points2D[k].point3D_id;
-      if (id == kColmapNoPoint3D || visited[image_offset[i] + k]) continue;
-      const std::string what = point_index.contains(id)
+      if (id == kColmapNoPoint3D || visited_[image_offset_[i] + k]) continue;
+      const std::string what = point_index_.contains(id)
                                    ? " whose track does not list this 2D point"
-                                   : " which is not in " + points_file;
-      throw InputError(images_file, line > 0 ? line + 1 : 0,
-                       at() + "point2D " + std::to_string(k) + " refers to point3D_id " +
-                           std::to_string(id) + what);
+                                   : " which is not in " + points_file_;
+      throw InputError(images_file_, line > 0 ? line + 1 : 0,
+                       Entry("image", i, im.image_id) + "point2D " + std::to_string(k) +
+                           " refers to point3D_id " + std::to_string(id) + what);
     }
   }
+}
+
+}  // namespace
+
+void ValidateColmapModel(const ColmapModel& model, const std::string& dir,
+                         const std::string& extension, const ColmapSourceLines* lines) {
+  ColmapModelValidator(model, dir, extension, lines).Run();
 }
 
 std::string JoinPath(const std::string& dir, const std::string& name) {

@@ -205,28 +205,19 @@ Fixings ColmapFixings(const ColmapModel& model, const ColmapProblem& problem,
   return f;
 }
 
-ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOptions& options,
-                                const std::string& source) {
-  if (options.min_track_length < 1) {
-    throw std::invalid_argument("ProblemFromColmap: min_track_length must be at least 1, not " +
-                                std::to_string(options.min_track_length));
-  }
-  const int64_t num_images = static_cast<int64_t>(model.images.size());
-  std::unordered_map<uint32_t, int64_t> image_of_id;
-  for (int64_t j = 0; j < num_images; ++j) image_of_id.emplace(model.images[j].image_id, j);
-  std::unordered_map<uint32_t, int64_t> camera_of_id;
-  for (size_t c = 0; c < model.cameras.size(); ++c) {
-    camera_of_id.emplace(model.cameras[c].camera_id, static_cast<int64_t>(c));
-  }
+namespace {
 
-  // The adjusted points, and the images observing them.
-  ColmapProblem out;
-  std::vector<int64_t> track_image;  // image index of every kept track element
-  std::vector<uint8_t> image_used(num_images, 0);
+// The points whose tracks are long enough (their indices into out's
+// point_index), the image of each of their track elements, and which images
+// they use.
+void KeepTracks(const ColmapModel& model, int64_t min_track_length,
+                const std::unordered_map<uint32_t, int64_t>& image_of_id, const std::string& source,
+                ColmapProblem* out, std::vector<int64_t>* track_image,
+                std::vector<uint8_t>* image_used) {
   for (size_t k = 0; k < model.points3D.size(); ++k) {
     const ColmapPoint3D& p = model.points3D[k];
-    if (static_cast<int64_t>(p.track.size()) < options.min_track_length) continue;
-    out.point_index.push_back(static_cast<int64_t>(k));
+    if (static_cast<int64_t>(p.track.size()) < min_track_length) continue;
+    out->point_index.push_back(static_cast<int64_t>(k));
     for (const ColmapTrackElement& e : p.track) {
       auto it = image_of_id.find(e.image_id);
       if (it == image_of_id.end() ||
@@ -236,13 +227,19 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
                              std::to_string(e.image_id) + ", 2D point " +
                              std::to_string(e.point2D_idx) + ") is not in the model");
       }
-      track_image.push_back(it->second);
-      image_used[it->second] = 1;
+      track_image->push_back(it->second);
+      (*image_used)[it->second] = 1;
     }
   }
+}
 
-  // Problem cameras: the used images in image-id order (COLMAP writes its
-  // images in no particular order; the first, the lowest id, holds the gauge).
+// Problem cameras: the used images in image-id order (COLMAP writes its
+// images in no particular order; the first, the lowest id, holds the gauge)
+// into out's image_index; returns each model image's problem camera (-1:
+// unused).
+std::vector<int32_t> NumberUsedImages(const ColmapModel& model, const std::vector<uint8_t>& image_used,
+                                      const std::string& source, ColmapProblem* out) {
+  const int64_t num_images = static_cast<int64_t>(model.images.size());
   std::vector<int64_t> by_id(num_images);
   std::iota(by_id.begin(), by_id.end(), int64_t{0});
   std::sort(by_id.begin(), by_id.end(), [&](int64_t a, int64_t b) {
@@ -251,16 +248,27 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
   std::vector<int32_t> problem_camera(num_images, -1);
   for (int64_t j : by_id) {
     if (!image_used[j]) continue;
-    if (out.image_index.size() >= static_cast<size_t>(std::numeric_limits<int32_t>::max())) {
+    if (out->image_index.size() >= static_cast<size_t>(std::numeric_limits<int32_t>::max())) {
       throw InputError(source, 0, "more than 2^31 - 1 images");
     }
-    problem_camera[j] = static_cast<int32_t>(out.image_index.size());
-    out.image_index.push_back(j);
+    problem_camera[j] = static_cast<int32_t>(out->image_index.size());
+    out->image_index.push_back(j);
   }
-  const int64_t n = static_cast<int64_t>(out.image_index.size());
+  return problem_camera;
+}
+
+// The intrinsic groups: one per COLMAP camera used (shared) or per image,
+// into out's group_camera and the problem's camera_intrinsics.
+void GroupIntrinsics(const ColmapModel& model, const std::string& source, bool shared,
+                     ColmapProblem* out) {
+  const int64_t n = static_cast<int64_t>(out->image_index.size());
+  std::unordered_map<uint32_t, int64_t> camera_of_id;
+  for (size_t c = 0; c < model.cameras.size(); ++c) {
+    camera_of_id.emplace(model.cameras[c].camera_id, static_cast<int64_t>(c));
+  }
   std::vector<int64_t> image_camera(n);  // index into model.cameras
   for (int64_t i = 0; i < n; ++i) {
-    const ColmapImage& im = model.images[out.image_index[i]];
+    const ColmapImage& im = model.images[out->image_index[i]];
     auto it = camera_of_id.find(im.camera_id);
     if (it == camera_of_id.end()) {
       throw InputError(source, 0,
@@ -270,36 +278,38 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
     }
     image_camera[i] = it->second;
   }
-
-  Problem& bp = out.problem;
-  bp.model = CameraModel::kPhoto;
+  Problem& bp = out->problem;
   bp.camera_intrinsics.resize(n);
-  if (options.shared_intrinsics) {
-    std::vector<int32_t> group_of_camera(model.cameras.size(), -1);
-    for (int64_t i = 0; i < n; ++i) group_of_camera[image_camera[i]] = 0;
-    for (size_t c = 0; c < model.cameras.size(); ++c) {
-      if (group_of_camera[c] < 0) continue;
-      group_of_camera[c] = static_cast<int32_t>(out.group_camera.size());
-      out.group_camera.push_back(static_cast<int64_t>(c));
-    }
-    for (int64_t i = 0; i < n; ++i) bp.camera_intrinsics[i] = group_of_camera[image_camera[i]];
-  } else {
-    out.group_camera = image_camera;
+  if (!shared) {
+    out->group_camera = image_camera;
     for (int64_t i = 0; i < n; ++i) bp.camera_intrinsics[i] = static_cast<int32_t>(i);
+    return;
   }
+  std::vector<int32_t> group_of_camera(model.cameras.size(), -1);
+  for (int64_t i = 0; i < n; ++i) group_of_camera[image_camera[i]] = 0;
+  for (size_t c = 0; c < model.cameras.size(); ++c) {
+    if (group_of_camera[c] < 0) continue;
+    group_of_camera[c] = static_cast<int32_t>(out->group_camera.size());
+    out->group_camera.push_back(static_cast<int64_t>(c));
+  }
+  for (int64_t i = 0; i < n; ++i) bp.camera_intrinsics[i] = group_of_camera[image_camera[i]];
+}
 
-  // Parameters: poses, then intrinsic groups (each camera's params as they
-  // are: COLMAP's model is the group's lens model).
-  const int64_t num_groups = static_cast<int64_t>(out.group_camera.size());
+// Parameters: poses, then intrinsic groups (each camera's params as they
+// are: COLMAP's model is the group's lens model).
+void FillPosesAndIntrinsics(const ColmapModel& model, const std::string& source, ColmapProblem* out) {
+  Problem& bp = out->problem;
+  const int64_t n = static_cast<int64_t>(out->image_index.size());
+  const int64_t num_groups = static_cast<int64_t>(out->group_camera.size());
   bp.group_models.resize(num_groups);
   bp.intrinsics_size = 1;
   for (int64_t g = 0; g < num_groups; ++g) {
-    bp.group_models[g] = LensModelOfColmapCamera(model.cameras[out.group_camera[g]], source);
+    bp.group_models[g] = LensModelOfColmapCamera(model.cameras[out->group_camera[g]], source);
     bp.intrinsics_size = std::max(bp.intrinsics_size, LensModelParams(bp.group_models[g]));
   }
   bp.cameras.assign(kPhotoPoseSize * n + int64_t{bp.intrinsics_size} * num_groups, 0.0);
   for (int64_t i = 0; i < n; ++i) {
-    const ColmapImage& im = model.images[out.image_index[i]];
+    const ColmapImage& im = model.images[out->image_index[i]];
     if (!colmap_internal::IsRotationQuaternion(im.qvec)) {
       throw InputError(source, 0, "image " + std::to_string(im.image_id) + " (" + im.name +
                                       "): its quaternion" + colmap_internal::kNotARotation);
@@ -312,9 +322,56 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
     }
   }
   for (int64_t g = 0; g < num_groups; ++g) {
-    const std::vector<double>& params = model.cameras[out.group_camera[g]].params;
+    const std::vector<double>& params = model.cameras[out->group_camera[g]].params;
     std::copy(params.begin(), params.end(), bp.intrinsics(g));
   }
+}
+
+// Points and their observations, point-major.
+void FillPointsAndObservations(const ColmapModel& model, const std::vector<int64_t>& track_image,
+                               const std::vector<int32_t>& problem_camera, ColmapProblem* out) {
+  Problem& bp = out->problem;
+  const int64_t num_points = static_cast<int64_t>(out->point_index.size());
+  bp.points.resize(kPointSize * num_points);
+  bp.point_offsets.resize(num_points + 1);
+  bp.point_offsets[0] = 0;
+  bp.obs_camera.resize(track_image.size());
+  bp.obs_pixel.resize(2 * track_image.size());
+  int64_t obs = 0;
+  for (int64_t k = 0; k < num_points; ++k) {
+    const ColmapPoint3D& p = model.points3D[out->point_index[k]];
+    for (int d = 0; d < 3; ++d) bp.point(k)[d] = p.xyz[d];
+    for (const ColmapTrackElement& e : p.track) {
+      const int64_t j = track_image[obs];
+      const ColmapPoint2D& xy = model.images[j].points2D[e.point2D_idx];
+      bp.obs_camera[obs] = problem_camera[j];
+      bp.obs_pixel[2 * obs] = xy.x;
+      bp.obs_pixel[2 * obs + 1] = xy.y;
+      ++obs;
+    }
+    bp.point_offsets[k + 1] = obs;
+  }
+}
+
+}  // namespace
+
+ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOptions& options,
+                                const std::string& source) {
+  if (options.min_track_length < 1) {
+    throw std::invalid_argument("ProblemFromColmap: min_track_length must be at least 1, not " +
+                                std::to_string(options.min_track_length));
+  }
+  const int64_t num_images = static_cast<int64_t>(model.images.size());
+  std::unordered_map<uint32_t, int64_t> image_of_id;
+  for (int64_t j = 0; j < num_images; ++j) image_of_id.emplace(model.images[j].image_id, j);
+  ColmapProblem out;
+  std::vector<int64_t> track_image;  // image index of every kept track element
+  std::vector<uint8_t> image_used(num_images, 0);
+  KeepTracks(model, options.min_track_length, image_of_id, source, &out, &track_image, &image_used);
+  const std::vector<int32_t> problem_camera = NumberUsedImages(model, image_used, source, &out);
+  out.problem.model = CameraModel::kPhoto;
+  GroupIntrinsics(model, source, options.shared_intrinsics, &out);
+  FillPosesAndIntrinsics(model, source, &out);
   if (HasRealRigs(model)) {
     if (!options.shared_intrinsics) {
       throw UsageError("--intrinsics per-image: " + source +
@@ -327,28 +384,7 @@ ColmapProblem ProblemFromColmap(const ColmapModel& model, const ColmapProblemOpt
     out.sensors_not_modelled += r.ref.type != 0;
     for (const ColmapSensor& s : r.sensors) out.sensors_not_modelled += s.type != 0;
   }
-
-  // Points and their observations, point-major.
-  const int64_t num_points = static_cast<int64_t>(out.point_index.size());
-  bp.points.resize(kPointSize * num_points);
-  bp.point_offsets.resize(num_points + 1);
-  bp.point_offsets[0] = 0;
-  bp.obs_camera.resize(track_image.size());
-  bp.obs_pixel.resize(2 * track_image.size());
-  int64_t obs = 0;
-  for (int64_t k = 0; k < num_points; ++k) {
-    const ColmapPoint3D& p = model.points3D[out.point_index[k]];
-    for (int d = 0; d < 3; ++d) bp.point(k)[d] = p.xyz[d];
-    for (const ColmapTrackElement& e : p.track) {
-      const int64_t j = track_image[obs];
-      const ColmapPoint2D& xy = model.images[j].points2D[e.point2D_idx];
-      bp.obs_camera[obs] = problem_camera[j];
-      bp.obs_pixel[2 * obs] = xy.x;
-      bp.obs_pixel[2 * obs + 1] = xy.y;
-      ++obs;
-    }
-    bp.point_offsets[k + 1] = obs;
-  }
+  FillPointsAndObservations(model, track_image, problem_camera, &out);
   return out;
 }
 
@@ -401,70 +437,75 @@ void UpdateFrames(const ColmapProblem& source, const Problem& adjusted, ColmapMo
   }
 }
 
-}  // namespace
+[[noreturn]] void FailUpdate(const std::string& what) {
+  throw std::invalid_argument("UpdateColmapModel: " + what);
+}
 
-void UpdateColmapModel(const ColmapProblem& source, const Problem& adjusted,
-                       ColmapModel* model) {
+// The adjusted problem against the source problem and its maps into the
+// model; returns each model image's problem camera (-1: not in the problem).
+std::vector<int32_t> CheckUpdateMaps(const ColmapProblem& source, const Problem& adjusted,
+                                     const ColmapModel& model) {
   const Problem& sp = source.problem;
-  auto fail = [](const std::string& what) {
-    throw std::invalid_argument("UpdateColmapModel: " + what);
-  };
-  if (adjusted.model != CameraModel::kPhoto) fail("the adjusted problem is not kPhoto");
+  if (adjusted.model != CameraModel::kPhoto) FailUpdate("the adjusted problem is not kPhoto");
   if (adjusted.camera_intrinsics != sp.camera_intrinsics ||
       adjusted.cameras.size() != sp.cameras.size() ||
       adjusted.points.size() != sp.points.size() ||
       adjusted.point_offsets != sp.point_offsets || adjusted.obs_camera != sp.obs_camera ||
       adjusted.obs_pixel.size() != sp.obs_pixel.size()) {
-    fail("the adjusted problem's structure differs from the source problem's");
+    FailUpdate("the adjusted problem's structure differs from the source problem's");
   }
   const int64_t n = adjusted.num_images();
-  const int64_t num_groups = adjusted.num_groups();
   if (static_cast<int64_t>(source.image_index.size()) != n ||
-      static_cast<int64_t>(source.group_camera.size()) != num_groups ||
+      static_cast<int64_t>(source.group_camera.size()) != adjusted.num_groups() ||
       static_cast<int64_t>(source.point_index.size()) != adjusted.num_points()) {
-    fail("the index maps do not match the problem's sizes");
+    FailUpdate("the index maps do not match the problem's sizes");
   }
-  const int64_t num_images = static_cast<int64_t>(model->images.size());
-  const int64_t num_cameras = static_cast<int64_t>(model->cameras.size());
+  const int64_t num_images = static_cast<int64_t>(model.images.size());
   std::vector<int32_t> problem_camera(num_images, -1);
   for (int64_t i = 0; i < n; ++i) {
     const int64_t j = source.image_index[i];
-    if (j < 0 || j >= num_images) fail("image index out of the model's range");
+    if (j < 0 || j >= num_images) FailUpdate("image index out of the model's range");
     problem_camera[j] = static_cast<int32_t>(i);
   }
   for (int64_t c : source.group_camera) {
-    if (c < 0 || c >= num_cameras) fail("camera index out of the model's range");
-  }
-  for (int64_t k : source.point_index) {
-    if (k < 0 || k >= static_cast<int64_t>(model->points3D.size())) {
-      fail("point index out of the model's range");
+    if (c < 0 || c >= static_cast<int64_t>(model.cameras.size())) {
+      FailUpdate("camera index out of the model's range");
     }
   }
+  for (int64_t k : source.point_index) {
+    if (k < 0 || k >= static_cast<int64_t>(model.points3D.size())) {
+      FailUpdate("point index out of the model's range");
+    }
+  }
+  return problem_camera;
+}
+
+// Intrinsics: into the camera its group owns (the group of the camera's
+// first image), or a new camera; returns each group's camera id.
+std::vector<uint32_t> UpdateCameras(const ColmapProblem& source, const Problem& adjusted,
+                                    const std::vector<int32_t>& problem_camera, ColmapModel* model) {
+  const int64_t num_images = static_cast<int64_t>(model->images.size());
+  const int64_t num_cameras = static_cast<int64_t>(model->cameras.size());
   std::unordered_map<uint32_t, int64_t> camera_of_id;
   uint64_t max_id = 0;
   for (int64_t c = 0; c < num_cameras; ++c) {
     camera_of_id.emplace(model->cameras[c].camera_id, c);
     max_id = std::max<uint64_t>(max_id, model->cameras[c].camera_id);
   }
-  // Each image's camera, and per camera the group of its first user.
-  std::vector<int64_t> image_camera(num_images, -1);
   std::vector<int64_t> owner_group(num_cameras, -2);  // -2: no user yet, -1: not in problem
   for (int64_t j = 0; j < num_images; ++j) {
     auto it = camera_of_id.find(model->images[j].camera_id);
-    if (it == camera_of_id.end()) fail("an image's camera is not in the model");
+    if (it == camera_of_id.end()) FailUpdate("an image's camera is not in the model");
     const int64_t c = it->second;
-    image_camera[j] = c;
     const int32_t i = problem_camera[j];
     if (i >= 0 && source.group_camera[adjusted.camera_intrinsics[i]] != c) {
-      fail("image " + std::to_string(model->images[j].image_id) +
-           "'s camera is not its intrinsic group's camera");
+      FailUpdate("image " + std::to_string(model->images[j].image_id) +
+                 "'s camera is not its intrinsic group's camera");
     }
     if (owner_group[c] == -2) owner_group[c] = i >= 0 ? adjusted.camera_intrinsics[i] : -1;
   }
-
-  // Intrinsics: into the camera owned by the group, or a new camera.
-  std::vector<uint32_t> group_id(num_groups);
-  for (int64_t g = 0; g < num_groups; ++g) {
+  std::vector<uint32_t> group_id(adjusted.num_groups());
+  for (int64_t g = 0; g < adjusted.num_groups(); ++g) {
     const int64_t c = source.group_camera[g];
     const double* x = adjusted.intrinsics(g);
     const auto set_params = [&](ColmapCamera* camera) {
@@ -475,32 +516,18 @@ void UpdateColmapModel(const ColmapProblem& source, const Problem& adjusted,
       group_id[g] = model->cameras[c].camera_id;
       continue;
     }
-    if (max_id >= std::numeric_limits<uint32_t>::max()) fail("no camera id left for a new camera");
+    if (max_id >= std::numeric_limits<uint32_t>::max()) FailUpdate("no camera id left for a new camera");
     ColmapCamera camera = model->cameras[c];
     camera.camera_id = static_cast<uint32_t>(++max_id);
     set_params(&camera);
     group_id[g] = camera.camera_id;
     model->cameras.push_back(std::move(camera));
   }
+  return group_id;
+}
 
-  // Poses.
-  for (int64_t i = 0; i < n; ++i) {
-    ColmapImage& im = model->images[source.image_index[i]];
-    const double* pose = adjusted.camera(i);
-    // A rotation the solve did not change keeps its quaternion bit for bit
-    // when that is already in the written form (unit to rounding, w >= 0):
-    // the round trip through angle-axis is exact only to rounding.
-    const Vec3 omega(pose[0], pose[1], pose[2]);
-    if (!IsWrittenForm(im.qvec) || QuaternionToAngleAxis(im.qvec) != omega) {
-      im.qvec = AngleAxisToQuaternion(omega);
-    }
-    im.tvec = {pose[3], pose[4], pose[5]};
-    im.camera_id = group_id[adjusted.camera_intrinsics[i]];
-  }
-
-  UpdateFrames(source, adjusted, model);
-
-  // Points, with their mean reprojection error.
+// Points, with their mean reprojection error.
+void UpdatePoints(const ColmapProblem& source, const Problem& adjusted, ColmapModel* model) {
   for (int64_t k = 0; k < adjusted.num_points(); ++k) {
     ColmapPoint3D& p = model->points3D[source.point_index[k]];
     const double* X = adjusted.point(k);
@@ -513,6 +540,30 @@ void UpdateColmapModel(const ColmapProblem& source, const Problem& adjusted,
     }
     if (end > begin) p.error = sum / static_cast<double>(end - begin);
   }
+}
+
+}  // namespace
+
+void UpdateColmapModel(const ColmapProblem& source, const Problem& adjusted,
+                       ColmapModel* model) {
+  const std::vector<int32_t> problem_camera = CheckUpdateMaps(source, adjusted, *model);
+  const std::vector<uint32_t> group_id = UpdateCameras(source, adjusted, problem_camera, model);
+  // Poses.
+  for (int64_t i = 0; i < adjusted.num_images(); ++i) {
+    ColmapImage& im = model->images[source.image_index[i]];
+    const double* pose = adjusted.camera(i);
+    // A rotation the solve did not change keeps its quaternion bit for bit
+    // when that is already in the written form (unit to rounding, w >= 0):
+    // the round trip through angle-axis is exact only to rounding.
+    const Vec3 omega(pose[0], pose[1], pose[2]);
+    if (!IsWrittenForm(im.qvec) || QuaternionToAngleAxis(im.qvec) != omega) {
+      im.qvec = AngleAxisToQuaternion(omega);
+    }
+    im.tvec = {pose[3], pose[4], pose[5]};
+    im.camera_id = group_id[adjusted.camera_intrinsics[i]];
+  }
+  UpdateFrames(source, adjusted, model);
+  UpdatePoints(source, adjusted, model);
 }
 
 void RemoveDroppedObservations(const ColmapProblem& source, const Problem& adjusted,

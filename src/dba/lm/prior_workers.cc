@@ -2,6 +2,7 @@
 #include "dba/lm/prior_workers.h"
 
 #include <stdexcept>
+#include <string>
 
 namespace dba {
 
@@ -100,6 +101,10 @@ void PriorWorkers::AddLeverArmTerms(RcsSystem* sys) const {
     const int32_t row = sys->layout.camera_row(priors_.priors[x].image);
     if (row < 0) continue;
     const int64_t block = sys->S.FindBlock(row, lever);
+    if (block < 0) {  // rcs/rcs_pattern.cc gives every camera row one
+      throw std::logic_error("lever-arm terms: the RCS has no block at camera row " +
+                             std::to_string(row) + ", lever-arm row " + std::to_string(lever));
+    }
     Eigen::Map<Eigen::Matrix<double, 6, 3, Eigen::RowMajor>>(sys->S.block_values(block)) +=
         J_[x].leftCols<6>().transpose() * J_a;
   }

@@ -343,13 +343,11 @@ void CheckRigSurvey(const UavSurveyOptions& o, bool cameras_given) {
   }
 }
 
-UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::string& path,
-                                   const std::string& truth_path,
-                                   const std::function<void(double)>& progress) {
-  UavSurveyOptions o = options;
-  if (o.field_of_view > 0 && o.field_of_view < 160) {
-    o.focal_px = 0.5 * o.image_size / std::tan(0.25 * o.field_of_view * std::numbers::pi / 90.0);
-  }
+namespace {
+
+// What GenerateUavSurvey cannot honour, refused.
+void CheckSurveyOptions(const UavSurveyOptions& o, const std::string& path,
+                        const std::string& truth_path) {
   if (o.model != CameraModel::kPhoto && o.camera_model != LensModel::kRadial) {
     throw std::invalid_argument("generate: a camera model other than RADIAL needs the photo model");
   }
@@ -361,16 +359,130 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
         "generate: need images >= 2, features > 0, cameras >= 1, overlaps in (0, 1), noise >= 0, "
         "outliers in [0, 1)");
   }
-  const bool photo = o.model == CameraModel::kPhoto;
   const bool binary = KindOfPath(path) == PathKind::kBinary;
-  if (photo && (!binary || (!truth_path.empty() && KindOfPath(truth_path) != PathKind::kBinary))) {
+  if (o.model == CameraModel::kPhoto &&
+      (!binary || (!truth_path.empty() && KindOfPath(truth_path) != PathKind::kBinary))) {
     throw std::invalid_argument(
         "generate: the photogrammetric model needs .dba outputs (the BAL text format cannot "
         "hold intrinsics shared by several images)");
   }
+  CheckRigSurvey(o);
+}
+
+// --unaligned: the initial cameras and points moved by a random similarity
+// (camera/pose_similarity.h: every camera sees the same).
+Similarity UnalignedSimilarity(uint64_t seed) {
+  Similarity unaligned;
+  std::mt19937_64 rng(Mix(seed ^ 0x616c69676eULL));
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  unaligned.scale = std::exp2(u(rng));
+  const Vec3 axis = Vec3(u(rng), u(rng), u(rng)).normalized();
+  unaligned.rotation = AngleAxisToRotation(3.0 * u(rng) * axis);
+  unaligned.translation = 1000.0 * Vec3(u(rng), u(rng), u(rng));
+  return unaligned;
+}
+
+// The written camera sides, true and initial: poses, and with the photo
+// model the intrinsic groups and the rig.
+void MakeCameraSides(const UavSurveyOptions& o, const Layout& l, const RigSensors* rig,
+                     Problem* true_side, Problem* initial_side, UavSurveySummary* summary) {
+  std::vector<double> true_cameras, initial_cameras;
+  MakeCameras(o, l, &true_cameras, &initial_cameras);
+  if (o.model != CameraModel::kPhoto) {
+    true_side->cameras.swap(true_cameras);
+    initial_side->cameras.swap(initial_cameras);
+    return;
+  }
+  *true_side = PhotoCameraSide(o, l, true_cameras);
+  *initial_side = PhotoCameraSide(o, l, initial_cameras);
+  if (rig != nullptr) {
+    *true_side = RigCameraSide(*true_side, rig->truth, rig->truth_first);
+    *initial_side = RigCameraSide(*initial_side, rig->nominal, rig->nominal_first);
+    summary->images = true_side->num_images();
+    summary->frames = l.images;
+  }
+  summary->intrinsic_groups = true_side->num_groups();
+}
+
+// A .dba survey: pass 1 counts, pass 2 writes at the offsets the counts give.
+template <typename Project, typename InitialPoint>
+void WriteBinarySurvey(const UavSurveyOptions& o, const Layout& l, const Project& project,
+                       const InitialPoint& initial_point, const std::function<void(double)>& progress,
+                       const RigSensors* rig, const Problem& true_side, const Problem& initial_side,
+                       const std::string& path, const std::string& truth_path,
+                       UavSurveySummary* summary) {
+  auto half_progress = [&](double base) {
+    return [&progress, base](double f) { if (progress) progress(base + 0.5 * f); };
+  };
+  ForEachPoint(o, l, project, half_progress(0.0),
+               [&](auto&, auto&, auto& seen, auto&, auto&) {
+                 ++summary->points;
+                 summary->observations += static_cast<int64_t>(seen.size());
+               },
+               rig);
+  BinaryProblemWriter out(path, initial_side, summary->points, summary->observations);
+  std::unique_ptr<BinaryProblemWriter> truth;
+  if (!truth_path.empty()) {
+    truth = std::make_unique<BinaryProblemWriter>(truth_path, true_side, summary->points,
+                                                  summary->observations);
+  }
+  ForEachPoint(o, l, project, half_progress(0.5),
+               [&](const double* X, const double* X0, const std::vector<int32_t>& seen,
+                   const std::vector<double>& clean, const std::vector<double>& noisy) {
+                 double x0[3];
+                 initial_point(X0, x0);
+                 out.AppendPoint(x0, seen, noisy);
+                 if (truth) truth->AppendPoint(X, seen, clean);
+               },
+               rig);
+  out.Commit();
+  if (truth) truth->Commit();
+}
+
+// A BAL text survey: in memory (small problems, for other tools).
+template <typename Project, typename InitialPoint>
+void WriteBalSurvey(const UavSurveyOptions& o, const Layout& l, const Project& project,
+                    const InitialPoint& initial_point, const std::function<void(double)>& progress,
+                    const RigSensors* rig, const Problem& true_side, const Problem& initial_side,
+                    const std::string& path, const std::string& truth_path,
+                    UavSurveySummary* summary) {
+  Problem problem = initial_side, truth = true_side;  // (project reads true_side)
+  problem.point_offsets.push_back(0);
+  truth.point_offsets.push_back(0);
+  ForEachPoint(o, l, project, progress,
+               [&](const double* X, const double* X0, const std::vector<int32_t>& seen,
+                   const std::vector<double>& clean, const std::vector<double>& noisy) {
+                 double x0[3];
+                 initial_point(X0, x0);
+                 problem.points.insert(problem.points.end(), x0, x0 + 3);
+                 truth.points.insert(truth.points.end(), X, X + 3);
+                 problem.obs_camera.insert(problem.obs_camera.end(), seen.begin(), seen.end());
+                 problem.obs_pixel.insert(problem.obs_pixel.end(), noisy.begin(), noisy.end());
+                 truth.obs_pixel.insert(truth.obs_pixel.end(), clean.begin(), clean.end());
+                 problem.point_offsets.push_back(problem.num_observations());
+               },
+               rig);
+  truth.obs_camera = problem.obs_camera;
+  truth.point_offsets = problem.point_offsets;
+  summary->points = problem.num_points();
+  summary->observations = problem.num_observations();
+  WriteBal(problem, path);
+  if (!truth_path.empty()) WriteBal(truth, truth_path);
+}
+
+}  // namespace
+
+UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::string& path,
+                                   const std::string& truth_path,
+                                   const std::function<void(double)>& progress) {
+  UavSurveyOptions o = options;
+  if (o.field_of_view > 0 && o.field_of_view < 160) {
+    o.focal_px = 0.5 * o.image_size / std::tan(0.25 * o.field_of_view * std::numbers::pi / 90.0);
+  }
+  CheckSurveyOptions(o, path, truth_path);
+  const bool photo = o.model == CameraModel::kPhoto;
   RigSensors rig;
   const bool rigs = !o.rig.empty();
-  CheckRigSurvey(o);
   if (rigs) {
     rig = MakeRigSensors(o.rig, o.seed, o.flying_height, o.focal_px, o.image_size);
     const int64_t sensors = static_cast<int64_t>(rig.keep.size());
@@ -379,42 +491,16 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
   }
   Timer timer;
   const Layout l = MakeLayout(o);
-  std::vector<double> true_cameras, initial_cameras;
-  MakeCameras(o, l, &true_cameras, &initial_cameras);
   UavSurveySummary summary;
   summary.images = l.images;
   summary.strips = l.strips;
   summary.images_per_strip = l.per_strip;
-
-  // The written camera sides and the true projection.
   Problem true_side, initial_side;
-  if (photo) {
-    true_side = PhotoCameraSide(o, l, true_cameras);
-    initial_side = PhotoCameraSide(o, l, initial_cameras);
-    if (rigs) {
-      true_side = RigCameraSide(true_side, rig.truth, rig.truth_first);
-      initial_side = RigCameraSide(initial_side, rig.nominal, rig.nominal_first);
-      summary.images = true_side.num_images();
-      summary.frames = l.images;
-    }
-    std::vector<double>().swap(true_cameras);
-    std::vector<double>().swap(initial_cameras);
-    summary.intrinsic_groups = true_side.num_groups();
-  } else {
-    true_side.cameras.swap(true_cameras);
-    initial_side.cameras.swap(initial_cameras);
-  }
+  MakeCameraSides(o, l, rigs ? &rig : nullptr, &true_side, &initial_side, &summary);
   if (!o.priors_path.empty()) WriteGnssPriors(o, true_side);
-  // --unaligned: the initial cameras and points moved by a random
-  // similarity (camera/pose_similarity.h: every camera sees the same).
   Similarity unaligned;
   if (o.unaligned) {
-    std::mt19937_64 rng(Mix(o.seed ^ 0x616c69676eULL));
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    unaligned.scale = std::exp2(u(rng));
-    const Vec3 axis = Vec3(u(rng), u(rng), u(rng)).normalized();
-    unaligned.rotation = AngleAxisToRotation(3.0 * u(rng) * axis);
-    unaligned.translation = 1000.0 * Vec3(u(rng), u(rng), u(rng));
+    unaligned = UnalignedSimilarity(o.seed);
     for (int64_t i = 0; i < l.images; ++i) MovePose(unaligned, initial_side.camera(i));
   }
   const auto initial_point = [&](const double* X0, double* out) {
@@ -432,61 +518,13 @@ UavSurveySummary GenerateUavSurvey(const UavSurveyOptions& options, const std::s
     *px = BalResidual(true_side.camera(i), X, zero);
     return std::abs(px->x()) < half && std::abs(px->y()) < half;
   };
-
   if (!o.gcps_path.empty()) WriteGroundControl(o, l, true_side.num_images(), project);
-
-  auto half_progress = [&](double base) {
-    return [&progress, base](double f) { if (progress) progress(base + 0.5 * f); };
-  };
-  if (binary) {
-    // Pass 1 counts, pass 2 writes at the offsets the counts give.
-    ForEachPoint(o, l, project, half_progress(0.0),
-                 [&](auto&, auto&, auto& seen, auto&, auto&) {
-                   ++summary.points;
-                   summary.observations += static_cast<int64_t>(seen.size());
-                 },
-                 rigs ? &rig : nullptr);
-    BinaryProblemWriter out(path, initial_side, summary.points, summary.observations);
-    std::unique_ptr<BinaryProblemWriter> truth;
-    if (!truth_path.empty()) {
-      truth = std::make_unique<BinaryProblemWriter>(truth_path, true_side, summary.points,
-                                                    summary.observations);
-    }
-    ForEachPoint(o, l, project, half_progress(0.5),
-                 [&](const double* X, const double* X0, const std::vector<int32_t>& seen,
-                     const std::vector<double>& clean, const std::vector<double>& noisy) {
-                   double x0[3];
-                   initial_point(X0, x0);
-                   out.AppendPoint(x0, seen, noisy);
-                   if (truth) truth->AppendPoint(X, seen, clean);
-                 },
-                 rigs ? &rig : nullptr);
-    out.Commit();
-    if (truth) truth->Commit();
+  if (KindOfPath(path) == PathKind::kBinary) {
+    WriteBinarySurvey(o, l, project, initial_point, progress, rigs ? &rig : nullptr, true_side,
+                      initial_side, path, truth_path, &summary);
   } else {
-    // BAL text: in memory (small problems, for other tools).
-    Problem problem = initial_side, truth = true_side;  // (project reads true_side)
-    problem.point_offsets.push_back(0);
-    truth.point_offsets.push_back(0);
-    ForEachPoint(o, l, project, progress,
-                 [&](const double* X, const double* X0, const std::vector<int32_t>& seen,
-                     const std::vector<double>& clean, const std::vector<double>& noisy) {
-                   double x0[3];
-                   initial_point(X0, x0);
-                   problem.points.insert(problem.points.end(), x0, x0 + 3);
-                   truth.points.insert(truth.points.end(), X, X + 3);
-                   problem.obs_camera.insert(problem.obs_camera.end(), seen.begin(), seen.end());
-                   problem.obs_pixel.insert(problem.obs_pixel.end(), noisy.begin(), noisy.end());
-                   truth.obs_pixel.insert(truth.obs_pixel.end(), clean.begin(), clean.end());
-                   problem.point_offsets.push_back(problem.num_observations());
-                 },
-                 rigs ? &rig : nullptr);
-    truth.obs_camera = problem.obs_camera;
-    truth.point_offsets = problem.point_offsets;
-    summary.points = problem.num_points();
-    summary.observations = problem.num_observations();
-    WriteBal(problem, path);
-    if (!truth_path.empty()) WriteBal(truth, truth_path);
+    WriteBalSurvey(o, l, project, initial_point, progress, rigs ? &rig : nullptr, true_side,
+                   initial_side, path, truth_path, &summary);
   }
   summary.seconds = timer.Seconds();
   return summary;
