@@ -1,0 +1,141 @@
+// SolveSession end to end in one test binary: one rank against three ranks
+// on the thread transport (cluster/thread_transport.h), with and without a
+// rejection round, and a generated survey whose points come in a random
+// order (walked by one process) against the same survey as generated. The
+// arithmetic agrees to 1e-9 with a tight dense solve (the project's
+// agreement rule for tests of the arithmetic).
+#include "dba/session/solve_session.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "dba/cluster/thread_transport.h"
+#include "dba/problem/point_order.h"
+#include "dba/io/read_problem.h"
+#include "dba/synthetic/uav_generator.h"
+#include "dba/testing/synthetic_bal.h"
+#include "dba/testing/temp_files.h"
+
+namespace dba {
+namespace {
+
+Problem Survey(double outlier_fraction) {
+  testing::SyntheticBalOptions o;
+  o.num_cameras = 10;
+  o.num_points = 400;
+  o.max_track = 5;
+  o.pixel_noise = 0.5;
+  o.rotation_perturbation = 0.002;
+  o.translation_perturbation = 0.02;
+  o.point_perturbation = 0.05;
+  o.seed = 7;
+  Problem p = testing::MakeSyntheticBal(o).problem;
+  // Gross mismatches: observations moved by 40-80 pixels.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int64_t k = 0; k < p.num_observations(); ++k) {
+    if (u(rng) >= outlier_fraction) continue;
+    p.obs_pixel[2 * k] += (u(rng) < 0.5 ? -1 : 1) * (40 + 40 * u(rng));
+    p.obs_pixel[2 * k + 1] += (u(rng) < 0.5 ? -1 : 1) * (40 + 40 * u(rng));
+  }
+  return p;
+}
+
+SolveOptions TightOptions(const std::vector<std::string>& extra) {
+  std::vector<std::string> args = {"<arrays>", "-q", "-t", "1", "--linear-solver", "dense",
+                                   "--function-tolerance", "1e-14", "--gradient-tolerance", "0",
+                                   "--parameter-tolerance", "0", "--max-iterations", "200",
+                                   "--no-memory-check"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  bool help = false;
+  return ParseSolveArguments(args, &help);
+}
+
+// The session's result on `ranks` ranks of the thread transport (the main
+// rank's).
+SolveResult RunOn(int ranks, const SolveOptions& options, const Problem& problem) {
+  SolveResult result;
+  RunRanksAsThreads(ranks, [&](Communicator& comm) {
+    std::ostringstream log;
+    SolveInput input;
+    if (comm.is_main()) {
+      input.name = "<arrays>";
+      input.problem = problem;
+    }
+    SolveResult r = SolveSession(options, &comm, log).Run(std::move(input));
+    if (comm.is_main()) result = std::move(r);
+  });
+  return result;
+}
+
+TEST(SolveSession, OneAndThreeRanksEndOnTheSameOptimum) {
+  const Problem problem = Survey(0.0);
+  const SolveOptions options = TightOptions({});
+  const SolveResult one = RunOn(1, options, problem);
+  const SolveResult three = RunOn(3, options, problem);
+  ASSERT_GT(one.report.solve.ba.lm.iterations, 1);
+  EXPECT_LT(one.report.solve.ba.lm.final_cost, 0.5 * one.report.solve.ba.lm.initial_cost);
+  EXPECT_NEAR(three.report.solve.ba.lm.final_cost, one.report.solve.ba.lm.final_cost,
+              1e-9 * one.report.solve.ba.lm.final_cost);
+  ASSERT_EQ(three.problem.cameras.size(), one.problem.cameras.size());
+  for (size_t i = 0; i < one.problem.cameras.size(); ++i) {
+    EXPECT_NEAR(three.problem.cameras[i], one.problem.cameras[i],
+                1e-6 * (1 + std::abs(one.problem.cameras[i])))
+        << i;
+  }
+}
+
+TEST(SolveSession, ARejectionRoundKeepsTheSameObservationsOnOneAndThreeRanks) {
+  const Problem problem = Survey(0.03);
+  const SolveOptions options = TightOptions({"--reject-outliers", "3"});
+  const SolveResult one = RunOn(1, options, problem);
+  const SolveResult three = RunOn(3, options, problem);
+  ASSERT_TRUE(one.kept.has_value());
+  ASSERT_TRUE(three.kept.has_value());
+  const int64_t kept = std::accumulate(one.kept->observation.begin(), one.kept->observation.end(),
+                                       int64_t{0});
+  EXPECT_LT(kept, problem.num_observations());  // the mismatches went
+  EXPECT_GT(kept, problem.num_observations() * 9 / 10);
+  EXPECT_EQ(three.kept->observation, one.kept->observation);
+  EXPECT_NEAR(three.report.solve.ba.lm.final_cost, one.report.solve.ba.lm.final_cost, 1e-9 * one.report.solve.ba.lm.final_cost);
+}
+
+TEST(SolveSession, AScatteredInputIsWalkedAndEndsWhereTheSpatialOrderEnds) {
+  // A generated survey (its points footprint by footprint) and the same
+  // points in a random order: one process walks the second (its order is
+  // scattered) and ends on the same optimum; the result keeps the input's
+  // order.
+  UavSurveyOptions o;
+  o.images = 60;
+  o.features_per_image = 150;
+  o.seed = 7;
+  const std::string path = testing::TempPath("solve_session_walk.dba");
+  GenerateUavSurvey(o, path, "");
+  const Problem spatial = ReadProblem(path);
+  std::vector<int64_t> order(spatial.num_points());
+  std::iota(order.begin(), order.end(), int64_t{0});
+  std::shuffle(order.begin(), order.end(), std::mt19937(5));
+  Problem scattered = spatial;
+  PermutePoints(order, &scattered);
+  const SolveOptions options = TightOptions({});
+  const SolveResult a = RunOn(1, options, spatial);
+  const SolveResult b = RunOn(1, options, scattered);
+  EXPECT_TRUE(PointWalk(spatial).empty());
+  EXPECT_FALSE(PointWalk(scattered).empty());
+  EXPECT_NEAR(b.report.solve.ba.lm.final_cost, a.report.solve.ba.lm.final_cost, 1e-9 * a.report.solve.ba.lm.final_cost);
+  for (int64_t k = 0; k < spatial.num_points(); ++k) {
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_NEAR(b.problem.point(k)[d], a.problem.point(order[k])[d],
+                  1e-6 * (1 + std::abs(a.problem.point(order[k])[d])));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace dba
