@@ -162,41 +162,11 @@ SolveSession::SolveSession(const SolveOptions& options, Communicator* comm, std:
   EnableProgress(comm->is_main() && !options.quiet && options.progress);
 }
 
+// The stages: prepare (main rank) -> solve (its rounds; every rank) ->
+// hold the gauge -> measure (main rank).
 SolveResult SolveSession::Run(SolveInput input) {
   input_ = std::move(input);
-  if (comm_->is_main()) {
-    Timer load;
-    Start(input_);
-    RefuseUnbuiltLeverArmUses(options_, comm_->size());
-    // Every rank that reads the file moves its own copy alike (ReadShare).
-    const std::vector<FovStartMove> fov = StartFovOutsideSeries(&result_.problem);
-    if (!options_.quiet) out_ << DescribeFovStartMoves(fov);
-    // The walk's order from the positions as loaded (before an alignment or
-    // a resume moves them): the same for a solve and its resume.
-    if (comm_->size() == 1) {
-      load_order_ = PointWalk(result_.problem);
-      if (!load_order_.empty() && !options_.quiet) {
-        out_ << "points walked in a spatial order (the input's order is scattered); outputs keep "
-                "the input's\n";
-      }
-    }
-    if (!input_.ranks_read_file) {
-      result_.report.observations_behind_cameras =
-          RefuseNonFiniteResiduals(input_.name, result_.problem, load_order_);
-    }
-    // The gauge's reference as loaded (before an alignment or a resume).
-    gauge_ = TakeGaugeReference(result_.problem, options_.gauge, input_.names.read_order);
-    if (options_.geo.any()) PrepareGeoreferencing();
-    if (options_.gauge != GaugeRule::kFree &&
-        (!result_.geo.priors.empty() || result_.geo.control_points > 0)) {
-      gauge_.hold = GaugeHold::kExternal;
-    }
-    setup_ = SolveSetup(options_, result_.geo, result_.problem.has_rigs());
-    Resume();
-    if (!options_.truth_path.empty()) CheckTruthFile(options_.truth_path, result_.report);
-    result_.report.load_seconds = load.Seconds();
-    PrintStart();
-  }
+  if (comm_->is_main()) Prepare();
   Solve();
   if (comm_->is_main()) {
     HoldGauge();
@@ -205,6 +175,42 @@ SolveResult SolveSession::Run(SolveInput input) {
   result_.names = std::move(input_.names);
   result_.ranks_read_file = input_.ranks_read_file;
   return std::move(result_);
+}
+
+// The main rank's work before the solve: the input taken over and checked,
+// the walk's order and the gauge's reference taken as loaded (before an
+// alignment or a resume moves the points), georeferencing, a resume.
+void SolveSession::Prepare() {
+  Timer load;
+  Start(input_);
+  RefuseUnbuiltLeverArmUses(options_, comm_->size());
+  // Every rank that reads the file moves its own copy alike (ReadShare).
+  const std::vector<FovStartMove> fov = StartFovOutsideSeries(&result_.problem);
+  if (!options_.quiet) out_ << DescribeFovStartMoves(fov);
+  // The walk's order from the positions as loaded: the same for a solve
+  // and its resume.
+  if (comm_->size() == 1) {
+    load_order_ = PointWalk(result_.problem);
+    if (!load_order_.empty() && !options_.quiet) {
+      out_ << "points walked in a spatial order (the input's order is scattered); outputs keep "
+              "the input's\n";
+    }
+  }
+  if (!input_.ranks_read_file) {
+    result_.report.observations_behind_cameras =
+        RefuseNonFiniteResiduals(input_.name, result_.problem, load_order_);
+  }
+  gauge_ = TakeGaugeReference(result_.problem, options_.gauge, input_.names.read_order);
+  if (options_.geo.any()) PrepareGeoreferencing();
+  if (options_.gauge != GaugeRule::kFree &&
+      (!result_.geo.priors.empty() || result_.geo.control_points > 0)) {
+    gauge_.hold = GaugeHold::kExternal;
+  }
+  setup_ = SolveSetup(options_, result_.geo, result_.problem.has_rigs());
+  Resume();
+  if (!options_.truth_path.empty()) CheckTruthFile(options_.truth_path, result_.report);
+  result_.report.load_seconds = load.Seconds();
+  PrintStart();
 }
 
 // The report's figures of the input; the problem taken over.

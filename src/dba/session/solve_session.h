@@ -82,6 +82,7 @@ class SolveSession {
 
  private:
   using IterationHook = std::function<void(const IterationSummary&)>;
+  void Prepare();
   void Start(const SolveInput& input);
   void Resume();
   void ResumeRejection(Checkpoint* checkpoint);
