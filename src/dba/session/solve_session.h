@@ -8,9 +8,11 @@
 //
 //   main rank                                  other ranks
 //   SolveInput (LoadSolveInput, or arrays)      -
-//   Run: resume, georeference, LM (+ rounds)    Run: serve their points
-//   Measure: control points out, accuracy,
-//            ground truth
+//   Run: Prepare (checks, walk, gauge's         Run: Solve (serve their
+//          reference, georeference, resume)          points)
+//        Solve (LM + rejection rounds)
+//        HoldGauge, Measure (control points
+//          out, accuracy, ground truth)
 //
 // Thread safety: one session per process at a time (collective over the
 // communicator).
