@@ -301,8 +301,7 @@ void WriteCameraCentres(const GeoreferenceOptions& options, const Georeference& 
   WriteFileAtomically(options.camera_centres_path, text);
 }
 
-void MeasureGeoreference(const GeoreferenceOptions& options, const Georeference& geo,
-                         const SolveFigures& solve, Problem* problem,
+void MeasureGeoreference(const Georeference& geo, const SolveFigures& solve, Problem* problem,
                          GeoreferenceSummary* report) {
   const std::vector<double> control = RemoveControlPoints(geo.control_points, problem);
   AccuracyReport& a = report->accuracy;

@@ -107,8 +107,7 @@ struct SolveFigures {
 // still last): takes the control points out of `problem`, triangulates the
 // check points, and fills summary->accuracy (σ0² from the solve's final
 // cost).
-void MeasureGeoreference(const GeoreferenceOptions& options, const Georeference& geo,
-                         const SolveFigures& solve, Problem* problem,
+void MeasureGeoreference(const Georeference& geo, const SolveFigures& solve, Problem* problem,
                          GeoreferenceSummary* summary);
 
 }  // namespace dba

@@ -382,7 +382,7 @@ void SolveSession::Measure() {
   SolveReport& report = result_.report;
   if (!result_.geo.empty()) {
     const LmSummary& lm = report.solve.ba.lm;
-    MeasureGeoreference(options_.geo, result_.geo,
+    MeasureGeoreference(result_.geo,
                         {lm.final_cost, lm.num_observations, report.solve.ba.rcs.camera_unknowns,
                          report.num_points},
                         &result_.problem, &report.geo);
