@@ -36,7 +36,9 @@ TEST(RankShare, HoldsItsPointsAndTheCamerasTheyTouch) {
   for (int64_t k = 0; k < p.num_points(); ++k) {
     const int64_t g = share.global_point[k];
     EXPECT_EQ(group[g], 1);
-    if (k > 0) EXPECT_GT(g, share.global_point[k - 1]);  // global order
+    if (k > 0) {
+      EXPECT_GT(g, share.global_point[k - 1]);  // global order
+    }
     for (int d = 0; d < 3; ++d) EXPECT_EQ(p.points[3 * k + d], full.points[3 * g + d]);
     ASSERT_EQ(p.point_offsets[k + 1] - p.point_offsets[k],
               full.point_offsets[g + 1] - full.point_offsets[g]);
@@ -53,7 +55,9 @@ TEST(RankShare, HoldsItsPointsAndTheCamerasTheyTouch) {
   EXPECT_EQ(share.global_camera.size(), touched.size());
   EXPECT_LT(touched.size(), static_cast<size_t>(full.num_images()));
   for (size_t i = 0; i < share.global_camera.size(); ++i) {
-    if (i > 0) EXPECT_GT(share.global_camera[i], share.global_camera[i - 1]);
+    if (i > 0) {
+      EXPECT_GT(share.global_camera[i], share.global_camera[i - 1]);
+    }
     for (int d = 0; d < p.camera_size(); ++d) {
       EXPECT_EQ(p.camera(i)[d], full.camera(share.global_camera[i])[d]);
     }

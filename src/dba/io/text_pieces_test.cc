@@ -135,8 +135,12 @@ TEST(TextPiecesTest, AFlippedByteIsRefusedWithItsBlockAfterTheTextBefore) {
     EXPECT_GT(to, static_cast<long>(at)) << r.error;
     // The blocks before were handed out whole, nothing after.
     EXPECT_EQ(r.text, text.substr(0, r.text.size()));
-    if (at == first) EXPECT_EQ(r.text.size(), 0u);
-    if (at == last) EXPECT_GE(r.text.size() + 2 * kBlockText, text.size());
+    if (at == first) {
+      EXPECT_EQ(r.text.size(), 0u);
+    }
+    if (at == last) {
+      EXPECT_GE(r.text.size() + 2 * kBlockText, text.size());
+    }
   }
 }
 

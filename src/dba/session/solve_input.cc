@@ -114,7 +114,8 @@ bool IsColmapInput(const std::string& path) {
 }
 
 Fixings FixingsOf(const UnknownsOptions& u) {
-  Fixings f{u.fixed_images, {}};
+  Fixings f;
+  f.images = u.fixed_images;
   for (const IntrinsicFixing& x : u.fixed_intrinsics) {
     if (!x.names.empty()) f.intrinsics.push_back(x);
   }
