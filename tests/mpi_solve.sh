@@ -304,12 +304,30 @@ for g in fixed fixed:1; do
     fail "rigs --rig-geometry $g -np 2: $(final_cost "$tmp/rig_g2.json") vs $(final_cost "$tmp/rig_g1.json")"
   fi
 done
+# A refined lever arm over ranks: its 3 unknowns are the last row of the RCS,
+# gathered on the main rank (its row meets every frame's; auto gathers), and
+# 2 and 3 ranks end where one process ends: cost and lever arm to 1e-9, tight.
+lever=(--camera-priors "$tmp/rig_gnss.txt" --gcps "$tmp/rig_gcps.txt" --refine-lever-arm "${tight[@]}")
+"$dba" solve "$tmp/rig.dba" -q "${lever[@]}" --report "$tmp/lever1.json" >/dev/null 2>&1 \
+  || fail "a refined lever arm, one process"
+lever_single=$(json "$tmp/lever1.json" 'd["camera_priors"]["lever_arm_refined"]' &&
+  python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print(repr([d["final_cost"]] + d["camera_priors"]["lever_arm"]))' "$tmp/lever1.json")
+for n in 2 3; do
+  mpirun_n "$n" "$dba" solve "$tmp/rig.dba" -q "${lever[@]}" --report "$tmp/lever_mpi.json" >"$tmp/rig.out" 2>&1 \
+    || { fail "a refined lever arm -np $n exited non-zero: $(cat "$tmp/rig.out")"; continue; }
+  if [ -n "$lever_single" ] && json "$tmp/lever_mpi.json" "all(near(a, b, 1e-9) for a, b in zip([d['final_cost']] + d['camera_priors']['lever_arm'], $lever_single)) and d['distributed']['rcs'] == 'gather'"; then
+    passes=$((passes + 1)); echo "ok   a refined lever arm -np $n ends where one process ends"
+  else
+    fail "a refined lever arm -np $n: $(json_value "$tmp/lever_mpi.json" final_cost) vs $lever_single"
+  fi
+done
+status=0
 mpirun_n 2 "$dba" solve "$tmp/rig.dba" -q --camera-priors "$tmp/rig_gnss.txt" --refine-lever-arm \
-  >"$tmp/rig.out" 2>&1
-if grep -qF -- "--refine-lever-arm is not combined with more than one MPI rank yet" "$tmp/rig.out"; then
-  passes=$((passes + 1)); echo "ok   a refined lever arm over ranks is refused by name"
+  --rcs distributed >"$tmp/rig.out" 2>&1 || status=$?
+if [ "$status" = 2 ] && grep -qF -- "--rcs distributed does not hold a refined lever arm" "$tmp/rig.out"; then
+  passes=$((passes + 1)); echo "ok   a refined lever arm in an RCS spread over ranks is refused by name"
 else
-  fail "a refined lever arm over ranks is not refused: $(cat "$tmp/rig.out")"
+  fail "a refined lever arm with --rcs distributed is not refused: $(cat "$tmp/rig.out")"
 fi
 
 # A FOV camera started inside COLMAP's series branch (camera/fov_series_start.h):

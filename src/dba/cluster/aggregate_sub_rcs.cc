@@ -33,6 +33,9 @@ GlobalRcs BuildGlobalRcs(UnknownLayout layout,
                          const std::function<void(const RcsSystem&)>& before_values) {
   std::vector<uint64_t> pattern;
   for (int32_t i = 0; i < layout.num_block_rows(); ++i) pattern.push_back(PackBlock(i, i));
+  if (const int32_t lever = layout.lever_arm_row(); lever >= 0) {
+    for (int32_t i = 0; i < layout.num_camera_rows(); ++i) pattern.push_back(PackBlock(i, lever));
+  }
   for (size_t r = 0; r < local_patterns.size(); ++r) {
     for (uint64_t b : local_patterns[r]) {
       pattern.push_back(PackBlock(rows[r][PackedRow(b)], rows[r][PackedCol(b)]));

@@ -40,7 +40,9 @@ SubRcsMap MapSubRcs(std::span<const uint64_t> local_blocks,
 // The global system of the main rank (symbolic phase): its pattern is every
 // diagonal block plus the union of the sub-RCS patterns `local_patterns[r]`
 // with their rows in global numbering `rows[r]` (an empty pattern: a rank
-// that forms no sub-RCS, which gets an empty map); and each sub-RCS's map.
+// that forms no sub-RCS, which gets an empty map), and, when `layout` has
+// the lever arm's row, its block with every camera row (the priors' terms,
+// added on the main rank: rcs/rcs_pattern.h); and each sub-RCS's map.
 struct GlobalRcs {
   RcsSystem system;
   std::vector<SubRcsMap> maps;

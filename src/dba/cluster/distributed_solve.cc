@@ -10,7 +10,7 @@
 #include <string>
 #include <utility>
 #include "dba/io/binary_problem.h"
-#include "dba/lm/prior_workers.h"
+#include "dba/lm/solve_with_priors.h"
 
 namespace dba {
 namespace {
@@ -249,10 +249,16 @@ RcsPlacement ChooseRcsPlacement(const DistributedOptions& options, const LmOptio
         throw std::invalid_argument(std::string("--rcs distributed solves by PCG; --linear-solver ") +
                          LinearSolverName(type) + " needs --rcs gather");
       }
+      if (options.lever_arm_row) {
+        throw std::invalid_argument(
+            "--rcs distributed does not hold a refined lever arm (its row meets every camera's): "
+            "give --rcs gather, or the lever arm held (--lever-arm X,Y,Z)");
+      }
       return RcsPlacement::kDistributed;
     case DistributedOptions::Rcs::kAuto: break;
   }
-  return ranks > 1 && pcg ? RcsPlacement::kDistributed : RcsPlacement::kGather;
+  return ranks > 1 && pcg && !options.lever_arm_row ? RcsPlacement::kDistributed
+                                                    : RcsPlacement::kGather;
 }
 
 namespace {
@@ -369,7 +375,12 @@ void DistributedPointSide::ReadShares(const std::string& binary_input,
 
 // The workers: the main rank's own share's (if it forms) and the global RCS
 // over every rank's; made again after each rejection round.
-void DistributedPointSide::MakeWorkers(const LmOptions& o) {
+void DistributedPointSide::MakeWorkers(const LmOptions& o, bool lever_arm) {
+  // The lever arm's row meets every camera row: gathered only (the
+  // placement's choice, ChooseRcsPlacement).
+  if (lever_arm && summary_.rcs == RcsPlacement::kDistributed) {
+    throw std::logic_error("a refined lever arm in an RCS spread over ranks");
+  }
   workers_.reset();
   own_workers_.reset();
   if (mine_ != nullptr) {
@@ -380,7 +391,7 @@ void DistributedPointSide::MakeWorkers(const LmOptions& o) {
         summary_.rcs == RcsPlacement::kDistributed);
   }
   workers_ = std::make_unique<MpiPointWorkers>(
-      comm_, UnknownLayout(*problem_), mine_, own_workers_.get(),
+      comm_, UnknownLayout(*problem_, lever_arm), mine_, own_workers_.get(),
       EstimateAndCheck(comm_, o, distributed_, *problem_, EstimateRole::kSolves,
                        &summary_.memory_estimate, groups_, num_observations_),
       summary_.rcs, linear_, o.damping, problem_->cameras.data());
@@ -392,7 +403,7 @@ BundleAdjustSummary DistributedPointSide::Solve(
   BundleAdjustSummary s;
   Timer symbolic;
   if (stale_) workers_->Rebuild(keep_loss_);  // the ranks make theirs again
-  if (workers_ == nullptr || stale_) MakeWorkers(options);
+  if (workers_ == nullptr || stale_) MakeWorkers(options, priors.refine_lever_arm && !priors.empty());
   stale_ = false;
   s.symbolic_seconds = symbolic.Seconds();
   s.rcs = workers_->footprint();
@@ -411,15 +422,10 @@ BundleAdjustSummary DistributedPointSide::Solve(
   // factorizes: BLAS threads would compete with them (sparse_cholesky.h).
   LmOptions o = options;
   if (comm_->ranks_on_node() > 1) o.linear_solver.threaded_blas = false;
-  if (priors.empty()) {
-    s.lm = SolveLevenbergMarquardt(o, num_observations_, &problem_->cameras, workers_.get(), log);
-  } else {
-    // A refined lever arm is refused before a distributed solve (its row
-    // would be one more unknown beside the problem's cameras).
-    if (priors.refine_lever_arm) throw std::logic_error("a refined lever arm over ranks");
-    PriorWorkers with_priors(workers_.get(), &problem_->cameras, *problem_, priors);
-    s.lm = SolveLevenbergMarquardt(o, num_observations_, &problem_->cameras, &with_priors, log);
-  }
+  PriorSolve solve = SolveWithPriors(o, num_observations_, *problem_, &problem_->cameras,
+                                     workers_.get(), &priors, log);
+  s.lm = std::move(solve.lm);
+  s.lever_arm = solve.lever_arm;
   return s;
 }
 

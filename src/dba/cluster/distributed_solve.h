@@ -43,10 +43,14 @@ struct DistributedOptions {
   // is more than one and the linear solve is PCG (auto or pcg); else gathers
   // it.
   enum class Rcs { kAuto, kGather, kDistributed } rcs = Rcs::kAuto;
+  // The camera priors' lever arm is an unknown: its row meets every camera
+  // row, which only a gathered RCS holds (auto gathers; kDistributed is
+  // refused).
+  bool lever_arm_row = false;
 };
 
 // The placement `options` ask for on `ranks` ranks; throws std::invalid_argument when
-// kDistributed cannot be had (a factorization).
+// kDistributed cannot be had (a factorization, a refined lever arm).
 RcsPlacement ChooseRcsPlacement(const DistributedOptions& options, const LmOptions& lm, int ranks);
 
 struct DistributedSummary {
@@ -131,7 +135,8 @@ class DistributedPointSide {
                   const std::optional<Similarity>& alignment);
   void ReadShares(const std::string& binary_input, const DistributedCheckpoints& checkpoints,
                   const std::optional<Similarity>& alignment);
-  void MakeWorkers(const LmOptions& options);
+  // `lever_arm`: the global layout has the camera priors' lever arm's row.
+  void MakeWorkers(const LmOptions& options, bool lever_arm);
 
   Communicator* comm_;
   DistributedOptions distributed_;

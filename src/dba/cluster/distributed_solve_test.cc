@@ -14,6 +14,7 @@
 
 #include "dba/cluster/thread_transport.h"
 #include "dba/io/binary_problem.h"
+#include "dba/camera/pose_similarity.h"
 #include "dba/lm/bundle_adjust.h"
 #include "dba/testing/synthetic_bal.h"
 #include "dba/testing/synthetic_photo.h"
@@ -49,6 +50,7 @@ LmOptions Exact(LinearSolverType type) {
 
 struct RanksRun {
   double final_cost = 0;
+  Vec3 lever_arm = Vec3::Zero();
   std::vector<double> cameras, points;
   DistributedSummary summary;
   KeptObservations kept;
@@ -57,7 +59,8 @@ struct RanksRun {
 // `problem` (or `binary` read by every rank) solved on `ranks` threads;
 // `reject` > 0: one rejection round and a second solve.
 RanksRun SolveOnRanks(int ranks, const Problem& problem, const std::string& binary,
-                      const LmOptions& o, DistributedOptions d, double reject = 0) {
+                      const LmOptions& o, DistributedOptions d, double reject = 0,
+                      const CameraPriors& priors = {}) {
   RanksRun run;
   RunRanksAsThreads(ranks, [&](Communicator& comm) {
     if (!comm.is_main()) {
@@ -66,7 +69,7 @@ RanksRun SolveOnRanks(int ranks, const Problem& problem, const std::string& bina
     }
     Problem p = binary.empty() ? problem : Problem(ReadBinaryCameraSide(binary));
     DistributedPointSide side(&comm, o, d, binary, &p);
-    BundleAdjustSummary s = side.Solve(o, {}, {});
+    BundleAdjustSummary s = side.Solve(o, priors, {});
     if (reject > 0) {
       PoseObservations poses;
       side.DropOutliers({reject, 0.0}, 1, true, &poses);
@@ -75,6 +78,7 @@ RanksRun SolveOnRanks(int ranks, const Problem& problem, const std::string& bina
     }
     side.Finish(true, &run.summary);
     run.final_cost = s.lm.final_cost;
+    run.lever_arm = s.lever_arm;
     run.cameras = p.cameras;
     run.points = p.points;
   });
@@ -156,6 +160,46 @@ TEST(DistributedSolve, RanksRejectWhatOneProcessRejects) {
   const KeptObservations kept = KeptFlags(original, p.num_observations(), p.num_points());
   EXPECT_EQ(run.kept.observation, kept.observation);
   EXPECT_EQ(run.kept.point, kept.point);
+}
+
+// GNSS priors on every image but the last, at antennas 0.4, -0.3, 0.8 from
+// the true centres (σ 1 cm), the lever arm refined from zero: its 3
+// unknowns are the last row of the gathered RCS, met by every camera row
+// (cluster/aggregate_sub_rcs.h), and the ranks end where one process ends.
+TEST(DistributedSolve, ARefinedLeverArmOnRanksEndsWhereOneProcessEnds) {
+  testing::SyntheticPhotoOptions g;
+  g.geometry.num_cameras = 9;
+  g.geometry.num_points = 150;
+  g.geometry.pixel_noise = 0.5;
+  g.geometry.rotation_perturbation = 1e-3;
+  g.geometry.point_perturbation = 0.05;
+  g.focal_perturbation = 1e-3;
+  const testing::SyntheticProblem s = testing::MakeSyntheticPhoto(g);
+  CameraPriors priors;
+  const Vec3 truth(0.4, -0.3, 0.8);
+  for (int32_t i = 0; i + 1 < s.truth.num_images(); ++i) {
+    priors.priors.push_back({i, AntennaPosition(s.truth.camera(i), truth), Vec3(0.01, 0.01, 0.01)});
+  }
+  priors.refine_lever_arm = true;
+  const LmOptions o = Exact(LinearSolverType::kDense);
+  Problem one = s.problem;
+  const BundleAdjustSummary single = BundleAdjust(o, &one, {}, {}, &priors);
+  ASSERT_GT(single.lever_arm.norm(), 0.1);  // it moved from 0
+  DistributedOptions d;
+  d.lever_arm_row = true;  // auto: gathered
+  for (int ranks : {2, 3}) {
+    const RanksRun run = SolveOnRanks(ranks, s.problem, "", o, d, 0, priors);
+    EXPECT_EQ(run.summary.rcs, RcsPlacement::kGather);
+    EXPECT_NEAR(run.final_cost, single.lm.final_cost, 1e-9 * single.lm.final_cost) << ranks;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(run.lever_arm[k], single.lever_arm[k], 1e-9 * single.lever_arm.norm()) << ranks;
+    }
+    ExpectSame(run.cameras, one.cameras, 1e-8);
+  }
+  // Auto with PCG gathers too; asked to spread the RCS, it is refused by name.
+  EXPECT_EQ(ChooseRcsPlacement(d, Exact(LinearSolverType::kPcg), 3), RcsPlacement::kGather);
+  d.rcs = DistributedOptions::Rcs::kDistributed;
+  EXPECT_THROW(ChooseRcsPlacement(d, Exact(LinearSolverType::kPcg), 3), std::invalid_argument);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 
 #include "dba/common/timer.h"
 #include "dba/lm/local_point_workers.h"
+#include "dba/lm/solve_with_priors.h"
 
 namespace dba {
 
@@ -12,33 +13,15 @@ BundleAdjustSummary BundleAdjust(
     const std::function<void(const RcsSystem&)>& before_values, const CameraPriors* priors) {
   BundleAdjustSummary summary;
   Timer symbolic;
-  const bool with_priors = priors != nullptr && !priors->empty();
-  const bool lever_arm = with_priors && priors->refine_lever_arm;
+  const bool lever_arm = priors != nullptr && !priors->empty() && priors->refine_lever_arm;
   LocalPointWorkers workers(problem, options.damping, options.num_threads, options.loss,
                             before_values, false, lever_arm);
   summary.symbolic_seconds = symbolic.Seconds();
   summary.rcs = RcsFootprint::Of(workers.system().S);
-  // x: the camera side, then the lever arm when it is an unknown.
-  std::vector<double> cameras = problem->cameras;
-  if (with_priors) {
-    summary.lever_arm = priors->lever_arm;
-    if (lever_arm) cameras.insert(cameras.end(), priors->lever_arm.data(), priors->lever_arm.data() + 3);
-    PriorWorkers prior_workers(&workers, &cameras, *problem, *priors);
-    // The hook sees the lever arm as the iteration left it (a checkpoint holds it).
-    const size_t n = problem->cameras.size();
-    const std::function<void(const IterationSummary&)> hook = [&](const IterationSummary& it) {
-      if (!on_iteration) return;
-      IterationSummary with = it;
-      if (lever_arm) with.lever_arm = Vec3(cameras.data() + n);
-      on_iteration(with);
-    };
-    summary.lm = SolveLevenbergMarquardt(options, problem->num_observations(), &cameras,
-                                         &prior_workers, hook);
-    if (lever_arm) summary.lever_arm = Vec3(cameras.data() + n);
-  } else {
-    summary.lm = SolveLevenbergMarquardt(options, problem->num_observations(), &cameras,
-                                         &workers, on_iteration);
-  }
+  PriorSolve solve = SolveWithPriors(options, problem->num_observations(), *problem,
+                                     &problem->cameras, &workers, priors, on_iteration);
+  summary.lm = std::move(solve.lm);
+  summary.lever_arm = solve.lever_arm;
   return summary;
 }
 

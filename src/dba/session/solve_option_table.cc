@@ -346,7 +346,7 @@ std::vector<Spec> GeoreferencingOptions() {
   t.push_back(Flag("--refine-lever-arm",
                    "estimate the lever arm (3 unknowns shared by every prior; --lever-arm is "
                    "its start): needs priors seen from several headings, and for its vertical "
-                   "part control points; one process only yet",
+                   "part control points; over MPI ranks the RCS is gathered (--rcs gather)",
                    DBA_FIELD(geo.refine_lever_arm)));
   SetNeeds(&t.back(), "--camera-priors", HasPriors);
   return t;

@@ -94,6 +94,11 @@ SolveOptions ParseSolveArguments(const std::vector<std::string>& args, bool* hel
                                   LinearSolverName(o.lm.linear_solver.type) +
                                   " needs --rcs gather");
     }
+    if (o.geo.refine_lever_arm) {
+      throw std::invalid_argument(
+          "--rcs distributed does not hold a refined lever arm (its row meets every camera's): "
+          "give --rcs gather, or the lever arm held (--lever-arm X,Y,Z)");
+    }
   }
   return o;
 }

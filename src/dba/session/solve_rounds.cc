@@ -28,6 +28,7 @@ std::vector<double> KeptPoints(const KeptObservations& kept, const std::vector<d
 DistributedOptions RanksOptions(const SolveOptions& options, bool ranks_read_file) {
   DistributedOptions d = options.distributed;
   d.memory_check = options.memory_check;
+  d.lever_arm_row = options.geo.refine_lever_arm;
   if (ranks_read_file) d.fixings = FixingsOf(options.unknowns);
   return d;
 }

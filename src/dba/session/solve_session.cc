@@ -26,20 +26,6 @@
 #include "dba/synthetic/ground_truth.h"
 
 namespace dba {
-namespace {
-
-// What a refined lever arm does not reach yet: its 3 unknowns are the LM's
-// beside the problem's cameras, which the RCS spread over ranks does not
-// hold. Refused by name before any work (a lever arm without priors is the
-// option table's: it needs --camera-priors).
-void RefuseUnbuiltLeverArmUses(const SolveOptions& options, int ranks) {
-  if (options.geo.refine_lever_arm && ranks > 1) {
-    throw UsageError("--refine-lever-arm is not combined with more than one MPI rank yet: give "
-                     "the lever arm (--lever-arm X,Y,Z) held, or solve in one process");
-  }
-}
-
-}  // namespace
 
 int ThreadsPerRank(int asked, const Communicator& comm) {
   return asked > 0 ? asked : std::max(1, DefaultThreads() / comm.ranks_on_node());
@@ -183,7 +169,6 @@ SolveResult SolveSession::Run(SolveInput input) {
 void SolveSession::Prepare() {
   Timer load;
   Start(input_);
-  RefuseUnbuiltLeverArmUses(options_, comm_->size());
   // Every rank that reads the file moves its own copy alike (ReadShare).
   const std::vector<FovStartMove> fov = StartFovOutsideSeries(&result_.problem);
   if (!options_.quiet) out_ << DescribeFovStartMoves(fov);
