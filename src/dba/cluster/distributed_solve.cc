@@ -397,14 +397,24 @@ void DistributedPointSide::MakeWorkers(const LmOptions& o, bool lever_arm) {
       summary_.rcs, linear_, o.damping, problem_->cameras.data());
 }
 
+void DistributedPointSide::CurrentWorkers(const LmOptions& options, const CameraPriors& priors) {
+  if (stale_) workers_->Rebuild(keep_loss_);  // the ranks make theirs again
+  if (workers_ == nullptr || stale_) MakeWorkers(options, priors.refine_lever_arm && !priors.empty());
+  stale_ = false;
+}
+
+void DistributedPointSide::AtOptimum(const LmOptions& options, const CameraPriors& priors,
+                                     const std::function<void(const RcsSystem&)>& look) {
+  CurrentWorkers(options, priors);
+  FormAtCurrentParameters(*problem_, workers_.get(), &priors, look);
+}
+
 BundleAdjustSummary DistributedPointSide::Solve(
     const LmOptions& options, const CameraPriors& priors,
     const std::function<void(const IterationSummary&)>& on_iteration) {
   BundleAdjustSummary s;
   Timer symbolic;
-  if (stale_) workers_->Rebuild(keep_loss_);  // the ranks make theirs again
-  if (workers_ == nullptr || stale_) MakeWorkers(options, priors.refine_lever_arm && !priors.empty());
-  stale_ = false;
+  CurrentWorkers(options, priors);
   s.symbolic_seconds = symbolic.Seconds();
   s.rcs = workers_->footprint();
   TrafficStats before = comm_->stats();

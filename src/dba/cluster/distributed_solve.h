@@ -118,6 +118,11 @@ class DistributedPointSide {
   // pose's observations before and after it into `poses`, over every rank.
   RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads,
                               bool keep_loss, PoseObservations* poses);
+  // After the last Solve: the RCS at the current parameters over every
+  // rank (lm/solve_with_priors.h's FormAtCurrentParameters) handed to
+  // `look`: gathered, all of S; spread, S stays with its rows' owners.
+  void AtOptimum(const LmOptions& options, const CameraPriors& priors,
+                 const std::function<void(const RcsSystem&)>& look);
   // Every rank's current points into `points` (global numbering, resized to
   // hold all; points dropped keep what was there).
   void CollectPoints(std::vector<double>* points);
@@ -137,6 +142,8 @@ class DistributedPointSide {
                   const std::optional<Similarity>& alignment);
   // `lever_arm`: the global layout has the camera priors' lever arm's row.
   void MakeWorkers(const LmOptions& options, bool lever_arm);
+  // The workers, made again (on every rank) after a rejection round.
+  void CurrentWorkers(const LmOptions& options, const CameraPriors& priors);
 
   Communicator* comm_;
   DistributedOptions distributed_;

@@ -16,6 +16,8 @@
 #include "dba/io/binary_problem.h"
 #include "dba/camera/pose_similarity.h"
 #include "dba/lm/bundle_adjust.h"
+#include "dba/lm/solve_with_priors.h"
+#include "dba/testing/dense_reference.h"
 #include "dba/testing/synthetic_bal.h"
 #include "dba/testing/synthetic_photo.h"
 #include "dba/testing/temp_files.h"
@@ -52,6 +54,7 @@ struct RanksRun {
   double final_cost = 0;
   Vec3 lever_arm = Vec3::Zero();
   std::vector<double> cameras, points;
+  Eigen::MatrixXd S;  // at the optimum, with priors (AtOptimum)
   DistributedSummary summary;
   KeptObservations kept;
 };
@@ -75,6 +78,11 @@ RanksRun SolveOnRanks(int ranks, const Problem& problem, const std::string& bina
       side.DropOutliers({reject, 0.0}, 1, true, &poses);
       s = side.Solve(o, {}, {});
       run.kept = side.Kept();
+    }
+    if (!priors.empty()) {
+      CameraPriors at = priors;
+      at.lever_arm = s.lever_arm;
+      side.AtOptimum(o, at, [&](const RcsSystem& r) { run.S = testing::DenseFromBsmc(r.S); });
     }
     side.Finish(true, &run.summary);
     run.final_cost = s.lm.final_cost;
@@ -185,6 +193,17 @@ TEST(DistributedSolve, ARefinedLeverArmOnRanksEndsWhereOneProcessEnds) {
   Problem one = s.problem;
   const BundleAdjustSummary single = BundleAdjust(o, &one, {}, {}, &priors);
   ASSERT_GT(single.lever_arm.norm(), 0.1);  // it moved from 0
+  // The RCS at the optimum (the analysis of a solve): its last row the
+  // lever arm's.
+  CameraPriors at = priors;
+  at.lever_arm = single.lever_arm;
+  LocalPointWorkers workers(&one, o.damping, 1, o.loss, {}, false, true);
+  Eigen::MatrixXd S;
+  FormAtCurrentParameters(one, &workers, &at, [&](const RcsSystem& r) {
+    S = testing::DenseFromBsmc(r.S);
+    EXPECT_EQ(r.layout.lever_arm_row(), r.layout.num_block_rows() - 1);
+  });
+  ASSERT_GT(S.bottomLeftCorner(3, S.cols() - 3).cwiseAbs().maxCoeff(), 0.0);
   DistributedOptions d;
   d.lever_arm_row = true;  // auto: gathered
   for (int ranks : {2, 3}) {
@@ -195,6 +214,8 @@ TEST(DistributedSolve, ARefinedLeverArmOnRanksEndsWhereOneProcessEnds) {
       EXPECT_NEAR(run.lever_arm[k], single.lever_arm[k], 1e-9 * single.lever_arm.norm()) << ranks;
     }
     ExpectSame(run.cameras, one.cameras, 1e-8);
+    ASSERT_EQ(run.S.rows(), S.rows());
+    EXPECT_LE((run.S - S).cwiseAbs().maxCoeff(), 1e-7 * S.cwiseAbs().maxCoeff()) << ranks;
   }
   // Auto with PCG gathers too; asked to spread the RCS, it is refused by name.
   EXPECT_EQ(ChooseRcsPlacement(d, Exact(LinearSolverType::kPcg), 3), RcsPlacement::kGather);

@@ -9,7 +9,9 @@
 //   MakeDampedRcsSolver(system, options)  once, after the first FormRcs:
 //               the linear solve's symbolic phase, where S lives
 //   FormRcs(λ)  first call; then after every FinishStep that did not end the
-//               solve. Linearizes and eliminates every point at the current
+//               solve; and once more after the solve's last FinishStep, with
+//               λ = 0 and no step after it, to analyse the optimum
+//               (lm/solve_with_priors.h's FormAtCurrentParameters). Linearizes and eliminates every point at the current
 //               parameters (paper eq. 4) and returns the global RCS, its
 //               right-hand side, gradient and cost, camera blocks undamped.
 //               The system belongs to the workers and stays valid until the

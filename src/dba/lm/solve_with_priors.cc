@@ -39,4 +39,17 @@ PriorSolve SolveWithPriors(const LmOptions& options, int64_t num_observations,
   return solve;
 }
 
+void FormAtCurrentParameters(const CameraSide& side, PointWorkers* points,
+                             const CameraPriors* priors,
+                             const std::function<void(const RcsSystem&)>& look) {
+  if (priors == nullptr || priors->empty()) {
+    look(points->FormRcs(0.0));
+    return;
+  }
+  std::vector<double> x = side.cameras;
+  if (priors->refine_lever_arm) x.insert(x.end(), priors->lever_arm.data(), priors->lever_arm.data() + 3);
+  PriorWorkers prior_workers(points, &x, side, *priors);
+  look(prior_workers.FormRcs(0.0));
+}
+
 }  // namespace dba

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "dba/lm/local_point_workers.h"
+#include "dba/lm/solve_with_priors.h"
 #include "dba/problem/point_order.h"
 
 namespace dba {
@@ -115,6 +117,14 @@ void LocalPointSide::AllCameras(std::vector<double>* cameras) {
     std::copy_n(problem_->camera(static_cast<int64_t>(i)), size,
                 cameras->data() + size * camera_order_[i]);
   }
+}
+
+// Between solves the problem is in the order it was given (GivenOrder).
+void LocalPointSide::AtOptimum(const LmOptions& options, const CameraPriors& priors,
+                               const std::function<void(const RcsSystem&)>& look) {
+  LocalPointWorkers workers(problem_, options.damping, options.num_threads, options.loss, {},
+                            false, !priors.empty() && priors.refine_lever_arm);
+  FormAtCurrentParameters(*problem_, &workers, &priors, look);
 }
 
 KeptObservations LocalPointSide::Kept() {

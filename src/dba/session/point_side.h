@@ -42,6 +42,11 @@ class PointSide {
   // The camera-side parameters as the side was given them (inside a solve
   // too: a checkpoint's).
   virtual void AllCameras(std::vector<double>* cameras) = 0;
+  // After the last Solve, ranks alive: the RCS at the optimum (λ = 0, the
+  // priors' terms added: lm/solve_with_priors.h) handed to `look`, its rows
+  // in the numbering the side was given.
+  virtual void AtOptimum(const LmOptions& options, const CameraPriors& priors,
+                         const std::function<void(const RcsSystem&)>& look) = 0;
 };
 
 // One process: the problem itself (its points and observations are cut
@@ -62,6 +67,8 @@ class LocalPointSide : public PointSide {
   void AllPoints(std::vector<double>* points) override;
   KeptObservations Kept() override;
   void AllCameras(std::vector<double>* cameras) override;
+  void AtOptimum(const LmOptions& options, const CameraPriors& priors,
+                 const std::function<void(const RcsSystem&)>& look) override;
 
  private:
   Problem* problem_;
@@ -102,6 +109,10 @@ class RankPointSide : public PointSide {
   void AllPoints(std::vector<double>* points) override;
   KeptObservations Kept() override { return side_->Kept(); }
   void AllCameras(std::vector<double>* cameras) override { *cameras = problem_->cameras; }
+  void AtOptimum(const LmOptions& options, const CameraPriors& priors,
+                 const std::function<void(const RcsSystem&)>& look) override {
+    side_->AtOptimum(options, priors, look);
+  }
   DistributedPointSide& distributed() { return *side_; }
 
  private:

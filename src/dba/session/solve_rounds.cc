@@ -61,15 +61,25 @@ void SolveSession::Solve() {
     const Problem& p = result_.problem;
     loaded_pixels_.assign(p.obs_pixel.begin(), p.obs_pixel.begin() + 2 * result_.report.num_observations);
   }
-  std::unique_ptr<PointSide> side = MakePointSide();
-  const IterationHook log = IterationLog(side.get());
+  side_ = MakePointSide();
+  const IterationHook log = IterationLog(side_.get());
   std::function<void(const RcsSystem&)> check_memory = MemoryCheck();
   if (resumed_round_ <= 0) {
-    result_.report.solve.ba = side->Solve(lm_, result_.geo.priors, log, std::exchange(check_memory, {}));
+    result_.report.solve.ba = side_->Solve(lm_, result_.geo.priors, log, std::exchange(check_memory, {}));
     KeepLeverArm(result_.report.solve.ba);
   }
-  if (reject) RejectionRounds(side.get(), log, std::move(check_memory));
-  FinishSolve(side.get());
+  if (reject) RejectionRounds(side_.get(), log, std::move(check_memory));
+}
+
+// The optimum in hand, ranks alive, before the gauge is mapped back: the
+// analysis sees the RCS there (with the last solve's loss).
+void SolveSession::Analyse() {
+  if (!analysis_) return;
+  LmOptions o = lm_;
+  o.loss = result_.report.final_loss;
+  side_->AtOptimum(o, result_.geo.priors, [&](const RcsSystem& rcs) {
+    analysis_(OptimumView{result_.problem, rcs});
+  });
 }
 
 // A refined lever arm as the solve left it: the next rejection round

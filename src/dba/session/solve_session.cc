@@ -149,12 +149,16 @@ SolveSession::SolveSession(const SolveOptions& options, Communicator* comm, std:
 }
 
 // The stages: prepare (main rank) -> solve (its rounds; every rank) ->
-// hold the gauge -> measure (main rank).
+// analyse (ranks alive) -> finish (the ranks end) -> hold the gauge ->
+// measure (main rank).
 SolveResult SolveSession::Run(SolveInput input) {
   input_ = std::move(input);
   if (comm_->is_main()) Prepare();
   Solve();
   if (comm_->is_main()) {
+    Analyse();
+    FinishSolve(side_.get());
+    side_.reset();
     HoldGauge();
     Measure();
   }

@@ -9,8 +9,11 @@
 //   main rank                                  other ranks
 //   SolveInput (LoadSolveInput, or arrays)      -
 //   Run: Prepare (checks, walk, gauge's         Run: Solve (serve their
-//          reference, georeference, resume)          points)
-//        Solve (LM + rejection rounds)
+//          reference, georeference, resume)          points until the
+//        Solve (LM + rejection rounds)               main rank's finish)
+//        Analyse (the RCS at the optimum,
+//          ranks alive; SetAnalysis)
+//        FinishSolve (the ranks end)
 //        HoldGauge, Measure (control points
 //          out, accuracy, ground truth)
 //
@@ -82,6 +85,19 @@ class SolveSession {
   // result on the main rank (an empty one elsewhere).
   SolveResult Run(SolveInput input);
 
+  // The optimum as the analyse stage sees it (main rank): the camera side
+  // (the points too in one process) and the RCS there. Valid during the
+  // call only.
+  struct OptimumView {
+    const Problem& problem;
+    const RcsSystem& rcs;
+  };
+  // Called in the analyse stage of the next Run (none by default: the stage
+  // then costs nothing).
+  void SetAnalysis(std::function<void(const OptimumView&)> analysis) {
+    analysis_ = std::move(analysis);
+  }
+
  private:
   using IterationHook = std::function<void(const IterationSummary&)>;
   void Prepare();
@@ -91,6 +107,7 @@ class SolveSession {
   void PrepareGeoreferencing();
   void PrintStart();
   void Solve();
+  void Analyse();
   std::unique_ptr<PointSide> MakePointSide();
   void RejectionRounds(PointSide* side, const IterationHook& log,
                        std::function<void(const RcsSystem&)> check_memory);
@@ -127,6 +144,8 @@ class SolveSession {
   std::vector<int64_t> WalkOverSide();
   int64_t loaded_observations_ = 0;
   std::vector<double> loaded_pixels_;  // with rejection and a truth
+  std::function<void(const OptimumView&)> analysis_;
+  std::unique_ptr<PointSide> side_;  // main rank, from the solve to the finish
 };
 
 // What shapes a solve's result besides its input: the loss, the camera
