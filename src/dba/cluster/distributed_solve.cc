@@ -410,8 +410,8 @@ void DistributedPointSide::AtOptimum(const LmOptions& options, const CameraPrior
 }
 
 BundleAdjustSummary DistributedPointSide::Solve(
-    const LmOptions& options, const CameraPriors& priors,
-    const std::function<void(const IterationSummary&)>& on_iteration) {
+    const LmOptions& options, const CameraPriors& priors, const IterationHook& on_iteration,
+    const std::function<void(const RcsSystem&)>&) {
   BundleAdjustSummary s;
   Timer symbolic;
   CurrentWorkers(options, priors);
@@ -453,9 +453,10 @@ RejectionRound DistributedPointSide::DropOutliers(const RejectionCriteria& crite
   return round;
 }
 
-void DistributedPointSide::CollectPoints(std::vector<double>* points) {
-  points->resize(kPointSize * num_points_);
-  workers_->CollectPoints(points);
+void DistributedPointSide::AllPoints(std::vector<double>* points) {
+  points_.resize(kPointSize * num_points_);
+  workers_->CollectPoints(&points_);
+  *points = points_;
 }
 
 KeptObservations DistributedPointSide::Kept() {

@@ -21,6 +21,7 @@
 #include "dba/cluster/share_outliers.h"
 #include "dba/lm/local_point_workers.h"
 #include "dba/lm/outlier_rejection.h"
+#include "dba/lm/point_side.h"
 #include "dba/camera/pose_similarity.h"
 #include "dba/problem/fixings.h"
 
@@ -99,35 +100,41 @@ struct DistributedCheckpoints {
 // and the control points join the main rank's share (rank 1's when the
 // main rank does not form). The main rank never holds the file's
 // observations.
-class DistributedPointSide {
+class DistributedPointSide : public PointSide {
  public:
   DistributedPointSide(Communicator* comm, const LmOptions& options,
                        const DistributedOptions& distributed, const std::string& binary_input,
                        Problem* problem, const DistributedCheckpoints& checkpoints = {},
                        const std::optional<Similarity>& alignment = std::nullopt);
-  ~DistributedPointSide();
+  ~DistributedPointSide() override;
 
   // LM over every rank's points from the current parameters with `options`
   // (its loss: the workers are made again after a rejection round), the
   // priors' terms added on the main rank; `on_iteration` hears each
-  // iteration (between iterations the main rank may CollectPoints).
+  // iteration (between iterations the main rank may collect the points).
+  // Each rank checks its own memory (DistributedOptions::memory_check):
+  // `before_values` is not called.
   BundleAdjustSummary Solve(const LmOptions& options, const CameraPriors& priors,
-                            const std::function<void(const IterationSummary&)>& on_iteration);
+                            const IterationHook& on_iteration,
+                            const std::function<void(const RcsSystem&)>& before_values = {})
+      override;
   // One round of outlier rejection on every rank's share (the next Solve
   // rebuilds the workers on what is left, with `keep_loss`'s loss); each
   // pose's observations before and after it into `poses`, over every rank.
   RejectionRound DropOutliers(const RejectionCriteria& criteria, int num_threads,
-                              bool keep_loss, PoseObservations* poses);
+                              bool keep_loss, PoseObservations* poses) override;
   // After the last Solve: the RCS at the current parameters over every
   // rank (lm/solve_with_priors.h's FormAtCurrentParameters) handed to
   // `look`: gathered, all of S; spread, S stays with its rows' owners.
   void AtOptimum(const LmOptions& options, const CameraPriors& priors,
-                 const std::function<void(const RcsSystem&)>& look);
-  // Every rank's current points into `points` (global numbering, resized to
-  // hold all; points dropped keep what was there).
-  void CollectPoints(std::vector<double>* points);
+                 const std::function<void(const RcsSystem&)>& look) override;
+  // Every rank's current points, in global numbering (points dropped keep
+  // their last values).
+  void AllPoints(std::vector<double>* points) override;
   // What is left, over the problem as distributed (after DropOutliers).
-  KeptObservations Kept();
+  KeptObservations Kept() override;
+  // The main rank's cameras (the LM loop's, current between iterations).
+  void AllCameras(std::vector<double>* cameras) override { *cameras = problem_->cameras; }
   // Ends the other ranks; with `collect_points` the final points into the
   // problem (global numbering). The distributed figures into `summary`.
   void Finish(bool collect_points, DistributedSummary* summary);
@@ -155,6 +162,7 @@ class DistributedPointSide {
   int64_t num_points_ = 0, num_observations_ = 0;
   LinearSolverOptions linear_;
   std::unique_ptr<LocalPointWorkers> own_workers_;
+  std::vector<double> points_;  // collected: dropped points keep their values
   std::unique_ptr<MpiPointWorkers> workers_;
   MemoryEstimate own_estimate_;
   ShareRejection own_rejection_;

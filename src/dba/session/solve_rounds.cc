@@ -1,6 +1,6 @@
 // The solve itself, one code path for every mode: LM, the rounds of outlier
 // rejection and the checkpoints over a point side that is local or spread
-// over MPI ranks (session/point_side.h); see solve_session.h.
+// over MPI ranks (lm/point_side.h); see solve_session.h.
 #include <algorithm>
 #include <ostream>
 #include <stdexcept>
@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "dba/common/memory.h"
+#include "dba/lm/local_point_side.h"
 #include "dba/lm/memory_estimate.h"
 #include "dba/problem/point_order.h"
 #include "dba/session/solve_session.h"
@@ -122,10 +123,12 @@ std::unique_ptr<PointSide> SolveSession::MakePointSide() {
   const DistributedCheckpoints checkpoints{
       checkpoints_ ? &*checkpoints_ : nullptr,
       input_.ranks_read_file && resumed_ ? &*resumed_ : nullptr, options_.resume_path};
-  return std::make_unique<RankPointSide>(std::make_unique<DistributedPointSide>(
+  auto ranks = std::make_unique<DistributedPointSide>(
       comm_, lm_, RanksOptions(options_, input_.ranks_read_file),
       input_.ranks_read_file ? input_.name : std::string(), &result_.problem, checkpoints,
-      result_.geo.alignment), &result_.problem);
+      result_.geo.alignment);
+  ranks_ = ranks.get();
+  return ranks;
 }
 
 // The log line of every iteration, and the checkpoints after accepted ones
@@ -290,10 +293,10 @@ void SolveSession::FinishSolve(PointSide* side) {
     result_.kept.emplace();
     LoadedKeptAndPoints(side, &*result_.kept, &result_.all_points);
   }
-  if (auto* ranks = dynamic_cast<RankPointSide*>(side)) {
+  if (ranks_ != nullptr) {
     const bool collect = !options_.output.empty() || !options_.truth_path.empty() ||
                          !options_.ply_path.empty() || !options_.geo.gcps_path.empty();
-    ranks->distributed().Finish(collect && !result_.kept, &report.solve);
+    ranks_->Finish(collect && !result_.kept, &report.solve);
     report.memory_estimate = report.solve.memory_estimate;
     // The loaded pixels, for the truth: the main rank handed its
     // observations out.

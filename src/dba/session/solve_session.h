@@ -35,7 +35,8 @@
 #include "dba/lm/outlier_rejection.h"
 #include "dba/problem/problem.h"
 #include "dba/session/solve_options.h"
-#include "dba/session/point_side.h"
+#include "dba/cluster/distributed_solve.h"
+#include "dba/lm/point_side.h"
 #include "dba/session/solve_report.h"
 
 namespace dba {
@@ -146,6 +147,7 @@ class SolveSession {
   std::vector<double> loaded_pixels_;  // with rejection and a truth
   std::function<void(const OptimumView&)> analysis_;
   std::unique_ptr<PointSide> side_;  // main rank, from the solve to the finish
+  DistributedPointSide* ranks_ = nullptr;  // side_, when it is spread over ranks
 };
 
 // What shapes a solve's result besides its input: the loss, the camera

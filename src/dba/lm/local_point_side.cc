@@ -1,5 +1,5 @@
-// Where a solve's points live; see point_side.h.
-#include "dba/session/point_side.h"
+// One process's point side; see local_point_side.h.
+#include "dba/lm/local_point_side.h"
 
 #include <algorithm>
 #include <utility>
@@ -130,11 +130,6 @@ void LocalPointSide::AtOptimum(const LmOptions& options, const CameraPriors& pri
 KeptObservations LocalPointSide::Kept() {
   if (!cut_) return KeptFlags(OriginalIndices::Identity(*problem_), observations_, points_);
   return KeptFlags(original_, observations_, points_);
-}
-
-void RankPointSide::AllPoints(std::vector<double>* points) {
-  side_->CollectPoints(&points_);
-  *points = points_;
 }
 
 }  // namespace dba
