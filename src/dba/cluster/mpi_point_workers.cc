@@ -42,14 +42,6 @@ std::vector<double> LocalDelta(const std::vector<double>& global, const UnknownL
   return local;
 }
 
-// A share's cameras ⊞ its δc.
-std::vector<double> Plus(const LocalPointWorkers& workers, const std::vector<double>& cameras,
-                         const std::vector<double>& delta) {
-  std::vector<double> out(cameras.size());
-  workers.system().layout.Plus(cameras.data(), delta.data(), out.data());
-  return out;
-}
-
 constexpr int kPackedEvaluation = 11;  // values of Pack(StepEvaluation)
 
 std::vector<double> Pack(const StepEvaluation& e) {
@@ -328,10 +320,8 @@ RcsSystem& MpiPointWorkers::FormRcs(double lambda) {
   return global_;
 }
 
-StepEvaluation MpiPointWorkers::EvaluateStep(double lambda,
-                                             const std::vector<double>& delta_c,
-                                             const std::vector<double>& candidate_cameras) {
-  (void)candidate_cameras;  // ranks step their own copies of the cameras by δc
+// Every rank steps its own copy of its cameras by its rows of δc.
+StepEvaluation MpiPointWorkers::EvaluateStep(double lambda, const std::vector<double>& delta_c) {
   BroadcastCommand(comm_, {Op::kStep, 0, lambda});
   MaybeInjectFault(0, "step", ++steps_);
   for (int r = 1; r < comm_->size() && distributed_ == nullptr; ++r) {
@@ -343,7 +333,7 @@ StepEvaluation MpiPointWorkers::EvaluateStep(double lambda,
     const std::vector<double> local = distributed_ != nullptr
                                           ? own_delta_
                                           : LocalDelta(delta_c, global_.layout, maps_[0].global_row);
-    mine = Pack(own_->EvaluateStep(lambda, local, Plus(*own_, own_share_->problem.cameras, local)));
+    mine = Pack(own_->EvaluateStep(lambda, local));
   }
   const std::vector<double> all = comm_->Gather(Traffic::kControl, mine);
   StepEvaluation e;
@@ -505,9 +495,7 @@ RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers
         MaybeInjectFault(comm->rank(), "step", ++steps);
         lambda = c.lambda;
         if (distributed == nullptr) comm->Recv(0, Traffic::kCameraUpdate, std::span<double>(delta));
-        const StepEvaluation e = workers->EvaluateStep(
-            lambda, delta, Plus(*workers, share->problem.cameras, delta));
-        comm->Gather(Traffic::kControl, Pack(e));
+        comm->Gather(Traffic::kControl, Pack(workers->EvaluateStep(lambda, delta)));
         break;
       }
       case Op::kFinish:

@@ -101,8 +101,7 @@ class MpiPointWorkers : public PointWorkers {
   std::unique_ptr<DampedRcsSolver> MakeDampedRcsSolver(RcsSystem& system,
                                                        const LinearSolverOptions& options,
                                                        RcsSolverChoice* choice) override;
-  StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,
-                              const std::vector<double>& candidate_cameras) override;
+  StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c) override;
   void FinishStep(bool accept) override;
   // Distributed: the owners add the pose terms at the next FormRcs.
   bool TakesPoseTerms() const override { return distributed_ != nullptr; }

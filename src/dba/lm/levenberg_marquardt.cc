@@ -245,7 +245,7 @@ class Minimizer {
   StepOutcome EvaluateStep(IterationSummary* it) {
     Timer phase;
     sys_->layout.Plus(cameras_->data(), delta_c_.data(), candidate_.data());
-    const StepEvaluation eval = workers_->EvaluateStep(damping_.lambda(), delta_c_, candidate_);
+    const StepEvaluation eval = workers_->EvaluateStep(damping_.lambda(), delta_c_);
     candidate_residuals_ = eval.candidate_residuals;
     summary_.times.back_substitution += phase.Seconds();
     const double step_norm = std::sqrt(SquaredNorm(delta_c_) + eval.point_step_squared_norm);

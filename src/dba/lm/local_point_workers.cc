@@ -22,11 +22,12 @@ RcsSystem& LocalPointWorkers::FormRcs(double lambda) {
   return system_;
 }
 
-StepEvaluation LocalPointWorkers::EvaluateStep(
-    double lambda, const std::vector<double>& delta_c,
-    const std::vector<double>& candidate_cameras) {
-  candidate_cameras_ = candidate_cameras;
-  return BackSubstitute(*problem_, system_.layout, lambda, bounds_, delta_c, candidate_cameras,
+StepEvaluation LocalPointWorkers::EvaluateStep(double lambda,
+                                               const std::vector<double>& delta_c) {
+  candidate_cameras_.resize(problem_->cameras.size());
+  system_.layout.PlusCameraSide(problem_->cameras.data(), delta_c.data(),
+                                candidate_cameras_.data());
+  return BackSubstitute(*problem_, system_.layout, lambda, bounds_, delta_c, candidate_cameras_,
                         num_threads_, &candidate_points_, loss_);
 }
 

@@ -25,8 +25,7 @@ class LocalPointWorkers : public PointWorkers {
                     bool values_at_first_form = false, bool lever_arm = false);
 
   RcsSystem& FormRcs(double lambda) override;
-  StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,
-                              const std::vector<double>& candidate_cameras) override;
+  StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c) override;
   void FinishStep(bool accept) override;
   // The solver's storage for what it computes afresh each solve (PCG's
   // preconditioner values and vectors) is the candidate points' buffer,

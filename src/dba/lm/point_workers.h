@@ -16,13 +16,14 @@
 //               right-hand side, gradient and cost, camera blocks undamped.
 //               The system belongs to the workers and stays valid until the
 //               next FormRcs; the caller may damp S in place.
-//   EvaluateStep(λ, δc, cameras ⊞ δc)  at most once per FormRcs, with the
-//               same λ: back-substitutes every point (eq. 5) into a candidate
-//               and returns the model and candidate costs and norms, summed
-//               over all points.
+//   EvaluateStep(λ, δc)  at most once per FormRcs, with the same λ: steps
+//               the workers' own camera side to cameras ⊞ δc
+//               (UnknownLayout::PlusCameraSide), back-substitutes every point
+//               (eq. 5) into a candidate and returns the model and candidate
+//               costs and norms, summed over all points.
 //   FinishStep(accept)  exactly once after each EvaluateStep: accept makes
-//               the candidate points current, otherwise they are dropped.
-//               The cameras are the caller's to update.
+//               the candidate points and cameras current, otherwise they are
+//               dropped. The caller steps its own x alike.
 //   destroy     any time after a FinishStep or before the first
 //               EvaluateStep; the points hold the last accepted values.
 // Errors (a rank failing) are thrown from whichever call meets them.
@@ -48,10 +49,8 @@ class PointWorkers {
   // workers and stays valid until the next call.
   virtual RcsSystem& FormRcs(double lambda) = 0;
 
-  // Back-substitution and costs at cameras + δc (global numbering).
-  virtual StepEvaluation EvaluateStep(
-      double lambda, const std::vector<double>& delta_c,
-      const std::vector<double>& candidate_cameras) = 0;
+  // Back-substitution and costs at cameras ⊞ δc (global numbering).
+  virtual StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c) = 0;
 
   // Makes the candidate of the last EvaluateStep current (accept) or drops it.
   virtual void FinishStep(bool accept) = 0;

@@ -110,15 +110,12 @@ void PriorWorkers::AddLeverArmTerms(RcsSystem* sys) const {
   }
 }
 
-StepEvaluation PriorWorkers::EvaluateStep(double lambda, const std::vector<double>& delta_c,
-                                          const std::vector<double>& candidate_x) {
-  // The points' workers take the camera side alone.
-  const std::vector<double>* candidate = &candidate_x;
-  if (lever_offset_ >= 0) {
-    candidate_.assign(candidate_x.begin(), candidate_x.begin() + lever_offset_);
-    candidate = &candidate_;
-  }
-  StepEvaluation e = points_->EvaluateStep(lambda, delta_c, *candidate);
+StepEvaluation PriorWorkers::EvaluateStep(double lambda, const std::vector<double>& delta_c) {
+  // The points' workers step the camera side alone; the priors see x ⊞ δ.
+  candidate_.resize(x_->size());
+  system_->layout.Plus(x_->data(), delta_c.data(), candidate_.data());
+  const std::vector<double>& candidate_x = candidate_;
+  StepEvaluation e = points_->EvaluateStep(lambda, delta_c);
   e.model_cost += model_offset_;
   const Vec3 a = LeverArm(candidate_x);
   const int32_t lever = system_->layout.lever_arm_row();

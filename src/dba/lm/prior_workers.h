@@ -46,8 +46,7 @@ class PriorWorkers : public PointWorkers {
                const CameraPriors& priors);
 
   RcsSystem& FormRcs(double lambda) override;
-  StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c,
-                              const std::vector<double>& candidate_cameras) override;
+  StepEvaluation EvaluateStep(double lambda, const std::vector<double>& delta_c) override;
   void FinishStep(bool accept) override { points_->FinishStep(accept); }
   // The points' solver: the priors are in the system FormRcs returned.
   std::unique_ptr<DampedRcsSolver> MakeDampedRcsSolver(RcsSystem& system,
@@ -63,7 +62,7 @@ class PriorWorkers : public PointWorkers {
   const CameraPriors& priors_;
   std::vector<int64_t> pose_offset_;  // per prior, in x
   int64_t lever_offset_ = -1;         // the lever arm in x, when an unknown
-  std::vector<double> candidate_;     // a candidate x without the lever arm
+  std::vector<double> candidate_;     // x ⊞ δ of the last EvaluateStep
   const RcsSystem* system_ = nullptr;  // of the last FormRcs
   // At the last FormRcs: each prior's corrected residual and Jacobian, and
   // the robust model's offset.

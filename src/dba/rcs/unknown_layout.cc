@@ -107,13 +107,20 @@ void UnknownLayout::AddIntrinsicsRows(const CameraSide& problem) {
 }
 
 void UnknownLayout::Plus(const double* x, const double* delta, double* out) const {
-  if (out != x) std::copy(x, x + num_parameters_, out);
+  PlusCameraSide(x, delta, out);
+  if (lever_arm_row_ < 0) return;
+  const int64_t a = param_offset_[lever_arm_row_];
+  for (int j = 0; j < 3; ++j) out[a + j] = x[a + j] + delta[row_offset_[lever_arm_row_] + j];
+}
+
+void UnknownLayout::PlusCameraSide(const double* x, const double* delta, double* out) const {
+  const int64_t n = num_parameters_ - (lever_arm_row_ < 0 ? 0 : 3);
+  if (out != x) std::copy(x, x + n, out);
   for (int32_t r = 0; r < num_block_rows(); ++r) {
+    if (r == lever_arm_row_) continue;
     const double* d = delta + row_offset_[r];
     double* p = out + param_offset_[r];
-    if (r == lever_arm_row_) {
-      for (int j = 0; j < 3; ++j) p[j] += d[j];
-    } else if (r < num_camera_rows_) {
+    if (r < num_camera_rows_) {
       PlusPose(p, d, p);
       for (int j = kPoseSize; j < block_sizes_[r]; ++j) p[j] += d[j];
     } else {

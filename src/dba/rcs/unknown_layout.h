@@ -101,6 +101,9 @@ class UnknownLayout {
   }
   // out = x ⊞ δ (out may alias x).
   void Plus(const double* x, const double* delta, double* out) const;
+  // The same over the camera side's parameters alone (x without the lever
+  // arm's 3, which stay the LM's): what the points' workers step.
+  void PlusCameraSide(const double* x, const double* delta, double* out) const;
   // Where a share's rows sit in the whole problem (distributed runs): for a
   // share whose camera (with rigs: frame) c is `global_camera[c]` and whose
   // group g is `global_intrinsics[g]` in the problem, each row's entity in
