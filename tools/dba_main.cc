@@ -12,6 +12,7 @@
 #include "dba/app/solve_command.h"
 #include "dba/common/blas_threads.h"
 #include "dba/io/temporary_registry.h"
+#include "fault_injection.h"
 
 namespace {
 
@@ -101,6 +102,7 @@ int main(int argc, char** argv) {
   // An interrupted write leaves no temporary behind.
   dba::RemoveTemporariesOnSignals();
   dba::StopBlasThreads();
+  InstallFaultInjectionFromEnvironment();  // the test suite's DBA_INJECT_FAULT
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "-h" || args[0] == "--help" || args[0] == "help") {
     PrintUsage(std::cout);

@@ -77,7 +77,7 @@ void Release(std::vector<T>& v) {
 RankShare ReadShare(int rank, const std::string& path, const std::vector<int32_t>& group,
                     int32_t g, const DistributedOptions& options) {
   RankShare share;
-  MaybeInjectFault(rank, "read", 1);
+  FaultPoint(rank, "read", 1);
   share.problem = ReadBinaryPoints(path, group, g, &share.global_point);
   ApplyFixings(options.fixings, &share.problem);
   StartFovOutsideSeries(&share.problem);  // as the main rank's camera side (SolveSession::Run)

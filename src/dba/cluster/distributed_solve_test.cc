@@ -13,6 +13,7 @@
 #include <mutex>
 
 #include "dba/cluster/thread_transport.h"
+#include "dba/common/fault_seam.h"
 #include "dba/io/binary_problem.h"
 #include "dba/camera/pose_similarity.h"
 #include "dba/lm/bundle_adjust.h"
@@ -221,6 +222,40 @@ TEST(DistributedSolve, ARefinedLeverArmOnRanksEndsWhereOneProcessEnds) {
   EXPECT_EQ(ChooseRcsPlacement(d, Exact(LinearSolverType::kPcg), 3), RcsPlacement::kGather);
   d.rcs = DistributedOptions::Rcs::kDistributed;
   EXPECT_THROW(ChooseRcsPlacement(d, Exact(LinearSolverType::kPcg), 3), std::invalid_argument);
+}
+
+// A rank that fails at a point of the protocol (common/fault_seam.h) ends
+// the solve on every rank with its error, at each point where it can.
+void FailRankTwoAtFirst(int rank, const char* step, int count) {
+  static std::mutex m;
+  std::lock_guard<std::mutex> lock(m);
+  static std::string wanted;
+  if (rank < 0) {  // set the point
+    wanted = step;
+    return;
+  }
+  if (rank == 2 && count == 1 && wanted == step) {
+    throw std::runtime_error(std::string("rank 2 failed at ") + step);
+  }
+}
+
+TEST(DistributedSolve, ARankFailingAtAnyProtocolPointEndsTheSolveWithItsError) {
+  const Problem p = Survey(true);
+  const LmOptions o = Exact(LinearSolverType::kDense);
+  DistributedOptions d;
+  d.rcs = DistributedOptions::Rcs::kGather;
+  SetFaultHook(FailRankTwoAtFirst);
+  for (const char* step : {"form", "step", "finish", "end"}) {
+    FailRankTwoAtFirst(-1, step, 0);
+    try {
+      SolveOnRanks(3, p, "", o, d);
+      ADD_FAILURE() << step << ": no error";
+    } catch (const std::exception& e) {
+      EXPECT_EQ(std::string(e.what()), std::string("rank 2 failed at ") + step);
+    }
+  }
+  SetFaultHook(nullptr);
+  EXPECT_GT(SolveOnRanks(3, p, "", o, d).final_cost, 0.0);  // no hook: no fault
 }
 
 }  // namespace

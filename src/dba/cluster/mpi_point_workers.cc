@@ -2,9 +2,6 @@
 #include "dba/cluster/mpi_point_workers.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -149,20 +146,6 @@ const char* RcsPlacementName(RcsPlacement placement) {
   return placement == RcsPlacement::kDistributed ? "distributed" : "gather";
 }
 
-void MaybeInjectFault(int rank, const char* step, int count) {
-  const char* spec = std::getenv("DBA_INJECT_FAULT");
-  if (spec == nullptr) return;
-  int fault_rank = -1, fault_count = -1;
-  char fault_step[16] = "form";
-  const bool parsed =
-      std::sscanf(spec, "%d:%15[a-z]:%d", &fault_rank, fault_step, &fault_count) == 3 ||
-      std::sscanf(spec, "%d:%d", &fault_rank, &fault_count) == 2;
-  if (parsed && fault_rank == rank && fault_count == count && std::strcmp(fault_step, step) == 0) {
-    throw std::runtime_error("injected fault (DBA_INJECT_FAULT=" + std::string(spec) + ") at " +
-                             step + " " + std::to_string(count));
-  }
-}
-
 RankReport MakeRankReport(int rank, const RankShare& share,
                           const LocalPointWorkers* workers, const Communicator& comm,
                           int64_t memory_estimate_bytes, const DistributedRcs* distributed) {
@@ -289,7 +272,7 @@ RcsSystem& MpiPointWorkers::FormRcs(double lambda) {
   if (distributed_ != nullptr) {
     const RcsSystem* sub = nullptr;
     if (own_ != nullptr) {
-      MaybeInjectFault(0, "form", formations_);
+      FaultPoint(0, "form", formations_);
       sub = &own_->FormRcs(lambda);
     }
     std::vector<PoseRowTerm> terms;
@@ -308,7 +291,7 @@ RcsSystem& MpiPointWorkers::FormRcs(double lambda) {
   }
   ClearRcs(&global_);
   if (own_ != nullptr) {
-    MaybeInjectFault(0, "form", formations_);
+    FaultPoint(0, "form", formations_);
     PackSubRcs(own_->FormRcs(lambda), &message_);
     AggregateSubRcs(maps_[0], message_, &global_);
   }
@@ -323,7 +306,7 @@ RcsSystem& MpiPointWorkers::FormRcs(double lambda) {
 // Every rank steps its own copy of its cameras by its rows of δc.
 StepEvaluation MpiPointWorkers::EvaluateStep(double lambda, const std::vector<double>& delta_c) {
   BroadcastCommand(comm_, {Op::kStep, 0, lambda});
-  MaybeInjectFault(0, "step", ++steps_);
+  FaultPoint(0, "step", ++steps_);
   for (int r = 1; r < comm_->size() && distributed_ == nullptr; ++r) {
     const std::vector<double> local = LocalDelta(delta_c, global_.layout, maps_[r].global_row);
     comm_->Send(r, Traffic::kCameraUpdate, std::span<const double>(local));
@@ -350,7 +333,7 @@ StepEvaluation MpiPointWorkers::EvaluateStep(double lambda, const std::vector<do
 
 void MpiPointWorkers::FinishStep(bool accept) {
   BroadcastCommand(comm_, {Op::kFinish, accept ? 1 : 0, 0.0});
-  MaybeInjectFault(0, "finish", ++finishes_);
+  FaultPoint(0, "finish", ++finishes_);
   if (own_ != nullptr) own_->FinishStep(accept);
 }
 
@@ -421,7 +404,7 @@ std::vector<RankReport> MpiPointWorkers::Finish(
     std::vector<std::vector<TrafficStats>>* per_iteration) {
   const bool collect = points != nullptr;
   BroadcastCommand(comm_, {Op::kEnd, collect ? 1 : 0, 0.0});
-  MaybeInjectFault(0, "end", 1);
+  FaultPoint(0, "end", 1);
   if (collect) ReceivePoints(points);
   std::vector<RankReport> reports(comm_->size());
   if (per_iteration != nullptr) per_iteration->assign(comm_->size(), {});
@@ -476,7 +459,7 @@ RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers
     switch (c.op) {
       case Op::kForm:
         marks.push_back(comm->stats());
-        MaybeInjectFault(comm->rank(), "form", ++formations);
+        FaultPoint(comm->rank(), "form", ++formations);
         if (distributed != nullptr) {
           distributed->Reduce(&workers->FormRcs(c.lambda), c.accept == 1);
           workers->ReleaseRcsValues();  // summed into the owners' rows
@@ -492,14 +475,14 @@ RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers
         distributed->SpreadStep(&delta, nullptr);
         break;
       case Op::kStep: {
-        MaybeInjectFault(comm->rank(), "step", ++steps);
+        FaultPoint(comm->rank(), "step", ++steps);
         lambda = c.lambda;
         if (distributed == nullptr) comm->Recv(0, Traffic::kCameraUpdate, std::span<double>(delta));
         comm->Gather(Traffic::kControl, Pack(workers->EvaluateStep(lambda, delta)));
         break;
       }
       case Op::kFinish:
-        MaybeInjectFault(comm->rank(), "finish", ++finishes);
+        FaultPoint(comm->rank(), "finish", ++finishes);
         workers->FinishStep(c.accept != 0);
         break;
       case Op::kCollect:
@@ -520,7 +503,7 @@ RankLoopEnd RunPointRank(Communicator* comm, RankShare* share, LocalPointWorkers
         SendLeft(comm, LeftOfShare(*share, *rejection));
         break;
       case Op::kEnd: {
-        MaybeInjectFault(comm->rank(), "end", 1);
+        FaultPoint(comm->rank(), "end", 1);
         if (c.accept != 0) send_points();  // the main rank wants the points
         const RankReport report = MakeRankReport(comm->rank(), *share, workers, *comm,
                                                  memory_estimate_bytes, distributed.get());

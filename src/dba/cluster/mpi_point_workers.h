@@ -35,6 +35,7 @@
 
 #include "dba/cluster/aggregate_sub_rcs.h"
 #include "dba/cluster/communicator.h"
+#include "dba/common/fault_seam.h"
 #include "dba/cluster/distributed_rcs.h"
 #include "dba/cluster/rank_share.h"
 #include "dba/cluster/share_outliers.h"
@@ -66,13 +67,6 @@ struct RankReport {
 // Where the RCS lives: gathered on the main rank, or spread over the ranks.
 enum class RcsPlacement { kGather, kDistributed };
 const char* RcsPlacementName(RcsPlacement placement);
-
-// Fault injection for tests: DBA_INJECT_FAULT="RANK:STEP:N" makes rank RANK
-// throw at its N-th (1-based) protocol step STEP: read (its share of a .dba
-// file), form (sub-RCS formation), step (back-substitution and step
-// evaluation), finish (accept or drop the step), end (the final reports),
-// write (rank 0's outputs after the solve). "RANK:N" means "RANK:form:N".
-void MaybeInjectFault(int rank, const char* step, int count);
 
 class MpiPointWorkers : public PointWorkers {
  public:
@@ -145,7 +139,7 @@ class MpiPointWorkers : public PointWorkers {
   Communicator* comm_;
   RankShare* own_share_;
   LocalPointWorkers* own_;
-  int steps_ = 0, finishes_ = 0;  // for MaybeInjectFault
+  int steps_ = 0, finishes_ = 0;  // for the fault points (common/fault_seam.h)
   std::vector<SubRcsMap> maps_;  // per rank; maps_[0] is the main rank's own
   RcsSystem global_;
   std::vector<double> message_;

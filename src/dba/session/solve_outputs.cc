@@ -4,8 +4,8 @@
 #include <iostream>
 #include <ostream>
 
-#include "dba/cluster/mpi_point_workers.h"
 #include "dba/common/error.h"
+#include "dba/common/fault_seam.h"
 #include "dba/common/memory.h"
 #include "dba/common/timer.h"
 #include "dba/io/atomic_output_file.h"
@@ -129,7 +129,7 @@ void WriteSolveOutputs(const SolveOptions& options, int ranks, const Timer& sinc
   OutputTransaction outputs;
   SolveReport& report = result->report;
   Timer write_timer;
-  if (ranks > 1) MaybeInjectFault(0, "write", 1);
+  if (ranks > 1) FaultPoint(0, "write", 1);
   // A COLMAP input is read once more, for what the outputs keep from it
   // (names, colours, tracks; the observations a distributed run handed out).
   // Deliberate: keeping the model through the solve instead would hold about
