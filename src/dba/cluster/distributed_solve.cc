@@ -463,7 +463,7 @@ KeptObservations DistributedPointSide::Kept() {
   return MergeLeft(workers_->CollectLeft(&own_rejection_), num_points_);
 }
 
-void DistributedPointSide::Finish(bool collect_points, DistributedSummary* summary) {
+void DistributedPointSide::Finish(bool collect_points, SolveOnRanksSummary* summary) {
   if (collect_points) problem_->points.resize(kPointSize * num_points_);
   // Distributed, the main rank's estimate is its own share's (it holds no
   // global RCS).

@@ -54,7 +54,10 @@ struct DistributedOptions {
 // kDistributed cannot be had (a factorization, a refined lever arm).
 RcsPlacement ChooseRcsPlacement(const DistributedOptions& options, const LmOptions& lm, int ranks);
 
-struct DistributedSummary {
+// A solve on one or more ranks (one: a one-process solve, the distributed
+// figures left at their defaults): the LM's summary, and how the points and
+// the RCS were spread and what went between the ranks.
+struct SolveOnRanksSummary {
   BundleAdjustSummary ba;
   int ranks = 1;
   bool main_forms = true;
@@ -137,7 +140,7 @@ class DistributedPointSide : public PointSide {
   void AllCameras(std::vector<double>* cameras) override { *cameras = problem_->cameras; }
   // Ends the other ranks; with `collect_points` the final points into the
   // problem (global numbering). The distributed figures into `summary`.
-  void Finish(bool collect_points, DistributedSummary* summary);
+  void Finish(bool collect_points, SolveOnRanksSummary* summary);
 
   int64_t num_points() const { return num_points_; }
   int64_t num_observations() const { return num_observations_; }
@@ -155,7 +158,7 @@ class DistributedPointSide : public PointSide {
   Communicator* comm_;
   DistributedOptions distributed_;
   Problem* problem_;
-  DistributedSummary summary_;
+  SolveOnRanksSummary summary_;
   RankShare own_;
   RankShare* mine_ = nullptr;
   int groups_ = 1;

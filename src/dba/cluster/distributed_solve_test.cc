@@ -56,7 +56,7 @@ struct RanksRun {
   Vec3 lever_arm = Vec3::Zero();
   std::vector<double> cameras, points;
   Eigen::MatrixXd S;  // at the optimum, with priors (AtOptimum)
-  DistributedSummary summary;
+  SolveOnRanksSummary summary;
   KeptObservations kept;
 };
 

@@ -59,7 +59,7 @@ struct SolveReport {
   // (lm/memory_estimate.h); total 0 when not estimated.
   MemoryEstimate memory_estimate;
   int64_t available_memory_bytes = 0;  // when estimated; 0 if unknown
-  DistributedSummary solve;       // ranks == 1: a one-process solve
+  SolveOnRanksSummary solve;      // ranks == 1: a one-process solve
   // --reject-outliers: the rounds after the first solve (each followed by a
   // solve when it dropped anything).
   double reject_outliers_px = 0.0;

@@ -144,7 +144,7 @@ void RejectionFigures(const SolveReport& r, Json& j) {
   }
 }
 
-void DistributedFigures(const DistributedSummary& s, Json& j) {
+void DistributedFigures(const SolveOnRanksSummary& s, Json& j) {
   if (s.ranks <= 1) return;
   Json d;
   d["partition"] = PartitionSchemeName(s.partition);
