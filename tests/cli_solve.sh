@@ -182,6 +182,9 @@ check "COLMAP solve exits 0" test $? -eq 0
 check "COLMAP solve names images and groups" contains "$tmp/out" "6 images, 1 intrinsic groups"
 # 6 poses of 6, one SIMPLE_RADIAL group (f, k1; cx, cy fixed by default), 2028 points.
 check "COLMAP unknowns counted" grep -qE "unknowns +6122 \(38 camera-side" "$tmp/out"
+check "COLMAP unknowns by the kind of their block" json "$tmp/colmap.json" \
+  'd["camera_unknowns_by_kind"] == {"image_poses": 36, "intrinsics": 2}'
+check "the summary counts them by kind" contains "$tmp/out" "camera-side         36 in image poses, 2 in intrinsics"
 # COLMAP 3.8's own figure, with the principal point fixed (its default).
 check "COLMAP final RMS is COLMAP's" json "$tmp/colmap.json" \
   'd["final_rms_px"] < d["initial_rms_px"] and near(d["final_rms_px"], 0.531650, 1e-5)'

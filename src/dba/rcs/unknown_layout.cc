@@ -11,82 +11,78 @@
 
 namespace dba {
 
-UnknownLayout::UnknownLayout(const CameraSide& problem, bool lever_arm) {
-  if (problem.num_frames() + problem.num_groups() > std::numeric_limits<int32_t>::max()) {
+UnknownLayout::UnknownLayout(const CameraSide& side, bool lever_arm)
+    : UnknownLayout(side, ParameterBlocks(side, lever_arm)) {}
+
+UnknownLayout::UnknownLayout(const CameraSide& side, const ParameterBlocks& blocks) {
+  if (side.num_frames() + side.num_groups() > std::numeric_limits<int32_t>::max()) {
     // Block rows are 32-bit ids (docs/design.md §2).
     throw std::invalid_argument("more than 2^31 - 1 cameras and intrinsic groups");
   }
-  num_parameters_ = static_cast<int64_t>(problem.cameras.size());
-  if (problem.has_rigs()) {
-    AddFrameRows(problem);
+  num_parameters_ = blocks.num_parameters();
+  if (side.has_rigs()) {
+    AddFrameRows(side, blocks);
   } else {
-    AddCameraRows(problem);
+    AddCameraRows(side, blocks);
   }
   num_camera_rows_ = num_block_rows();
-  AddIntrinsicsRows(problem);
-  if (!lever_arm) return;
-  lever_arm_row_ = num_block_rows();
-  block_sizes_.push_back(3);
-  param_offset_.push_back(num_parameters_);
-  row_entity_.push_back(-1);
-  row_offset_.push_back(row_offset_.back() + 3);
-  num_parameters_ += 3;
+  AddIntrinsicsRows(side, blocks);
+  if (blocks.lever_arm_block() < 0) return;
+  lever_arm_row_ = AddRow(3, blocks[blocks.lever_arm_block()].offset, -1);
 }
 
-void UnknownLayout::AddCameraRows(const CameraSide& problem) {
-  const int64_t num_cameras = problem.num_images();
-  const int cs = problem.camera_size();
-  camera_row_.assign(num_cameras, -1);
-  for (int64_t i = 0; i < num_cameras; ++i) {
-    if (problem.camera_fixed(i)) continue;
-    camera_row_[i] = static_cast<int32_t>(block_sizes_.size());
-    block_sizes_.push_back(cs);
-    param_offset_.push_back(cs * i);
-    row_entity_.push_back(static_cast<int32_t>(i));
-    row_offset_.push_back(row_offset_.back() + cs);
-  }
+int32_t UnknownLayout::AddRow(int size, int64_t param_offset, int32_t entity) {
+  block_sizes_.push_back(size);
+  param_offset_.push_back(param_offset);
+  row_entity_.push_back(entity);
+  row_offset_.push_back(row_offset_.back() + size);
+  return static_cast<int32_t>(block_sizes_.size()) - 1;
 }
 
-// One row per frame none of whose images is held; each image on its frame's.
-void UnknownLayout::AddFrameRows(const CameraSide& side) {
-  const int64_t frames = side.num_frames();
-  std::vector<uint8_t> held(frames, 0);
+// One row per image whose block is free.
+void UnknownLayout::AddCameraRows(const CameraSide& side, const ParameterBlocks& blocks) {
+  camera_row_.assign(side.num_images(), -1);
   for (int64_t i = 0; i < side.num_images(); ++i) {
-    if (side.camera_fixed(i)) held[side.image_frame[i]] = 1;
+    const ParameterBlock& b = blocks[blocks.image_block(i)];
+    if (b.free != 0) camera_row_[i] = AddRow(b.size, b.offset, static_cast<int32_t>(i));
   }
-  std::vector<int32_t> frame_row(frames, -1);
+}
+
+// One row per frame whose block is free (none of its images held); each
+// image on its frame's.
+void UnknownLayout::AddFrameRows(const CameraSide& side, const ParameterBlocks& blocks) {
+  const int64_t frames = side.num_frames();
+  frame_row_.assign(frames, -1);
   for (int64_t f = 0; f < frames; ++f) {
-    if (held[f]) continue;
-    frame_row[f] = static_cast<int32_t>(block_sizes_.size());
-    block_sizes_.push_back(kPoseSize);
-    param_offset_.push_back(side.frame_offset(f));
-    row_entity_.push_back(static_cast<int32_t>(f));
-    row_offset_.push_back(row_offset_.back() + kPoseSize);
+    const ParameterBlock& b = blocks[blocks.frame_block(f)];
+    if (b.free != 0) frame_row_[f] = AddRow(b.size, b.offset, static_cast<int32_t>(f));
   }
-  frame_row_ = frame_row;
   camera_row_.resize(side.num_images());
-  for (int64_t i = 0; i < side.num_images(); ++i) camera_row_[i] = frame_row[side.image_frame[i]];
+  for (int64_t i = 0; i < side.num_images(); ++i) camera_row_[i] = frame_row_[side.image_frame[i]];
   image_frame_ = side.image_frame;
   image_group_ = side.camera_intrinsics;
-  frames_offset_ = side.frames_offset();
-  sensors_offset_ = side.sensor_offset(0);
+  frames_offset_ = frames > 0 ? blocks[blocks.frame_block(0)].offset : 0;
+  sensors_offset_ = side.num_groups() > 0 ? blocks[blocks.sensor_block(0)].offset : 0;
   sensor_offset_.assign(side.num_groups(), -1);
   for (int64_t g = 0; g < side.num_groups(); ++g) {
-    if (side.sensor_kind[g] == kSensorRefined) sensor_offset_[g] = side.sensor_offset(g);
+    const ParameterBlock& b = blocks[blocks.sensor_block(g)];
+    if (b.free != 0) sensor_offset_[g] = b.offset;
   }
 }
 
-void UnknownLayout::AddIntrinsicsRows(const CameraSide& problem) {
-  const int64_t num_groups = problem.num_groups();
+// One row per group with a free intrinsic or a refined sensor pose: its
+// free intrinsics, then the pose's six.
+void UnknownLayout::AddIntrinsicsRows(const CameraSide& side, const ParameterBlocks& blocks) {
+  const int64_t num_groups = side.num_groups();
   intrinsics_row_.assign(num_groups, -1);
   free_index_.resize(num_groups);
   for (int64_t g = 0; g < num_groups; ++g) {
-    const uint16_t mask = problem.intrinsics_free_mask(g);
+    const ParameterBlock& b = blocks[blocks.group_block(g)];
     auto& index = free_index_[g];
     index.fill(-1);
     int n = 0;
     for (int d = 0; d < kMaxIntrinsics; ++d) {
-      if (mask & (1u << d)) index[n++] = static_cast<int8_t>(d);
+      if (b.free & (1u << d)) index[n++] = static_cast<int8_t>(d);
     }
     if (!sensor_offset_.empty() && sensor_offset_[g] >= 0) n += kPoseSize;
     if (n == 0) continue;
@@ -98,11 +94,7 @@ void UnknownLayout::AddIntrinsicsRows(const CameraSide& problem) {
           " unknowns in one block; hold some intrinsics or the rig's geometry");
     }
     max_intrinsics_block_ = std::max(max_intrinsics_block_, n);
-    intrinsics_row_[g] = static_cast<int32_t>(block_sizes_.size());
-    block_sizes_.push_back(n);
-    param_offset_.push_back(problem.intrinsics_offset(g));
-    row_entity_.push_back(static_cast<int32_t>(g));
-    row_offset_.push_back(row_offset_.back() + n);
+    intrinsics_row_[g] = AddRow(n, b.offset, static_cast<int32_t>(g));
   }
 }
 

@@ -1,5 +1,6 @@
 // The unknowns of the reduced camera system: which camera-side parameters the
-// solve moves, and where they sit in the RCS (docs/design.md §2).
+// solve moves, and where they sit in the RCS (docs/design.md §2), made from
+// the camera side's table of parameter blocks (problem/parameter_blocks.h).
 //
 // Block rows of the RCS, in this order:
 //   1. every camera (image; with rigs, frame) that is not held fixed, in order:
@@ -35,6 +36,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "dba/problem/parameter_blocks.h"
 #include "dba/problem/problem.h"
 
 namespace dba {
@@ -43,6 +45,8 @@ class UnknownLayout {
  public:
   UnknownLayout() = default;
   explicit UnknownLayout(const CameraSide& side, bool lever_arm = false);
+  // The rows of `blocks` (problem/parameter_blocks.h), the table of `side`.
+  UnknownLayout(const CameraSide& side, const ParameterBlocks& blocks);
 
   int32_t num_block_rows() const { return static_cast<int32_t>(block_sizes_.size()); }
   int64_t num_unknowns() const { return row_offset_.back(); }
@@ -133,9 +137,10 @@ class UnknownLayout {
   std::vector<int32_t> frame_row_;  // rigs: each frame's row (-1: held)
   int64_t frames_offset_ = 0, sensors_offset_ = 0;
 
-  void AddCameraRows(const CameraSide& side);
-  void AddFrameRows(const CameraSide& side);
-  void AddIntrinsicsRows(const CameraSide& side);
+  int32_t AddRow(int size, int64_t param_offset, int32_t entity);
+  void AddCameraRows(const CameraSide& side, const ParameterBlocks& blocks);
+  void AddFrameRows(const CameraSide& side, const ParameterBlocks& blocks);
+  void AddIntrinsicsRows(const CameraSide& side, const ParameterBlocks& blocks);
   void ComposeImages(double* x) const;
 };
 

@@ -4,6 +4,7 @@
 
 #include "dba/geo/georeference.h"
 
+#include <array>
 #include <iosfwd>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -12,6 +13,7 @@
 #include "dba/cluster/distributed_solve.h"
 #include "dba/lm/memory_estimate.h"
 #include "dba/lm/outlier_rejection.h"
+#include "dba/problem/parameter_blocks.h"
 #include "dba/problem/problem.h"
 #include "dba/synthetic/ground_truth.h"
 
@@ -60,6 +62,9 @@ struct SolveReport {
   MemoryEstimate memory_estimate;
   int64_t available_memory_bytes = 0;  // when estimated; 0 if unknown
   SolveOnRanksSummary solve;      // ranks == 1: a one-process solve
+  // The camera-side unknowns by the kind of their block
+  // (problem/parameter_blocks.h), as the solve had them.
+  std::array<int64_t, kNumBlockKinds> unknowns_by_kind{};
   // --reject-outliers: the rounds after the first solve (each followed by a
   // solve when it dropped anything).
   double reject_outliers_px = 0.0;

@@ -62,6 +62,10 @@ void SolveSession::Solve() {
     const Problem& p = result_.problem;
     loaded_pixels_.assign(p.obs_pixel.begin(), p.obs_pixel.begin() + 2 * result_.report.num_observations);
   }
+  const ParameterBlocks blocks(result_.problem, result_.geo.priors.refine_lever_arm);
+  for (int k = 0; k < kNumBlockKinds; ++k) {
+    result_.report.unknowns_by_kind[k] = blocks.num_unknowns(static_cast<BlockKind>(k));
+  }
   side_ = MakePointSide();
   const IterationHook log = IterationLog(side_.get());
   std::function<void(const RcsSystem&)> check_memory = MemoryCheck();

@@ -215,6 +215,11 @@ Json SolveSummary(const SolveReport& r) {
   }
   j["camera_unknowns"] = rcs.camera_unknowns;
   j["unknowns"] = rcs.camera_unknowns + 3 * r.num_points;
+  Json by_kind = Json::object();
+  for (int k = 0; k < kNumBlockKinds; ++k) {
+    if (r.unknowns_by_kind[k] > 0) by_kind[BlockKindName(static_cast<BlockKind>(k))] = r.unknowns_by_kind[k];
+  }
+  j["camera_unknowns_by_kind"] = by_kind;
   j["num_points"] = r.num_points;
   j["num_observations"] = r.num_observations;
   if (r.observations_behind_cameras >= 0) j["observations_behind_cameras"] = r.observations_behind_cameras;

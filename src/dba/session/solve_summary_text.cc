@@ -98,6 +98,15 @@ void PrintSizes(const Json& j, std::ostream& out) {
   const Json& m = j["memory"];
   out << "  unknowns            " << j["unknowns"].get<int64_t>() << " (" << camera
       << " camera-side, " << 3 * points << " point coordinates)\n";
+  if (j.contains("camera_unknowns_by_kind") && !j["camera_unknowns_by_kind"].empty()) {
+    std::string kinds;
+    for (const auto& [kind, n] : j["camera_unknowns_by_kind"].items()) {
+      std::string name = kind;
+      std::replace(name.begin(), name.end(), '_', ' ');
+      kinds += (kinds.empty() ? "" : ", ") + std::to_string(n.get<int64_t>()) + " in " + name;
+    }
+    out << "  camera-side         " << kinds << "\n";
+  }
   out << "  RCS (BSMC)          " << m["rcs_block_rows"].get<int64_t>() << " block rows, "
       << m["rcs_blocks"].get<int64_t>() << " blocks, "
       << BytesText(m["rcs_bsmc_structure_bytes"].get<double>() + m["rcs_bsmc_value_bytes"].get<double>())
