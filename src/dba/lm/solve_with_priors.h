@@ -42,7 +42,7 @@ PriorSolve SolveWithPriors(const LmOptions& options, int64_t num_observations,
 // The RCS at the current parameters, undamped (λ = 0: S = U - W V⁻¹ Wᵀ, the
 // reduced camera matrix of the Gauss-Newton model, paper eq. 4), the
 // priors' terms added as in a solve, handed to `look` while it is valid
-// (the analysis of an optimum: docs/design.md §3). `points` as for
+// (the analysis of an optimum: docs/design.md §4.4). `points` as for
 // SolveWithPriors; the RCS spread over ranks leaves S with its rows'
 // owners (the system `look` gets then holds the layout and sums only).
 void FormAtCurrentParameters(const CameraSide& side, PointWorkers* points,

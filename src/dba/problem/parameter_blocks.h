@@ -1,4 +1,4 @@
-// The camera side's parameters as a table of blocks (docs/design.md §2):
+// The camera side's parameters as a table of blocks (docs/design.md §1.8):
 // every image's BAL camera or pose, intrinsic group, rig frame and sensor
 // pose, and the camera priors' lever arm, one entry each, in the order their
 // parameters follow each other in the parameter vector (CameraSide::cameras,
