@@ -81,6 +81,9 @@ RankShare ReadShare(int rank, const std::string& path, const std::vector<int32_t
   share.problem = ReadBinaryPoints(path, group, g, &share.global_point);
   ApplyFixings(options.fixings, &share.problem);
   StartFovOutsideSeries(&share.problem);  // as the main rank's camera side (SolveSession::Run)
+  // Walked from the positions as read, before an alignment or a resume
+  // moves them: a resumed solve sums as the uninterrupted one did.
+  WalkShare(&share);
   return share;
 }
 
@@ -320,6 +323,7 @@ void DistributedPointSide::Distribute(const std::string& binary_input,
     const int rank = g + first_rank;
     if (rank == 0) {
       own_ = ExtractShare(*problem_, group, g);
+      WalkShare(&own_);
     } else {
       SendShare(comm_, rank, ExtractShare(*problem_, group, g));
     }
@@ -499,6 +503,7 @@ void ServePoints(Communicator* comm, const LmOptions& options, const Distributed
     KeepTouchedCameras(&share);
   } else {
     share = RecvShare(comm);
+    WalkShare(&share);
   }
   // Served until the end; again with new workers after each rejection
   // round that asks for another solve.

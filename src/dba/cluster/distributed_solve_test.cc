@@ -15,10 +15,12 @@
 #include "dba/cluster/thread_transport.h"
 #include "dba/common/fault_seam.h"
 #include "dba/io/binary_problem.h"
+#include "dba/problem/point_order.h"
 #include "dba/camera/pose_similarity.h"
 #include "dba/lm/bundle_adjust.h"
 #include "dba/lm/solve_with_priors.h"
 #include "dba/testing/dense_reference.h"
+#include "dba/testing/scattered_survey.h"
 #include "dba/testing/synthetic_bal.h"
 #include "dba/testing/synthetic_photo.h"
 #include "dba/testing/temp_files.h"
@@ -256,6 +258,26 @@ TEST(DistributedSolve, ARankFailingAtAnyProtocolPointEndsTheSolveWithItsError) {
   }
   SetFaultHook(nullptr);
   EXPECT_GT(SolveOnRanks(3, p, "", o, d).final_cost, 0.0);  // no hook: no fault
+}
+
+// A survey whose points come in a random order: every rank walks its share
+// (cluster/rank_share.h's WalkShare), read from a .dba or handed out, and the
+// ranks end where one process ends.
+TEST(DistributedSolve, ScatteredInputsAreWalkedOnEveryRankAndEndWhereOneProcessEnds) {
+  const Problem p = testing::MakeScatteredSurvey("scattered_gen.dba", 30, 100, 9, 4).scattered;
+  ASSERT_FALSE(PointWalk(p).empty());
+  const std::string path = testing::TempPath("scattered.dba");
+  WriteBinaryProblem(p, path);
+  const LmOptions o = Exact(LinearSolverType::kDense);
+  Problem one = p;
+  const double cost = BundleAdjust(o, &one).lm.final_cost;
+  DistributedOptions d;
+  d.rcs = DistributedOptions::Rcs::kGather;
+  for (const std::string& binary : {std::string(), path}) {
+    const RanksRun run = SolveOnRanks(3, p, binary, o, d);
+    EXPECT_NEAR(run.final_cost, cost, 1e-9 * cost) << (binary.empty() ? "handed out" : "read");
+    ExpectSame(run.points, one.points, 1e-8);  // in the input's numbering
+  }
 }
 
 }  // namespace

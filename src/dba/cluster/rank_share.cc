@@ -1,6 +1,8 @@
 // Extraction of a rank's share; see rank_share.h.
 #include "dba/cluster/rank_share.h"
 
+#include "dba/problem/point_order.h"
+
 namespace dba {
 
 RankShare ExtractShare(const Problem& full, std::span<const int32_t> point_group,
@@ -103,6 +105,15 @@ void KeepTouchedCameras(RankShare* share) {
     p.camera_intrinsics.push_back(local_group[old.camera_intrinsics[c]]);
   }
   if (old.has_rigs()) KeepTouchedFrames(old, share);
+}
+
+void WalkShare(RankShare* share) {
+  const std::vector<int64_t> walk = PointWalk(share->problem);
+  if (walk.empty()) return;
+  PermutePoints(walk, &share->problem);
+  std::vector<int64_t> point(walk.size());
+  for (size_t k = 0; k < walk.size(); ++k) point[k] = share->global_point[walk[k]];
+  share->global_point.swap(point);
 }
 
 }  // namespace dba

@@ -40,4 +40,13 @@ RankShare ExtractShare(const Problem& full, std::span<const int32_t> point_group
 // camera ids are global (one read from a .dba); ExtractShare's are not.
 void KeepTouchedCameras(RankShare* share);
 
+// The share's points in the walk one process takes over a problem
+// (problem/point_order.h's PointWalk); global_point follows. A share whose
+// order is local already keeps it. Each rank walks its own share once,
+// before its first workers: a shuffled input then forms its sub-RCS about
+// as fast as an ordered one. Its cameras keep their increasing order: a
+// share's block (i, j), i ≤ j, is the global RCS's (global_camera[i],
+// global_camera[j]) in its upper triangle only so.
+void WalkShare(RankShare* share);
+
 }  // namespace dba

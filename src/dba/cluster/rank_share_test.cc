@@ -8,9 +8,11 @@
 #include <set>
 
 #include "dba/camera/rig_pose.h"
+#include "dba/problem/point_order.h"
 #include "dba/rcs/unknown_layout.h"
 #include "dba/testing/synthetic_photo.h"
 #include "dba/testing/synthetic_rig.h"
+#include "dba/testing/scattered_survey.h"
 
 namespace dba {
 namespace {
@@ -102,6 +104,35 @@ TEST(RankShare, KeepsTheFramesAndSensorsOfItsImages) {
       EXPECT_EQ(rows[layout.camera_row(i)], global.camera_row(share.global_camera[i]));
     }
   }
+}
+
+// A share of a survey whose points come in a random order is walked: each
+// point keeps its global id, coordinates and observations; the walk is the
+// one PointWalk takes, and a walked share is local (walked again: as is).
+TEST(RankShare, AScatteredShareIsWalkedWithItsGlobalIds) {
+  const Problem full = testing::MakeScatteredSurvey("walk_share.dba", 40, 120, 3, 2).scattered;
+  const std::vector<int32_t> group(full.num_points(), 0);
+  RankShare share = ExtractShare(full, group, 0);
+  const std::vector<int64_t> walk = PointWalk(share.problem);
+  ASSERT_FALSE(walk.empty());
+  WalkShare(&share);
+  ASSERT_EQ(share.problem.num_points(), full.num_points());
+  for (int64_t k = 0; k < share.problem.num_points(); ++k) {
+    const int64_t g = share.global_point[k];
+    EXPECT_EQ(g, walk[k]);
+    for (int d = 0; d < 3; ++d) EXPECT_EQ(share.problem.point(k)[d], full.point(g)[d]);
+    const int64_t n = share.problem.point_offsets[k + 1] - share.problem.point_offsets[k];
+    ASSERT_EQ(n, full.point_offsets[g + 1] - full.point_offsets[g]);
+    for (int64_t j = 0; j < n; ++j) {
+      const int64_t a = share.problem.point_offsets[k] + j, b = full.point_offsets[g] + j;
+      EXPECT_EQ(share.global_camera[share.problem.obs_camera[a]], full.obs_camera[b]);
+      EXPECT_EQ(share.problem.obs_pixel[2 * a], full.obs_pixel[2 * b]);
+    }
+  }
+  EXPECT_TRUE(PointWalk(share.problem).empty());
+  const std::vector<int64_t> before = share.global_point;
+  WalkShare(&share);
+  EXPECT_EQ(share.global_point, before);
 }
 
 }  // namespace

@@ -17,11 +17,9 @@
 
 #include "dba/cluster/thread_transport.h"
 #include "dba/problem/point_order.h"
-#include "dba/io/read_problem.h"
-#include "dba/synthetic/uav_generator.h"
-#include "dba/testing/synthetic_bal.h"
 #include "dba/testing/dense_reference.h"
-#include "dba/testing/temp_files.h"
+#include "dba/testing/scattered_survey.h"
+#include "dba/testing/synthetic_bal.h"
 
 namespace dba {
 namespace {
@@ -150,18 +148,10 @@ TEST(SolveSession, AScatteredInputIsWalkedAndEndsWhereTheSpatialOrderEnds) {
   // points in a random order: one process walks the second (its order is
   // scattered) and ends on the same optimum; the result keeps the input's
   // order.
-  UavSurveyOptions o;
-  o.images = 60;
-  o.features_per_image = 150;
-  o.seed = 7;
-  const std::string path = testing::TempPath("solve_session_walk.dba");
-  GenerateUavSurvey(o, path, "");
-  const Problem spatial = ReadProblem(path);
-  std::vector<int64_t> order(spatial.num_points());
-  std::iota(order.begin(), order.end(), int64_t{0});
-  std::shuffle(order.begin(), order.end(), std::mt19937(5));
-  Problem scattered = spatial;
-  PermutePoints(order, &scattered);
+  const testing::ScatteredSurvey s = testing::MakeScatteredSurvey("solve_session_walk.dba", 60, 150, 7, 5);
+  const Problem& spatial = s.spatial;
+  const Problem& scattered = s.scattered;
+  const std::vector<int64_t>& order = s.order;
   const SolveOptions options = TightOptions({});
   const SolveResult a = RunOn(1, options, spatial);
   const SolveResult b = RunOn(1, options, scattered);
