@@ -175,7 +175,8 @@ check "a lever arm of two numbers is refused" contains "$tmp/refused.txt" "--lev
 check "a rig needs the photo model" contains "$tmp/refused2.txt" "--rig needs --model photo"
 # What generate cannot honour with a rig is refused (exit 2), not rounded or
 # dropped: images that are not whole frames (ring6: 7 would be 12), fewer
-# than two frames, --cameras (a rig's sensors are its cameras).
+# than two frames, --cameras (a rig's sensors are its cameras). The default
+# count (no --images) is whole frames: the largest multiple up to 1000.
 generate_refused() {  # generate_refused SAYS ARGS...
   local says=$1; shift
   "$dba" generate --model photo "$@" "$tmp/refused.dba" > "$tmp/refused4.txt" 2>&1
@@ -187,7 +188,10 @@ generate_refused() {  # generate_refused SAYS ARGS...
 generate_refused "--images 7: every frame of a ring6 rig holds its 6 sensors' images, and a survey two frames or more: give a multiple of 6 from 12 (e.g. 12)" \
   --rig ring6 --images 7
 generate_refused "--images 1000: every frame of a ring6 rig holds its 6 sensors' images, and a survey two frames or more: give a multiple of 6 from 12 (e.g. 996 or 1002)" \
-  --rig ring6
+  --rig ring6 --images 1000
+"$dba" generate --model photo --rig ring6 --features 20 "$tmp/ring_default.dba" >/dev/null 2>&1
+check "ring6 without --images: 996 images, 166 frames" \
+  sh -c "'$dba' info '$tmp/ring_default.dba' | grep -qE 'images +996'"
 generate_refused "give a multiple of 2 from 4 (e.g. 4)" --rig stereo --images 2
 generate_refused "--cameras: not with --rig (the stereo rig's 2 sensors are its cameras)" \
   --rig stereo --images 40 --cameras 3

@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <stdexcept>
@@ -15,6 +16,7 @@
 #include "dba/common/option_table.h"
 #include "dba/app/generate_budget.h"
 #include "dba/common/memory.h"
+#include "dba/synthetic/rig_survey.h"
 #include "dba/synthetic/uav_generator.h"
 
 namespace dba {
@@ -25,6 +27,7 @@ struct GenerateArgs {
   UavSurveyOptions survey;
   std::string output, truth;
   bool cameras_given = false;  // --cameras, refused with --rig
+  bool images_given = false;   // --images; without it a rig survey takes a multiple of its sensors
 };
 using Spec = OptionSpec<GenerateArgs>;
 #define DBA_FIELD(path) [](auto& a) -> auto& { return a.path; }
@@ -32,8 +35,15 @@ using Spec = OptionSpec<GenerateArgs>;
 // The sizes of the survey, bounded so that a run ends in minutes, not hours.
 std::vector<Spec> SurveyOptions() {
   std::vector<Spec> t;
-  t.push_back(IntegerOption<GenerateArgs>("--images", "N", "images", DBA_FIELD(survey.images), 2,
-                                          100000000));
+  Spec images = IntegerOption<GenerateArgs>(
+      "--images", "N",
+      "images (with --rig a multiple of its sensors; unset, the largest one up to the default)",
+      DBA_FIELD(survey.images), 2, 100000000);
+  images.set = [set = images.set](GenerateArgs& a, const std::string& v) {
+    set(a, v);
+    a.images_given = true;
+  };
+  t.push_back(images);
   t.push_back(NumberOption<GenerateArgs>("--features", "F", "mean observations per image",
                                          DBA_FIELD(survey.features_per_image), 1, 100000));
   t.push_back(NumberOption<GenerateArgs>("--forward-overlap", "X", "along-strip overlap",
@@ -231,6 +241,11 @@ int GenerateMain(const std::vector<std::string>& args) {
     if (help) {
       PrintGenerateHelp(std::cout);
       return 0;
+    }
+    if (!a.survey.rig.empty() && !a.images_given) {
+      // The default count, in whole frames of the rig (two or more).
+      const int64_t s = RigSensorCount(a.survey.rig);
+      a.survey.images = std::max(2 * s, a.survey.images / s * s);
     }
     CheckGenerateArgs(a);
   } catch (const std::exception& e) {
