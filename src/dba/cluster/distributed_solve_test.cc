@@ -79,7 +79,9 @@ RanksRun SolveOnRanks(int ranks, const Problem& problem, const std::string& bina
     if (reject > 0) {
       PoseObservations poses;
       side.DropOutliers({reject, 0.0}, 1, true, &poses);
-      s = side.Solve(o, {}, {});
+      CameraPriors next = priors;  // from where the first solve left the lever arm
+      next.lever_arm = s.lever_arm;
+      s = side.Solve(o, next, {});
       run.kept = side.Kept();
     }
     if (!priors.empty()) {
@@ -219,6 +221,22 @@ TEST(DistributedSolve, ARefinedLeverArmOnRanksEndsWhereOneProcessEnds) {
     ExpectSame(run.cameras, one.cameras, 1e-8);
     ASSERT_EQ(run.S.rows(), S.rows());
     EXPECT_LE((run.S - S).cwiseAbs().maxCoeff(), 1e-7 * S.cwiseAbs().maxCoeff()) << ranks;
+  }
+  // A rejection round between two solves: the ranks' workers are made again
+  // with the lever arm's row, and end where one process ends.
+  Problem cut = s.problem;
+  for (int64_t k = 0; k < cut.num_observations(); k += 41) cut.obs_pixel[2 * k] += 40.0;
+  Problem cut_one = cut;
+  const BundleAdjustSummary first = BundleAdjust(o, &cut_one, {}, {}, &priors);
+  OriginalIndices original = OriginalIndices::Identity(cut_one);
+  ASSERT_GT(DropOutliers({3.0, 0.0}, 1, &cut_one, &original).observations_dropped, 0);
+  CameraPriors next = priors;
+  next.lever_arm = first.lever_arm;
+  const BundleAdjustSummary second = BundleAdjust(o, &cut_one, {}, {}, &next);
+  const RanksRun cut_run = SolveOnRanks(2, cut, "", o, d, 3.0, priors);
+  EXPECT_NEAR(cut_run.final_cost, second.lm.final_cost, 1e-9 * second.lm.final_cost);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(cut_run.lever_arm[k], second.lever_arm[k], 1e-9 * second.lever_arm.norm());
   }
   // Auto with PCG gathers too; asked to spread the RCS, it is refused by name.
   EXPECT_EQ(ChooseRcsPlacement(d, Exact(LinearSolverType::kPcg), 3), RcsPlacement::kGather);
