@@ -14,25 +14,19 @@ Prints one Markdown row: seed, fraction, mismatches, oracle RMS, oracle /
 outlier-free, rejection / outlier-free, rejection / oracle.
 """
 import json
+import os
 import sys
 
 import numpy as np
 
 import dba
 
-
-def rotation(w):
-    """Angle-axis to a rotation matrix (Rodrigues)."""
-    theta = np.linalg.norm(w)
-    if theta < 1e-12:
-        return np.eye(3)
-    k = w / theta
-    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    return np.eye(3) + np.sin(theta) * K + (1 - np.cos(theta)) * K @ K
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "lib"))
+from gauge_check import angle_axis  # noqa: E402  R(ω), Rodrigues
 
 
 def centres(cameras):
-    return np.array([-rotation(c[:3]).T @ c[3:6] for c in cameras])
+    return np.array([-angle_axis(c[:3]).T @ c[3:6] for c in cameras])
 
 
 def rms_after_similarity(a, b):

@@ -32,34 +32,37 @@ struct GenerateArgs {
 using Spec = OptionSpec<GenerateArgs>;
 #define DBA_FIELD(path) [](auto& a) -> auto& { return a.path; }
 
+// `spec`, which also notes in `given` that the option was given.
+Spec NotingGiven(Spec spec, bool GenerateArgs::*given) {
+  spec.set = [set = spec.set, given](GenerateArgs& a, const std::string& v) {
+    set(a, v);
+    a.*given = true;
+  };
+  return spec;
+}
+
 // The sizes of the survey, bounded so that a run ends in minutes, not hours.
 std::vector<Spec> SurveyOptions() {
   std::vector<Spec> t;
-  Spec images = IntegerOption<GenerateArgs>(
-      "--images", "N",
-      "images (with --rig a multiple of its sensors; unset, the largest one up to the default)",
-      DBA_FIELD(survey.images), 2, 100000000);
-  images.set = [set = images.set](GenerateArgs& a, const std::string& v) {
-    set(a, v);
-    a.images_given = true;
-  };
-  t.push_back(images);
+  t.push_back(NotingGiven(
+      IntegerOption<GenerateArgs>(
+          "--images", "N",
+          "images (with --rig a multiple of its sensors; unset, the largest one up to the default)",
+          DBA_FIELD(survey.images), 2, 100000000),
+      &GenerateArgs::images_given));
   t.push_back(NumberOption<GenerateArgs>("--features", "F", "mean observations per image",
                                          DBA_FIELD(survey.features_per_image), 1, 100000));
   t.push_back(NumberOption<GenerateArgs>("--forward-overlap", "X", "along-strip overlap",
                                          DBA_FIELD(survey.forward_overlap), 0.05, 0.95));
   t.push_back(NumberOption<GenerateArgs>("--side-overlap", "X", "between-strip overlap",
                                          DBA_FIELD(survey.side_overlap), 0.05, 0.95));
-  Spec cameras = IntegerOption<GenerateArgs>(
-      "--cameras", "C",
-      "physical cameras, one per strip in turn, whose intrinsics their images share (not "
-      "with --rig, whose sensors are its cameras)",
-      DBA_FIELD(survey.physical_cameras), 1, 1000000);
-  cameras.set = [set = cameras.set](GenerateArgs& a, const std::string& v) {
-    set(a, v);
-    a.cameras_given = true;
-  };
-  t.push_back(cameras);
+  t.push_back(NotingGiven(
+      IntegerOption<GenerateArgs>(
+          "--cameras", "C",
+          "physical cameras, one per strip in turn, whose intrinsics their images share (not "
+          "with --rig, whose sensors are its cameras)",
+          DBA_FIELD(survey.physical_cameras), 1, 1000000),
+      &GenerateArgs::cameras_given));
   t.push_back(ChoiceOption<GenerateArgs>(
       "--rig", {"none", "oblique5", "stereo", "ring6"},
       "multi-camera rigs (--model photo): every exposure (frame) fires all of the rig's "

@@ -6,6 +6,18 @@
 #include "dba/lm/prior_workers.h"
 
 namespace dba {
+namespace {
+
+// x: the camera side's parameters, then the lever arm when refined.
+std::vector<double> PriorsX(const std::vector<double>& cameras, const CameraPriors* priors) {
+  std::vector<double> x = cameras;
+  if (priors != nullptr && !priors->empty() && priors->refine_lever_arm) {
+    x.insert(x.end(), priors->lever_arm.data(), priors->lever_arm.data() + 3);
+  }
+  return x;
+}
+
+}  // namespace
 
 PriorSolve SolveWithPriors(const LmOptions& options, int64_t num_observations,
                            const CameraSide& side, std::vector<double>* cameras,
@@ -18,8 +30,7 @@ PriorSolve SolveWithPriors(const LmOptions& options, int64_t num_observations,
   // x: its own vector (one process's workers keep the problem's cameras
   // themselves, and the LM swaps x with its candidate).
   const size_t n = cameras->size();
-  std::vector<double> x = *cameras;
-  if (lever_arm) x.insert(x.end(), priors->lever_arm.data(), priors->lever_arm.data() + 3);
+  std::vector<double> x = PriorsX(*cameras, priors);
   auto write_back = [&] { std::copy(x.begin(), x.begin() + static_cast<int64_t>(n), cameras->begin()); };
   const std::function<void(const IterationSummary&)> hook = [&](const IterationSummary& it) {
     write_back();
@@ -46,8 +57,7 @@ void FormAtCurrentParameters(const CameraSide& side, PointWorkers* points,
     look(points->FormRcs(0.0));
     return;
   }
-  std::vector<double> x = side.cameras;
-  if (priors->refine_lever_arm) x.insert(x.end(), priors->lever_arm.data(), priors->lever_arm.data() + 3);
+  std::vector<double> x = PriorsX(side.cameras, priors);
   PriorWorkers prior_workers(points, &x, side, *priors);
   look(prior_workers.FormRcs(0.0));
 }

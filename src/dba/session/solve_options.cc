@@ -87,19 +87,11 @@ SolveOptions ParseSolveArguments(const std::vector<std::string>& args, bool* hel
     o.lm.loss = RejectionStartLoss(o.reject_outliers_px);
     if (o.loss_scale_given) o.lm.loss.scale = scale;
   }
-  if (o.distributed.rcs == DistributedOptions::Rcs::kDistributed) {
-    if (o.lm.linear_solver.type == LinearSolverType::kDense ||
-        o.lm.linear_solver.type == LinearSolverType::kSparse) {
-      throw std::invalid_argument(std::string("--rcs distributed solves by PCG; --linear-solver ") +
-                                  LinearSolverName(o.lm.linear_solver.type) +
-                                  " needs --rcs gather");
-    }
-    if (o.geo.refine_lever_arm) {
-      throw std::invalid_argument(
-          "--rcs distributed does not hold a refined lever arm (its row meets every camera's): "
-          "give --rcs gather, or the lever arm held (--lever-arm X,Y,Z)");
-    }
-  }
+  // --rcs distributed with what it cannot hold: refused now, as the ranks
+  // would (ChooseRcsPlacement's rule, whatever the rank count).
+  DistributedOptions d = o.distributed;
+  d.lever_arm_row = o.geo.refine_lever_arm;
+  ChooseRcsPlacement(d, o.lm, 2);
   return o;
 }
 
