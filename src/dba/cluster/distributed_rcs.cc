@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <stdexcept>
 
 #include "dba/common/memory.h"
@@ -267,10 +268,14 @@ class GatheredCoarseSolver : public CholeskySolver {
 };
 
 // The owners: each row's by the all-reduced keys (the rank with the most
-// values in it), then balanced over the ranks that form (rcs_row_plan.h).
-std::vector<int32_t> ChooseOwners(Communicator* comm, bool has_points, std::vector<int64_t> weight) {
+// values in the row of the symmetric matrix, whatever the rows' numbering),
+// then balanced over the ranks that form by `weight`, the values each row
+// stores (rcs_row_plan.h).
+std::vector<int32_t> ChooseOwners(Communicator* comm, bool has_points,
+                                  const std::vector<int64_t>& counts, std::vector<int64_t> weight,
+                                  const std::vector<int32_t>& order) {
   const int ranks = comm->size();
-  std::vector<int64_t> key = OwnerKeys(weight, ranks, comm->rank());
+  std::vector<int64_t> key = OwnerKeys(counts, ranks, comm->rank());
   comm->AllreduceMax(Traffic::kDistribution, key);
   std::vector<int32_t> owner = OwnersFromKeys(key, ranks);
   for (int64_t& w : weight) w += 1;  // a row nobody sees still counts
@@ -278,7 +283,7 @@ std::vector<int32_t> ChooseOwners(Communicator* comm, bool has_points, std::vect
   std::vector<int64_t> forms(ranks, 0);
   forms[comm->rank()] = has_points ? 1 : 0;
   comm->AllreduceSum(Traffic::kDistribution, forms);
-  BalanceOwnerLoad(weight, forms, &owner);
+  BalanceOwnerLoad(weight, forms, &owner, order);
   return owner;
 }
 
@@ -337,7 +342,13 @@ DistributedRcs::DistributedRcs(Communicator* comm, std::vector<int32_t> global_b
   const int32_t n_global = static_cast<int32_t>(global_sizes_.size());
   global_offset_.assign(n_global + 1, 0);
   for (int32_t g = 0; g < n_global; ++g) global_offset_[g + 1] = global_offset_[g] + global_sizes_[g];
-  owner_ = ChooseOwners(comm, sub_ != nullptr, RowValueCounts(sub_, sub_rows_, n_global));
+  order_ = options_.aggregation_order;
+  int64_t ordered = static_cast<int64_t>(order_.size());
+  comm->Broadcast(Traffic::kDistribution, &ordered);
+  order_.resize(ordered);
+  comm->Broadcast(Traffic::kDistribution, std::span<int32_t>(order_));
+  owner_ = ChooseOwners(comm, sub_ != nullptr, SymmetricRowValueCounts(sub_, sub_rows_, n_global),
+                        RowValueCounts(sub_, sub_rows_, n_global), order_);
   Plan& plan = *plan_;
   plan.own_rows_of.assign(ranks, {});
   for (int32_t g = 0; g < n_global; ++g) plan.own_rows_of[owner_[g]].push_back(g);
@@ -447,6 +458,20 @@ void DistributedRcs::MakeSolverStorage(const std::vector<CoarseRowBasis>& global
   y_ext_.assign(S_.num_rows(), 0.0);
 }
 
+// This rank's own rows (local indices) in the aggregation's order (the
+// cameras' places): the aggregates are then the same sets whatever the
+// cameras' numbering, as in one process; empty (row order) without one.
+std::vector<int32_t> DistributedRcs::OwnAggregationOrder() const {
+  if (order_.empty()) return {};
+  std::vector<int32_t> place(order_.size());
+  for (size_t k = 0; k < order_.size(); ++k) place[order_[k]] = static_cast<int32_t>(k);
+  std::vector<int32_t> order(n_own_);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(),
+            [&](int32_t a, int32_t b) { return place[local_rows_[a]] < place[local_rows_[b]]; });
+  return order;
+}
+
 // The two-level preconditioner on this rank's rows: the bases of its rows
 // (own and halo) from the main rank, aggregates of its own rows numbered
 // after the lower ranks', scale columns settled per aggregate, the halo
@@ -477,7 +502,7 @@ void DistributedRcs::BuildTwoLevel(const std::vector<CoarseRowBasis>& global_bas
   }
   const std::vector<uint8_t> kind = BasisKinds(S_, bases);
   std::vector<int32_t> aggregate =
-      AggregateBlockRows(S_, options_.coarse_aggregate_size, kind, n_own_);
+      AggregateBlockRows(S_, options_.coarse_aggregate_size, kind, n_own_, OwnAggregationOrder());
   const int32_t own_aggregates =
       aggregate.empty() ? 0 : *std::max_element(aggregate.begin(), aggregate.end()) + 1;
   if (with_bases != 0) {  // on every rank, even one without rows: collective

@@ -112,6 +112,7 @@ class DistributedRcs {
   void ExchangeHalo(const std::vector<std::vector<int32_t>>& out_rows,
                     const std::vector<int64_t>& in_scalars, const double* from) const;
   void BuildTwoLevel(const std::vector<CoarseRowBasis>& global_bases);
+  std::vector<int32_t> OwnAggregationOrder() const;
   void PlanHaloAndStep(const std::vector<int32_t>& local_of);
   void MakeSolverStorage(const std::vector<CoarseRowBasis>& global_bases);
   void AddPoseTerms(const std::vector<PoseRowTerm>& pose_terms);
@@ -120,6 +121,10 @@ class DistributedRcs {
   std::vector<int32_t> global_sizes_;
   std::vector<int64_t> global_offset_;  // scalar offset of each global row
   std::vector<int32_t> owner_;          // global row -> rank
+  // The global rows in the order of the cameras' places (the main rank's
+  // options.aggregation_order, on every rank; empty: row order): the owners'
+  // balanced ranges and the aggregates follow it.
+  std::vector<int32_t> order_;
   int32_t n_own_ = 0;
   std::vector<int32_t> local_rows_;     // own rows then halo rows (global ids)
   const BsmcMatrix* sub_ = nullptr;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "dba/common/memory.h"
+#include "dba/rcs/aggregation_order.h"
 #include "dba/rcs/rigid_motion_basis.h"
 
 namespace dba {
@@ -107,9 +108,15 @@ std::unique_ptr<DistributedRcs> BuildDistributedRcs(Communicator* comm, const Un
       linear.coarse_basis != CoarseBasis::kParameters) {
     bases = RigidMotionBases(*global, cameras, linear.coarse_basis == CoarseBasis::kSimilarity);
   }
+  // ... and the order its aggregation meets the rows in (the cameras' places).
+  LinearSolverOptions options = linear;
+  options.aggregation_order.clear();
+  if (comm->is_main() && linear.preconditioner == PreconditionerType::kTwoLevel) {
+    options.aggregation_order = AggregationOrder(*global, cameras);
+  }
   return std::make_unique<DistributedRcs>(comm, std::move(sizes),
                                           workers != nullptr ? &workers->system().S : nullptr,
-                                          std::move(rows), linear, bases);
+                                          std::move(rows), options, bases);
 }
 
 // Collective: the owners' parts of the RCS summed into one footprint (own

@@ -18,6 +18,22 @@ std::vector<int64_t> RowValueCounts(const BsmcMatrix* sub, const std::vector<int
   return weight;
 }
 
+std::vector<int64_t> SymmetricRowValueCounts(const BsmcMatrix* sub,
+                                             const std::vector<int32_t>& sub_rows,
+                                             int32_t n_global) {
+  std::vector<int64_t> count(n_global, 0);
+  if (sub == nullptr) return count;
+  for (int32_t i = 0; i < sub->num_block_rows(); ++i) {
+    for (int64_t b = sub->row_begin(i); b < sub->row_end(i); ++b) {
+      const int32_t j = sub->block_col(b);
+      const int64_t values = int64_t{sub->block_size(i)} * sub->block_size(j);
+      count[sub_rows[i]] += values;
+      if (j != i) count[sub_rows[j]] += values;
+    }
+  }
+  return count;
+}
+
 std::vector<int64_t> OwnerKeys(const std::vector<int64_t>& counts, int ranks, int rank) {
   std::vector<int64_t> key(counts.size());
   for (size_t g = 0; g < counts.size(); ++g) key[g] = counts[g] * ranks + (ranks - 1 - rank);
@@ -33,7 +49,7 @@ std::vector<int32_t> OwnersFromKeys(const std::vector<int64_t>& max_keys, int ra
 }
 
 void BalanceOwnerLoad(const std::vector<int64_t>& weight, const std::vector<int64_t>& forms,
-                      std::vector<int32_t>* owner) {
+                      std::vector<int32_t>* owner, const std::vector<int32_t>& order) {
   const int ranks = static_cast<int>(forms.size());
   const int32_t n = static_cast<int32_t>(owner->size());
   std::vector<int64_t> load(ranks, 0);
@@ -50,7 +66,8 @@ void BalanceOwnerLoad(const std::vector<int64_t>& weight, const std::vector<int6
   const double mean = static_cast<double>(total) / static_cast<double>(forming.size());
   if (*std::max_element(load.begin(), load.end()) <= 1.25 * mean) return;
   int64_t sum = 0;
-  for (int32_t g = 0; g < n; ++g) {
+  for (int32_t r = 0; r < n; ++r) {
+    const int32_t g = order.empty() ? r : order[r];
     const size_t k = std::min(forming.size() - 1,
                               static_cast<size_t>(static_cast<double>(sum) / mean));
     (*owner)[g] = forming[k];

@@ -20,6 +20,15 @@ namespace dba {
 std::vector<int64_t> RowValueCounts(const BsmcMatrix* sub, const std::vector<int32_t>& sub_rows,
                                     int32_t n_global);
 
+// Values this rank's sub-RCS puts into each row of the whole symmetric
+// matrix: a stored block (i, j), i < j, counts in row i and row j. Unlike
+// RowValueCounts (the upper triangle's), it does not depend on how the rows
+// are numbered: the owners chosen by it are the same for any numbering of
+// the cameras.
+std::vector<int64_t> SymmetricRowValueCounts(const BsmcMatrix* sub,
+                                             const std::vector<int32_t>& sub_rows,
+                                             int32_t n_global);
+
 // The key each rank contributes to an all-reduced max per row: the row's
 // value count, ties broken toward the lowest rank; and the owner that the
 // max of the keys names.
@@ -29,9 +38,11 @@ std::vector<int32_t> OwnersFromKeys(const std::vector<int64_t>& max_keys, int ra
 // The owners as chosen, unless that piles the RCS on a few ranks: past 1.25x
 // the mean load (`weight`: every rank's value counts summed, each row + 1),
 // the rows go in contiguous ranges of equal load to the ranks that form
-// (`forms`: 1 for a rank with points).
+// (`forms`: 1 for a rank with points), ranges of `order` (the rows by their
+// cameras' places, rcs/aggregation_order.h: each rank then owns a compact
+// block of cameras whatever their numbering; empty: row order).
 void BalanceOwnerLoad(const std::vector<int64_t>& weight, const std::vector<int64_t>& forms,
-                      std::vector<int32_t>* owner);
+                      std::vector<int32_t>* owner, const std::vector<int32_t>& order = {});
 
 // What a rank's sub-RCS sends to each owner: its blocks (sub's block
 // indices, and packed (global row, global col)) and its rows (sub's row

@@ -36,6 +36,29 @@ TEST(RcsRowPlan, APiledUpLoadIsSpreadInContiguousRanges) {
   EXPECT_EQ(to_formers, (std::vector<int32_t>{1, 1, 2, 2}));
 }
 
+// Ranges along the cameras' places: rows 5, 0, 3 (the first in that order)
+// go to one rank whatever their numbers.
+TEST(RcsRowPlan, APiledUpLoadIsSpreadInRangesOfTheGivenOrder) {
+  std::vector<int32_t> owner(6, 0);
+  BalanceOwnerLoad(std::vector<int64_t>(6, 10), {1, 1}, &owner, {5, 0, 3, 1, 4, 2});
+  EXPECT_EQ(owner, (std::vector<int32_t>{0, 1, 1, 0, 1, 0}));
+}
+
+// Symmetric counts: a full sub-RCS of rows sized 6, 6, 9 puts s_i * 21
+// values into row i of the symmetric matrix, whichever rows come first
+// (the upper triangle's counts, 126, 90 and 81, follow the numbering).
+TEST(RcsRowPlan, SymmetricCountsDoNotDependOnTheRowsNumbering) {
+  std::vector<uint64_t> pattern;
+  for (int32_t i = 0; i < 3; ++i) {
+    for (int32_t j = i; j < 3; ++j) pattern.push_back(PackBlock(i, j));
+  }
+  const BsmcMatrix sub = BsmcMatrix::BuildFromPattern({6, 6, 9}, pattern);
+  const std::vector<int32_t> rows = {4, 1, 2};
+  EXPECT_EQ(SymmetricRowValueCounts(&sub, rows, 5), (std::vector<int64_t>{0, 126, 189, 0, 126}));
+  EXPECT_EQ(RowValueCounts(&sub, rows, 5), (std::vector<int64_t>{0, 90, 81, 0, 126}));
+  EXPECT_EQ(SymmetricRowValueCounts(nullptr, rows, 2), (std::vector<int64_t>{0, 0}));
+}
+
 // A sub-RCS over `rows` (global ids) with every block present, values from
 // `seed`; and its dense contribution to the global matrix.
 BsmcMatrix SubRcs(const std::vector<int32_t>& rows, const std::vector<int32_t>& sizes, double seed,
