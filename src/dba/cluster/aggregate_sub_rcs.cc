@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "dba/cluster/block_transfer.h"
+
 namespace dba {
 
 int64_t SubRcsMap::PackedSize(const BsmcMatrix& global) const {
@@ -18,9 +20,10 @@ SubRcsMap MapSubRcs(std::span<const uint64_t> local_blocks,
   map.global_block.reserve(local_blocks.size());
   for (uint64_t b : local_blocks) {
     const int32_t gi = global_row[PackedRow(b)], gj = global_row[PackedCol(b)];
-    const int64_t gb = global.FindBlock(gi, gj);
+    const int64_t gb = global.FindBlock(std::min(gi, gj), std::max(gi, gj));
     if (gb < 0) throw std::logic_error("MapSubRcs: sub-RCS block missing from the global RCS");
     map.global_block.push_back(gb);
+    map.transposed.push_back(gi > gj ? 1 : 0);
     map.num_values += global.value_offset(gb + 1) - global.value_offset(gb);
   }
   map.global_row = std::move(global_row);
@@ -38,7 +41,8 @@ GlobalRcs BuildGlobalRcs(UnknownLayout layout,
   }
   for (size_t r = 0; r < local_patterns.size(); ++r) {
     for (uint64_t b : local_patterns[r]) {
-      pattern.push_back(PackBlock(rows[r][PackedRow(b)], rows[r][PackedCol(b)]));
+      const int32_t gi = rows[r][PackedRow(b)], gj = rows[r][PackedCol(b)];
+      pattern.push_back(PackBlock(std::min(gi, gj), std::max(gi, gj)));
     }
   }
   std::sort(pattern.begin(), pattern.end());
@@ -75,11 +79,8 @@ void AggregateSubRcs(const SubRcsMap& map, std::span<const double> message,
                      RcsSystem* global) {
   BsmcMatrix& S = global->S;
   const double* in = message.data();
-  for (int64_t gb : map.global_block) {
-    double* out = S.block_values(gb);
-    const int64_t n = S.value_offset(gb + 1) - S.value_offset(gb);
-    for (int64_t v = 0; v < n; ++v) out[v] += in[v];
-    in += n;
+  for (size_t k = 0; k < map.global_block.size(); ++k) {
+    in = AddToBlock(in, map.transposed[k] != 0, map.global_block[k], &S);
   }
   for (std::vector<double>* vec :
        {&global->b, &global->camera_side_gradient, &global->camera_side_jtj_diagonal}) {

@@ -20,9 +20,12 @@
 namespace dba {
 
 // A sub-RCS as the main node sees it: its blocks' global ids, in the order
-// of the sub-RCS's values, and its rows' global rows.
+// of the sub-RCS's values, and its rows' global rows. A block whose rows
+// come in the reverse of their global order (a walked share's cameras) is
+// added transposed (cluster/block_transfer.h).
 struct SubRcsMap {
   std::vector<int64_t> global_block;
+  std::vector<uint8_t> transposed;  // per block
   std::vector<int32_t> global_row;
   int64_t num_values = 0;  // doubles of the sub-RCS matrix values
 

@@ -8,6 +8,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "dba/cluster/block_transfer.h"
 #include "dba/common/memory.h"
 #include "dba/solver/block_jacobi.h"
 #include "dba/solver/pcg.h"
@@ -295,6 +296,7 @@ struct DistributedRcs::Plan {
   // (in this order in the message); per source, the own blocks and rows its
   // message adds into.
   std::vector<std::vector<int64_t>> send_blocks, recv_blocks;
+  std::vector<std::vector<uint8_t>> send_transposed;  // SubRcsSendPlan::transposed
   std::vector<std::vector<int32_t>> send_rows, recv_rows;
   std::vector<int64_t> send_size, recv_size;  // doubles
   // Halo: per rank, the own rows whose x it needs, and the halo rows it owns.
@@ -366,6 +368,7 @@ DistributedRcs::DistributedRcs(Communicator* comm, std::vector<int32_t> global_b
   const auto row_ids = ExchangeLists(comm, Traffic::kDistribution, send.row_ids);
   plan.send_size = SendSizes(sub_, send);
   plan.send_blocks = std::move(send.blocks);
+  plan.send_transposed = std::move(send.transposed);
   plan.send_rows = std::move(send.rows);
   std::vector<std::vector<uint64_t>>().swap(send.pattern);
 
@@ -571,9 +574,8 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub, bool with_pose_terms,
     m.Size(q, sub != nullptr ? plan.send_size[q] : 0, plan.recv_size[q]);
     if (sub != nullptr) {
       double* o = m.out[q].data();
-      for (int64_t b : plan.send_blocks[q]) {
-        o = std::copy(sub->S.values().data() + sub->S.value_offset(b),
-                      sub->S.values().data() + sub->S.value_offset(b + 1), o);
+      for (size_t k = 0; k < plan.send_blocks[q].size(); ++k) {
+        o = CopyBlock(sub->S, plan.send_blocks[q][k], plan.send_transposed[q][k] != 0, o);
       }
       for (const std::vector<double>* v : {&sub->b, &sub->camera_side_gradient,
                                            &sub->camera_side_jtj_diagonal}) {
@@ -591,12 +593,6 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub, bool with_pose_terms,
   std::fill(gradient_.begin(), gradient_.end(), 0.0);
   std::fill(jtj_diagonal_.begin(), jtj_diagonal_.end(), 0.0);
   // Summed in rank order, the own sub-system at its place.
-  auto add_block = [&](int64_t local_block, const double* v) {
-    double* o = S_.block_values(local_block);
-    const int64_t n = S_.value_offset(local_block + 1) - S_.value_offset(local_block);
-    for (int64_t k = 0; k < n; ++k) o[k] += v[k];
-    return v + n;
-  };
   for (int p = 0; p < ranks; ++p) {
     if (p == me) {
       if (sub == nullptr) continue;
@@ -607,7 +603,8 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub, bool with_pose_terms,
       int64_t returned = 0;  // values of the sub-RCS given back
       for (size_t k = 0; k < plan.send_blocks[me].size(); ++k) {
         const int64_t b = plan.send_blocks[me][k];
-        add_block(plan.recv_blocks[me][k], sub->S.block_values(b));
+        AddToBlock(sub->S.block_values(b), plan.send_transposed[me][k] != 0, plan.recv_blocks[me][k],
+                   &S_);
         if (sub->S.value_offset(b + 1) - returned >= kReturnChunk) {
           ReturnPages(const_cast<double*>(sub_values) + returned,
                       (sub->S.value_offset(b + 1) - returned) * 8);
@@ -628,7 +625,7 @@ RcsTotals DistributedRcs::Reduce(const RcsSystem* sub, bool with_pose_terms,
       continue;
     }
     const double* v = m.in[p].data();
-    for (int64_t lb : plan.recv_blocks[p]) v = add_block(lb, v);
+    for (int64_t lb : plan.recv_blocks[p]) v = AddToBlock(v, false, lb, &S_);
     for (std::vector<double>* vec : {&b_, &gradient_, &jtj_diagonal_}) {
       v = AddRows(S_, plan.recv_rows[p], v, vec->data());
     }

@@ -284,20 +284,33 @@ TEST(DistributedSolve, ARankFailingAtAnyProtocolPointEndsTheSolveWithItsError) {
 // A survey whose points come in a random order: every rank walks its share
 // (cluster/rank_share.h's WalkShare), read from a .dba or handed out, and the
 // ranks end where one process ends.
+// Its shares' cameras are numbered by their walks, so blocks of a sub-RCS
+// land transposed in the global RCS, gathered or spread over the ranks.
 TEST(DistributedSolve, ScatteredInputsAreWalkedOnEveryRankAndEndWhereOneProcessEnds) {
-  const Problem p = testing::MakeScatteredSurvey("scattered_gen.dba", 30, 100, 9, 4).scattered;
+  Problem p = testing::MakeScatteredSurvey("scattered_gen.dba", 30, 100, 9, 4).scattered;
+  RenumberAtRandom(5, &p);  // the cameras too
   ASSERT_FALSE(PointWalk(p).empty());
   const std::string path = testing::TempPath("scattered.dba");
   WriteBinaryProblem(p, path);
   const LmOptions o = Exact(LinearSolverType::kDense);
   Problem one = p;
   const double cost = BundleAdjust(o, &one).lm.final_cost;
-  DistributedOptions d;
-  d.rcs = DistributedOptions::Rcs::kGather;
-  for (const std::string& binary : {std::string(), path}) {
-    const RanksRun run = SolveOnRanks(3, p, binary, o, d);
-    EXPECT_NEAR(run.final_cost, cost, 1e-9 * cost) << (binary.empty() ? "handed out" : "read");
-    ExpectSame(run.points, one.points, 1e-8);  // in the input's numbering
+  for (auto rcs : {DistributedOptions::Rcs::kGather, DistributedOptions::Rcs::kDistributed}) {
+    DistributedOptions d;
+    d.rcs = rcs;
+    LmOptions on_ranks = o;
+    if (rcs == DistributedOptions::Rcs::kDistributed) {
+      on_ranks = Exact(LinearSolverType::kPcg);
+      on_ranks.linear_solver.pcg.relative_tolerance = 1e-12;
+    }
+    for (const std::string& binary : {std::string(), path}) {
+      const RanksRun run = SolveOnRanks(3, p, binary, on_ranks, d);
+      const std::string what = std::string(binary.empty() ? "handed out" : "read") +
+                               (rcs == DistributedOptions::Rcs::kGather ? ", gathered" : ", spread");
+      EXPECT_NEAR(run.final_cost, cost, 1e-9 * cost) << what;
+      ExpectSame(run.cameras, one.cameras, 1e-8);  // in the input's numbering
+      ExpectSame(run.points, one.points, 1e-8);
+    }
   }
 }
 

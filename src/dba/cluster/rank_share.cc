@@ -62,9 +62,8 @@ void KeepTouchedFrames(const Problem& old, RankShare* share) {
   for (int32_t c : share->global_camera) p.image_frame.push_back(local_frame[old.image_frame[c]]);
 }
 
-}  // namespace
-
-void KeepTouchedCameras(RankShare* share) {
+// The touched cameras, intrinsic groups (and frames) in increasing order.
+void KeepTouchedInOrder(RankShare* share) {
   Problem& p = share->problem;
   Problem old;  // the camera side as it was
   old.model = p.model;
@@ -107,6 +106,24 @@ void KeepTouchedCameras(RankShare* share) {
   if (old.has_rigs()) KeepTouchedFrames(old, share);
 }
 
+// A walked share's cameras (local ids) as its walk first sees them; with
+// rigs the frames number the rows, and the cameras keep their order.
+void NumberCamerasByWalk(RankShare* share) {
+  if (share->problem.has_rigs()) return;
+  const std::vector<int64_t> cameras = CamerasInPointOrder(share->problem);
+  PermuteCameras(cameras, &share->problem);
+  std::vector<int32_t> camera(cameras.size());
+  for (size_t k = 0; k < cameras.size(); ++k) camera[k] = share->global_camera[cameras[k]];
+  share->global_camera.swap(camera);
+}
+
+}  // namespace
+
+void KeepTouchedCameras(RankShare* share) {
+  KeepTouchedInOrder(share);
+  if (share->walked) NumberCamerasByWalk(share);
+}
+
 void WalkShare(RankShare* share) {
   const std::vector<int64_t> walk = PointWalk(share->problem);
   if (walk.empty()) return;
@@ -114,6 +131,8 @@ void WalkShare(RankShare* share) {
   std::vector<int64_t> point(walk.size());
   for (size_t k = 0; k < walk.size(); ++k) point[k] = share->global_point[walk[k]];
   share->global_point.swap(point);
+  share->walked = true;
+  if (!share->global_camera.empty()) NumberCamerasByWalk(share);  // ids local already
 }
 
 }  // namespace dba

@@ -1,7 +1,7 @@
 // One rank's share of a problem (docs/design.md §4): its points, their
-// observations and priors, and the cameras (and intrinsic groups) they touch, renumbered
-// locally in increasing global order, so that a local RCS block (i <= j) maps
-// to a global block (i' <= j').
+// observations and priors, and the cameras (and intrinsic groups) they
+// touch, renumbered locally: in increasing global order, or a walked share's
+// cameras in its walk's (WalkShare).
 //
 // Thread safety: pure function.
 #pragma once
@@ -20,6 +20,7 @@ struct RankShare {
   std::vector<int32_t> global_intrinsics; // local group -> global group (kPhoto)
   std::vector<int64_t> global_point;      // local point -> global point
   std::vector<int32_t> global_frame;      // rigs: local frame -> global frame
+  bool walked = false;                    // its points in their walk (WalkShare)
   // What a camera row of the share's layout stands for, globally: its
   // camera, or with rigs its frame (UnknownLayout::RowEntities).
   const std::vector<int32_t>& CameraRowIds() const {
@@ -35,18 +36,21 @@ RankShare ExtractShare(const Problem& full, std::span<const int32_t> point_group
 
 // Keeps only the cameras that `share.problem`'s observations touch (and
 // their intrinsic groups and, with rigs, their frames), renumbered in
-// increasing order; fills global_camera, global_intrinsics (and
+// increasing order (a walked share's cameras then in its walk's, WalkShare); fills global_camera, global_intrinsics (and
 // global_frame) with the old ids. For a share whose
 // camera ids are global (one read from a .dba); ExtractShare's are not.
 void KeepTouchedCameras(RankShare* share);
 
 // The share's points in the walk one process takes over a problem
-// (problem/point_order.h's PointWalk); global_point follows. A share whose
-// order is local already keeps it. Each rank walks its own share once,
-// before its first workers: a shuffled input then forms its sub-RCS about
-// as fast as an ordered one. Its cameras keep their increasing order: a
-// share's block (i, j), i ≤ j, is the global RCS's (global_camera[i],
-// global_camera[j]) in its upper triangle only so.
+// (problem/point_order.h's PointWalk), and its cameras numbered as the walk
+// first sees them (CamerasInPointOrder; with rigs they keep their order;
+// a share read with global camera ids is numbered so by KeepTouchedCameras);
+// global_point and global_camera follow. A share whose order is local
+// already keeps it. Each rank walks its own share once, before its first
+// workers: a shuffled input then forms its sub-RCS about as fast as an
+// ordered one. A walked share's block (i, j), i ≤ j, can be the global
+// RCS's (global_camera[j], global_camera[i]): it is sent transposed
+// (cluster/block_transfer.h).
 void WalkShare(RankShare* share);
 
 }  // namespace dba

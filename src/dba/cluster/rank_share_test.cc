@@ -108,7 +108,8 @@ TEST(RankShare, KeepsTheFramesAndSensorsOfItsImages) {
 
 // A share of a survey whose points come in a random order is walked: each
 // point keeps its global id, coordinates and observations; the walk is the
-// one PointWalk takes, and a walked share is local (walked again: as is).
+// one PointWalk takes, its cameras are numbered as the walk first sees them,
+// and a walked share is local (walked again: as is).
 TEST(RankShare, AScatteredShareIsWalkedWithItsGlobalIds) {
   const Problem full = testing::MakeScatteredSurvey("walk_share.dba", 40, 120, 3, 2).scattered;
   const std::vector<int32_t> group(full.num_points(), 0);
@@ -127,6 +128,18 @@ TEST(RankShare, AScatteredShareIsWalkedWithItsGlobalIds) {
       const int64_t a = share.problem.point_offsets[k] + j, b = full.point_offsets[g] + j;
       EXPECT_EQ(share.global_camera[share.problem.obs_camera[a]], full.obs_camera[b]);
       EXPECT_EQ(share.problem.obs_pixel[2 * a], full.obs_pixel[2 * b]);
+    }
+  }
+  // Its cameras numbered as the walk first sees them, each with its own
+  // parameters.
+  EXPECT_EQ(CamerasInPointOrder(share.problem), [&] {
+    std::vector<int64_t> identity(share.problem.num_images());
+    for (size_t i = 0; i < identity.size(); ++i) identity[i] = static_cast<int64_t>(i);
+    return identity;
+  }());
+  for (int64_t i = 0; i < share.problem.num_images(); ++i) {
+    for (int d = 0; d < share.problem.camera_size(); ++d) {
+      EXPECT_EQ(share.problem.camera(i)[d], full.camera(share.global_camera[i])[d]);
     }
   }
   EXPECT_TRUE(PointWalk(share.problem).empty());

@@ -12,7 +12,8 @@ std::vector<int64_t> RowValueCounts(const BsmcMatrix* sub, const std::vector<int
   if (sub == nullptr) return weight;
   for (int32_t i = 0; i < sub->num_block_rows(); ++i) {
     for (int64_t b = sub->row_begin(i); b < sub->row_end(i); ++b) {
-      weight[sub_rows[i]] += int64_t{sub->block_size(i)} * sub->block_size(sub->block_col(b));
+      const int32_t j = sub->block_col(b);
+      weight[std::min(sub_rows[i], sub_rows[j])] += int64_t{sub->block_size(i)} * sub->block_size(j);
     }
   }
   return weight;
@@ -79,17 +80,21 @@ SubRcsSendPlan PlanSubRcsSends(const BsmcMatrix* sub, const std::vector<int32_t>
                                const std::vector<int32_t>& owner, int ranks) {
   SubRcsSendPlan plan;
   plan.blocks.assign(ranks, {});
+  plan.transposed.assign(ranks, {});
   plan.pattern.assign(ranks, {});
   plan.rows.assign(ranks, {});
   plan.row_ids.assign(ranks, {});
   if (sub == nullptr) return plan;
   for (int32_t i = 0; i < sub->num_block_rows(); ++i) {
-    const int q = owner[sub_rows[i]];
-    plan.rows[q].push_back(i);
-    plan.row_ids[q].push_back(sub_rows[i]);
+    const int32_t gi = sub_rows[i];
+    plan.rows[owner[gi]].push_back(i);
+    plan.row_ids[owner[gi]].push_back(gi);
     for (int64_t b = sub->row_begin(i); b < sub->row_end(i); ++b) {
+      const int32_t gj = sub_rows[sub->block_col(b)];
+      const int q = owner[std::min(gi, gj)];
       plan.blocks[q].push_back(b);
-      plan.pattern[q].push_back(PackBlock(sub_rows[i], sub_rows[sub->block_col(b)]));
+      plan.transposed[q].push_back(gi > gj ? 1 : 0);
+      plan.pattern[q].push_back(PackBlock(std::min(gi, gj), std::max(gi, gj)));
     }
   }
   return plan;

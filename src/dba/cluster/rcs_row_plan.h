@@ -45,15 +45,20 @@ void BalanceOwnerLoad(const std::vector<int64_t>& weight, const std::vector<int6
                       std::vector<int32_t>* owner, const std::vector<int32_t>& order = {});
 
 // What a rank's sub-RCS sends to each owner: its blocks (sub's block
-// indices, and packed (global row, global col)) and its rows (sub's row
-// indices, and their global ids), in sub's order.
+// indices, and packed (global row, global col), row <= col) and its rows
+// (sub's row indices, and their global ids), in sub's order. A block whose
+// local rows come in the reverse of their global order (a share whose
+// cameras are numbered by its walk, cluster/rank_share.h) is the global
+// block (j, i) transposed: it goes to the owner of row j, `transposed` set.
 struct SubRcsSendPlan {
   std::vector<std::vector<int64_t>> blocks;
+  std::vector<std::vector<uint8_t>> transposed;
   std::vector<std::vector<uint64_t>> pattern;
   std::vector<std::vector<int32_t>> rows, row_ids;
 };
 SubRcsSendPlan PlanSubRcsSends(const BsmcMatrix* sub, const std::vector<int32_t>& sub_rows,
                                const std::vector<int32_t>& owner, int ranks);
+
 
 // A rank's local rows: its own (global order), then the halo: the columns
 // of the blocks it receives (`patterns`, packed global (row, col)) owned

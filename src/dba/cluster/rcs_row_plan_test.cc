@@ -5,6 +5,8 @@
 // reference.
 #include "dba/cluster/rcs_row_plan.h"
 
+#include "dba/cluster/block_transfer.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -45,8 +47,9 @@ TEST(RcsRowPlan, APiledUpLoadIsSpreadInRangesOfTheGivenOrder) {
 }
 
 // Symmetric counts: a full sub-RCS of rows sized 6, 6, 9 puts s_i * 21
-// values into row i of the symmetric matrix, whichever rows come first
-// (the upper triangle's counts, 126, 90 and 81, follow the numbering).
+// values into row i of the symmetric matrix, whichever rows come first;
+// the upper triangle's counts follow the global numbering (a block goes to
+// its lower global row: global rows 1, 2, 4 store 126, 135 and 36).
 TEST(RcsRowPlan, SymmetricCountsDoNotDependOnTheRowsNumbering) {
   std::vector<uint64_t> pattern;
   for (int32_t i = 0; i < 3; ++i) {
@@ -55,12 +58,13 @@ TEST(RcsRowPlan, SymmetricCountsDoNotDependOnTheRowsNumbering) {
   const BsmcMatrix sub = BsmcMatrix::BuildFromPattern({6, 6, 9}, pattern);
   const std::vector<int32_t> rows = {4, 1, 2};
   EXPECT_EQ(SymmetricRowValueCounts(&sub, rows, 5), (std::vector<int64_t>{0, 126, 189, 0, 126}));
-  EXPECT_EQ(RowValueCounts(&sub, rows, 5), (std::vector<int64_t>{0, 90, 81, 0, 126}));
+  EXPECT_EQ(RowValueCounts(&sub, rows, 5), (std::vector<int64_t>{0, 126, 135, 0, 36}));
   EXPECT_EQ(SymmetricRowValueCounts(nullptr, rows, 2), (std::vector<int64_t>{0, 0}));
 }
 
-// A sub-RCS over `rows` (global ids) with every block present, values from
-// `seed`; and its dense contribution to the global matrix.
+// A sub-RCS over `rows` (global ids, in any order) with every block
+// present, values from `seed`; and its dense contribution to the global
+// symmetric matrix (both triangles).
 BsmcMatrix SubRcs(const std::vector<int32_t>& rows, const std::vector<int32_t>& sizes, double seed,
                   Eigen::MatrixXd* global, const std::vector<int64_t>& offset) {
   std::vector<int32_t> local_sizes;
@@ -79,6 +83,7 @@ BsmcMatrix SubRcs(const std::vector<int32_t>& rows, const std::vector<int32_t>& 
           const double x = seed + 0.01 * (10 * rows[i] + rows[j]) + 0.001 * (4 * r + c);
           v[r * m.block_size(j) + c] = x;
           (*global)(offset[rows[i]] + r, offset[rows[j]] + c) += x;
+          if (i != j) (*global)(offset[rows[j]] + c, offset[rows[i]] + r) += x;
         }
       }
     }
@@ -86,12 +91,14 @@ BsmcMatrix SubRcs(const std::vector<int32_t>& rows, const std::vector<int32_t>& 
   return m;
 }
 
+// Rank 1's rows come in decreasing global order (a walked share's cameras):
+// its off-diagonal blocks land transposed.
 TEST(RcsRowPlan, SimulatedReduceScatterSumsTheGlobalRcs) {
   const std::vector<int32_t> sizes = {2, 3, 2, 1};
   std::vector<int64_t> offset = {0};
   for (int32_t s : sizes) offset.push_back(offset.back() + s);
   Eigen::MatrixXd global = Eigen::MatrixXd::Zero(offset.back(), offset.back());
-  const std::vector<std::vector<int32_t>> rows = {{0, 1, 2}, {1, 2, 3}};
+  const std::vector<std::vector<int32_t>> rows = {{0, 1, 2}, {3, 2, 1}};
   std::vector<BsmcMatrix> subs;
   for (int r = 0; r < 2; ++r) subs.push_back(SubRcs(rows[r], sizes, 1.0 + r, &global, offset));
   const std::vector<int32_t> owner = {0, 0, 1, 1};
@@ -116,9 +123,10 @@ TEST(RcsRowPlan, SimulatedReduceScatterSumsTheGlobalRcs) {
     const ReceivePlan receive = PlanReceives(S, patterns, row_ids, local_of, sizes);
     for (int from = 0; from < 2; ++from) {  // the message's blocks, added where they land
       for (size_t k = 0; k < sends[from].blocks[me].size(); ++k) {
-        const int64_t b = sends[from].blocks[me][k], lb = receive.blocks[from][k];
-        const int64_t n = subs[from].value_offset(b + 1) - subs[from].value_offset(b);
-        for (int64_t x = 0; x < n; ++x) S.block_values(lb)[x] += subs[from].block_values(b)[x];
+        const int64_t b = sends[from].blocks[me][k];
+        std::vector<double> message(subs[from].value_offset(b + 1) - subs[from].value_offset(b));
+        CopyBlock(subs[from], b, sends[from].transposed[me][k] != 0, message.data());
+        AddToBlock(message.data(), false, receive.blocks[from][k], &S);
       }
     }
     // Every own row's blocks equal the global matrix's.
