@@ -658,6 +658,31 @@ PY
   fi
 done
 
+# The same with its cameras and points renumbered at random (dba convert
+# --shuffle), handed out (BAL text) and read by the ranks (.dba): killed on 3
+# ranks in the first solve (after checkpoint 3) and in the solve after the
+# first round (after 33), resumed on 3 ranks, the uninterrupted run's cost
+# to 1e-12 (the shares walked as in the uninterrupted run: by the walk
+# taken at the load, or by each rank as read).
+for ext in txt dba; do
+  "$dba" convert "$tmp/ckrej.txt" "$tmp/ckrejs.$ext" --shuffle 5 >/dev/null
+  mpirun_n 3 "$dba" solve "$tmp/ckrejs.$ext" -q "${ckrej[@]}" --report "$tmp/ckrejs_whole.json" \
+    >"$tmp/ck.out" 2>&1 || { fail "shuffled .$ext with rejection -np 3 exited non-zero"; continue; }
+  for kill in 3 33; do
+    rm -f "$tmp/ckrejs.ckpt"
+    DBA_KILL_AFTER_CHECKPOINT=$kill mpirun_n 3 "$dba" solve "$tmp/ckrejs.$ext" -q "${ckrej[@]}" \
+      --checkpoint "$tmp/ckrejs.ckpt" >/dev/null 2>&1 && fail "shuffled .$ext: the run killed after $kill exited 0"
+    mpirun_n 3 "$dba" solve "$tmp/ckrejs.$ext" -q "${ckrej[@]}" --resume "$tmp/ckrejs.ckpt" \
+      --report "$tmp/ckrejs_resumed.json" >"$tmp/ck.out" 2>&1 \
+      || { fail "shuffled .$ext: resume after $kill exited non-zero"; cat "$tmp/ck.out" >&2; continue; }
+    if within "$(final_cost "$tmp/ckrejs_whole.json")" "$(final_cost "$tmp/ckrejs_resumed.json")" 1e-12; then
+      passes=$((passes + 1)); echo "ok   shuffled .$ext with rejection: killed on 3 ranks after checkpoint $kill, resumed on 3"
+    else
+      fail "shuffled .$ext killed after $kill, resumed: $(final_cost "$tmp/ckrejs_resumed.json") vs $(final_cost "$tmp/ckrejs_whole.json")"
+    fi
+  done
+done
+
 # A robust loss: the distributed run reaches the single-process optimum of
 # the robust cost (1e-9), both camera models, and differs from the squared
 # loss's.

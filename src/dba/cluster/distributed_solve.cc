@@ -1,16 +1,16 @@
 // Distributed bundle adjustment; see distributed_solve.h.
 #include "dba/cluster/distributed_solve.h"
 
-#include "dba/camera/fov_series_start.h"
-
-#include "dba/common/memory.h"
-
-#include "dba/common/timer.h"
 #include <stdexcept>
 #include <string>
 #include <utility>
+
+#include "dba/camera/fov_series_start.h"
+#include "dba/common/memory.h"
+#include "dba/common/timer.h"
 #include "dba/io/binary_problem.h"
 #include "dba/lm/solve_with_priors.h"
+#include "dba/problem/point_order.h"
 
 namespace dba {
 namespace {
@@ -289,7 +289,8 @@ DistributedPointSide::DistributedPointSide(Communicator* comm, const LmOptions& 
                                            const DistributedOptions& distributed,
                                            const std::string& binary_input, Problem* problem,
                                            const DistributedCheckpoints& checkpoints,
-                                           const std::optional<Similarity>& alignment)
+                                           const std::optional<Similarity>& alignment,
+                                           const std::optional<std::vector<int64_t>>& walk)
     : comm_(comm), distributed_(distributed), problem_(problem) {
   summary_.ranks = comm->size();
   summary_.partition = distributed.partition;
@@ -303,29 +304,33 @@ DistributedPointSide::DistributedPointSide(Communicator* comm, const LmOptions& 
   groups_ = comm->size() - (summary_.main_forms ? 0 : 1);
   mine_ = summary_.main_forms ? &own_ : nullptr;
   Timer distribution;
-  Distribute(binary_input, checkpoints, alignment);
+  Distribute(binary_input, checkpoints, alignment, walk);
   summary_.distribution_seconds = distribution.Seconds();
 }
 
 DistributedPointSide::~DistributedPointSide() = default;
 
-// Partition and hand out the shares (or let the ranks read theirs).
+// Partition and hand out the shares, each walked here (or let the ranks
+// read theirs and walk them).
 void DistributedPointSide::Distribute(const std::string& binary_input,
                                       const DistributedCheckpoints& checkpoints,
-                                      const std::optional<Similarity>& alignment) {
+                                      const std::optional<Similarity>& alignment,
+                                      const std::optional<std::vector<int64_t>>& walk) {
   const int first_rank = summary_.main_forms ? 0 : 1;
   if (!binary_input.empty()) {
     ReadShares(binary_input, checkpoints, alignment);
     return;
   }
   const std::vector<int32_t> group = PartitionPoints(*problem_, groups_, distributed_.partition);
+  const std::vector<int64_t> place = walk ? InversePermutation(*walk) : std::vector<int64_t>();
   for (int g = 0; g < groups_; ++g) {
     const int rank = g + first_rank;
+    RankShare share = ExtractShare(*problem_, group, g);
+    if (!walk || !walk->empty()) WalkShare(&share, place);
     if (rank == 0) {
-      own_ = ExtractShare(*problem_, group, g);
-      WalkShare(&own_);
+      own_ = std::move(share);
     } else {
-      SendShare(comm_, rank, ExtractShare(*problem_, group, g));
+      SendShare(comm_, rank, share);
     }
   }
   // The observations now live on the ranks.
@@ -502,8 +507,7 @@ void ServePoints(Communicator* comm, const LmOptions& options, const Distributed
     if (flags.resume) ResumeShares(comm, nullptr, &share, first_rank);
     KeepTouchedCameras(&share);
   } else {
-    share = RecvShare(comm);
-    WalkShare(&share);
+    share = RecvShare(comm);  // walked by the main rank
   }
   // Served until the end; again with new workers after each rejection
   // round that asks for another solve.

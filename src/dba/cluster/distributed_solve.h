@@ -108,7 +108,8 @@ class DistributedPointSide : public PointSide {
   DistributedPointSide(Communicator* comm, const LmOptions& options,
                        const DistributedOptions& distributed, const std::string& binary_input,
                        Problem* problem, const DistributedCheckpoints& checkpoints = {},
-                       const std::optional<Similarity>& alignment = std::nullopt);
+                       const std::optional<Similarity>& alignment = std::nullopt,
+                       const std::optional<std::vector<int64_t>>& walk = std::nullopt);
   ~DistributedPointSide() override;
 
   // LM over every rank's points from the current parameters with `options`
@@ -147,7 +148,8 @@ class DistributedPointSide : public PointSide {
 
  private:
   void Distribute(const std::string& binary_input, const DistributedCheckpoints& checkpoints,
-                  const std::optional<Similarity>& alignment);
+                  const std::optional<Similarity>& alignment,
+                  const std::optional<std::vector<int64_t>>& walk);
   void ReadShares(const std::string& binary_input, const DistributedCheckpoints& checkpoints,
                   const std::optional<Similarity>& alignment);
   // `lever_arm`: the global layout has the camera priors' lever arm's row.

@@ -1,6 +1,9 @@
 // Extraction of a rank's share; see rank_share.h.
 #include "dba/cluster/rank_share.h"
 
+#include <algorithm>
+#include <numeric>
+
 #include "dba/problem/point_order.h"
 
 namespace dba {
@@ -124,8 +127,17 @@ void KeepTouchedCameras(RankShare* share) {
   if (share->walked) NumberCamerasByWalk(share);
 }
 
-void WalkShare(RankShare* share) {
-  const std::vector<int64_t> walk = PointWalk(share->problem);
+void WalkShare(RankShare* share, std::span<const int64_t> place) {
+  std::vector<int64_t> walk;
+  if (place.empty()) {
+    walk = PointWalk(share->problem);
+  } else {
+    walk.resize(share->global_point.size());
+    std::iota(walk.begin(), walk.end(), int64_t{0});
+    std::sort(walk.begin(), walk.end(), [&](int64_t a, int64_t b) {
+      return place[share->global_point[a]] < place[share->global_point[b]];
+    });
+  }
   if (walk.empty()) return;
   PermutePoints(walk, &share->problem);
   std::vector<int64_t> point(walk.size());

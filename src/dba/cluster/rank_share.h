@@ -50,7 +50,10 @@ void KeepTouchedCameras(RankShare* share);
 // workers: a shuffled input then forms its sub-RCS about as fast as an
 // ordered one. A walked share's block (i, j), i ≤ j, can be the global
 // RCS's (global_camera[j], global_camera[i]): it is sent transposed
-// (cluster/block_transfer.h).
-void WalkShare(RankShare* share);
+// (cluster/block_transfer.h). `place` (global point -> its place in a walk
+// over the whole problem, the one taken at the load): the share's points in
+// that walk's order instead, whatever their positions now (a resumed solve
+// orders them as the uninterrupted one did).
+void WalkShare(RankShare* share, std::span<const int64_t> place = {});
 
 }  // namespace dba

@@ -305,6 +305,20 @@ Checkpoint ReadCheckpoint(const std::string& path) {
   return c;
 }
 
+int32_t ReadCheckpointRound(const std::string& path) {
+  try {
+    ChecksummedIn in(path);
+    char magic[8];
+    in.Read(magic, sizeof magic, "magic");
+    if (std::memcmp(magic, kMagic, sizeof kMagic) != 0) return -1;
+    Checkpoint c;
+    ReadState(in, path, &c);
+    return c.round;
+  } catch (const std::exception&) {
+    return -1;
+  }
+}
+
 void CheckCheckpointFits(const Checkpoint& c, const std::string& path, uint64_t fingerprint,
                          size_t camera_values, size_t point_values) {
   if (c.fingerprint != fingerprint || c.cameras.size() != camera_values ||

@@ -101,6 +101,10 @@ void WriteCheckpoint(const std::string& path, const Checkpoint& state,
 // wrong checksum, a value out of range, a non-finite parameter, an older
 // version.
 Checkpoint ReadCheckpoint(const std::string& path);
+// The rejection rounds a checkpoint was written after, from its header
+// alone (ReadCheckpoint checks the whole file); -1 where the header cannot
+// be read.
+int32_t ReadCheckpointRound(const std::string& path);
 // InputError naming `path` when the checkpoint was written for another
 // input: another fingerprint, or other numbers of parameters.
 void CheckCheckpointFits(const Checkpoint& checkpoint, const std::string& path,

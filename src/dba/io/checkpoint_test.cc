@@ -188,6 +188,12 @@ TEST(Checkpoint, StateAndRejectionRoundTrip) {
   EXPECT_EQ(r.kept_points, c.kept_points);
   EXPECT_EQ(r.rounds, c.rounds);
   EXPECT_EQ(r.setup, c.setup);
+  // The round from the header alone; -1 for what is no checkpoint.
+  EXPECT_EQ(ReadCheckpointRound(path), 2);
+  EXPECT_EQ(ReadCheckpointRound(testing::TempPath("no_such.ckpt")), -1);
+  const std::string other = testing::TempPath("not_a_checkpoint.ckpt");
+  std::ofstream(other) << "3 4 5\n";
+  EXPECT_EQ(ReadCheckpointRound(other), -1);
 }
 
 // Another loss, priors or control points than the checkpoint's are refused,

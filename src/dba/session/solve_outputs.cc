@@ -171,7 +171,7 @@ SolveResult RunSolve(const SolveOptions& options, Communicator* comm, std::ostre
   const double startup_seconds = since_start.Seconds();
   if (comm->is_main()) CheckSolveFiles(options);
   const Timer read;
-  SolveInput input = LoadInput(options, *comm);
+  SolveInput input = LoadInput(options, comm);
   input.read_seconds = read.Seconds();
   CheckSolveOutputs(options, input, *comm);
   SolveResult result = SolveSession(options, comm, out).Run(std::move(input));

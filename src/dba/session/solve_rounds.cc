@@ -127,10 +127,12 @@ std::unique_ptr<PointSide> SolveSession::MakePointSide() {
   const DistributedCheckpoints checkpoints{
       checkpoints_ ? &*checkpoints_ : nullptr,
       input_.ranks_read_file && resumed_ ? &*resumed_ : nullptr, options_.resume_path};
+  std::optional<std::vector<int64_t>> walk;
+  if (!input_.ranks_read_file) walk = WalkOverSide();
   auto ranks = std::make_unique<DistributedPointSide>(
       comm_, lm_, RanksOptions(options_, input_.ranks_read_file),
       input_.ranks_read_file ? input_.name : std::string(), &result_.problem, checkpoints,
-      result_.geo.alignment);
+      result_.geo.alignment, walk);
   ranks_ = ranks.get();
   return ranks;
 }

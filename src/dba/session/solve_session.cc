@@ -31,8 +31,18 @@ int ThreadsPerRank(int asked, const Communicator& comm) {
   return asked > 0 ? asked : std::max(1, DefaultThreads() / comm.ranks_on_node());
 }
 
-SolveInput LoadInput(const SolveOptions& options, const Communicator& comm) {
-  omp_set_num_threads(ThreadsPerRank(options.lm.num_threads, comm));
+// Whether --resume restarts after a rejection round (the main rank reads the
+// checkpoint's header; unreadable: as if so, and Resume says why).
+// Collective.
+static bool ResumesAfterARound(const SolveOptions& options, Communicator* comm) {
+  if (options.resume_path.empty() || options.reject_outliers_px <= 0) return false;
+  int32_t round = comm->is_main() ? ReadCheckpointRound(options.resume_path) : 0;
+  comm->Broadcast(Traffic::kControl, &round);
+  return round != 0;
+}
+
+SolveInput LoadInput(const SolveOptions& options, Communicator* comm) {
+  omp_set_num_threads(ThreadsPerRank(options.lm.num_threads, *comm));
   SolveInput input;
   input.name = options.input;
   // Distributed runs on a binary file: every rank reads its own points and
@@ -40,16 +50,16 @@ SolveInput LoadInput(const SolveOptions& options, const Communicator& comm) {
   // priors and adds the control points; the ranks move their points by the
   // same similarity). The main rank reads the whole problem instead when
   // control points alone align the block (their first triangulation starts
-  // at tie points near their measurements), and when a resume may restart
+  // at tie points near their measurements), and when a resume restarts
   // after a rejection round (it cuts the problem down to what the rounds
   // left before handing it out).
   const bool aligned_on_control_points =
       !options.geo.gcps_path.empty() && options.geo.camera_priors_path.empty() &&
       options.resume_path.empty();
-  input.ranks_read_file = comm.size() > 1 && IsBinaryProblem(options.input) &&
+  input.ranks_read_file = comm->size() > 1 && IsBinaryProblem(options.input) &&
                           !aligned_on_control_points &&
-                          !(options.reject_outliers_px > 0 && !options.resume_path.empty());
-  if (!comm.is_main()) return input;
+                          !ResumesAfterARound(options, comm);
+  if (!comm->is_main()) return input;
   if (input.ranks_read_file) {
     // Checked here, before the solve; every rank holds them fixed in the
     // camera side it reads (the same command line on every rank).
@@ -177,8 +187,9 @@ void SolveSession::Prepare() {
   const std::vector<FovStartMove> fov = StartFovOutsideSeries(&result_.problem);
   if (!options_.quiet) out_ << DescribeFovStartMoves(fov);
   // The walk's order from the positions as loaded: the same for a solve
-  // and its resume.
-  if (comm_->size() == 1) {
+  // and its resume (over ranks the shares handed out follow it; ranks that
+  // read the file walk their own as read).
+  if (!input_.ranks_read_file) {
     load_order_ = PointWalk(result_.problem);
     if (!load_order_.empty() && !options_.quiet) {
       out_ << "points walked in a spatial order (the input's order is scattered); outputs keep "

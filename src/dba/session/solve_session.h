@@ -60,7 +60,7 @@ int ThreadsPerRank(int asked, const Communicator& comm);
 // rank of a distributed run reads its own points of a .dba, only its counts.
 // Fixings are checked against it (UsageError). Reading takes the rank's
 // threads (a .bz2's blocks and BAL text are read in parallel).
-SolveInput LoadInput(const SolveOptions& options, const Communicator& comm);
+SolveInput LoadInput(const SolveOptions& options, Communicator* comm);
 
 // What the main rank holds after the solve.
 struct SolveResult {
@@ -138,8 +138,8 @@ class SolveSession {
   // Resumed after rejection rounds: what the point side was given, in the
   // problem as loaded (empty: the identity), and its observations.
   OriginalIndices origin_;
-  // The order the solves walk the loaded points in (one process), taken at
-  // the load and handed to the point side.
+  // The order the solves walk the loaded points in (one process; over ranks
+  // the shares handed out), taken at the load and handed to the point side.
   std::vector<int64_t> load_order_;
   GaugeReference gauge_;  // taken at the load (camera/gauge_hold.h)
   std::vector<int64_t> WalkOverSide();
