@@ -138,7 +138,7 @@ py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string
   input.read_seconds = read.Seconds();
   std::ostringstream log;
   const SolveResult result = Interruptible([&] {
-    CheckSolveFiles(options);
+    CheckSolveFiles(options, InputSource());  // arrays: no input file
     Communicator comm(Communicator::SingleRank{});
     std::ostream& out = verbose ? std::cout : log;
     SolveResult r = SolveSession(options, &comm, out).Run(std::move(input));
@@ -204,7 +204,7 @@ py::dict Read(const std::string& path) {
   Problem problem;
   {
     py::gil_scoped_release release;
-    problem = LoadSolveInput(path, UnknownsOptions{});
+    problem = ReadInputProblem(DecideInput(path), DefaultFixings());
   }
   return ProblemToArrays(problem);
 }

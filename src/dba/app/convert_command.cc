@@ -1,29 +1,29 @@
 // `dba convert` and `dba info`; see convert_command.h.
 #include "dba/app/convert_command.h"
-#include <optional>
-#include "dba/io/binary_problem.h"
-#include "dba/io/colmap_text.h"
-#include "dba/io/colmap_binary.h"
-#include "dba/session/run_files.h"
-#include "dba/session/solve_input.h"
+
+#include <omp.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
-#include <omp.h>
-
-#include "dba/common/error.h"
-#include "dba/common/option_table.h"
-#include "dba/io/path_kind.h"
 #include "dba/bsmc/bsmc_matrix.h"
+#include "dba/common/error.h"
 #include "dba/common/memory.h"
+#include "dba/common/option_table.h"
 #include "dba/common/timer.h"
-#include "dba/lm/memory_estimate.h"
+#include "dba/io/binary_problem.h"
+#include "dba/io/colmap_binary.h"
+#include "dba/io/colmap_text.h"
+#include "dba/io/input_source.h"
+#include "dba/io/path_kind.h"
 #include "dba/io/read_problem.h"
+#include "dba/lm/memory_estimate.h"
 #include "dba/problem/random_renumbering.h"
 #include "dba/rcs/rcs_pattern.h"
 #include "dba/rcs/unknown_layout.h"
+#include "dba/session/run_files.h"
 
 namespace dba {
 namespace {
@@ -58,12 +58,12 @@ Stats Statistics(int64_t n, F value) {
 
 // The input and the output, checked before reading (session/run_files.h): the
 // output may replace the input (converted in place), nothing else.
-void CheckConvertFiles(const std::string& in, const std::string& out,
+void CheckConvertFiles(const InputSource& in, const std::string& out,
                        std::optional<ColmapFormat> format) {
   RunFiles files;
-  files.Input("INPUT", in);
-  if (IsColmapInput(in) && KindOfPath(out) == PathKind::kOther) {
-    files.ModelOutput("OUTPUT", out, format.value_or(*DetectColmapFormat(in)), HasRigsOrFrames(in));
+  files.Input("INPUT", in.path);
+  if (in.colmap() && KindOfPath(out) == PathKind::kOther) {
+    files.ModelOutput("OUTPUT", out, format.value_or(in.colmap_format), HasRigsOrFrames(in.path));
   } else {
     files.Output("OUTPUT", out);
   }
@@ -74,8 +74,10 @@ void CheckConvertFiles(const std::string& in, const std::string& out,
 // A COLMAP model directory to a COLMAP directory (text or binary, every
 // value as read: binary byte for byte) or to a photogrammetric .dba (each
 // COLMAP camera an intrinsic group in its own lens model).
-int ConvertColmap(const std::string& in, const std::string& out, std::optional<ColmapFormat> format) {
+int ConvertColmap(const InputSource& input, const std::string& out,
+                  std::optional<ColmapFormat> format) {
   Timer timer;
+  const std::string& in = input.path;
   const ColmapModel model = ReadColmapModel(in);
   if (KindOfPath(out) == PathKind::kBinary) {
     if (format) throw std::invalid_argument("--colmap-format applies to a COLMAP output directory");
@@ -91,7 +93,7 @@ int ConvertColmap(const std::string& in, const std::string& out, std::optional<C
     throw std::invalid_argument(out + ": a COLMAP model converts to a COLMAP directory or a .dba "
                                 "(the BAL format cannot hold shared intrinsics)");
   }
-  const ColmapFormat f = format.value_or(*DetectColmapFormat(in));
+  const ColmapFormat f = format.value_or(input.colmap_format);
   const std::optional<ColmapFormat> there = DetectColmapFormat(out);
   if (there && *there != f) {
     throw std::invalid_argument(out + ": holds a COLMAP model in the other form, which would be "
@@ -187,18 +189,19 @@ int ConvertMain(const std::vector<std::string>& all_args) {
   }
   const std::vector<std::string>& args = parsed.files;
   const std::optional<ColmapFormat> colmap_format = parsed.colmap_format;
-  if (!IsColmapInput(args[0]) && colmap_format) {
+  const InputSource input = DecideInput(args[0]);
+  if (!input.colmap() && colmap_format) {
     std::cerr << "dba convert: --colmap-format applies to a COLMAP input\n";
     return 2;
   }
-  if (IsColmapInput(args[0]) && (parsed.shuffle_seed >= 0 || parsed.drop_rigs)) {
+  if (input.colmap() && (parsed.shuffle_seed >= 0 || parsed.drop_rigs)) {
     std::cerr << "dba convert: --shuffle and --drop-rigs apply to a BAL or .dba input (a COLMAP "
                  "model's ids are its own)\n";
     return 2;
   }
   try {
-    CheckConvertFiles(args[0], args[1], colmap_format);
-    if (IsColmapInput(args[0])) return ConvertColmap(args[0], args[1], colmap_format);
+    CheckConvertFiles(input, args[1], colmap_format);
+    if (input.colmap()) return ConvertColmap(input, args[1], colmap_format);
     Timer timer;
     const std::string& out = args[1];
     if (KindOfPath(out) == PathKind::kOther) {
@@ -282,7 +285,8 @@ int InfoMain(const std::vector<std::string>& args) {
     RunFiles file;  // what a killed run left of it put right first
     file.Input("FILE", args[0]);
     file.Check();
-    const Problem p = LoadSolveInput(args[0], UnknownsOptions{});  // COLMAP models too
+    const InputSource input = DecideInput(args[0]);
+    const Problem p = ReadInputProblem(input, DefaultFixings());  // COLMAP models too
     const int64_t nc = p.num_images();
     const bool photo = p.model == CameraModel::kPhoto;
     const Stats track = Statistics(p.num_points(), [&](int64_t k) {
@@ -306,7 +310,7 @@ int InfoMain(const std::vector<std::string>& args) {
     const double rows = layout.num_block_rows();
     const double sparsity = (2.0 * static_cast<double>(rcs.size()) - rows) / (rows * rows);
     std::printf("%s (%s)\n", args[0].c_str(),
-                IsColmapInput(args[0]) ? "COLMAP model" : IsBinaryProblem(args[0]) ? "dba binary" : "BAL text");
+                input.KindName());
     std::printf("  model         %s\n",
                 photo ? "photogrammetric (6-parameter pose per image, shared intrinsic groups)"
                       : "BAL (9 parameters per camera)");

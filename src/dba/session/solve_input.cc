@@ -1,23 +1,18 @@
 // dba solve's inputs and outputs; see solve_input.h.
 #include "dba/session/solve_input.h"
 
-#include "dba/camera/rig_pose.h"
-
 #include <algorithm>
 #include <numeric>
-#include <unordered_map>
-
-
-#include "dba/io/path_kind.h"
-#include "dba/common/arguments.h"
-
-#include <filesystem>
 #include <sstream>
 #include <stdexcept>
+#include <unordered_map>
 
+#include "dba/camera/rig_pose.h"
+#include "dba/common/arguments.h"
 #include "dba/common/error.h"
 #include "dba/io/colmap_binary.h"
 #include "dba/io/colmap_text.h"
+#include "dba/io/path_kind.h"
 #include "dba/io/read_problem.h"
 
 namespace dba {
@@ -108,11 +103,6 @@ void ParseImageFixing(const std::string& flag, const std::string& value, Unknown
   if (value.empty()) throw UsageError(flag + ": empty list");
 }
 
-bool IsColmapInput(const std::string& path) {
-  std::error_code ec;
-  return std::filesystem::is_directory(path, ec) && DetectColmapFormat(path).has_value();
-}
-
 Fixings FixingsOf(const UnknownsOptions& u) {
   Fixings f;
   f.images = u.fixed_images;
@@ -198,10 +188,10 @@ Fixings CheckedFixings(const UnknownsOptions& u, const CameraSide& side) {
   return f;
 }
 
-Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
+Problem LoadSolveInput(const InputSource& input, const UnknownsOptions& unknowns,
                        ImageNames* names, ColmapCameraCounts* cameras) {
-  if (IsColmapInput(path)) {
-    ColmapInput in = ReadColmapInput(path, unknowns);
+  if (input.colmap()) {
+    ColmapInput in = ReadColmapInput(input, unknowns);
     if (cameras != nullptr) {
       cameras->all = static_cast<int64_t>(in.model.cameras.size());
       std::vector<int64_t> used;
@@ -231,12 +221,12 @@ Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
     }
     return std::move(in.source.problem);
   }
-  Problem p = ReadProblem(path);
+  Problem p = ReadProblem(input.path);
   ApplyFixings(unknowns, &p);
   return p;
 }
 
-OutputKind CheckOutput(const std::string& input, const std::string& output, CameraModel model,
+OutputKind CheckOutput(const InputSource& input, const std::string& output, CameraModel model,
                        std::optional<ColmapFormat> colmap_format) {
   const PathKind path_kind = KindOfPath(output);
   const bool file = path_kind != PathKind::kOther;
@@ -249,16 +239,16 @@ OutputKind CheckOutput(const std::string& input, const std::string& output, Came
       throw UsageError(
           "-o " + output +
           ": BAL text cannot hold shared intrinsics; write a .dba file" +
-          (IsColmapInput(input) ? " or a COLMAP model directory" : ""));
+          (input.colmap() ? " or a COLMAP model directory" : ""));
     }
     return OutputKind::kBalText;
   }
-  if (!IsColmapInput(input)) {
+  if (!input.colmap()) {
     throw UsageError("-o " + output +
                                 ": expected a .txt, .bz2 or .dba file (a COLMAP model "
                                 "directory is written only for a COLMAP input)");
   }
-  const ColmapFormat format = colmap_format.value_or(*DetectColmapFormat(input));
+  const ColmapFormat format = colmap_format.value_or(input.colmap_format);
   const std::optional<ColmapFormat> there = DetectColmapFormat(output);
   if (there.has_value() && *there != format) {
     throw UsageError(
@@ -294,10 +284,11 @@ std::vector<int64_t> SensorGroups(const ColmapInput& in, const std::vector<int64
 
 }  // namespace
 
-ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unknowns) {
+ColmapInput ReadColmapInput(const InputSource& input, const UnknownsOptions& unknowns) {
   const std::vector<uint32_t> fixed_ids = ColmapImageIds(unknowns);  // refused before reading
+  const std::string& path = input.path;
   ColmapInput in;
-  in.format = *DetectColmapFormat(path);
+  in.format = input.colmap_format;
   in.model = ReadColmapModel(path);
   in.source = ProblemFromColmap(in.model, ColmapOptions(unknowns), path);
   RefuseRigGeometryWithoutRigs(unknowns, in.source.problem);

@@ -21,6 +21,7 @@
 #include "dba/problem/fixings.h"
 #include "dba/io/colmap_model.h"
 #include "dba/io/colmap_problem.h"
+#include "dba/io/input_source.h"
 #include "dba/lm/outlier_rejection.h"
 #include "dba/problem/problem.h"
 
@@ -66,9 +67,6 @@ IntrinsicFixing ParseIntrinsicFixing(const std::string& flag, const std::string&
 // "3,7,12" -> ids; throws std::invalid_argument naming the flag.
 std::vector<int64_t> ParseIdList(const std::string& flag, const std::string& value);
 
-// True when `path` is a directory holding a COLMAP sparse model.
-bool IsColmapInput(const std::string& path);
-
 // Reads the input and marks the fixed parameters. Throws InputError for bad
 // input (file, line or entry, what is wrong), std::invalid_argument for
 // fixings that do not fit the problem (an index out of range, intrinsics of
@@ -80,7 +78,7 @@ struct ColmapCameraCounts {
   int64_t all = 0, used = 0;
   int64_t sensors_not_modelled = 0;  // ColmapProblem's
 };
-Problem LoadSolveInput(const std::string& path, const UnknownsOptions& unknowns,
+Problem LoadSolveInput(const InputSource& input, const UnknownsOptions& unknowns,
                        ImageNames* names = nullptr, ColmapCameraCounts* cameras = nullptr);
 
 // The command line's fixings of a problem read from a file (not COLMAP) as
@@ -106,7 +104,7 @@ enum class OutputKind { kBinary, kBalText, kColmap };
 // input), when `colmap_format` is given for another kind of output, or when
 // the output directory holds a COLMAP model in the other format (it would
 // shadow the one written), before any solving.
-OutputKind CheckOutput(const std::string& input, const std::string& output, CameraModel model,
+OutputKind CheckOutput(const InputSource& input, const std::string& output, CameraModel model,
                        std::optional<ColmapFormat> colmap_format = std::nullopt);
 
 // A COLMAP input as read: the model, and the problem cut from it with the
@@ -116,7 +114,7 @@ struct ColmapInput {
   ColmapProblem source;
   ColmapFormat format = ColmapFormat::kBinary;  // the input's
 };
-ColmapInput ReadColmapInput(const std::string& path, const UnknownsOptions& unknowns);
+ColmapInput ReadColmapInput(const InputSource& input, const UnknownsOptions& unknowns);
 
 // Writes the adjusted cameras and points into `input.model` and saves it to
 // the directory `output`, as text or binary (default: the input's). Every

@@ -46,7 +46,7 @@ void WriteAdjustedProblem(const SolveOptions& options, int ranks, SolveResult* r
   Problem& problem = result->problem;
   const bool kept = result->kept.has_value();
   const OutputKind kind =
-      CheckOutput(options.input, options.output, problem.model, options.colmap_format);
+      CheckOutput(result->source, options.output, problem.model, options.colmap_format);
   if (kind == OutputKind::kColmap) {
     WriteColmapOutput(problem.cameras, kept ? result->all_points : problem.points, options.output,
                       options.colmap_format, &**colmap, kept ? &*result->kept : nullptr);
@@ -62,7 +62,7 @@ void WriteAdjustedProblem(const SolveOptions& options, int ranks, SolveResult* r
     // The observations were handed to the ranks (and released here, so the
     // main rank's memory during the solve is its share's): read them again.
     Problem full = *colmap ? std::move((*colmap)->source.problem)
-                           : LoadSolveInput(options.input, options.unknowns);
+                           : LoadSolveInput(result->source, options.unknowns);
     full.cameras.swap(problem.cameras);
     full.points.swap(kept ? result->all_points : problem.points);
     if (kept) KeepOnly(*result->kept, &full);
@@ -89,15 +89,15 @@ void CheckColmapVersion(const SolveOptions& options, const CameraSide& side) {
 
 }  // namespace
 
-void CheckSolveFiles(const SolveOptions& o) {
+void CheckSolveFiles(const SolveOptions& o, const InputSource& input) {
   RunFiles files;
   files.Input("INPUT", o.input);
   files.Input("--truth", o.truth_path);
   files.Input("--resume", o.resume_path);
   files.Input("--camera-priors", o.geo.camera_priors_path);
   files.Input("--gcps", o.geo.gcps_path);
-  if (!o.output.empty() && KindOfPath(o.output) == PathKind::kOther && IsColmapInput(o.input)) {
-    files.ModelOutput("-o", o.output, o.colmap_format.value_or(*DetectColmapFormat(o.input)),
+  if (!o.output.empty() && KindOfPath(o.output) == PathKind::kOther && input.colmap()) {
+    files.ModelOutput("-o", o.output, o.colmap_format.value_or(input.colmap_format),
                       HasRigsOrFrames(o.input));
   } else {
     files.Output("-o", o.output);
@@ -117,7 +117,7 @@ void CheckSolveOutputs(const SolveOptions& options, const SolveInput& input,
   if (!comm.is_main() || options.output.empty()) return;
   const CameraModel model = input.ranks_read_file ? ReadBinaryProblemHeader(input.name).model
                                                   : input.problem.model;
-  if (CheckOutput(options.input, options.output, model, options.colmap_format) ==
+  if (CheckOutput(input.source, options.output, model, options.colmap_format) ==
       OutputKind::kColmap) {
     CheckColmapVersion(options, input.problem);
   }
@@ -136,8 +136,8 @@ void WriteSolveOutputs(const SolveOptions& options, int ranks, const Timer& sinc
   // 32 bytes per observation (its points2D and tracks) beside the problem's
   // 20, in the phase where memory peaks; the re-read costs time only.
   std::optional<ColmapInput> colmap;
-  if (IsColmapInput(options.input) && (!options.output.empty() || !options.ply_path.empty())) {
-    colmap = ReadColmapInput(options.input, options.unknowns);
+  if (result->source.colmap() && (!options.output.empty() || !options.ply_path.empty())) {
+    colmap = ReadColmapInput(result->source, options.unknowns);
   }
   if (!options.ply_path.empty()) WritePointCloud(options, *result, colmap);
   if (!options.output.empty()) {
@@ -169,9 +169,10 @@ namespace dba {
 SolveResult RunSolve(const SolveOptions& options, Communicator* comm, std::ostream& out,
                      const Timer& since_start) {
   const double startup_seconds = since_start.Seconds();
-  if (comm->is_main()) CheckSolveFiles(options);
+  const InputSource source = DecideInput(options.input);  // on every rank: all read
+  if (comm->is_main()) CheckSolveFiles(options, source);
   const Timer read;
-  SolveInput input = LoadInput(options, comm);
+  SolveInput input = LoadInput(options, source, comm);
   input.read_seconds = read.Seconds();
   CheckSolveOutputs(options, input, *comm);
   SolveResult result = SolveSession(options, comm, out).Run(std::move(input));

@@ -20,7 +20,8 @@ namespace dba {
 // -o may replace the problem it reads, --checkpoint the checkpoint --resume
 // reads; any other output naming an input or another output is refused
 // (UsageError), and so is an output the rule of io/output_target.h refuses.
-void CheckSolveFiles(const SolveOptions& options);
+// `input`: what options.input holds.
+void CheckSolveFiles(const SolveOptions& options, const InputSource& input);
 
 // The outputs' kinds against the loaded input (CheckOutput), before the
 // solve.

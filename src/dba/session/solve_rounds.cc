@@ -307,7 +307,7 @@ void SolveSession::FinishSolve(PointSide* side) {
     // The loaded pixels, for the truth: the main rank handed its
     // observations out.
     if (!options_.truth_path.empty()) {
-      loaded_pixels_ = LoadSolveInput(options_.input, options_.unknowns).obs_pixel;
+      loaded_pixels_ = LoadSolveInput(input_.source, options_.unknowns).obs_pixel;
     }
   }
   if (result_.kept && comm_->size() > 1) {

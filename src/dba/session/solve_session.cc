@@ -41,7 +41,7 @@ static bool ResumesAfterARound(const SolveOptions& options, Communicator* comm) 
   return round != 0;
 }
 
-SolveInput LoadInput(const SolveOptions& options, Communicator* comm) {
+SolveInput LoadInput(const SolveOptions& options, const InputSource& source, Communicator* comm) {
   omp_set_num_threads(ThreadsPerRank(options.lm.num_threads, *comm));
   SolveInput input;
   input.name = options.input;
@@ -56,7 +56,8 @@ SolveInput LoadInput(const SolveOptions& options, Communicator* comm) {
   const bool aligned_on_control_points =
       !options.geo.gcps_path.empty() && options.geo.camera_priors_path.empty() &&
       options.resume_path.empty();
-  input.ranks_read_file = comm->size() > 1 && IsBinaryProblem(options.input) &&
+  input.source = source;
+  input.ranks_read_file = comm->size() > 1 && source.binary() &&
                           !aligned_on_control_points &&
                           !ResumesAfterARound(options, comm);
   if (!comm->is_main()) return input;
@@ -67,7 +68,7 @@ SolveInput LoadInput(const SolveOptions& options, Communicator* comm) {
     ApplyFixings(options.unknowns, &input.problem);
     return input;
   }
-  input.problem = LoadSolveInput(options.input, options.unknowns, &input.names, &input.colmap_cameras);
+  input.problem = LoadSolveInput(source, options.unknowns, &input.names, &input.colmap_cameras);
   return input;
 }
 
@@ -174,6 +175,7 @@ SolveResult SolveSession::Run(SolveInput input) {
   }
   result_.names = std::move(input_.names);
   result_.ranks_read_file = input_.ranks_read_file;
+  result_.source = input_.source;
   return std::move(result_);
 }
 

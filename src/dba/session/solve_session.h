@@ -32,6 +32,7 @@
 #include "dba/geo/georeference.h"
 #include "dba/io/checkpoint.h"
 #include "dba/io/image_names.h"
+#include "dba/io/input_source.h"
 #include "dba/lm/outlier_rejection.h"
 #include "dba/problem/problem.h"
 #include "dba/session/solve_options.h"
@@ -44,6 +45,7 @@ namespace dba {
 // What a solve starts from, on the main rank.
 struct SolveInput {
   std::string name;  // the input's path ("<arrays>" for Python's arrays)
+  InputSource source;  // what the path holds, decided once (io/input_source.h)
   // The problem, with its fixings applied; empty when the ranks read
   // `name`, a .dba, themselves (ranks_read_file).
   Problem problem;
@@ -60,7 +62,7 @@ int ThreadsPerRank(int asked, const Communicator& comm);
 // rank of a distributed run reads its own points of a .dba, only its counts.
 // Fixings are checked against it (UsageError). Reading takes the rank's
 // threads (a .bz2's blocks and BAL text are read in parallel).
-SolveInput LoadInput(const SolveOptions& options, Communicator* comm);
+SolveInput LoadInput(const SolveOptions& options, const InputSource& source, Communicator* comm);
 
 // What the main rank holds after the solve.
 struct SolveResult {
@@ -74,6 +76,7 @@ struct SolveResult {
   std::vector<double> all_points;
   Georeference geo;  // the frame and priors (--output-crs, --camera-centres)
   ImageNames names;  // the input's (SolveInput::names)
+  InputSource source;  // SolveInput::source
   bool ranks_read_file = false;  // SolveInput::ranks_read_file
 };
 
