@@ -28,7 +28,8 @@ void SendShare(Communicator* comm, int rank, const RankShare& s) {
 
 // The hook that estimates a rank's memory before its RCS's values exist
 // (`role`: its sub-RCS, or the main rank's global one) and refuses when the
-// growth exceeds the rank's part of what the node has available.
+// growth exceeds the rank's part of what the node has available
+// (lm/memory_estimate.h, as one process checks).
 std::function<void(const RcsSystem&)> EstimateAndCheck(const Communicator* comm,
                                                       const LmOptions& options,
                                                       const DistributedOptions& distributed,
@@ -36,17 +37,10 @@ std::function<void(const RcsSystem&)> EstimateAndCheck(const Communicator* comm,
                                                       MemoryEstimate* estimate,
                                                       int forming_ranks = 1,
                                                       int64_t num_observations = -1) {
+  const MemoryCheckOptions check{distributed.memory_check, comm->ranks_on_node(), role, forming_ranks,
+                          num_observations};
   return [=, &options, &problem](const RcsSystem& structure) {
-    *estimate = EstimateSolveMemory(problem, structure, options, CurrentResidentBytes(),
-                                    PeakResidentBytes(), role, num_observations);
-    // The main rank's one message buffer (its own packed sub-RCS, then each
-    // rank's in turn): about a forming rank's share of the global RCS.
-    if (role == EstimateRole::kSolves) {
-      estimate->messages = structure.S.ValueBytes() / std::max(1, forming_ranks);
-    }
-    if (!distributed.memory_check) return;
-    const int64_t available = AvailableMemoryBytes();
-    CheckMemoryFits(*estimate, available < 0 ? available : available / std::max(1, comm->ranks_on_node()));
+    *estimate = EstimateAndCheckMemory(problem, structure, options, check);
   };
 }
 

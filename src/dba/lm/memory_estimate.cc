@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "dba/common/memory.h"
 #include "dba/common/shared_library.h"
 #include "dba/solver/pcg_rcs_solver.h"
 #include "dba/solver/rcs_solver.h"
@@ -38,6 +39,22 @@ void CheckMemoryFits(const MemoryEstimate& estimate, int64_t available_bytes) {
   throw std::runtime_error("the solve needs about " + estimate.Describe() + " but " +
                            FormatBytes(estimate.resident + available_bytes) +
                            " is available; --no-memory-check starts it anyway");
+}
+
+MemoryEstimate EstimateAndCheckMemory(
+    const Problem& problem, const RcsSystem& structure, const LmOptions& options,
+    const MemoryCheckOptions& check, const std::function<void(const MemoryEstimate&, int64_t)>& seen) {
+  MemoryEstimate estimate =
+      EstimateSolveMemory(problem, structure, options, CurrentResidentBytes(), PeakResidentBytes(),
+                          check.role, check.num_observations);
+  if (check.role == EstimateRole::kSolves) {
+    estimate.messages = structure.S.ValueBytes() / std::max(1, check.forming_ranks);
+  }
+  const int64_t node = AvailableMemoryBytes();
+  const int64_t available = node < 0 ? node : node / std::max(1, check.ranks_on_node);
+  if (seen) seen(estimate, available);
+  if (check.refuse) CheckMemoryFits(estimate, available);
+  return estimate;
 }
 
 MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& structure,

@@ -32,6 +32,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "dba/lm/levenberg_marquardt.h"
@@ -110,6 +111,27 @@ MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& stru
 // (what the machine, the cgroups or RLIMIT_AS leave; -1: unknown, no check;
 // 0: no room at all).
 void CheckMemoryFits(const MemoryEstimate& estimate, int64_t available_bytes);
+
+// How a process checks its memory before a solve's RCS takes its values,
+// one process or a rank of many: what it estimates for (`role`), and
+// whether a growth past its part of the node's available memory (shared by
+// the `ranks_on_node` processes on it) is refused.
+struct MemoryCheckOptions {
+  bool refuse = true;  // false: --no-memory-check, the estimate alone
+  int ranks_on_node = 1;
+  EstimateRole role = EstimateRole::kWhole;
+  // kSolves: the main rank's one message buffer holds about a forming
+  // rank's share of the global RCS.
+  int forming_ranks = 1;
+  int64_t num_observations = -1;  // EstimateSolveMemory's
+};
+// The estimate at `structure` with the process's resident and peak memory
+// now; `seen` (if any) hears it and the process's part of the available
+// memory (-1: unknown) before the check refuses (CheckMemoryFits).
+MemoryEstimate EstimateAndCheckMemory(
+    const Problem& problem, const RcsSystem& structure, const LmOptions& options,
+    const MemoryCheckOptions& check,
+    const std::function<void(const MemoryEstimate&, int64_t available)>& seen = {});
 
 // "1.5 GiB", "320.4 MiB".
 std::string FormatBytes(int64_t bytes);

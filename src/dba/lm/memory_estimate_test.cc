@@ -106,5 +106,30 @@ TEST(MemoryEstimate, CheckRefusesWhatDoesNotFit) {
   }
 }
 
+// One check for one process and for each rank: the node's available
+// memory split over the ranks on it (DBA_MEMORY_AVAILABLE, the test hook),
+// heard before the refusal; a main rank's messages a forming rank's share
+// of S; --no-memory-check estimates and lets it run.
+TEST(MemoryEstimate, OneCheckForAProcessAndForEachRank) {
+  const Problem problem = SmallProblem();
+  const RcsSystem rcs = RcsSystem::ForProblem(problem);
+  const LmOptions options;
+  setenv("DBA_MEMORY_AVAILABLE", "4000", 1);
+  MemoryCheckOptions check;
+  check.ranks_on_node = 4;
+  int64_t heard = 0;
+  EXPECT_THROW(EstimateAndCheckMemory(problem, rcs, options, check,
+                                      [&](const MemoryEstimate&, int64_t have) { heard = have; }),
+               std::runtime_error);
+  EXPECT_EQ(heard, 1000);
+  check.refuse = false;
+  check.role = EstimateRole::kSolves;
+  check.forming_ranks = 3;
+  const MemoryEstimate e = EstimateAndCheckMemory(problem, rcs, options, check);
+  EXPECT_EQ(e.messages, rcs.S.ValueBytes() / 3);
+  EXPECT_EQ(e.candidate, 0);  // the main rank holds no candidate points
+  unsetenv("DBA_MEMORY_AVAILABLE");
+}
+
 }  // namespace
 }  // namespace dba

@@ -209,20 +209,18 @@ void SolveSession::LoadedKeptAndPoints(PointSide* side, KeptObservations* kept,
 std::function<void(const RcsSystem&)> SolveSession::MemoryCheck() {
   if (comm_->size() > 1) return {};
   return [this](const RcsSystem& structure) {
+    MemoryCheckOptions check;
+    check.refuse = options_.memory_check;
     SolveReport& report = result_.report;
-    report.memory_estimate = EstimateSolveMemory(result_.problem, structure, lm_,
-                                                 CurrentResidentBytes(), PeakResidentBytes());
-    report.available_memory_bytes = AvailableMemoryBytes();
-    if (!options_.quiet) {
-      const int64_t have = report.available_memory_bytes;
-      out_ << "memory estimate " << report.memory_estimate.Describe()
-           << (have >= 0 ? "; available " + FormatBytes(have + report.memory_estimate.resident)
-                        : std::string())
+    EstimateAndCheckMemory(result_.problem, structure, lm_, check,
+                           [&](const MemoryEstimate& estimate, int64_t have) {
+      report.memory_estimate = estimate;
+      report.available_memory_bytes = have;
+      if (options_.quiet) return;
+      out_ << "memory estimate " << estimate.Describe()
+           << (have >= 0 ? "; available " + FormatBytes(have + estimate.resident) : std::string())
            << "\n" << IterationLogHeader() << std::flush;
-    }
-    if (options_.memory_check) {
-      CheckMemoryFits(report.memory_estimate, report.available_memory_bytes);
-    }
+    });
   };
 }
 
