@@ -13,7 +13,13 @@
 namespace dba {
 
 // One process: the problem itself (its points and observations are cut
-// down by each rejection round).
+// down by each rejection round). Walked once: the first Solve permutes it
+// into the walk and it stays so through the rejection rounds (the next
+// solves walk the kept points in the same order; a round renumbers only the
+// cameras, as the kept points first see them) until EndSolves or AtOptimum
+// puts it back in the order it was given. Between, the problem is in the
+// walk's order and every figure the side hands out (points, cameras, what
+// is kept, a round's poses) is mapped back to the order it was given.
 class LocalPointSide : public PointSide {
  public:
   // `walk`: the order the solves walk the points in (problem/point_order.h;
@@ -32,27 +38,33 @@ class LocalPointSide : public PointSide {
   void AllCameras(std::vector<double>* cameras) override;
   void AtOptimum(const LmOptions& options, const CameraPriors& priors,
                  const std::function<void(const RcsSystem&)>& look) override;
+  void EndSolves() override { GivenOrder(); }
 
  private:
   Problem* problem_;
   int64_t observations_, points_;  // as given
-  // From the first rejection round on (until then the problem is as given,
-  // and a solve without rejection pays nothing for them: 8 bytes per
-  // observation and 32 per point):
-  bool cut_ = false;
-  OriginalIndices original_;       // current -> as given
-  std::vector<double> all_;        // every point as given, the kept ones' last values
-  std::vector<int64_t> walk_;      // over the points as given (moved to order_ in a solve)
-  // During a solve: the problem's points in the walk's order, order_[k] the
-  // point (as the solve was given it) now at k; empty between solves.
+  std::vector<int64_t> walk_;      // over the points as given (until the first Solve)
+  bool walked_ = false;            // the problem is in the walk's order
+  // Walked: the problem's points as given, order_[k] the point (as given)
+  // now at k (8 bytes per point; dropped at the first rejection round,
+  // which keeps the map in origin_).
   std::vector<int64_t> order_;
-  // During a walked solve: the cameras in the order the walked points first
-  // see them, camera_order_[i] the camera (as given) numbered i (8 bytes per
-  // camera), and the priors' images renumbered alike; empty otherwise.
+  // Walked: the cameras in the order the walked points first see them,
+  // camera_order_[i] the camera (as given) numbered i (8 bytes per camera).
   std::vector<int64_t> camera_order_;
-  CameraPriors walked_priors_;
-  void WalkOrder(const CameraPriors& priors);
+  // From the first rejection round on (until then a solve pays nothing for
+  // them: 8 bytes per observation and 32 per point): where each current
+  // point and observation was in the problem as given, and every given
+  // point's last values.
+  bool cut_ = false;
+  bool renumber_cameras_ = false;  // a round since the cameras were numbered
+  OriginalIndices origin_;
+  std::vector<double> all_;
+  void WalkOrder();
+  void NumberCamerasByWalk();
   void GivenOrder();
+  CameraPriors WalkedPriors(const CameraPriors& priors) const;
+  std::vector<int64_t> GivenPoints() const;
 };
 
 }  // namespace dba

@@ -47,6 +47,9 @@ class PointSide {
   // in the numbering the side was given.
   virtual void AtOptimum(const LmOptions& options, const CameraPriors& priors,
                          const std::function<void(const RcsSystem&)>& look) = 0;
+  // After the last Solve: the problem handed to the side back in the order
+  // it was given (a local side keeps its walk's from the first Solve on).
+  virtual void EndSolves() {}
 };
 
 }  // namespace dba

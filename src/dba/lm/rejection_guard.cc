@@ -87,11 +87,12 @@ void CheckRejectionRound(const RejectionGuard& guard, double max_error_px, int r
   if (left.empty()) return;
   const char* pose = side.has_rigs() ? "frame" : "image";
   const int64_t f = left.front();
+  const int64_t named = poses.id.empty() ? f : poses.id[f];
   const int64_t after = f < static_cast<int64_t>(poses.after.size()) ? poses.after[f] : 0;
   throw RejectionStopped(
       std::string(head) + " and leave " + std::to_string(left.size()) + " " + pose +
       (left.size() == 1 ? "" : "s") + " with fewer than the " + std::to_string(least) +
-      " observations that determine a pose (0-based " + pose + " " + std::to_string(f) + ": " +
+      " observations that determine a pose (0-based " + pose + " " + std::to_string(named) + ": " +
       std::to_string(after) + " of " + std::to_string(poses.before[f]) + "): " +
       LikelyCause(before) + stop + "Raise --reject-outliers, or --reject-max-share to 1 (no guard)");
 }

@@ -39,6 +39,9 @@ struct RejectionGuard {
 // after a round, in the problem's numbering.
 struct PoseObservations {
   std::vector<int64_t> before, after;
+  // The number each counted pose had as the side was given it (a walked
+  // side renumbers its images); empty: its index.
+  std::vector<int64_t> id;
 };
 
 // Adds each observation of `problem` to its pose's count: counts[pose[f]]

@@ -291,6 +291,7 @@ void SolveSession::RejectionRounds(PointSide* side, const IterationHook& log,
 // What is left and every loaded point; the ranks ended (their figures and
 // final points collected).
 void SolveSession::FinishSolve(PointSide* side) {
+  side->EndSolves();  // the problem back in the order it was given
   SolveReport& report = result_.report;
   if (checkpoints_) report.checkpoints_written = checkpoints_->written();
   if (options_.reject_outliers_px > 0) {
