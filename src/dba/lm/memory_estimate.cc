@@ -68,7 +68,8 @@ MemoryEstimate EstimateSolveMemory(const Problem& problem, const RcsSystem& stru
   e.peak_so_far = peak_so_far;
   e.rcs = S.ValueBytes() + 3 * rows * 8;
   if (role != EstimateRole::kSolves) {
-    e.formation = FormationCopyBytes(S.num_values(), rows, options.num_threads);
+    e.formation = std::max(FormationCopyBytes(S.num_values(), rows, options.num_threads),
+                           FormationSeamBytesLimit(S.num_values(), rows, options.num_threads));
   }
   // The LM's cameras and candidate, the workers' candidate, δc; the
   // candidate points (where the points are).

@@ -5,8 +5,11 @@
 
 #include <omp.h>
 
+#include <sys/mman.h>
+
 #include <algorithm>
 #include <cmath>
+#include <new>
 #include <utility>
 
 #include "dba/common/check.h"
@@ -91,16 +94,82 @@ void SumByGroup(const PointSystem<Model>& p,
             [](const auto& x, const auto& y) { return x.row < y.row; });
 }
 
-// Where a thread adds its points: the system's own arrays (under the row
-// locks), or the thread's private copy of them (no locks; summed afterwards).
+// Zeroed doubles in fresh pages of their own (an anonymous mapping), which
+// take memory only where they are written: a thread's sums of the seam rows
+// hold about the rows at its own range's two ends, not all of them.
+class ZeroPages {
+ public:
+  ZeroPages() = default;
+  explicit ZeroPages(int64_t n) : bytes_(static_cast<size_t>(std::max<int64_t>(n, 1)) * sizeof(double)) {
+    void* p = ::mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE,
+                     -1, 0);
+    if (p == MAP_FAILED) throw std::bad_alloc();
+    p_ = static_cast<double*>(p);
+  }
+  ZeroPages(ZeroPages&& o) noexcept : p_(std::exchange(o.p_, nullptr)), bytes_(o.bytes_) {}
+  ZeroPages& operator=(ZeroPages&& o) noexcept {
+    std::swap(p_, o.p_);
+    std::swap(bytes_, o.bytes_);
+    return *this;
+  }
+  ~ZeroPages() {
+    if (p_ != nullptr) ::munmap(p_, bytes_);
+  }
+  double* data() const { return p_; }
+
+ private:
+  double* p_ = nullptr;
+  size_t bytes_ = 0;
+};
+
+// The rows of S that more than one thread's points touch, laid out back to
+// back for a thread's own sums of them: per such row its values (as in S),
+// then its b, gradient and diagonal.
+struct SeamLayout {
+  std::vector<int32_t> slot;  // per row of S: its place among the seam rows, or -1
+  std::vector<int32_t> rows;  // the seam rows, increasing
+  std::vector<int64_t> start; // per seam row: where its values begin (then 3 vectors)
+  int64_t doubles = 0;
+};
+
+}  // namespace
+
+// The later threads' sums of the shared rows, and their layout.
+struct FormationSeams {
+  SeamLayout layout;
+  std::vector<ZeroPages> sums;  // thread t > 0: sums[t - 1]
+};
+
+namespace {
+
+SeamLayout LayOutSeams(const BsmcMatrix& S, const std::vector<uint8_t>& shared_rows) {
+  SeamLayout seams;
+  seams.slot.assign(S.num_block_rows(), -1);
+  for (int32_t r = 0; r < S.num_block_rows(); ++r) {
+    if (!shared_rows[r]) continue;
+    seams.slot[r] = static_cast<int32_t>(seams.rows.size());
+    seams.rows.push_back(r);
+    seams.start.push_back(seams.doubles);
+    seams.doubles += S.value_offset(S.row_end(r)) - S.value_offset(S.row_begin(r)) +
+                     3 * int64_t{S.block_size(r)};
+  }
+  return seams;
+}
+
+// Where a thread adds its points: the system's own arrays, or the thread's
+// private copy of them (no locks; summed afterwards). Rows that other
+// threads also write: the thread's own sums of them (a thread after the
+// first, `seam`; summed in thread order afterwards), or under the row locks.
 struct RcsTarget {
   double* values;        // S's values (BSMC layout)
   double* b;
   double* gradient;      // camera_side_gradient
   double* jtj_diagonal;  // camera_side_jtj_diagonal
-  StripedLocks* locks;   // null: private, no locking
+  StripedLocks* locks;   // null: no locking
   // With locks: the rows that other threads also write (null: all).
   const uint8_t* shared_rows = nullptr;
+  const SeamLayout* seams = nullptr;  // with `seam`: its layout
+  double* seam = nullptr;
   bool Locks(int64_t row) const {
     return locks != nullptr && (shared_rows == nullptr || shared_rows[row] != 0);
   }
@@ -109,6 +178,27 @@ struct RcsTarget {
   }
   void Unlock(int64_t row) const {
     if (Locks(row)) locks->Unlock(row);
+  }
+  // Where row `row` is written: block b's values at
+  // values + S.value_offset(b) - shift, and its b, gradient and diagonal.
+  struct Row {
+    double* values;
+    int64_t shift;
+    double* b;
+    double* gradient;
+    double* diagonal;
+  };
+  Row Place(const BsmcMatrix& S, int32_t row) const {
+    const int32_t s = seam != nullptr ? seams->slot[row] : -1;
+    if (s < 0) {
+      const int64_t o = S.scalar_offset(row);
+      return {values, 0, b + o, gradient + o, jtj_diagonal + o};
+    }
+    const int64_t first = S.value_offset(S.row_begin(row));
+    double* v = seam + seams->start[s];
+    double* vectors = v + (S.value_offset(S.row_end(row)) - first);
+    const int64_t size = S.block_size(row);
+    return {v, first, vectors, vectors + size, vectors + 2 * size};
   }
 };
 
@@ -154,11 +244,11 @@ void AddPointToRcs(const PointSystem<Model>& p, AddScratch<Model>& scratch, cons
   // The blocks of one row are visited in increasing column (cameras sorted,
   // then the intrinsic rows, which come after every camera row, sorted):
   // each is sought forward from the last instead of searched for anew.
-  auto seek = [&](int64_t* position, int32_t row, int32_t col) {
+  auto seek = [&](int64_t* position, const RcsTarget::Row& place, int32_t row, int32_t col) {
     const int64_t block = S.SeekBlock(*position, row, col);
     DBA_DCHECK(block >= 0);  // the pattern (rcs_pattern) holds every pair of a point's rows
     *position = block;
-    return t.values + S.value_offset(block);
+    return place.values + (S.value_offset(block) - place.shift);
   };
   if constexpr (Model::kIntrinsics > 0) SumByGroup(p, &groups);
   SortByCameraRow(p, &scratch.order);
@@ -172,6 +262,7 @@ void AddPointToRcs(const PointSystem<Model>& p, AddScratch<Model>& scratch, cons
     const Eigen::Matrix<double, kC, 1> g_c = p.J_c[a].transpose() * p.r[a];
     const PointJacobian& K = p.K[a];
     t.Lock(ca);
+    const RcsTarget::Row place = t.Place(S, ca);
     int64_t position = S.diagonal_block(ca);
     // Every b with cb >= ca; a camera seeing the point twice gets both
     // M_ab and M_ba on its diagonal block.
@@ -186,21 +277,19 @@ void AddPointToRcs(const PointSystem<Model>& p, AddScratch<Model>& scratch, cons
                            -(k0[0] * q1[0] + k0[1] * q1[1] + k0[2] * q1[2]),
                            -(k1[0] * q0[0] + k1[1] * q0[1] + k1[2] * q0[2]),
                            diagonal - (k1[0] * q1[0] + k1[1] * q1[1] + k1[2] * q1[2])};
-      AddRank2<kC>(seek(&position, ca, p.camera_row[b]), p.J_c[a].data(), M, p.J_c[b].data());
+      AddRank2<kC>(seek(&position, place, ca, p.camera_row[b]), p.J_c[a].data(), M, p.J_c[b].data());
     }
     if constexpr (Model::kIntrinsics > 0) {
       for (const auto& gs : groups) {
         typename PointSystem<Model>::IntrinsicsJac Z = -K * gs.W.transpose();
         if (gs.row == p.intrinsics_row[a]) Z += p.J_i[a];
         const Eigen::Matrix<double, kC, kI> m = p.J_c[a].transpose() * Z;
-        AddLeftCols<kC>(seek(&position, ca, gs.row), S.block_size(gs.row), m);
+        AddLeftCols<kC>(seek(&position, place, ca, gs.row), S.block_size(gs.row), m);
       }
     }
-    const int64_t o = S.scalar_offset(ca);
-    Eigen::Map<Eigen::Matrix<double, kC, 1>>(t.b + o) -=
-        p.J_c[a].transpose() * (p.r[a] - K * p.g_p);
-    Eigen::Map<Eigen::Matrix<double, kC, 1>>(t.gradient + o) += g_c;
-    Eigen::Map<Eigen::Matrix<double, kC, 1>>(t.jtj_diagonal + o) +=
+    Eigen::Map<Eigen::Matrix<double, kC, 1>>(place.b) -= p.J_c[a].transpose() * (p.r[a] - K * p.g_p);
+    Eigen::Map<Eigen::Matrix<double, kC, 1>>(place.gradient) += g_c;
+    Eigen::Map<Eigen::Matrix<double, kC, 1>>(place.diagonal) +=
         p.J_c[a].colwise().squaredNorm().transpose();
     t.Unlock(ca);
   }
@@ -211,20 +300,20 @@ void AddPointToRcs(const PointSystem<Model>& p, AddScratch<Model>& scratch, cons
       const Eigen::Matrix<double, kI, 3> T = groups[x].W * p.V_inv;
       const Eigen::Matrix<double, kI, 1> rhs = -groups[x].g + T * p.g_p;
       t.Lock(gx);
+      const RcsTarget::Row place = t.Place(S, gx);
       int64_t position = S.diagonal_block(gx);
       for (size_t y = x; y < groups.size(); ++y) {
         const int32_t gy = groups[y].row;
         Eigen::Matrix<double, kI, kI> m = -T.lazyProduct(groups[y].W.transpose());
         if (y == x) m += groups[x].JtJ;
         Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-            seek(&position, gx, gy), nx, S.block_size(gy)) +=
+            seek(&position, place, gx, gy), nx, S.block_size(gy)) +=
             m.topLeftCorner(nx, S.block_size(gy));
       }
-      const int64_t o = S.scalar_offset(gx);
       for (int d = 0; d < nx; ++d) {
-        t.b[o + d] += rhs[d];
-        t.gradient[o + d] += groups[x].g[d];
-        t.jtj_diagonal[o + d] += groups[x].JtJ(d, d);
+        place.b[d] += rhs[d];
+        place.gradient[d] += groups[x].g[d];
+        place.diagonal[d] += groups[x].JtJ(d, d);
       }
       t.Unlock(gx);
     }
@@ -243,6 +332,11 @@ constexpr int64_t kPrivateCopyBytes = 32 << 20;
 int64_t FormationCopyBytes(int64_t values, int64_t rows, int num_threads) {
   const int64_t bytes = int64_t{num_threads - 1} * (values + 3 * rows) * 8;
   return num_threads > 1 && bytes <= kPrivateCopyBytes ? bytes : 0;
+}
+
+int64_t FormationSeamBytesLimit(int64_t values, int64_t rows, int num_threads) {
+  if (num_threads <= 1 || FormationCopyBytes(values, rows, num_threads) > 0) return 0;
+  return (values + 3 * rows) * 8 / 8;
 }
 
 namespace {
@@ -283,12 +377,84 @@ void FindSharedRows(const Problem& problem, const UnknownLayout& layout, int thr
   for (int32_t r = 0; r < rows; ++r) sys->shared_rows[r] = toucher[r] == kShared;
   sys->shared_rows_threads = threads;
   sys->shared_rows_observations = problem.num_observations();
+  sys->seams.reset();  // laid out again for these rows
+  // What the later threads' own sums of the shared rows hold: each the rows
+  // its points touch (their values and 3 vectors).
+  const BsmcMatrix& S = sys->S;
+  sys->shared_rows_later_doubles = 0;
+  std::vector<int> seen(rows, -1);
+  for (int t = 1; t < threads; ++t) {
+    const int64_t first = problem.point_offsets[RangeBegin(n, t, threads)];
+    const int64_t last = problem.point_offsets[RangeBegin(n, t + 1, threads)];
+    for (int64_t o = first; o < last; ++o) {
+      const auto touched = layout.rows_of_image(problem, problem.obs_camera[o]);
+      for (const int32_t r : {touched.camera, touched.intrinsics}) {
+        if (r < 0 || !sys->shared_rows[r] || seen[r] == t) continue;
+        seen[r] = t;
+        sys->shared_rows_later_doubles += S.value_offset(S.row_end(r)) -
+                                          S.value_offset(S.row_begin(r)) + 3 * int64_t{S.block_size(r)};
+      }
+    }
+  }
 }
 
 // Whether sys.shared_rows were found for `threads` ranges of this problem.
 bool SharedRowsFit(const RcsSystem& sys, int threads, const Problem& problem) {
   return sys.shared_rows_threads == threads &&
          sys.shared_rows_observations == problem.num_observations();
+}
+
+// Thread `thread` of `threads`: its slice of the private copies (values,
+// then b, gradient and diagonal back to back) added into the system, the
+// copies in thread order.
+void SumPrivateCopies(const std::vector<std::vector<double>>& copies, int thread, int threads,
+                      RcsSystem* sys) {
+  const int64_t values = sys->S.num_values(), rows = sys->S.num_rows();
+  const std::pair<double*, int64_t> segments[4] = {{sys->S.values().data(), values},
+                                                   {sys->b.data(), rows},
+                                                   {sys->camera_side_gradient.data(), rows},
+                                                   {sys->camera_side_jtj_diagonal.data(), rows}};
+  int64_t start = 0;  // of the segment in a copy
+  for (const auto& [out, length] : segments) {
+    // Slices and copies by the team's size (it may be smaller than asked
+    // for: the copies of threads that never ran are empty).
+    const int64_t begin = start + length * thread / threads;
+    const int64_t end = start + length * (thread + 1) / threads;
+    for (int64_t i = begin; i < end; ++i) {
+      for (int c = 0; c + 1 < threads; ++c) out[i - start] += copies[c][i];
+    }
+    start += length;
+  }
+}
+
+// Thread `thread` of `threads`: its slice of the seam rows, the later
+// threads' sums of them added into the system in thread order, and zeroed
+// for the next formation where they were written (pages never written stay
+// without memory).
+void SumSeams(const SeamLayout& seams, const std::vector<ZeroPages>& sums, int thread,
+              int threads, RcsSystem* sys) {
+  const BsmcMatrix& S = sys->S;
+  const int64_t n = static_cast<int64_t>(seams.rows.size());
+  for (int64_t i = n * thread / threads; i < n * (thread + 1) / threads; ++i) {
+    const int32_t r = seams.rows[i];
+    const int64_t first = S.value_offset(S.row_begin(r)), count = S.value_offset(S.row_end(r)) - first;
+    const int64_t size = S.block_size(r), o = S.scalar_offset(r);
+    double* const out[4] = {sys->S.values().data() + first, sys->b.data() + o,
+                            sys->camera_side_gradient.data() + o,
+                            sys->camera_side_jtj_diagonal.data() + o};
+    const int64_t length[4] = {count, size, size, size};
+    for (const ZeroPages& sum : sums) {
+      double* in = sum.data() + seams.start[i];
+      for (int part = 0; part < 4; ++part) {
+        for (int64_t x = 0; x < length[part]; ++x) {
+          if (in[x] == 0.0) continue;
+          out[part][x] += in[x];
+          in[x] = 0.0;
+        }
+        in += length[part];
+      }
+    }
+  }
 }
 
 template <class Model>
@@ -305,6 +471,24 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
   }
   // Thread t > 0 of the private scheme: values, then b, gradient, diagonal.
   std::vector<std::vector<double>> copies(private_copies ? num_threads - 1 : 0);
+  // Else the shared rows in each later thread's own sums while they fit
+  // (FormationSeamBytesLimit), else under row locks.
+  const int64_t limit = FormationSeamBytesLimit(values, rows, num_threads);
+  if (limit > 0 && !sys->seams && SharedRowsFit(*sys, num_threads, problem) &&
+      sys->shared_rows_later_doubles * 8 <= limit) {
+    auto made = std::make_shared<FormationSeams>();
+    made->layout = LayOutSeams(sys->S, sys->shared_rows);
+    try {  // address space for every thread's layout; pages only where written
+      for (int t = 1; t < num_threads; ++t) made->sums.emplace_back(made->layout.doubles);
+      sys->seams = std::move(made);
+    } catch (const std::bad_alloc&) {  // under a limit on it: the row locks
+    }
+  }
+  const bool use_seams = limit > 0 && sys->seams && SharedRowsFit(*sys, num_threads, problem) &&
+                         static_cast<int>(sys->seams->sums.size()) == num_threads - 1;
+  static const SeamLayout kNoSeams;
+  const SeamLayout& seams = use_seams ? sys->seams->layout : kNoSeams;
+  sys->seam_doubles = use_seams ? seams.doubles : 0;
   // The first thread reports its share (RangeBegin: about the first
   // n / threads points).
   ProgressPhase progress("RCS formation");
@@ -321,14 +505,20 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
     // threads (the team may be smaller than asked for).
     const uint8_t* shared_rows =
         !private_copies && SharedRowsFit(*sys, threads, problem) ? sys->shared_rows.data() : nullptr;
+    // The seams were laid out for a full team's ranges.
+    const bool seamed = use_seams && threads == num_threads;
     RcsTarget target{sys->S.values().data(), sys->b.data(), sys->camera_side_gradient.data(),
-                     sys->camera_side_jtj_diagonal.data(), private_copies ? nullptr : &locks,
-                     shared_rows};
+                     sys->camera_side_jtj_diagonal.data(),
+                     private_copies || seamed ? nullptr : &locks, shared_rows};
     if (private_copies && thread > 0) {
       std::vector<double>& c = copies[thread - 1];
       c.assign(values + 3 * rows, 0.0);
       target = {c.data(), c.data() + values, c.data() + values + rows,
                 c.data() + values + 2 * rows, nullptr};
+    }
+    if (seamed && thread > 0) {
+      target.seams = &seams;
+      target.seam = sys->seams->sums[thread - 1].data();
     }
     // Contiguous ranges of points per thread: neighbouring points see the
     // same cameras, so interleaved chunks would make the threads fight over
@@ -348,26 +538,11 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
       inliers += p.residuals.inliers;
       max_g_p = std::max(max_g_p, p.g_p.cwiseAbs().maxCoeff());
     }
-    if (private_copies) {
-      // Sum the copies into the system, each thread a slice, in thread order.
+    if (private_copies || seamed) {
+      // The copies into the system, each thread a slice, in thread order.
 #pragma omp barrier
-      // The copies hold values, b, gradient and diagonal back to back; the
-      // system has them in four arrays.
-      const std::pair<double*, int64_t> segments[4] = {{sys->S.values().data(), values},
-                                                       {sys->b.data(), rows},
-                                                       {sys->camera_side_gradient.data(), rows},
-                                                       {sys->camera_side_jtj_diagonal.data(), rows}};
-      int64_t start = 0;  // of the segment in a copy
-      for (const auto& [out, length] : segments) {
-        // Slices and copies by the team's size (it may be smaller than
-        // asked for: the copies of threads that never ran are empty).
-        const int64_t begin = start + length * thread / threads;
-        const int64_t end = start + length * (thread + 1) / threads;
-        for (int64_t i = begin; i < end; ++i) {
-          for (int c = 0; c + 1 < threads; ++c) out[i - start] += copies[c][i];
-        }
-        start += length;
-      }
+      if (private_copies) SumPrivateCopies(copies, thread, threads, sys);
+      if (seamed) SumSeams(seams, sys->seams->sums, thread, threads, sys);
     }
   }
   sys->cost = cost;

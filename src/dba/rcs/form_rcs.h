@@ -8,11 +8,20 @@
 // Rows are the unknowns of rcs/unknown_layout.h: cameras (or poses) first,
 // then intrinsic groups.
 //
-// Threads: points are processed in parallel. While one copy of the RCS per
-// thread fits in 32 MiB, each thread adds into its own copy and the copies
-// are summed in thread order (no locks; small RCSs, where all points touch
-// the same rows). Otherwise a point's blocks in block row i are added under
-// the lock of row i (striped spinlocks), one row at a time.
+// Threads: points are processed in parallel, each thread a contiguous
+// range. While one copy of the RCS per thread fits in 32 MiB, each thread
+// adds into its own copy and the copies are summed in thread order (no
+// locks; small RCSs, where all points touch the same rows). Otherwise each
+// thread adds the rows only its points touch into S itself, and the rows
+// several threads' points touch (the seams between ranges) the first thread
+// into S and each later one into its own sums of them, added in thread
+// order afterwards: the same bits on every run, while what those sums hold
+// (each later thread's pages only the rows its points touch, about those
+// at its range's two ends) is at most an eighth of the RCS
+// (FormationSeamBytesLimit). Past that (an input whose order scatters
+// every row over the threads), a point's blocks in a shared row i are added
+// under the lock of row i (striped spinlocks), in the order the threads
+// come.
 //
 // Thread safety: FormRcs uses its own threads; do not call it concurrently on
 // the same RcsSystem.
@@ -20,6 +29,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -46,6 +56,15 @@ struct RcsSystem {
   std::vector<uint8_t> shared_rows;
   int shared_rows_threads = 0;
   int64_t shared_rows_observations = -1;
+  // The doubles of the shared rows each later thread's points touch,
+  // summed over those threads (what their own sums of them hold).
+  int64_t shared_rows_later_doubles = 0;
+  // FormRcs's last: the doubles of each later thread's sums of the shared
+  // rows, as laid out (0: private copies, one thread, or row locks).
+  int64_t seam_doubles = 0;
+  // Those sums, kept zero between formations (made with the shared rows;
+  // a copy of the system shares them: form one copy at a time).
+  std::shared_ptr<struct FormationSeams> seams;
 
   // Symbolic phase: unknowns and structure of S from the problem's
   // visibility graph. `before_values`, if set, sees the system with S's
@@ -75,6 +94,10 @@ void FormRcs(const Problem& problem, double lambda,
 // gradient and diagonal over `rows`) that FormRcs allocates on each call
 // when they are small enough to beat row locks (32 MiB in all), else 0.
 int64_t FormationCopyBytes(int64_t values, int64_t rows, int num_threads);
+// Without private copies: the most the later threads' sums of the rows
+// they share take (an eighth of the RCS); 0 with one thread or private
+// copies. Seam rows beyond it are summed under locks instead.
+int64_t FormationSeamBytesLimit(int64_t values, int64_t rows, int num_threads);
 
 // S_ii += λ clamp(diag U_ii) on every diagonal block (the camera part of the
 // Marquardt damping λ D); `num_block_rows` >= 0: on the first rows only (a

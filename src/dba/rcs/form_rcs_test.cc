@@ -9,6 +9,8 @@
 #include <bit>
 
 #include "dba/io/read_problem.h"
+#include "dba/problem/point_order.h"
+#include "dba/testing/scattered_survey.h"
 #include "dba/synthetic/uav_generator.h"
 #include "dba/testing/dense_reference.h"
 #include "dba/testing/synthetic_bal.h"
@@ -368,13 +370,26 @@ INSTANTIATE_TEST_SUITE_P(
              std::to_string(info.param.threads) + "_threads";
     });
 
-// An RCS too large for the threads' private copies is formed under row
-// locks, and only the rows that more than one thread's range of points
-// touches are locked (FindSharedRows): a survey's points are ordered along
-// its strips, so most camera rows belong to one thread; the photogrammetric
-// model's intrinsics rows are shared. The values are those of one thread
-// all the same.
+// An RCS too large for the threads' private copies: only the rows that
+// more than one thread's range of points touches are shared (FindSharedRows):
+// a survey's points are ordered along its strips, so most camera rows
+// belong to one thread; the photogrammetric model's intrinsics rows are
+// shared. Each later thread sums the shared rows in its own pages, added in
+// thread order: the values are those of one thread to rounding, and formed
+// again the same bits.
 class FormRcsLocksTest : public ::testing::TestWithParam<CameraModel> {};
+
+Problem StripSurvey(CameraModel model) {
+  UavSurveyOptions o;
+  o.images = 3000;
+  o.features_per_image = 100;
+  o.forward_overlap = 0.6;
+  o.side_overlap = 0.3;
+  o.model = model;
+  const std::string path = testing::TempPath("form_rcs_locks.dba");
+  GenerateUavSurvey(o, path, "");
+  return ReadProblem(path);
+}
 
 TEST_P(FormRcsLocksTest, LocksOnlySharedRowsAndMatchesOneThread) {
   UavSurveyOptions o;
@@ -422,10 +437,44 @@ TEST_P(FormRcsLocksTest, LocksOnlySharedRowsAndMatchesOneThread) {
   EXPECT_LT(VectorRelativeError(one.b, many.b), 1e-13) << "b";
   EXPECT_LT(VectorRelativeError(one.camera_side_gradient, many.camera_side_gradient), 1e-13);
   EXPECT_NEAR(one.cost, many.cost, 1e-13 * one.cost);
-  // Formed again (the shared rows kept), the same values.
+  // 8 threads' ranges cut this survey's strips: the shared rows the later
+  // threads touch pass an eighth of the RCS, and are summed under locks.
+  EXPECT_EQ(many.seam_doubles, 0);
+  // Formed again (the shared rows kept), the same values to rounding.
   const std::vector<double> first(many.S.values().begin(), many.S.values().end());
   FormRcs(problem, 1e-3, bounds, kThreads, &many);
   EXPECT_LT(VectorRelativeError(first, many.S.values()), 1e-13);
+}
+
+// A walked survey past the private copies' 32 MiB on 2 threads: the rows
+// both threads touch are few (the walk's ranges meet along one seam), the
+// second thread sums them in its own pages, added after the first's: one
+// thread's values to rounding, and formed again the same bits.
+TEST(FormRcsSeams, AWalkedSurveyFormsTheSameBitsEveryTime) {
+  Problem problem = testing::MakeScatteredSurvey("form_rcs_seams.dba", 2200, 120, 4, 2).scattered;
+  const std::vector<int64_t> walk = PointWalk(problem);
+  ASSERT_FALSE(walk.empty());
+  PermutePoints(walk, &problem);
+  PermuteCameras(CamerasInPointOrder(problem), &problem);
+  const DampingBounds bounds;
+  RcsSystem one = RcsSystem::ForProblem(problem), two = RcsSystem::ForProblem(problem);
+  ASSERT_EQ(FormationCopyBytes(two.S.num_values(), two.S.num_rows(), 2), 0) << "small enough for copies";
+  FormRcs(problem, 1e-3, bounds, 1, &one);
+  FormRcs(problem, 1e-3, bounds, 2, &two);
+  ASSERT_GT(two.seam_doubles, 0);
+  EXPECT_LT(two.shared_rows_later_doubles * 8,
+            FormationSeamBytesLimit(two.S.num_values(), two.S.num_rows(), 2));
+  EXPECT_LT(VectorRelativeError(one.S.values(), two.S.values()), 1e-13) << "S";
+  EXPECT_LT(VectorRelativeError(one.b, two.b), 1e-13) << "b";
+  EXPECT_LT(VectorRelativeError(one.camera_side_jtj_diagonal, two.camera_side_jtj_diagonal), 1e-13);
+  const std::vector<double> first(two.S.values().begin(), two.S.values().end());
+  const std::vector<double> first_b = two.b, first_g = two.camera_side_gradient;
+  for (int again = 0; again < 3; ++again) {
+    FormRcs(problem, 1e-3, bounds, 2, &two);
+    EXPECT_TRUE(std::equal(first.begin(), first.end(), two.S.values().begin()));
+    EXPECT_EQ(first_b, two.b);
+    EXPECT_EQ(first_g, two.camera_side_gradient);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, FormRcsLocksTest,
