@@ -374,22 +374,10 @@ INSTANTIATE_TEST_SUITE_P(
 // more than one thread's range of points touches are shared (FindSharedRows):
 // a survey's points are ordered along its strips, so most camera rows
 // belong to one thread; the photogrammetric model's intrinsics rows are
-// shared. Each later thread sums the shared rows in its own pages, added in
-// thread order: the values are those of one thread to rounding, and formed
-// again the same bits.
+// shared. On 8 threads the later threads' shared rows pass an eighth of the
+// RCS, so they are summed under row locks: the values are those of one
+// thread to rounding. (The threads' own sums: FormRcsSeams below.)
 class FormRcsLocksTest : public ::testing::TestWithParam<CameraModel> {};
-
-Problem StripSurvey(CameraModel model) {
-  UavSurveyOptions o;
-  o.images = 3000;
-  o.features_per_image = 100;
-  o.forward_overlap = 0.6;
-  o.side_overlap = 0.3;
-  o.model = model;
-  const std::string path = testing::TempPath("form_rcs_locks.dba");
-  GenerateUavSurvey(o, path, "");
-  return ReadProblem(path);
-}
 
 TEST_P(FormRcsLocksTest, LocksOnlySharedRowsAndMatchesOneThread) {
   UavSurveyOptions o;
