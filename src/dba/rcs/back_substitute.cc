@@ -35,19 +35,6 @@ void CandidateSquaredResiduals(const Problem& problem, const std::vector<double>
   }
 }
 
-// The threads' sums (model cost, candidate cost, step, squared, inlier
-// squared, inliers) and spreads, in thread order: the same from run to run.
-StepEvaluation Evaluation(const ThreadSums<6>& sums, const std::vector<PositionSpread>& spreads) {
-  const std::array<double, 6> total = sums.Total();
-  StepEvaluation e;
-  e.model_cost = total[0];
-  e.candidate_cost = total[1];
-  e.candidate_residuals = {total[3], total[4], total[5]};
-  e.point_step_squared_norm = total[2];
-  for (const PositionSpread& part : spreads) e.point_spread.Merge(part);
-  return e;
-}
-
 template <class Model>
 StepEvaluation BackSubstituteWith(const Problem& problem, const UnknownLayout& layout,
                                   double lambda, const DampingBounds& bounds,
@@ -141,7 +128,16 @@ StepEvaluation BackSubstituteWith(const Problem& problem, const UnknownLayout& l
     sums.Set(omp_get_thread_num(),
              {model_cost, candidate_cost, step_sq, squared, inlier_squared, inliers});
   }
-  return Evaluation(sums, spreads);
+  // In thread order: the same sums from run to run.
+  const std::array<double, 6> total = sums.Total();
+  StepEvaluation e;
+  e.model_cost = total[0];
+  e.candidate_cost = total[1];
+  e.candidate_residuals = {total[3], total[4], total[5]};
+  e.point_step_squared_norm = total[2];
+  // In thread order: the same sum from run to run.
+  for (const PositionSpread& part : spreads) e.point_spread.Merge(part);
+  return e;
 }
 
 }  // namespace
