@@ -13,7 +13,6 @@
 #include <utility>
 
 #include "dba/common/check.h"
-#include "dba/common/ordered_sums.h"
 #include "dba/common/striped_locks.h"
 #include "dba/rcs/rcs_pattern.h"
 
@@ -462,8 +461,7 @@ template <class Model>
 void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bounds,
                  const RobustLoss& loss, int num_threads, RcsSystem* sys) {
   StripedLocks locks;
-  double max_g_p = 0.0;
-  ThreadSums<4> sums(num_threads);  // cost, squared, inlier_squared, inliers
+  double cost = 0.0, max_g_p = 0.0, squared = 0.0, inlier_squared = 0.0, inliers = 0.0;
   const int64_t num_points = problem.num_points();
   const int64_t rows = sys->S.num_rows();
   const int64_t values = sys->S.num_values();
@@ -496,9 +494,9 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
   ProgressPhase progress("RCS formation");
   const double first_share =
       std::max<double>(1.0, static_cast<double>(RangeBegin(num_points, 1, num_threads)));
-#pragma omp parallel num_threads(num_threads) reduction(max : max_g_p)
+#pragma omp parallel num_threads(num_threads) reduction(+ : cost, squared, inlier_squared, inliers) \
+    reduction(max : max_g_p)
   {
-    double cost = 0.0, squared = 0.0, inlier_squared = 0.0, inliers = 0.0;
     PointSystem<Model> p;
     AddScratch<Model> scratch;
     const int thread = omp_get_thread_num();
@@ -540,7 +538,6 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
       inliers += p.residuals.inliers;
       max_g_p = std::max(max_g_p, p.g_p.cwiseAbs().maxCoeff());
     }
-    sums.Set(thread, {cost, squared, inlier_squared, inliers});
     if (private_copies || seamed) {
       // The copies into the system, each thread a slice, in thread order.
 #pragma omp barrier
@@ -548,9 +545,8 @@ void FormRcsWith(const Problem& problem, double lambda, const DampingBounds& bou
       if (seamed) SumSeams(seams, sys->seams->sums, thread, threads, sys);
     }
   }
-  const std::array<double, 4> total = sums.Total();
-  sys->cost = total[0];
-  sys->residuals = {total[1], total[2], total[3]};
+  sys->cost = cost;
+  sys->residuals = {squared, inlier_squared, inliers};
   sys->max_abs_point_gradient = max_g_p;
 }
 

@@ -6,7 +6,6 @@
 #include <optional>
 
 #include "dba/common/interrupt.h"
-#include "dba/common/ordered_sums.h"
 #include "dba/common/progress.h"
 
 namespace dba {
@@ -15,8 +14,10 @@ namespace {
 constexpr int64_t kParallelBelow = 8192;  // shorter vectors: serial loops
 
 double Dot(const double* a, const double* b, int64_t n, int num_threads) {
-  return ParallelSums<1>(n, num_threads, n > kParallelBelow,
-                         [&](int64_t i, double* s) { s[0] += a[i] * b[i]; })[0];
+  double s = 0.0;
+#pragma omp parallel for num_threads(num_threads) reduction(+ : s) schedule(static) if (n > kParallelBelow)
+  for (int64_t i = 0; i < n; ++i) s += a[i] * b[i];
+  return s;
 }
 
 // y0 = 0, r0 = b, z0 = M⁻¹ r0, d0 = z0.
@@ -104,13 +105,15 @@ PcgSummary SolveTextbook(const PcgOperator& S, const Preconditioner& M, const do
     }
     summary.iterations = k;
     M.Apply(r, z);
-    const std::array<double, 4> in = ParallelSums<4>(n, nt, par, [&](int64_t i, double* s) {
-      s[0] += r[i] * r[i];
-      s[1] += y[i] * b[i];
-      s[2] += y[i] * r[i];
-      s[3] += r[i] * z[i];
-    });
-    double sums[4] = {in[0], in[1], in[2], in[3]};
+    double rr = 0.0, yb = 0.0, yr = 0.0, rz_new = 0.0;
+#pragma omp parallel for num_threads(nt) reduction(+ : rr, yb, yr, rz_new) schedule(static) if (par)
+    for (int64_t i = 0; i < n; ++i) {
+      rr += r[i] * r[i];
+      yb += y[i] * b[i];
+      yr += y[i] * r[i];
+      rz_new += r[i] * z[i];
+    }
+    double sums[4] = {rr, yb, yr, rz_new};
     S.SumOverRanks(sums);
     if (const auto stop = tests.After(k, sums[0], sums[1], sums[2])) {
       summary.stop = *stop;
@@ -147,15 +150,22 @@ PcgSummary SolveOneReduction(const PcgOperator& S, const Preconditioner& M, cons
   auto direction_and_sums = [&]() {
     S.Multiply(d, Sd);
     M.Apply(Sd, MSd);
-    const std::array<double, kSums> in = ParallelSums<kSums>(n, nt, par, [&](int64_t i, double* s) {
-      s[kDSd] += d[i] * Sd[i];
-      s[kSdMSd] += Sd[i] * MSd[i];
-      s[kRz] += r[i] * z[i];
-      s[kRr] += r[i] * r[i];
-      s[kYb] += y[i] * b[i];
-      s[kYr] += y[i] * r[i];
-    });
-    for (int k = 0; k < kSums; ++k) sums[k] = in[k];
+    double dSd = 0.0, SdMSd = 0.0, rz = 0.0, rr = 0.0, yb = 0.0, yr = 0.0;
+#pragma omp parallel for num_threads(nt) reduction(+ : dSd, SdMSd, rz, rr, yb, yr) schedule(static) if (par)
+    for (int64_t i = 0; i < n; ++i) {
+      dSd += d[i] * Sd[i];
+      SdMSd += Sd[i] * MSd[i];
+      rz += r[i] * z[i];
+      rr += r[i] * r[i];
+      yb += y[i] * b[i];
+      yr += y[i] * r[i];
+    }
+    sums[kDSd] = dSd;
+    sums[kSdMSd] = SdMSd;
+    sums[kRz] = rz;
+    sums[kRr] = rr;
+    sums[kYb] = yb;
+    sums[kYr] = yr;
     S.SumOverRanks(sums);
   };
   direction_and_sums();
