@@ -6,16 +6,28 @@
 
 namespace dba {
 
-std::vector<int64_t> RowValueCounts(const BsmcMatrix* sub, const std::vector<int32_t>& sub_rows,
-                                    int32_t n_global) {
-  std::vector<int64_t> weight(n_global, 0);
-  if (sub == nullptr) return weight;
+namespace {
+
+// Each stored block (i, j) of `sub` with its global rows and its values.
+template <class F>
+void ForEachSubBlock(const BsmcMatrix* sub, const std::vector<int32_t>& sub_rows, F f) {
+  if (sub == nullptr) return;
   for (int32_t i = 0; i < sub->num_block_rows(); ++i) {
     for (int64_t b = sub->row_begin(i); b < sub->row_end(i); ++b) {
       const int32_t j = sub->block_col(b);
-      weight[std::min(sub_rows[i], sub_rows[j])] += int64_t{sub->block_size(i)} * sub->block_size(j);
+      f(sub_rows[i], sub_rows[j], int64_t{sub->block_size(i)} * sub->block_size(j));
     }
   }
+}
+
+}  // namespace
+
+std::vector<int64_t> RowValueCounts(const BsmcMatrix* sub, const std::vector<int32_t>& sub_rows,
+                                    int32_t n_global) {
+  std::vector<int64_t> weight(n_global, 0);
+  ForEachSubBlock(sub, sub_rows, [&](int32_t gi, int32_t gj, int64_t values) {
+    weight[std::min(gi, gj)] += values;
+  });
   return weight;
 }
 
@@ -23,15 +35,10 @@ std::vector<int64_t> SymmetricRowValueCounts(const BsmcMatrix* sub,
                                              const std::vector<int32_t>& sub_rows,
                                              int32_t n_global) {
   std::vector<int64_t> count(n_global, 0);
-  if (sub == nullptr) return count;
-  for (int32_t i = 0; i < sub->num_block_rows(); ++i) {
-    for (int64_t b = sub->row_begin(i); b < sub->row_end(i); ++b) {
-      const int32_t j = sub->block_col(b);
-      const int64_t values = int64_t{sub->block_size(i)} * sub->block_size(j);
-      count[sub_rows[i]] += values;
-      if (j != i) count[sub_rows[j]] += values;
-    }
-  }
+  ForEachSubBlock(sub, sub_rows, [&](int32_t gi, int32_t gj, int64_t values) {
+    count[gi] += values;
+    if (gj != gi) count[gj] += values;
+  });
   return count;
 }
 
