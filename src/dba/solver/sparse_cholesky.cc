@@ -259,6 +259,29 @@ void SparseCholeskySolver::SolveFactored(const double* b, double* x) {
   std::copy(solution, solution + n, x);
 }
 
+CholeskyFactor SparseCholeskySolver::TakeFactor() {
+  Impl& m = *impl_;
+  // Supernodal to simplicial L Lᵀ, packed and in column order (the pattern
+  // keeps the supernodes' explicit zeros).
+  if (!Cholmod().cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, m.L, &m.cm.c)) {
+    throw std::runtime_error("sparse Cholesky: the factor could not be converted (CHOLMOD status " +
+                             std::to_string(m.cm.c.status) + ")");
+  }
+  const cholmod_factor& L = *m.L;
+  const int64_t n = static_cast<int64_t>(L.n);
+  const int* p = static_cast<const int*>(L.p);
+  const int* i = static_cast<const int*>(L.i);
+  const double* x = static_cast<const double*>(L.x);
+  CholeskyFactor f;
+  f.perm.assign(static_cast<const int*>(L.Perm), static_cast<const int*>(L.Perm) + n);
+  f.col_ptr.assign(p, p + n + 1);
+  f.row_idx.assign(i, i + p[n]);
+  f.values.assign(x, x + p[n]);
+  Cholmod().cholmod_free_factor(&m.L, &m.cm.c);
+  SortFactorColumns(&f);
+  return f;
+}
+
 #else  // Eigen's simplicial Cholesky: no GPL code in the build.
 
 SparseFactorEstimate EstimateSparseFactor(const BsmcMatrix&) { return {}; }
@@ -304,6 +327,21 @@ void SparseCholeskySolver::SolveFactored(const double* b, double* x) {
   const int64_t n = static_cast<int64_t>(impl_->pattern.col_ptr.size()) - 1;
   const Eigen::VectorXd rhs = Eigen::Map<const Eigen::VectorXd>(b, n);
   Eigen::Map<Eigen::VectorXd>(x, n) = impl_->llt.solve(rhs);
+}
+
+
+CholeskyFactor SparseCholeskySolver::TakeFactor() {
+  const Eigen::SparseMatrix<double>& L = impl_->llt.matrixL().nestedExpression();
+  const int64_t n = L.cols();
+  CholeskyFactor f;
+  f.perm.resize(n);
+  const auto& position = impl_->llt.permutationP().indices();
+  for (int64_t i = 0; i < n; ++i) f.perm[position[i]] = i;
+  f.col_ptr.assign(L.outerIndexPtr(), L.outerIndexPtr() + n + 1);
+  f.row_idx.assign(L.innerIndexPtr(), L.innerIndexPtr() + L.nonZeros());
+  f.values.assign(L.valuePtr(), L.valuePtr() + L.nonZeros());
+  SortFactorColumns(&f);
+  return f;
 }
 
 #endif

@@ -17,6 +17,7 @@
 #include <memory>
 
 #include "dba/solver/rcs_solver.h"
+#include "dba/solver/selected_inversion.h"
 
 namespace dba {
 
@@ -47,6 +48,10 @@ class SparseCholeskySolver : public CholeskySolver {
   int64_t MemoryBytes() const override;
   // Values in the factor as analysed.
   double factor_values() const;
+  // The last factorization's L (P S Pᵀ = L Lᵀ) in compressed columns, for
+  // selected inversion (solver/selected_inversion.h). The solver cannot
+  // solve after it.
+  CholeskyFactor TakeFactor();
 
  private:
   struct Impl;
