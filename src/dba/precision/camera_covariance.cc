@@ -1,0 +1,196 @@
+// Pose covariances by selected inversion under the solve's datum; see
+// camera_covariance.h (docs/design.md §7).
+#include "dba/precision/camera_covariance.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "dba/bsmc/symmetric_multiply.h"
+#include "dba/camera/pose_step.h"
+#include "dba/camera/rotation.h"
+#include "dba/common/timer.h"
+#include "dba/solver/selected_inversion.h"
+#include "dba/solver/sparse_cholesky.h"
+
+namespace dba {
+namespace {
+
+// The centre of camera row r (a pose (ω, t) where the row's parameters start).
+Vec3 RowCentre(const CameraSide& side, const UnknownLayout& layout, int32_t r) {
+  return CameraCentre(side.cameras.data() + layout.param_offset(r));
+}
+
+// The unknowns pinned to make S positive definite under `freedom`: row 0's
+// six (7 free) and the coordinate along which the camera row farthest from
+// row 0's centre (1 free: from the held image's) lies farthest.
+std::vector<int64_t> PinnedUnknowns(const CameraSide& side, const UnknownLayout& layout,
+                                    const GaugeFreedom& freedom) {
+  std::vector<int64_t> pins;
+  if (freedom.free == 0) return pins;
+  if (layout.num_camera_rows() < 2) {
+    throw std::runtime_error("--covariance: fewer than two free images, nothing fixes the frame");
+  }
+  const Vec3 origin = freedom.free == 7 ? RowCentre(side, layout, 0) : *freedom.scale_centre;
+  if (freedom.free == 7) {
+    for (int j = 0; j < kPoseSize; ++j) pins.push_back(layout.row_offset(0) + j);
+  }
+  int32_t far = -1;
+  double far_distance = 0.0;
+  for (int32_t r = 0; r < layout.num_camera_rows(); ++r) {
+    const double d = (RowCentre(side, layout, r) - origin).norm();
+    if (d > far_distance) far_distance = d, far = r;
+  }
+  if (far < 0) throw std::runtime_error("--covariance: every image at one centre, no scale to hold");
+  Eigen::Index axis;
+  (RowCentre(side, layout, far) - origin).cwiseAbs().maxCoeff(&axis);
+  pins.push_back(layout.row_offset(far) + 3 + axis);
+  return pins;
+}
+
+// S with the pinned unknowns' rows and columns those of the identity.
+BsmcMatrix PinnedMatrix(const BsmcMatrix& S, const std::vector<uint8_t>& pinned) {
+  BsmcMatrix held = S;
+  for (int32_t i = 0; i < S.num_block_rows(); ++i) {
+    for (int64_t blk = S.row_begin(i); blk < S.row_end(i); ++blk) {
+      const int32_t j = S.block_col(blk);
+      const int cj = S.block_size(j);
+      double* v = held.block_values(blk);
+      for (int a = 0; a < S.block_size(i); ++a) {
+        for (int c = 0; c < cj; ++c) {
+          const int64_t r = S.scalar_offset(i) + a, s = S.scalar_offset(j) + c;
+          if (pinned[r] || pinned[s]) v[a * cj + c] = r == s ? 1.0 : 0.0;
+        }
+      }
+    }
+  }
+  return held;
+}
+
+// The null space of S the pins remove: g_k = e_k − S_h⁻¹ S e_k (pins zero in
+// S e_k), checked to be one (gᵀ S g against Σ S_ii g_i²).
+Eigen::MatrixXd GaugeNullSpace(const BsmcMatrix& S, SparseCholeskySolver* held,
+                               const std::vector<int64_t>& pins, const std::vector<uint8_t>& pinned) {
+  const int64_t n = S.num_rows();
+  Eigen::MatrixXd G(n, static_cast<Eigen::Index>(pins.size()));
+  Eigen::VectorXd e(n), column(n), y(n);
+  for (size_t k = 0; k < pins.size(); ++k) {
+    e.setZero();
+    e[pins[k]] = 1.0;
+    SymmetricMultiplySerial(S, e.data(), column.data());
+    for (int64_t i = 0; i < n; ++i) {
+      if (pinned[i]) column[i] = 0.0;
+    }
+    held->SolveFactored(column.data(), y.data());
+    G.col(k) = e - y;
+    SymmetricMultiplySerial(S, G.col(k).data(), column.data());
+    double diagonal = 0.0;
+    for (int32_t b = 0; b < S.num_block_rows(); ++b) {
+      const double* v = S.block_values(S.diagonal_block(b));
+      for (int a = 0; a < S.block_size(b); ++a) {
+        const double g = G(S.scalar_offset(b) + a, k);
+        diagonal += v[a * S.block_size(b) + a] * g * g;
+      }
+    }
+    if (std::abs(G.col(k).dot(column)) > 1e-8 * diagonal) {
+      throw std::runtime_error("--covariance: the data hold more of the frame than the gauge says "
+                               "(a similarity direction costs " +
+                               std::to_string(G.col(k).dot(column) / diagonal) + " of its scale)");
+    }
+  }
+  return G;
+}
+
+// The inner constraints' S-transformation (camera_covariance.h): Σ's entry
+// from Σ_h's and the low-rank terms.
+struct InnerDatum {
+  Eigen::MatrixXd G, Y, K, N;
+  double Correction(int64_t i, int64_t j) const {
+    return -Y.row(i).dot(K * G.row(j).transpose()) - G.row(i).dot(K.transpose() * Y.row(j).transpose()) +
+           G.row(i).dot(N * G.row(j).transpose());
+  }
+};
+
+InnerDatum InnerCentreDatum(const UnknownLayout& layout, Eigen::MatrixXd G, SparseCholeskySolver* held,
+                            const std::vector<uint8_t>& pinned) {
+  InnerDatum d;
+  Eigen::MatrixXd WG = Eigen::MatrixXd::Zero(G.rows(), G.cols());
+  for (int32_t r = 0; r < layout.num_camera_rows(); ++r) {
+    WG.middleRows(layout.row_offset(r) + 3, 3) = G.middleRows(layout.row_offset(r) + 3, 3);
+  }
+  // Σ_h W G: solves with pins zero on the right (their rows of Σ_h are zero).
+  d.Y.resize(G.rows(), G.cols());
+  for (Eigen::Index k = 0; k < G.cols(); ++k) {
+    Eigen::VectorXd b = WG.col(k);
+    for (Eigen::Index i = 0; i < G.rows(); ++i) {
+      if (pinned[i]) b[i] = 0.0;
+    }
+    held->SolveFactored(b.data(), d.Y.col(k).data());
+  }
+  const Eigen::MatrixXd M = G.transpose() * WG;
+  const Eigen::MatrixXd M_inv = M.inverse();
+  d.K = M_inv.transpose();
+  d.N = M_inv * (WG.transpose() * d.Y) * M_inv.transpose();
+  d.G = std::move(G);
+  return d;
+}
+
+// (δω, δC) -> (θ, C) of the pose at `pose`.
+Eigen::Matrix<double, 6, 6> AttitudeCoordinates(const double* pose) {
+  const Vec3 omega(pose[0], pose[1], pose[2]);
+  Eigen::Matrix<double, 6, 6> T = Eigen::Matrix<double, 6, 6>::Identity();
+  T.topLeftCorner<3, 3>() = -AngleAxisToRotation(omega).transpose() * SO3LeftJacobian(omega);
+  return T;
+}
+
+}  // namespace
+
+CameraCovariances ComputeCameraCovariances(const CameraSide& side, const RcsSystem& rcs,
+                                           const GaugeFreedom& freedom) {
+  if (side.has_rigs()) throw std::runtime_error("--covariance: rig models are not supported yet");
+  const Timer timer;
+  const UnknownLayout& layout = rcs.layout;
+  const std::vector<int64_t> pins = PinnedUnknowns(side, layout, freedom);
+  std::vector<uint8_t> pinned(rcs.S.num_rows(), 0);
+  for (int64_t p : pins) pinned[p] = 1;
+  const BsmcMatrix held_matrix = PinnedMatrix(rcs.S, pinned);
+  SparseCholeskySolver held(held_matrix);
+  if (!held.Factorize(held_matrix)) {
+    throw std::runtime_error("--covariance: the normal matrix at the optimum is not positive definite: "
+                             "the data do not determine every camera unknown");
+  }
+  std::optional<InnerDatum> inner;
+  if (!pins.empty()) inner = InnerCentreDatum(layout, GaugeNullSpace(rcs.S, &held, pins, pinned), &held, pinned);
+  CholeskyFactor factor = held.TakeFactor();
+  CameraCovariances out;
+  out.datum_free = freedom.free;
+  out.factor_nonzeros = static_cast<int64_t>(factor.row_idx.size());
+  InvertOnPattern(&factor);
+  const InverseOnPattern z(std::move(factor));
+  out.pose.resize(side.num_images());
+  for (int64_t image = 0; image < side.num_images(); ++image) {
+    const int32_t r = layout.camera_row(image);
+    if (r < 0) continue;
+    PoseCovariance sigma;
+    for (int a = 0; a < kPoseSize; ++a) {
+      for (int c = 0; c < kPoseSize; ++c) {
+        const int64_t i = layout.row_offset(r) + a, j = layout.row_offset(r) + c;
+        sigma(a, c) = (pinned[i] || pinned[j] ? 0.0 : z.At(i, j)) + (inner ? inner->Correction(i, j) : 0.0);
+      }
+    }
+    const Eigen::Matrix<double, 6, 6> T = AttitudeCoordinates(side.camera(image));
+    out.pose[image] = T * sigma * T.transpose();
+  }
+  out.seconds = timer.Seconds();
+  return out;
+}
+
+PoseCovariance MovePoseCovariance(const Similarity& s, const PoseCovariance& sigma) {
+  Eigen::Matrix<double, 6, 6> D = Eigen::Matrix<double, 6, 6>::Zero();
+  D.topLeftCorner<3, 3>() = s.rotation;
+  D.bottomRightCorner<3, 3>() = s.scale * s.rotation;
+  return D * sigma * D.transpose();
+}
+
+}  // namespace dba

@@ -1,0 +1,158 @@
+// Pose covariances against dense references: the inverse of S when two held
+// images fix the frame; on a free network (and with one held image, the
+// scale free) the unique generalized inverse of S with the inner constraints
+// over the centres, from the bordered matrix [S Bᵀ; B 0] with B = Nᵀ W and N
+// S's null space by a dense eigen-decomposition. BAL and photogrammetric
+// cameras (shared intrinsics), 1e-8 of each block's largest diagonal entry.
+#include "dba/precision/camera_covariance.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+
+#include "dba/camera/pose_step.h"
+#include "dba/camera/rotation.h"
+#include "dba/problem/fixings.h"
+#include "dba/testing/dense_reference.h"
+#include "dba/testing/synthetic_photo.h"
+
+namespace dba {
+namespace {
+
+testing::SyntheticBalOptions Geometry() {
+  testing::SyntheticBalOptions g;
+  g.num_cameras = 8;
+  g.num_points = 120;
+  g.max_track = 5;
+  g.pixel_noise = 0.5;
+  g.rotation_perturbation = 1e-3;
+  g.translation_perturbation = 1e-2;
+  g.point_perturbation = 1e-2;
+  return g;
+}
+
+RcsSystem FormedAt(const Problem& problem) {
+  RcsSystem sys = RcsSystem::ForProblem(problem);
+  FormRcs(problem, 0.0, DampingBounds{}, 1, &sys);
+  return sys;
+}
+
+// The reference in (δω, δC): S's generalized inverse with B Σ = 0, B the
+// inner constraints over the centres of S's `free` null directions.
+Eigen::MatrixXd DenseReference(const RcsSystem& sys, int free) {
+  const Eigen::MatrixXd S = testing::DenseFromBsmc(sys.S);
+  const Eigen::Index n = S.rows();
+  if (free == 0) return S.inverse();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(S);
+  const Eigen::MatrixXd N = eigen.eigenvectors().leftCols(free);
+  // `free` null directions, far below the smallest determined one.
+  const double null = std::abs(eigen.eigenvalues()[free - 1]);
+  EXPECT_LT(null, 1e-13 * eigen.eigenvalues()[n - 1]);
+  EXPECT_GT(eigen.eigenvalues()[free], 1e4 * null);
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(free, n);
+  for (int32_t r = 0; r < sys.layout.num_camera_rows(); ++r) {
+    const int64_t o = sys.layout.row_offset(r) + 3;
+    B.middleCols(o, 3) = N.middleRows(o, 3).transpose();
+  }
+  Eigen::MatrixXd bordered = Eigen::MatrixXd::Zero(n + free, n + free);
+  bordered.topLeftCorner(n, n) = S;
+  bordered.bottomLeftCorner(free, n) = B;
+  bordered.topRightCorner(n, free) = B.transpose();
+  return bordered.inverse().topLeftCorner(n, n);
+}
+
+void ExpectPoseBlocks(const Problem& problem, int free, std::optional<Vec3> centre = {}) {
+  const RcsSystem sys = FormedAt(problem);
+  const CameraCovariances cov = ComputeCameraCovariances(problem, sys, {free, centre});
+  const Eigen::MatrixXd reference = DenseReference(sys, free);
+  ASSERT_EQ(static_cast<int64_t>(cov.pose.size()), problem.num_images());
+  EXPECT_GT(cov.factor_nonzeros, 0);
+  int compared = 0;
+  for (int64_t i = 0; i < problem.num_images(); ++i) {
+    const int32_t r = sys.layout.camera_row(i);
+    ASSERT_EQ(cov.pose[i].has_value(), r >= 0) << i;
+    if (r < 0) continue;
+    const double* pose = problem.camera(i);
+    const Vec3 omega(pose[0], pose[1], pose[2]);
+    Eigen::Matrix<double, 6, 6> T = Eigen::Matrix<double, 6, 6>::Identity();
+    T.topLeftCorner<3, 3>() = -AngleAxisToRotation(omega).transpose() * SO3LeftJacobian(omega);
+    const Eigen::Matrix<double, 6, 6> expected =
+        T * reference.block<6, 6>(sys.layout.row_offset(r), sys.layout.row_offset(r)) * T.transpose();
+    const double scale = expected.diagonal().maxCoeff();
+    EXPECT_LE((*cov.pose[i] - expected).cwiseAbs().maxCoeff(), 1e-8 * scale) << "image " << i;
+    EXPECT_GT(cov.pose[i]->diagonal().minCoeff(), 0.0) << "image " << i;
+    ++compared;
+  }
+  EXPECT_GT(compared, 1);
+}
+
+TEST(CameraCovariance, BalFreeNetworkEqualsTheInnerConstraintsInverse) {
+  ExpectPoseBlocks(testing::MakeSyntheticBal(Geometry()).problem, 7);
+}
+
+TEST(CameraCovariance, PhotoFreeNetworkWithSharedIntrinsicsEqualsTheInnerConstraintsInverse) {
+  testing::SyntheticPhotoOptions o;
+  o.geometry = Geometry();
+  o.num_groups = 2;
+  ExpectPoseBlocks(testing::MakeSyntheticPhoto(o).problem, 7);
+}
+
+TEST(CameraCovariance, TwoHeldImagesGiveTheInverseOfS) {
+  testing::SyntheticPhotoOptions o;
+  o.geometry = Geometry();
+  Problem problem = testing::MakeSyntheticPhoto(o).problem;
+  Fixings f;
+  f.images = {0, 3};
+  ApplyFixings(f, &problem);
+  ExpectPoseBlocks(problem, 0);
+}
+
+TEST(CameraCovariance, OneHeldImageLeavesTheScaleToTheInnerConstraint) {
+  testing::SyntheticPhotoOptions o;
+  o.geometry = Geometry();
+  Problem problem = testing::MakeSyntheticPhoto(o).problem;
+  Fixings f;
+  f.images = {2};
+  ApplyFixings(f, &problem);
+  ExpectPoseBlocks(problem, 1, CameraCentre(problem.camera(2)));
+}
+
+// A free network taken as held (0 free): S is singular, refused by name.
+TEST(CameraCovariance, AFreeNetworkTakenAsHeldIsRefused) {
+  const Problem problem = testing::MakeSyntheticBal(Geometry()).problem;
+  const RcsSystem sys = FormedAt(problem);
+  EXPECT_THROW(ComputeCameraCovariances(problem, sys, {0, {}}), std::runtime_error);
+}
+
+// θ: the camera's attitude error about the world axes. A step δω moves the
+// camera-to-world rotation by exp([θ]ₓ) with θ = −R(ω)ᵀ J_l(ω) δω (central
+// differences).
+TEST(CameraCovariance, AttitudeIsARotationAboutTheWorldAxes) {
+  const Vec3 omega(0.3, -0.7, 1.1);
+  const Mat3 T = -AngleAxisToRotation(omega).transpose() * SO3LeftJacobian(omega);
+  for (int k = 0; k < 3; ++k) {
+    const double h = 1e-6;
+    const Vec3 step = h * Vec3::Unit(k);
+    const Mat3 plus = AngleAxisToRotation(omega + step).transpose();
+    const Mat3 minus = AngleAxisToRotation(omega - step).transpose();
+    const Mat3 d = (plus - minus) / (2 * h) * AngleAxisToRotation(omega);  // [θ_k]ₓ
+    const Vec3 theta(d(2, 1), d(0, 2), d(1, 0));
+    EXPECT_LE((theta - T.col(k)).norm(), 1e-8) << k;
+  }
+}
+
+// Under a similarity the centre block scales by s² and both turn by Q.
+TEST(CameraCovariance, MovesWithTheGaugesSimilarity) {
+  PoseCovariance sigma = PoseCovariance::Identity();
+  sigma(0, 3) = sigma(3, 0) = 0.5;
+  Similarity s;
+  s.scale = 2.0;
+  s.rotation = AngleAxisToRotation(Vec3(0.0, 0.0, M_PI / 2));
+  const PoseCovariance moved = MovePoseCovariance(s, sigma);
+  EXPECT_NEAR(moved(3, 3), 4.0, 1e-12);
+  EXPECT_NEAR(moved(0, 0), 1.0, 1e-12);
+  EXPECT_NEAR(moved(1, 4), 2.0 * 0.5, 1e-12);  // x -> y under the quarter turn
+}
+
+}  // namespace
+}  // namespace dba
