@@ -1,9 +1,10 @@
 // Pose covariances by selected inversion under the solve's datum; see
-// camera_covariance.h (docs/design.md §7).
+// camera_covariance.h (docs/design.md §8).
 #include "dba/precision/camera_covariance.h"
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -47,25 +48,6 @@ std::vector<int64_t> PinnedUnknowns(const CameraSide& side, const UnknownLayout&
   (RowCentre(side, layout, far) - origin).cwiseAbs().maxCoeff(&axis);
   pins.push_back(layout.row_offset(far) + 3 + axis);
   return pins;
-}
-
-// S with the pinned unknowns' rows and columns those of the identity.
-BsmcMatrix PinnedMatrix(const BsmcMatrix& S, const std::vector<uint8_t>& pinned) {
-  BsmcMatrix held = S;
-  for (int32_t i = 0; i < S.num_block_rows(); ++i) {
-    for (int64_t blk = S.row_begin(i); blk < S.row_end(i); ++blk) {
-      const int32_t j = S.block_col(blk);
-      const int cj = S.block_size(j);
-      double* v = held.block_values(blk);
-      for (int a = 0; a < S.block_size(i); ++a) {
-        for (int c = 0; c < cj; ++c) {
-          const int64_t r = S.scalar_offset(i) + a, s = S.scalar_offset(j) + c;
-          if (pinned[r] || pinned[s]) v[a * cj + c] = r == s ? 1.0 : 0.0;
-        }
-      }
-    }
-  }
-  return held;
 }
 
 // The null space of S the pins remove: g_k = e_k − S_h⁻¹ S e_k (pins zero in
@@ -146,29 +128,25 @@ Eigen::Matrix<double, 6, 6> AttitudeCoordinates(const double* pose) {
 
 }  // namespace
 
-CameraCovariances ComputeCameraCovariances(const CameraSide& side, const RcsSystem& rcs,
-                                           const GaugeFreedom& freedom) {
-  if (side.has_rigs()) throw std::runtime_error("--covariance: rig models are not supported yet");
-  const Timer timer;
-  const UnknownLayout& layout = rcs.layout;
-  const std::vector<int64_t> pins = PinnedUnknowns(side, layout, freedom);
-  std::vector<uint8_t> pinned(rcs.S.num_rows(), 0);
-  for (int64_t p : pins) pinned[p] = 1;
-  const BsmcMatrix held_matrix = PinnedMatrix(rcs.S, pinned);
-  SparseCholeskySolver held(held_matrix);
-  if (!held.Factorize(held_matrix)) {
+namespace {
+
+// S with the pins made the identity's, factored.
+std::unique_ptr<SparseCholeskySolver> FactorPinned(const BsmcMatrix& S, const std::vector<uint8_t>& pinned,
+                                                   int threads) {
+  auto held = std::make_unique<SparseCholeskySolver>(S, threads, BlockOrdering::kNestedDissection);
+  if (!held->FactorizeWithIdentityRows(S, pinned)) {
     throw std::runtime_error("--covariance: the normal matrix at the optimum is not positive definite: "
                              "the data do not determine every camera unknown");
   }
-  std::optional<InnerDatum> inner;
-  if (!pins.empty()) inner = InnerCentreDatum(layout, GaugeNullSpace(rcs.S, &held, pins, pinned), &held, pinned);
-  CholeskyFactor factor = held.TakeFactor();
-  CameraCovariances out;
-  out.datum_free = freedom.free;
-  out.factor_nonzeros = static_cast<int64_t>(factor.row_idx.size());
-  InvertOnPattern(&factor);
-  const InverseOnPattern z(std::move(factor));
-  out.pose.resize(side.num_images());
+  return held;
+}
+
+// Each image's block of the inverse, the datum's correction added, in
+// (θ, C).
+void ReadPoseBlocks(const CameraSide& side, const UnknownLayout& layout, const InverseOnPattern& z,
+                    const std::vector<uint8_t>& pinned, const std::optional<InnerDatum>& inner,
+                    CameraCovariances* out) {
+  out->pose.resize(side.num_images());
   for (int64_t image = 0; image < side.num_images(); ++image) {
     const int32_t r = layout.camera_row(image);
     if (r < 0) continue;
@@ -180,8 +158,33 @@ CameraCovariances ComputeCameraCovariances(const CameraSide& side, const RcsSyst
       }
     }
     const Eigen::Matrix<double, 6, 6> T = AttitudeCoordinates(side.camera(image));
-    out.pose[image] = T * sigma * T.transpose();
+    out->pose[image] = T * sigma * T.transpose();
   }
+}
+
+}  // namespace
+
+CameraCovariances ComputeCameraCovariances(const CameraSide& side, const RcsSystem& rcs,
+                                           const GaugeFreedom& freedom, int threads) {
+  if (side.has_rigs()) throw std::runtime_error("--covariance: rig models are not supported yet");
+  const Timer timer;
+  const UnknownLayout& layout = rcs.layout;
+  const std::vector<int64_t> pins = PinnedUnknowns(side, layout, freedom);
+  std::vector<uint8_t> pinned(rcs.S.num_rows(), 0);
+  for (int64_t p : pins) pinned[p] = 1;
+  std::unique_ptr<SparseCholeskySolver> held = FactorPinned(rcs.S, pinned, threads);
+  std::optional<InnerDatum> inner;
+  if (!pins.empty()) inner = InnerCentreDatum(layout, GaugeNullSpace(rcs.S, held.get(), pins, pinned), held.get(), pinned);
+  SupernodalFactor factor = held->TakeFactor();
+  held.reset();
+  CameraCovariances out;
+  out.datum_free = freedom.free;
+  out.factor_nonzeros = static_cast<int64_t>(factor.values.size());
+  out.inversion_flops = InversionFlops(factor);
+  out.factor_seconds = timer.Seconds();
+  InvertOnPattern(&factor, threads);
+  const InverseOnPattern z(std::move(factor));
+  ReadPoseBlocks(side, layout, z, pinned, inner, &out);
   out.seconds = timer.Seconds();
   return out;
 }

@@ -1,4 +1,4 @@
-// The covariance of every image's pose at the optimum (docs/design.md §7):
+// The covariance of every image's pose at the optimum (docs/design.md §8):
 // the camera-side block of the inverse normal matrix, which the Schur
 // complement gives exactly, Σ_c = S⁻¹ (S = U − W V⁻¹ Wᵀ undamped, at the
 // optimum, with the robust weights and the priors' terms), read from S's
@@ -57,15 +57,18 @@ struct CameraCovariances {
   // Per image; images held fixed have none.
   std::vector<std::optional<PoseCovariance>> pose;
   int64_t factor_nonzeros = 0;  // scalars in S's factor (selected inversion's)
-  double seconds = 0.0;
+  double inversion_flops = 0.0;  // solver/selected_inversion.h InversionFlops
+  double factor_seconds = 0.0;   // to the factor and the datum's solves
+  double seconds = 0.0;          // the whole computation
 };
 
 // The pose covariances of `side`'s images (no rigs) from `rcs` at the
-// optimum, for unit pixel variance. std::runtime_error when S (with the
+// optimum, for unit pixel variance, on `threads` threads (the factor's BLAS
+// and the inversion's products). std::runtime_error when S (with the
 // datum's pins) is not positive definite: the data do not determine every
 // unknown.
 CameraCovariances ComputeCameraCovariances(const CameraSide& side, const RcsSystem& rcs,
-                                           const GaugeFreedom& freedom);
+                                           const GaugeFreedom& freedom, int threads = 1);
 
 // Σ of a pose after the world moved by `s` (X' = s Q X + T):
 // θ' = Q θ, C' = s Q C + T, so Σ' = D Σ Dᵀ with D = diag(Q, s Q).

@@ -310,6 +310,24 @@ std::vector<Spec> GeoreferencingOptions() {
       "result is in the local frame (Result.summary.report['georeferencing'])";
   t.push_back(Path("--camera-centres", "FILE", "the adjusted camera centres, IMAGE X Y Z per line",
                    DBA_FIELD(geo.camera_centres_path), kNotArrays, kNoArrayFiles));
+  t.push_back(Path("--covariance", "FILE",
+                   "every image's pose covariance at the optimum, a CSV line per image: the "
+                   "centre's sigmas and covariance, the attitude's sigmas (degrees, about the "
+                   "frame's x, y, z axes) and the 6x6 (radians, metres), exact, by selected "
+                   "inversion of the reduced camera system; the datum named per line: inner "
+                   "constraints over the camera centres when nothing holds the frame, else "
+                   "absolute (README.md, Precision); not with rigs",
+                   DBA_FIELD(covariance_path), kNotArrays, kNoArrayFiles));
+  t.push_back(Choice(
+      "--covariance-scale", {"a-posteriori", "unit"},
+      "a-posteriori: the covariances times the variance factor (the residuals' estimate of the "
+      "pixel noise, squared: they hold whatever the images' real noise); unit: for a pixel "
+      "sigma of 1 (Ceres's and COLMAP's convention)",
+      [](SolveOptions& o, size_t i) { o.covariance_unit = i == 1; },
+      [](const SolveOptions& o) { return std::string(o.covariance_unit ? "unit" : "a-posteriori"); }));
+  t.back().modes = kNotArrays;
+  t.back().not_here = kNoArrayFiles;
+  SetNeeds(&t.back(), "--covariance", [](const SolveOptions& o) { return !o.covariance_path.empty(); });
   t.push_back(Path("--accuracy-report", "FILE",
                    "with --camera-priors or --gcps: the figures as a table, and each prior's, "
                    "control and check point's dx, dy, dz, squared Mahalanobis distance and flag",

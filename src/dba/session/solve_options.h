@@ -61,6 +61,11 @@ struct SolveOptions {
   // (camera/gauge_hold.h): --gauge hold, free (the optimum where LM ends)
   // or colmap (colmap bundle_adjuster's).
   GaugeRule gauge = GaugeRule::kHold;
+  // --covariance FILE: every image's pose covariance at the optimum
+  // (precision/camera_covariance.h), scaled by the variance factor σ̂₀²
+  // unless --covariance-scale unit (a pixel σ of 1).
+  std::string covariance_path;
+  bool covariance_unit = false;
   LmOptions lm;             // num_threads 0: the node's cores / its ranks
   DistributedOptions distributed;
 };

@@ -13,6 +13,7 @@
 #include "dba/io/path_kind.h"
 #include "dba/io/ply_writer.h"
 #include "dba/io/read_problem.h"
+#include "dba/precision/covariance_csv.h"
 #include "dba/session/run_files.h"
 
 namespace dba {
@@ -107,6 +108,7 @@ void CheckSolveFiles(const SolveOptions& o, const InputSource& input) {
   files.RewrittenOutput("--checkpoint", o.checkpoint_path);
   files.Output("--camera-centres", o.geo.camera_centres_path);
   files.Output("--accuracy-report", o.geo.accuracy_report_path);
+  files.Output("--covariance", o.covariance_path);
   files.AllowInPlace("-o", "INPUT");
   files.AllowInPlace("--checkpoint", "--resume");
   files.Check();
@@ -150,6 +152,11 @@ void WriteSolveOutputs(const SolveOptions& options, int ranks, const Timer& sinc
   if (!options.geo.accuracy_report_path.empty()) {
     WriteFileAtomically(options.geo.accuracy_report_path, AccuracyReportTable(report.geo.accuracy));
   }
+  if (result->covariance) {
+    const double scale = report.covariance.unit ? 1.0 : report.covariance.variance_factor;
+    WriteFileAtomically(options.covariance_path, CovarianceCsv(*result->covariance, result->names.problem,
+                                                               result->gauge_moved, scale));
+  }
   report.write_seconds = write_timer.Seconds();
   report.peak_memory_bytes = PeakResidentBytes();
   report.total_seconds = since_start.Seconds();
@@ -160,6 +167,7 @@ void WriteSolveOutputs(const SolveOptions& options, int ranks, const Timer& sinc
   if (!options.output.empty()) out << "  output              " << options.output << "\n";
   if (!options.ply_path.empty()) out << "  point cloud         " << options.ply_path << "\n";
   if (!options.report_path.empty()) out << "  report              " << options.report_path << "\n";
+  if (result->covariance) out << "  covariance          " << options.covariance_path << "\n";
 }
 
 }  // namespace dba

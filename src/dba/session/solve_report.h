@@ -79,6 +79,20 @@ struct SolveReport {
   GeoreferenceSummary geo;
   // What held the gauge (camera/gauge_hold.h), as the summary says it.
   std::string gauge;
+  // --covariance: how the precision was taken (precision/camera_covariance.h).
+  struct Covariance {
+    bool computed = false;
+    std::string datum;  // "inner" (constraints over the centres) or "absolute"
+    bool unit = false;  // for a pixel σ of 1; else scaled by variance_factor
+    // σ̂₀² = Σρ / r, r = 2 observations + 3 priors + 3 control points −
+    // unknowns (camera side and 3 per point) + the datum's free degrees.
+    double variance_factor = 0.0;
+    int64_t redundancy = 0;
+    int64_t factor_nonzeros = 0;  // scalars of S's factor, inverted in place
+    double inversion_flops = 0.0;
+    double factor_seconds = 0.0;  // of `seconds`: to the factor and the datum's solves
+    double seconds = 0.0;
+  } covariance;
   bool has_truth = false;
   GroundTruthErrors truth;        // against a generated problem's ground truth
 

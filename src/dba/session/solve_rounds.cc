@@ -79,11 +79,12 @@ void SolveSession::Solve() {
 // The optimum in hand, ranks alive, before the gauge is mapped back: the
 // analysis sees the RCS there (with the last solve's loss).
 void SolveSession::Analyse() {
-  if (!analysis_) return;
+  if (!analysis_ && options_.covariance_path.empty()) return;
   LmOptions o = lm_;
   o.loss = result_.report.final_loss;
   side_->AtOptimum(o, result_.geo.priors, [&](const RcsSystem& rcs) {
-    analysis_(OptimumView{result_.problem, rcs});
+    if (!options_.covariance_path.empty()) TakeCovariance(result_.problem, rcs);
+    if (analysis_) analysis_(OptimumView{result_.problem, rcs});
   });
 }
 

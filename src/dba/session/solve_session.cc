@@ -209,6 +209,7 @@ void SolveSession::Prepare() {
     gauge_.hold = GaugeHold::kExternal;
   }
   setup_ = SolveSetup(options_, result_.geo, result_.problem.has_rigs());
+  if (!options_.covariance_path.empty()) CheckCovarianceRequest();
   Resume();
   if (!options_.truth_path.empty()) CheckTruthFile(options_.truth_path, result_.report);
   result_.report.load_seconds = load.Seconds();
@@ -371,6 +372,7 @@ void SolveSession::HoldGauge() {
   const Similarity s = GaugeMapping(gauge_, result_.problem);
   const bool identity = s.scale == 1.0 && s.rotation == Mat3::Identity() && s.translation.isZero(0);
   if (!identity) {
+    result_.gauge_moved = s;
     MoveCameras(s, &result_.problem);
     MovePoints(s, &result_.problem.points);
     if (result_.kept) MovePoints(s, &result_.all_points, result_.kept->point);

@@ -38,6 +38,7 @@
 #include "dba/session/solve_options.h"
 #include "dba/cluster/distributed_solve.h"
 #include "dba/lm/point_side.h"
+#include "dba/precision/camera_covariance.h"
 #include "dba/session/solve_report.h"
 
 namespace dba {
@@ -77,6 +78,10 @@ struct SolveResult {
   Georeference geo;  // the frame and priors (--output-crs, --camera-centres)
   ImageNames names;  // the input's (SolveInput::names)
   InputSource source;  // SolveInput::source
+  // --covariance: the images' pose covariances at the optimum, in the
+  // solve's frame before the gauge's hold moved it by `gauge_moved`.
+  std::optional<CameraCovariances> covariance;
+  Similarity gauge_moved;
   bool ranks_read_file = false;  // SolveInput::ranks_read_file
 };
 
@@ -112,6 +117,8 @@ class SolveSession {
   void PrintStart();
   void Solve();
   void Analyse();
+  void TakeCovariance(const Problem& problem, const RcsSystem& rcs);
+  void CheckCovarianceRequest() const;
   std::unique_ptr<PointSide> MakePointSide();
   void RejectionRounds(PointSide* side, const IterationHook& log,
                        std::function<void(const RcsSystem&)> check_memory);

@@ -227,6 +227,18 @@ Json SolveSummary(const SolveReport& r) {
   j["ranks"] = r.solve.ranks;
   CostFigures(r, j);
   j["gauge"] = r.gauge;
+  if (r.covariance.computed) {
+    const SolveReport::Covariance& c = r.covariance;
+    j["covariance"] = {{"datum", c.datum},
+                       {"scale", c.unit ? "unit" : "a-posteriori"},
+                       {"variance_factor", c.variance_factor},
+                       {"sigma0_px", std::sqrt(c.variance_factor)},
+                       {"redundancy", c.redundancy},
+                       {"factor_nonzeros", c.factor_nonzeros},
+                       {"inversion_flops", c.inversion_flops},
+                       {"factor_seconds", c.factor_seconds},
+                       {"seconds", c.seconds}};
+  }
   SolverFigures(r, j);
   MemoryFigures(r, j);
   RejectionFigures(r, j);

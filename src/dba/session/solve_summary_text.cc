@@ -213,6 +213,13 @@ void PrintSolveSummary(const Json& j, std::ostream& out) {
   out << "\nSummary\n";
   PrintCosts(j, out);
   out << "  gauge held by       " << j["gauge"].get<std::string>() << "\n";
+  if (j.contains("covariance")) {
+    const Json& c = j["covariance"];
+    out << "  covariance          " << (c["datum"] == "inner" ? "inner constraints over the centres" : "absolute")
+        << ", " << c["scale"].get<std::string>() << ", sigma0 " << c["sigma0_px"].get<double>()
+        << " px (redundancy " << c["redundancy"].get<int64_t>() << "), factor "
+        << c["factor_nonzeros"].get<int64_t>() << " values, " << c["seconds"].get<double>() << " s\n";
+  }
   if (j.value("observations_behind_cameras", int64_t{0}) > 0) {
     out << "  behind cameras      " << j["observations_behind_cameras"].get<int64_t>()
         << " observations had their point behind the camera at the start (kept; COLMAP drops "

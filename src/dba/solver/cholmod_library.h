@@ -11,7 +11,7 @@ namespace dba {
 
 #define DBA_CHOLMOD_FUNCTIONS(X)                                                               \
   X(cholmod_allocate_dense) X(cholmod_allocate_sparse) X(cholmod_analyze) X(cholmod_analyze_p) \
-  X(cholmod_change_factor) X(cholmod_factorize) X(cholmod_finish) X(cholmod_free_dense) X(cholmod_free_factor)          \
+  X(cholmod_factorize) X(cholmod_finish) X(cholmod_free_dense) X(cholmod_free_factor)          \
   X(cholmod_free_sparse) X(cholmod_malloc) X(cholmod_solve2) X(cholmod_start)
 
 // One pointer per function, named as the function.

@@ -84,7 +84,26 @@ void FillUpperValues(const BsmcMatrix& S, const UpperPattern& p, double* values)
   }
 }
 
+// The rows (and columns) flagged in `identity` made the identity's.
+void PinToIdentity(const std::vector<uint8_t>& identity, const UpperPattern& p, double* values) {
+  if (identity.empty()) return;
+  const int64_t n = static_cast<int64_t>(p.col_ptr.size()) - 1;
+  for (int64_t c = 0; c < n; ++c) {
+    for (int k = p.col_ptr[c]; k < p.col_ptr[c + 1]; ++k) {
+      const int r = p.row_idx[k];
+      if (identity[r] || identity[c]) values[k] = r == c ? 1.0 : 0.0;
+    }
+  }
+}
+
 }  // namespace
+
+bool SparseCholeskySolver::FactorizeWithIdentityRows(const BsmcMatrix& S, std::vector<uint8_t> rows) {
+  identity_rows_ = std::move(rows);
+  const bool ok = Factorize(S);
+  identity_rows_.clear();
+  return ok;
+}
 
 #ifdef DBA_HAVE_CHOLMOD
 
@@ -113,7 +132,7 @@ struct BlockAnalysis {
   std::vector<double> col_count;  // nnz (in blocks) of each column of L, in order
 };
 
-BlockAnalysis AnalyseBlockGraph(const BsmcMatrix& S) {
+BlockAnalysis AnalyseBlockGraph(const BsmcMatrix& S, BlockOrdering ordering = BlockOrdering::kAmd) {
   CholmodSession cm;
   const int nb = S.num_block_rows();
   cholmod_sparse* A = Cholmod().cholmod_allocate_sparse(nb, nb, S.num_blocks(), 1, 1, -1, CHOLMOD_PATTERN, &cm.c);
@@ -122,7 +141,7 @@ BlockAnalysis AnalyseBlockGraph(const BsmcMatrix& S) {
   int* ai = static_cast<int*>(A->i);
   for (int i = 0; i <= nb; ++i) ap[i] = static_cast<int>(i < nb ? S.row_begin(i) : S.num_blocks());
   for (int64_t b = 0; b < S.num_blocks(); ++b) ai[b] = S.block_col(b);
-  cm.c.method[0].ordering = CHOLMOD_AMD;
+  cm.c.method[0].ordering = ordering == BlockOrdering::kNestedDissection ? CHOLMOD_METIS : CHOLMOD_AMD;
   cm.c.supernodal = CHOLMOD_SIMPLICIAL;
   cholmod_factor* L = Cholmod().cholmod_analyze(A, &cm.c);
   Cholmod().cholmod_free_sparse(&A, &cm.c);
@@ -175,10 +194,10 @@ struct SparseCholeskySolver::Impl {
   }
 };
 
-SparseCholeskySolver::SparseCholeskySolver(const BsmcMatrix& S, int blas_threads)
+SparseCholeskySolver::SparseCholeskySolver(const BsmcMatrix& S, int blas_threads, BlockOrdering ordering)
     : impl_(std::make_unique<Impl>()), blas_threads_(blas_threads) {
   Impl& m = *impl_;
-  const BlockAnalysis blocks = AnalyseBlockGraph(S);
+  const BlockAnalysis blocks = AnalyseBlockGraph(S, ordering);
   std::vector<int> perm;
   perm.reserve(S.num_rows());
   for (int b : blocks.perm) {
@@ -236,6 +255,7 @@ int64_t SparseCholeskySolver::MemoryBytes() const {
 bool SparseCholeskySolver::Factorize(const BsmcMatrix& S) {
   Impl& m = *impl_;
   FillUpperValues(S, m.pattern, static_cast<double*>(m.A->x));
+  PinToIdentity(identity_rows_, m.pattern, static_cast<double*>(m.A->x));
   const BlasThreads blas(blas_threads_);
   const int ok = Cholmod().cholmod_factorize(m.A, m.L, &m.cm.c);
   if (m.cm.c.status == CHOLMOD_NOT_POSDEF) return false;
@@ -259,26 +279,43 @@ void SparseCholeskySolver::SolveFactored(const double* b, double* x) {
   std::copy(solution, solution + n, x);
 }
 
-CholeskyFactor SparseCholeskySolver::TakeFactor() {
+SupernodalFactor SparseCholeskySolver::TakeFactor() {
   Impl& m = *impl_;
-  // Supernodal to simplicial L Lᵀ, packed and in column order (the pattern
-  // keeps the supernodes' explicit zeros).
-  if (!Cholmod().cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, m.L, &m.cm.c)) {
-    throw std::runtime_error("sparse Cholesky: the factor could not be converted (CHOLMOD status " +
-                             std::to_string(m.cm.c.status) + ")");
-  }
   const cholmod_factor& L = *m.L;
-  const int64_t n = static_cast<int64_t>(L.n);
-  const int* p = static_cast<const int*>(L.p);
-  const int* i = static_cast<const int*>(L.i);
-  const double* x = static_cast<const double*>(L.x);
-  CholeskyFactor f;
-  f.perm.assign(static_cast<const int*>(L.Perm), static_cast<const int*>(L.Perm) + n);
-  f.col_ptr.assign(p, p + n + 1);
-  f.row_idx.assign(i, i + p[n]);
-  f.values.assign(x, x + p[n]);
-  Cholmod().cholmod_free_factor(&m.L, &m.cm.c);
-  SortFactorColumns(&f);
+  if (!L.is_super || L.itype != CHOLMOD_INT) {
+    throw std::logic_error("sparse Cholesky: the factor is not supernodal with int indices");
+  }
+  const int64_t n = static_cast<int64_t>(L.n), ns = static_cast<int64_t>(L.nsuper);
+  const auto copy = [](const void* from, int64_t count) {
+    const int* p = static_cast<const int*>(from);
+    return std::vector<int64_t>(p, p + count);
+  };
+  SupernodalFactor f;
+  f.perm = copy(L.Perm, n);
+  f.first_column = copy(L.super, ns + 1);
+  f.row_begin = copy(L.pi, ns + 1);
+  f.rows = copy(L.s, f.row_begin[ns]);
+  f.value_begin = copy(L.px, ns + 1);
+  // The factor's values stay where CHOLMOD put them, with the factor and
+  // its session (the solver no longer holds it); S's copy and the solve's
+  // vectors go now.
+  Cholmod().cholmod_free_dense(&m.B, &m.cm.c);
+  Cholmod().cholmod_free_dense(&m.X, &m.cm.c);
+  Cholmod().cholmod_free_dense(&m.Y, &m.cm.c);
+  Cholmod().cholmod_free_dense(&m.E, &m.cm.c);
+  m.A->p = nullptr;
+  m.A->i = nullptr;
+  Cholmod().cholmod_free_sparse(&m.A, &m.cm.c);
+  m.pattern = UpperPattern{};
+  struct Held {
+    std::unique_ptr<Impl> impl;
+    ~Held() { impl.reset(); }
+  };
+  f.values = std::span<double>(static_cast<double*>(L.x), f.value_begin[ns]);
+  auto held = std::make_shared<Held>();
+  held->impl = std::move(impl_);
+  f.storage = std::move(held);
+  CheckFactorLayout(f);
   return f;
 }
 
@@ -292,7 +329,7 @@ struct SparseCholeskySolver::Impl {
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
 };
 
-SparseCholeskySolver::SparseCholeskySolver(const BsmcMatrix& S, int blas_threads)
+SparseCholeskySolver::SparseCholeskySolver(const BsmcMatrix& S, int blas_threads, BlockOrdering)
     : impl_(std::make_unique<Impl>()), blas_threads_(blas_threads) {
   impl_->pattern = BuildUpperPattern(S);
   impl_->values.assign(impl_->pattern.row_idx.size(), 0.0);
@@ -316,6 +353,7 @@ bool SparseCholeskySolver::Factorize(const BsmcMatrix& S) {
   Impl& m = *impl_;
   const int n = static_cast<int>(S.num_rows());
   FillUpperValues(S, m.pattern, m.values.data());
+  PinToIdentity(identity_rows_, m.pattern, m.values.data());
   const Eigen::Map<const Eigen::SparseMatrix<double>> A(
       n, n, static_cast<int>(m.values.size()), m.pattern.col_ptr.data(), m.pattern.row_idx.data(),
       m.values.data());
@@ -330,17 +368,20 @@ void SparseCholeskySolver::SolveFactored(const double* b, double* x) {
 }
 
 
-CholeskyFactor SparseCholeskySolver::TakeFactor() {
+SupernodalFactor SparseCholeskySolver::TakeFactor() {
   const Eigen::SparseMatrix<double>& L = impl_->llt.matrixL().nestedExpression();
   const int64_t n = L.cols();
-  CholeskyFactor f;
+  SupernodalFactor f;  // a supernode per column
   f.perm.resize(n);
   const auto& position = impl_->llt.permutationP().indices();
   for (int64_t i = 0; i < n; ++i) f.perm[position[i]] = i;
-  f.col_ptr.assign(L.outerIndexPtr(), L.outerIndexPtr() + n + 1);
-  f.row_idx.assign(L.innerIndexPtr(), L.innerIndexPtr() + L.nonZeros());
-  f.values.assign(L.valuePtr(), L.valuePtr() + L.nonZeros());
-  SortFactorColumns(&f);
+  f.first_column.resize(n + 1);
+  for (int64_t j = 0; j <= n; ++j) f.first_column[j] = j;
+  f.row_begin.assign(L.outerIndexPtr(), L.outerIndexPtr() + n + 1);
+  f.value_begin = f.row_begin;
+  f.rows.assign(L.innerIndexPtr(), L.innerIndexPtr() + L.nonZeros());
+  SetFactorValues(std::vector<double>(L.valuePtr(), L.valuePtr() + L.nonZeros()), &f);
+  CheckFactorLayout(f);
   return f;
 }
 

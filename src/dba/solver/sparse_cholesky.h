@@ -15,6 +15,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "dba/solver/rcs_solver.h"
 #include "dba/solver/selected_inversion.h"
@@ -30,6 +31,14 @@ struct SparseFactorEstimate {
 };
 SparseFactorEstimate EstimateSparseFactor(const BsmcMatrix& S);
 
+// The fill-reducing order of S's camera blocks: approximate minimum degree
+// (the LM's solves: quick to find), or nested dissection by METIS through
+// CHOLMOD (less fill and fewer flops on a survey's graph: a 10,000-image
+// one's factor 80M values and 3.1e11 inversion flops against AMD's 93M and
+// 4.7e11; the covariance's factor, analysed once). Without CHOLMOD, Eigen's
+// AMD on the scalars either way.
+enum class BlockOrdering { kAmd, kNestedDissection };
+
 class SparseCholeskySolver : public CholeskySolver {
  public:
   // `blas_threads`: the BLAS threads of CHOLMOD's factorization and solves
@@ -40,23 +49,29 @@ class SparseCholeskySolver : public CholeskySolver {
   // flops, and 43.7 s instead of 5.0 s for 2 of 4.1e10. On a quiet machine
   // they gain 8% at 6.4e8 flops, 25% at 6.8e9 and 35% at 4.1e10
   // (bench/README.md, "BLAS threads").
-  explicit SparseCholeskySolver(const BsmcMatrix& S, int blas_threads = 1);
+  explicit SparseCholeskySolver(const BsmcMatrix& S, int blas_threads = 1,
+                                BlockOrdering ordering = BlockOrdering::kAmd);
   ~SparseCholeskySolver() override;
   bool Factorize(const BsmcMatrix& S) override;
+  // Factorize of S with the rows and columns flagged in `rows` (one flag per
+  // scalar row) made the identity's, without a copy of S.
+  bool FactorizeWithIdentityRows(const BsmcMatrix& S, std::vector<uint8_t> rows);
   void SolveFactored(const double* b, double* x) override;
   LinearSolverType type() const override { return LinearSolverType::kSparse; }
   int64_t MemoryBytes() const override;
   // Values in the factor as analysed.
   double factor_values() const;
-  // The last factorization's L (P S Pᵀ = L Lᵀ) in compressed columns, for
-  // selected inversion (solver/selected_inversion.h). The solver cannot
-  // solve after it.
-  CholeskyFactor TakeFactor();
+  // The last factorization's L (P S Pᵀ = L Lᵀ) by supernodes, for
+  // selected inversion (solver/selected_inversion.h), its values where
+  // the factorization left them (with CHOLMOD, not copied). The solver is
+  // spent: nothing but its destruction may follow.
+  SupernodalFactor TakeFactor();
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   int blas_threads_ = 1;
+  std::vector<uint8_t> identity_rows_;  // FactorizeWithIdentityRows's, while it runs
 };
 
 }  // namespace dba

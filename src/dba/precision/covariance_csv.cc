@@ -1,0 +1,67 @@
+// The --covariance file; see covariance_csv.h.
+#include "dba/precision/covariance_csv.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace dba {
+namespace {
+
+void Append(std::string* line, double v) {
+  char number[32];
+  std::snprintf(number, sizeof number, ",%.9g", v);
+  *line += number;
+}
+
+// A name as one CSV field: quoted (quotes doubled) when it holds a comma,
+// a quote or a line break.
+std::string CsvField(const std::string& name) {
+  if (name.find_first_of(",\"\r\n") == std::string::npos) return name;
+  std::string quoted = "\"";
+  for (char ch : name) quoted += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return quoted + "\"";
+}
+
+std::string Header() {
+  std::string h =
+      "image,datum,sigma_x,sigma_y,sigma_z,c_xx,c_xy,c_xz,c_yy,c_yz,c_zz,sigma_omega_deg,"
+      "sigma_phi_deg,sigma_kappa_deg";
+  for (int a = 1; a <= 6; ++a) {
+    for (int c = a; c <= 6; ++c) h += ",p" + std::to_string(a) + std::to_string(c);
+  }
+  return h + "\n";
+}
+
+std::string PoseLine(const PoseCovariance& p) {
+  std::string line;
+  for (int a = 3; a < 6; ++a) Append(&line, std::sqrt(p(a, a)));
+  for (int a = 3; a < 6; ++a) {
+    for (int c = a; c < 6; ++c) Append(&line, p(a, c));
+  }
+  for (int a = 0; a < 3; ++a) Append(&line, std::sqrt(p(a, a)) * 180.0 / M_PI);
+  for (int a = 0; a < 6; ++a) {
+    for (int c = a; c < 6; ++c) Append(&line, p(a, c));
+  }
+  return line;
+}
+
+}  // namespace
+
+std::string CovarianceCsv(const CameraCovariances& covariances, const std::vector<std::string>& names,
+                          const Similarity& moved, double scale) {
+  std::string text = Header();
+  const char* datum = covariances.datum_free == 0 ? "absolute" : "inner";
+  for (size_t i = 0; i < covariances.pose.size(); ++i) {
+    text += i < names.size() ? CsvField(names[i]) : std::to_string(i);
+    if (!covariances.pose[i]) {
+      text += ",held" + std::string(33, ',') + "\n";
+      continue;
+    }
+    text += ",";
+    text += datum;
+    text += PoseLine(scale * MovePoseCovariance(moved, *covariances.pose[i])) + "\n";
+  }
+  return text;
+}
+
+}  // namespace dba

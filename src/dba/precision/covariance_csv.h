@@ -1,0 +1,33 @@
+// --covariance FILE: one line per image, a header first (comma-separated,
+// nothing else, for any CSV reader). Columns:
+//
+//   image      the image's name (COLMAP) or 0-based index in the input
+//   datum      inner (the inner constraints over the camera centres) or
+//              absolute (priors, control points or held images fix the
+//              frame); held: the image was held fixed (no covariance)
+//   sigma_x, sigma_y, sigma_z       the centre's standard deviations
+//   c_xx, c_xy, c_xz, c_yy, c_yz, c_zz   the centre's covariance
+//   sigma_omega_deg, sigma_phi_deg, sigma_kappa_deg
+//              the attitude's standard deviations, in degrees, as small
+//              rotations of the camera about the frame's x, y, z axes
+//   p11 ... p66  the pose's 6×6 covariance (upper triangle, row by row) in
+//              (θx, θy, θz radians, x, y, z), the same rotations and centre
+//
+// in the output's frame (the solve's; the local east-north-up frame of the
+// report when georeferenced), after the gauge's similarity, scaled by
+// `scale` (σ̂₀², or 1).
+//
+// Thread safety: pure functions (the write: one file).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "dba/precision/camera_covariance.h"
+
+namespace dba {
+
+std::string CovarianceCsv(const CameraCovariances& covariances, const std::vector<std::string>& names,
+                          const Similarity& moved, double scale);
+
+}  // namespace dba

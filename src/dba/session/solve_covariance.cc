@@ -1,0 +1,75 @@
+// The analyse stage's covariance (--covariance): the datum the solve's
+// gauge leaves, the pose covariances (precision/camera_covariance.h) and
+// the variance factor, on the main rank at the optimum.
+#include <stdexcept>
+
+#include "dba/common/error.h"
+#include "dba/session/solve_session.h"
+
+namespace dba {
+namespace {
+
+// What the data leave free of the frame at the optimum: nothing with priors
+// or control points or two held images; the scale beside one held image;
+// else the similarity's 7.
+GaugeFreedom FreedomAtOptimum(const Problem& problem, bool external) {
+  if (external) return {0, {}};
+  const GaugeReference ref = TakeGaugeReference(problem, GaugeRule::kHold);
+  switch (ref.hold) {
+    case GaugeHold::kFixedImages:
+      return {0, {}};
+    case GaugeHold::kFixedImage:
+      return {1, CameraCentre(problem.camera(ref.anchor))};
+    default:
+      return {7, {}};
+  }
+}
+
+}  // namespace
+
+// Before the solve: what the covariance cannot be taken of, refused by name.
+void SolveSession::CheckCovarianceRequest() const {
+  if (result_.problem.has_rigs()) {
+    throw UsageError("--covariance: rig models are not supported yet (the images' covariances "
+                     "compose frame and sensor blocks)");
+  }
+  DistributedOptions d = options_.distributed;
+  d.lever_arm_row = options_.geo.refine_lever_arm;
+  if (comm_->size() > 1 && ChooseRcsPlacement(d, lm_, comm_->size()) == RcsPlacement::kDistributed) {
+    throw UsageError("--covariance on " + std::to_string(comm_->size()) +
+                     " ranks needs the RCS on rank 0, where it is factored: add --rcs gather");
+  }
+}
+
+void SolveSession::TakeCovariance(const Problem& problem, const RcsSystem& rcs) {
+  if (!rcs.S.has_values()) {
+    throw std::runtime_error("--covariance: the RCS is spread over the ranks; run with --rcs gather");
+  }
+  const Georeference& geo = result_.geo;
+  const GaugeFreedom freedom = FreedomAtOptimum(problem, !geo.priors.empty() || geo.control_points > 0);
+  if (!options_.quiet) out_ << "covariance: selected inversion of S at the optimum\n";
+  result_.covariance = ComputeCameraCovariances(problem, rcs, freedom, lm_.num_threads);
+  SolveReport& report = result_.report;
+  SolveReport::Covariance& c = report.covariance;
+  c.computed = true;
+  c.datum = freedom.free == 0 ? "absolute" : "inner";
+  c.unit = options_.covariance_unit;
+  c.factor_nonzeros = result_.covariance->factor_nonzeros;
+  c.seconds = result_.covariance->seconds;
+  c.factor_seconds = result_.covariance->factor_seconds;
+  c.inversion_flops = result_.covariance->inversion_flops;
+  const int64_t priors = static_cast<int64_t>(geo.priors.priors.size());
+  // The points solved last: after rejection rounds, those the last left.
+  const int64_t points = rounds_.empty() ? report.num_points : rounds_.back().points_left;
+  c.redundancy = 2 * report.solve.ba.lm.num_observations + 3 * (priors + geo.control_points) -
+                 (rcs.layout.num_unknowns() + 3 * (points + geo.control_points)) +
+                 freedom.free;
+  if (c.redundancy > 0) {
+    c.variance_factor = 2.0 * report.solve.ba.lm.final_cost / static_cast<double>(c.redundancy);
+  } else if (!c.unit) {
+    throw std::runtime_error("--covariance: no redundancy (r = " + std::to_string(c.redundancy) +
+                             "), no variance factor to scale by; use --covariance-scale unit");
+  }
+}
+
+}  // namespace dba

@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# --covariance end to end (precision/camera_covariance.h, README.md
+# "Precision"): the file's shape and blocks (symmetric positive
+# semi-definite, sigmas their diagonal's roots) on a shipped BAL problem and
+# a COLMAP model; the datum named (inner, absolute, held images); unit
+# against a-posteriori by the report's variance factor; the same blocks on 2
+# ranks as in one process and whatever the input's order; what it cannot do
+# refused by name with nothing written. The blocks' values against dense
+# inverses are unit tests (camera_covariance_test.cc).
+# Usage: cli_covariance.sh PATH_TO_DBA PROJECT_ROOT
+set -uo pipefail
+source "$(dirname "$0")/lib/check.sh"
+dba=$1
+root=$2
+data=$root/../shared/data
+need_shared "$data/bal" "$data/colmap"
+not() { ! "$@" 2>/dev/null; }
+cov() { /usr/bin/python3 "$root/tests/lib/covariance_check.py" "$@"; }
+mpirun_n() { local n=$1; shift; timeout -k 10 300 mpirun --allow-run-as-root --oversubscribe --bind-to none -np "$n" "$@"; }
+p16=$data/bal/problem-16-22106-pre.txt.bz2
+tight=(--linear-solver dense --function-tolerance 1e-12 --parameter-tolerance 1e-14)
+
+"$dba" solve "$p16" -q "${tight[@]}" --covariance "$tmp/p16.csv" --report "$tmp/p16.json" >"$tmp/out" 2>&1
+check "problem-16: exits 0" test $? -eq 0
+check "problem-16: a valid file, 16 images, inner constraints" cov valid "$tmp/p16.csv" 16 inner
+check "problem-16: the report's covariance section" json "$tmp/p16.json" \
+  "d['covariance']['datum'] == 'inner' and d['covariance']['scale'] == 'a-posteriori' and \
+   d['covariance']['redundancy'] == 2 * 83718 - (16 * 9 + 3 * 22106) + 7 and d['covariance']['factor_nonzeros'] > 0"
+check "problem-16: the summary says it" contains "$tmp/out" "covariance          inner constraints over the centres"
+"$dba" solve "$p16" -q "${tight[@]}" --covariance "$tmp/p16u.csv" --covariance-scale unit >/dev/null 2>&1
+vf=$(/usr/bin/python3 -c 'import json,sys; print(repr(json.load(open(sys.argv[1]))["covariance"]["variance_factor"]))' "$tmp/p16.json")
+check "problem-16: a-posteriori is unit times the variance factor ($vf)" cov scaled "$tmp/p16u.csv" "$tmp/p16.csv" "$vf"
+check "problem-16: the variance factor is the final cost over the redundancy" json "$tmp/p16.json" \
+  "near(d['covariance']['variance_factor'], 2 * d['final_cost'] / d['covariance']['redundancy'], 1e-12)"
+
+# The ranks gather S on rank 0 and take the same blocks.
+mpirun_n 2 "$dba" solve "$p16" -q "${tight[@]}" --rcs gather --covariance "$tmp/p16r.csv" >/dev/null 2>&1
+check "problem-16 on 2 ranks: exits 0" test $? -eq 0
+check "problem-16 on 2 ranks: the blocks of one process (1e-7)" cov same "$tmp/p16.csv" "$tmp/p16r.csv" 1e-7
+mpirun_n 2 "$dba" solve "$p16" -q --covariance "$tmp/p16d.csv" >"$tmp/out" 2>&1
+check "2 ranks with the RCS spread: refused" test $? -ne 0
+check "2 ranks with the RCS spread: says --rcs gather" contains "$tmp/out" "add --rcs gather"
+check "2 ranks with the RCS spread: nothing written" test ! -e "$tmp/p16d.csv"
+
+# The input's order does not change the blocks (images named in it).
+"$dba" convert "$p16" "$tmp/s16.txt" --shuffle 3 >/dev/null 2>&1
+"$dba" solve "$tmp/s16.txt" -q "${tight[@]}" --covariance "$tmp/s16.csv" >/dev/null 2>&1
+check "problem-16 shuffled: the same blocks (1e-7)" cov matched "$tmp/p16.csv" "$tmp/s16.csv" 1e-7
+check "problem-16 shuffled: not line for line (the test can fail)" not cov same "$tmp/p16.csv" "$tmp/s16.csv" 1e-7
+
+# COLMAP: images by name; one held image leaves the scale (inner), two
+# hold the frame (absolute).
+m6=$data/colmap/mithunnallana_6img/sparse/0
+"$dba" solve "$m6" -q --covariance "$tmp/m6.csv" >/dev/null 2>&1
+check "mithunnallana: 6 named images, inner" cov valid "$tmp/m6.csv" 6 inner
+check "mithunnallana: named as in the model" contains "$tmp/m6.csv" "l-537.jpg,inner,"
+"$dba" solve "$m6" -q --fix-images l-115.jpg --covariance "$tmp/m6a.csv" >/dev/null 2>&1
+check "one held image: inner" cov valid "$tmp/m6a.csv" 6 inner
+check "one held image: marked held" cov held "$tmp/m6a.csv" l-115.jpg
+"$dba" solve "$m6" -q --fix-images l-115.jpg,l-537.jpg --covariance "$tmp/m6b.csv" >/dev/null 2>&1
+check "two held images: absolute" cov valid "$tmp/m6b.csv" 6 absolute
+check "two held images: both marked" cov held "$tmp/m6b.csv" l-537.jpg
+
+# Refused by name, nothing written.
+"$dba" solve "$p16" -q --covariance "$p16" >"$tmp/out" 2>&1
+check "the input as the covariance file: exit 2" test $? -eq 2
+check "the input as the covariance file: named" contains "$tmp/out" "--covariance $p16 names INPUT"
+"$dba" solve "$p16" -q -o "$tmp/o.txt" --covariance "$tmp/o.txt" >"$tmp/out" 2>&1
+check "another output as the covariance file: exit 2" test $? -eq 2
+"$dba" solve "$p16" -q --covariance-scale unit >"$tmp/out" 2>&1
+check "--covariance-scale alone: exit 2" test $? -eq 2
+check "--covariance-scale alone: says what it needs" contains "$tmp/out" "--covariance-scale needs --covariance"
+"$dba" generate --model photo --rig stereo --images 40 --seed 2 "$tmp/rig.dba" >/dev/null 2>&1
+"$dba" solve "$tmp/rig.dba" -q -o "$tmp/rig_out.dba" --covariance "$tmp/rig.csv" >"$tmp/out" 2>&1
+check "a rig model: exit 2" test $? -eq 2
+check "a rig model: said" contains "$tmp/out" "rig models are not supported yet"
+check "a rig model: nothing written" test ! -e "$tmp/rig.csv" -a ! -e "$tmp/rig_out.dba"
+finish
