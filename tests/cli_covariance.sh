@@ -48,12 +48,31 @@ check "2 ranks with the RCS spread: nothing written" test ! -e "$tmp/p16d.csv"
 check "problem-16 shuffled: the same blocks (1e-7)" cov matched "$tmp/p16.csv" "$tmp/s16.csv" 1e-7
 check "problem-16 shuffled: not line for line (the test can fail)" not cov same "$tmp/p16.csv" "$tmp/s16.csv" 1e-7
 
+# Points: every point, by its index in the input; after a rejection round
+# those kept.
+"$dba" solve "$p16" -q --covariance "$tmp/c.csv" --point-covariance "$tmp/p16p.csv" >/dev/null 2>&1
+check "problem-16 points: one line per point, positive definite" cov points "$tmp/p16p.csv" 22106
+"$dba" solve "$p16" -q --reject-outliers 2 --covariance "$tmp/c.csv" --point-covariance "$tmp/p16k.csv" \
+  --report "$tmp/p16k.json" >/dev/null 2>&1
+kept=$(/usr/bin/python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print(d["outlier_rejection"]["rounds"][-1]["points_left"])' "$tmp/p16k.json" 2>/dev/null || echo 0)
+check "problem-16 points after rejection: the kept ones ($kept)" cov points "$tmp/p16k.csv" "$kept"
+check "problem-16 points after rejection: fewer than loaded" test "$kept" -lt 22106 -a "$kept" -gt 20000
+"$dba" solve "$p16" -q --point-covariance "$tmp/x.csv" >"$tmp/out" 2>&1
+check "--point-covariance alone: says what it needs" contains "$tmp/out" "--point-covariance needs --covariance"
+mpirun_n 2 "$dba" solve "$p16" -q --rcs gather --covariance "$tmp/c2.csv" --point-covariance "$tmp/p2.csv" >"$tmp/out" 2>&1
+check "--point-covariance on 2 ranks: refused" test $? -ne 0
+check "--point-covariance on 2 ranks: said" contains "$tmp/out" "--point-covariance: one process only"
+
 # COLMAP: images by name; one held image leaves the scale (inner), two
 # hold the frame (absolute).
 m6=$data/colmap/mithunnallana_6img/sparse/0
 "$dba" solve "$m6" -q --covariance "$tmp/m6.csv" >/dev/null 2>&1
 check "mithunnallana: 6 named images, inner" cov valid "$tmp/m6.csv" 6 inner
 check "mithunnallana: named as in the model" contains "$tmp/m6.csv" "l-537.jpg,inner,"
+"$dba" solve "$m6" -q --covariance "$tmp/m6.csv" --report "$tmp/m6.json" >/dev/null 2>&1
+check "mithunnallana: the intrinsics' sigmas and correlations in the report" json "$tmp/m6.json" \
+  "d['covariance']['intrinsics'][0]['parameters'] == ['f', 'k'] and d['covariance']['intrinsics'][0]['sigma'][0] > 0 and \
+   abs(d['covariance']['intrinsics'][0]['correlation'][0][0] - 1) < 1e-12"
 "$dba" solve "$m6" -q --fix-images l-115.jpg --covariance "$tmp/m6a.csv" >/dev/null 2>&1
 check "one held image: inner" cov valid "$tmp/m6a.csv" 6 inner
 check "one held image: marked held" cov held "$tmp/m6a.csv" l-115.jpg

@@ -9,6 +9,8 @@
   scaled FILE1 FILE2 FACTOR     FILE2's blocks are FILE1's times FACTOR (1e-7: 9 digits written)
   matched FILE1 FILE2 REL       the same set of centre blocks whatever the
                                 images' order (each FILE2 block has a FILE1 one)
+  points FILE COUNT             a --point-covariance file: COUNT lines, indices
+                                increasing, each 3x3 positive definite
 """
 import csv
 import math
@@ -90,6 +92,21 @@ def matched(path1, path2, rel):
         mb = block(rb)
         best = min(np.abs(ma - mb).max() / np.diag(mb).max() for ma in blocks)
         assert best <= float(rel), (rb[0], best)
+
+
+def points(path, count):
+    header, rows = read(path)
+    assert header == ["point", "sigma_x", "sigma_y", "sigma_z", "c_xx", "c_xy", "c_xz", "c_yy", "c_yz",
+                      "c_zz"], header
+    assert len(rows) == int(count), (len(rows), count)
+    last = -1
+    for row in rows:
+        assert int(row[0]) > last, row[0]
+        last = int(row[0])
+        c = [float(v) for v in row[4:10]]
+        m = np.array([[c[0], c[1], c[2]], [c[1], c[3], c[4]], [c[2], c[4], c[5]]])
+        assert np.linalg.eigvalsh(m).min() > 0, row[0]
+        assert np.allclose([float(v) ** 2 for v in row[1:4]], np.diag(m), rtol=1e-6), row[0]
 
 
 if __name__ == "__main__":

@@ -1,122 +1,16 @@
-// Pose covariances by selected inversion under the solve's datum; see
+// Pose and intrinsics covariances from the camera side's inverse; see
 // camera_covariance.h (docs/design.md §8).
 #include "dba/precision/camera_covariance.h"
 
-#include <Eigen/Dense>
-#include <cmath>
-#include <memory>
+#include <numeric>
 #include <stdexcept>
-#include <string>
 
-#include "dba/bsmc/symmetric_multiply.h"
 #include "dba/camera/pose_step.h"
 #include "dba/camera/rotation.h"
 #include "dba/common/timer.h"
-#include "dba/solver/selected_inversion.h"
-#include "dba/solver/sparse_cholesky.h"
 
 namespace dba {
 namespace {
-
-// The centre of camera row r (a pose (ω, t) where the row's parameters start).
-Vec3 RowCentre(const CameraSide& side, const UnknownLayout& layout, int32_t r) {
-  return CameraCentre(side.cameras.data() + layout.param_offset(r));
-}
-
-// The unknowns pinned to make S positive definite under `freedom`: row 0's
-// six (7 free) and the coordinate along which the camera row farthest from
-// row 0's centre (1 free: from the held image's) lies farthest.
-std::vector<int64_t> PinnedUnknowns(const CameraSide& side, const UnknownLayout& layout,
-                                    const GaugeFreedom& freedom) {
-  std::vector<int64_t> pins;
-  if (freedom.free == 0) return pins;
-  if (layout.num_camera_rows() < 2) {
-    throw std::runtime_error("--covariance: fewer than two free images, nothing fixes the frame");
-  }
-  const Vec3 origin = freedom.free == 7 ? RowCentre(side, layout, 0) : *freedom.scale_centre;
-  if (freedom.free == 7) {
-    for (int j = 0; j < kPoseSize; ++j) pins.push_back(layout.row_offset(0) + j);
-  }
-  int32_t far = -1;
-  double far_distance = 0.0;
-  for (int32_t r = 0; r < layout.num_camera_rows(); ++r) {
-    const double d = (RowCentre(side, layout, r) - origin).norm();
-    if (d > far_distance) far_distance = d, far = r;
-  }
-  if (far < 0) throw std::runtime_error("--covariance: every image at one centre, no scale to hold");
-  Eigen::Index axis;
-  (RowCentre(side, layout, far) - origin).cwiseAbs().maxCoeff(&axis);
-  pins.push_back(layout.row_offset(far) + 3 + axis);
-  return pins;
-}
-
-// The null space of S the pins remove: g_k = e_k − S_h⁻¹ S e_k (pins zero in
-// S e_k), checked to be one (gᵀ S g against Σ S_ii g_i²).
-Eigen::MatrixXd GaugeNullSpace(const BsmcMatrix& S, SparseCholeskySolver* held,
-                               const std::vector<int64_t>& pins, const std::vector<uint8_t>& pinned) {
-  const int64_t n = S.num_rows();
-  Eigen::MatrixXd G(n, static_cast<Eigen::Index>(pins.size()));
-  Eigen::VectorXd e(n), column(n), y(n);
-  for (size_t k = 0; k < pins.size(); ++k) {
-    e.setZero();
-    e[pins[k]] = 1.0;
-    SymmetricMultiplySerial(S, e.data(), column.data());
-    for (int64_t i = 0; i < n; ++i) {
-      if (pinned[i]) column[i] = 0.0;
-    }
-    held->SolveFactored(column.data(), y.data());
-    G.col(k) = e - y;
-    SymmetricMultiplySerial(S, G.col(k).data(), column.data());
-    double diagonal = 0.0;
-    for (int32_t b = 0; b < S.num_block_rows(); ++b) {
-      const double* v = S.block_values(S.diagonal_block(b));
-      for (int a = 0; a < S.block_size(b); ++a) {
-        const double g = G(S.scalar_offset(b) + a, k);
-        diagonal += v[a * S.block_size(b) + a] * g * g;
-      }
-    }
-    if (std::abs(G.col(k).dot(column)) > 1e-8 * diagonal) {
-      throw std::runtime_error("--covariance: the data hold more of the frame than the gauge says "
-                               "(a similarity direction costs " +
-                               std::to_string(G.col(k).dot(column) / diagonal) + " of its scale)");
-    }
-  }
-  return G;
-}
-
-// The inner constraints' S-transformation (camera_covariance.h): Σ's entry
-// from Σ_h's and the low-rank terms.
-struct InnerDatum {
-  Eigen::MatrixXd G, Y, K, N;
-  double Correction(int64_t i, int64_t j) const {
-    return -Y.row(i).dot(K * G.row(j).transpose()) - G.row(i).dot(K.transpose() * Y.row(j).transpose()) +
-           G.row(i).dot(N * G.row(j).transpose());
-  }
-};
-
-InnerDatum InnerCentreDatum(const UnknownLayout& layout, Eigen::MatrixXd G, SparseCholeskySolver* held,
-                            const std::vector<uint8_t>& pinned) {
-  InnerDatum d;
-  Eigen::MatrixXd WG = Eigen::MatrixXd::Zero(G.rows(), G.cols());
-  for (int32_t r = 0; r < layout.num_camera_rows(); ++r) {
-    WG.middleRows(layout.row_offset(r) + 3, 3) = G.middleRows(layout.row_offset(r) + 3, 3);
-  }
-  // Σ_h W G: solves with pins zero on the right (their rows of Σ_h are zero).
-  d.Y.resize(G.rows(), G.cols());
-  for (Eigen::Index k = 0; k < G.cols(); ++k) {
-    Eigen::VectorXd b = WG.col(k);
-    for (Eigen::Index i = 0; i < G.rows(); ++i) {
-      if (pinned[i]) b[i] = 0.0;
-    }
-    held->SolveFactored(b.data(), d.Y.col(k).data());
-  }
-  const Eigen::MatrixXd M = G.transpose() * WG;
-  const Eigen::MatrixXd M_inv = M.inverse();
-  d.K = M_inv.transpose();
-  d.N = M_inv * (WG.transpose() * d.Y) * M_inv.transpose();
-  d.G = std::move(G);
-  return d;
-}
 
 // (δω, δC) -> (θ, C) of the pose at `pose`.
 Eigen::Matrix<double, 6, 6> AttitudeCoordinates(const double* pose) {
@@ -126,65 +20,51 @@ Eigen::Matrix<double, 6, 6> AttitudeCoordinates(const double* pose) {
   return T;
 }
 
-}  // namespace
-
-namespace {
-
-// S with the pins made the identity's, factored.
-std::unique_ptr<SparseCholeskySolver> FactorPinned(const BsmcMatrix& S, const std::vector<uint8_t>& pinned,
-                                                   int threads) {
-  auto held = std::make_unique<SparseCholeskySolver>(S, threads, BlockOrdering::kNestedDissection);
-  if (!held->FactorizeWithIdentityRows(S, pinned)) {
-    throw std::runtime_error("--covariance: the normal matrix at the optimum is not positive definite: "
-                             "the data do not determine every camera unknown");
-  }
-  return held;
+std::vector<int64_t> RowUnknowns(const UnknownLayout& layout, int32_t r, int count) {
+  std::vector<int64_t> rows(count);
+  std::iota(rows.begin(), rows.end(), layout.row_offset(r));
+  return rows;
 }
 
-// Each image's block of the inverse, the datum's correction added, in
-// (θ, C).
-void ReadPoseBlocks(const CameraSide& side, const UnknownLayout& layout, const InverseOnPattern& z,
-                    const std::vector<uint8_t>& pinned, const std::optional<InnerDatum>& inner,
-                    CameraCovariances* out) {
-  out->pose.resize(side.num_images());
+}  // namespace
+
+CameraCovariances CameraBlocks(const CameraSide& side, const UnknownLayout& layout,
+                               const CameraSideInverse& inverse) {
+  CameraCovariances out;
+  out.datum_free = inverse.free();
+  out.pose.resize(side.num_images());
   for (int64_t image = 0; image < side.num_images(); ++image) {
     const int32_t r = layout.camera_row(image);
     if (r < 0) continue;
-    PoseCovariance sigma;
-    for (int a = 0; a < kPoseSize; ++a) {
-      for (int c = 0; c < kPoseSize; ++c) {
-        const int64_t i = layout.row_offset(r) + a, j = layout.row_offset(r) + c;
-        sigma(a, c) = (pinned[i] || pinned[j] ? 0.0 : z.At(i, j)) + (inner ? inner->Correction(i, j) : 0.0);
-      }
-    }
+    const PoseCovariance sigma = inverse.Block(RowUnknowns(layout, r, kPoseSize));
     const Eigen::Matrix<double, 6, 6> T = AttitudeCoordinates(side.camera(image));
-    out->pose[image] = T * sigma * T.transpose();
+    out.pose[image] = T * sigma * T.transpose();
   }
+  if (side.model != CameraModel::kPhoto) return out;
+  for (int64_t g = 0; g < side.num_groups(); ++g) {
+    const int32_t r = layout.intrinsics_row(g);
+    if (r < 0) continue;
+    IntrinsicsCovariance c;
+    c.group = g;
+    const int n = layout.intrinsic_unknowns(r);
+    for (int j = 0; j < n; ++j) {
+      c.parameters.push_back(LensModelParamName(side.group_model(g), layout.intrinsics_free_index(g)[j]));
+    }
+    c.covariance = inverse.Block(RowUnknowns(layout, r, n));
+    out.intrinsics.push_back(std::move(c));
+  }
+  return out;
 }
-
-}  // namespace
 
 CameraCovariances ComputeCameraCovariances(const CameraSide& side, const RcsSystem& rcs,
                                            const GaugeFreedom& freedom, int threads) {
   if (side.has_rigs()) throw std::runtime_error("--covariance: rig models are not supported yet");
   const Timer timer;
-  const UnknownLayout& layout = rcs.layout;
-  const std::vector<int64_t> pins = PinnedUnknowns(side, layout, freedom);
-  std::vector<uint8_t> pinned(rcs.S.num_rows(), 0);
-  for (int64_t p : pins) pinned[p] = 1;
-  std::unique_ptr<SparseCholeskySolver> held = FactorPinned(rcs.S, pinned, threads);
-  std::optional<InnerDatum> inner;
-  if (!pins.empty()) inner = InnerCentreDatum(layout, GaugeNullSpace(rcs.S, held.get(), pins, pinned), held.get(), pinned);
-  SupernodalFactor factor = held->TakeFactor();
-  held.reset();
-  CameraCovariances out;
-  out.datum_free = freedom.free;
-  out.factor_nonzeros = static_cast<int64_t>(factor.values.size());
-  out.inversion_flops = InversionFlops(factor);
-  out.factor_seconds = timer.Seconds();
-  InvertOnPattern(&factor, threads);
-  const InverseOnPattern z(std::move(factor));
-  ReadPoseBlocks(side, layout, z, pinned, inner, &out);
+  const CameraSideInverse inverse(side, rcs, freedom, threads);
+  CameraCovariances out = CameraBlocks(side, rcs.layout, inverse);
+  out.factor_nonzeros = inverse.factor_values();
+  out.inversion_flops = inverse.inversion_flops();
+  out.factor_seconds = inverse.factor_seconds();
   out.seconds = timer.Seconds();
   return out;
 }

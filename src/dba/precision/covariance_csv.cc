@@ -47,6 +47,22 @@ std::string PoseLine(const PoseCovariance& p) {
 
 }  // namespace
 
+std::string PointCovarianceCsv(const std::vector<Eigen::Matrix3d>& points,
+                               const std::vector<int64_t>& loaded, const Similarity& moved, double scale) {
+  std::string text = "point,sigma_x,sigma_y,sigma_z,c_xx,c_xy,c_xz,c_yy,c_yz,c_zz\n";
+  const Eigen::Matrix3d Q = moved.scale * moved.rotation;
+  for (size_t k = 0; k < loaded.size() && k < points.size(); ++k) {
+    const Eigen::Matrix3d p = scale * (Q * points[k] * Q.transpose());
+    std::string line = std::to_string(loaded[k]);
+    for (int a = 0; a < 3; ++a) Append(&line, std::sqrt(p(a, a)));
+    for (int a = 0; a < 3; ++a) {
+      for (int c = a; c < 3; ++c) Append(&line, p(a, c));
+    }
+    text += line + "\n";
+  }
+  return text;
+}
+
 std::string CovarianceCsv(const CameraCovariances& covariances, const std::vector<std::string>& names,
                           const Similarity& moved, double scale) {
   std::string text = Header();

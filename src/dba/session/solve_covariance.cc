@@ -4,6 +4,8 @@
 #include <stdexcept>
 
 #include "dba/common/error.h"
+#include "dba/common/timer.h"
+#include "dba/precision/point_covariance.h"
 #include "dba/session/solve_session.h"
 
 namespace dba {
@@ -29,6 +31,9 @@ GaugeFreedom FreedomAtOptimum(const Problem& problem, bool external) {
 
 // Before the solve: what the covariance cannot be taken of, refused by name.
 void SolveSession::CheckCovarianceRequest() const {
+  if (!options_.point_covariance_path.empty() && comm_->size() > 1) {
+    throw UsageError("--point-covariance: one process only (over ranks the points stay on their ranks)");
+  }
   if (result_.problem.has_rigs()) {
     throw UsageError("--covariance: rig models are not supported yet (the images' covariances "
                      "compose frame and sensor blocks)");
@@ -48,7 +53,17 @@ void SolveSession::TakeCovariance(const Problem& problem, const RcsSystem& rcs) 
   const Georeference& geo = result_.geo;
   const GaugeFreedom freedom = FreedomAtOptimum(problem, !geo.priors.empty() || geo.control_points > 0);
   if (!options_.quiet) out_ << "covariance: selected inversion of S at the optimum\n";
-  result_.covariance = ComputeCameraCovariances(problem, rcs, freedom, lm_.num_threads);
+  const Timer timer;
+  const CameraSideInverse inverse(problem, rcs, freedom, lm_.num_threads);
+  result_.covariance = CameraBlocks(problem, rcs.layout, inverse);
+  result_.covariance->factor_nonzeros = inverse.factor_values();
+  result_.covariance->inversion_flops = inverse.inversion_flops();
+  result_.covariance->factor_seconds = inverse.factor_seconds();
+  if (!options_.point_covariance_path.empty()) {
+    result_.point_covariance =
+        PointCovariances(problem, rcs.layout, result_.report.final_loss, inverse, lm_.num_threads);
+  }
+  result_.covariance->seconds = timer.Seconds();
   SolveReport& report = result_.report;
   SolveReport::Covariance& c = report.covariance;
   c.computed = true;
@@ -69,6 +84,10 @@ void SolveSession::TakeCovariance(const Problem& problem, const RcsSystem& rcs) 
   } else if (!c.unit) {
     throw std::runtime_error("--covariance: no redundancy (r = " + std::to_string(c.redundancy) +
                              "), no variance factor to scale by; use --covariance-scale unit");
+  }
+  const double scale = c.unit ? 1.0 : c.variance_factor;
+  for (const IntrinsicsCovariance& g : result_.covariance->intrinsics) {
+    c.intrinsics.push_back({g.group, g.parameters, scale * g.covariance});
   }
 }
 

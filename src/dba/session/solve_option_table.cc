@@ -318,6 +318,12 @@ std::vector<Spec> GeoreferencingOptions() {
                    "constraints over the camera centres when nothing holds the frame, else "
                    "absolute (README.md, Precision); not with rigs",
                    DBA_FIELD(covariance_path), kNotArrays, kNoArrayFiles));
+  t.push_back(Path("--point-covariance", "FILE",
+                   "with --covariance: every point's covariance, a CSV line per point (its 0-based "
+                   "index in the input, sigmas and the 3x3), in the datum and scale of --covariance; "
+                   "one process",
+                   DBA_FIELD(point_covariance_path), kNotArrays, kNoArrayFiles));
+  SetNeeds(&t.back(), "--covariance", [](const SolveOptions& o) { return !o.covariance_path.empty(); });
   t.push_back(Choice(
       "--covariance-scale", {"a-posteriori", "unit"},
       "a-posteriori: the covariances times the variance factor (the residuals' estimate of the "

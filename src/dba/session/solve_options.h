@@ -65,6 +65,7 @@ struct SolveOptions {
   // (precision/camera_covariance.h), scaled by the variance factor σ̂₀²
   // unless --covariance-scale unit (a pixel σ of 1).
   std::string covariance_path;
+  std::string point_covariance_path;  // --point-covariance FILE: each point's 3×3
   bool covariance_unit = false;
   LmOptions lm;             // num_threads 0: the node's cores / its ranks
   DistributedOptions distributed;

@@ -88,6 +88,18 @@ void CheckColmapVersion(const SolveOptions& options, const CameraSide& side) {
   }
 }
 
+// The loaded index of each point the solve ended with (the loaded points
+// alone, not the control points after them): after rejection rounds the
+// kept ones, in order.
+std::vector<int64_t> LoadedPointIndices(const SolveResult& result) {
+  std::vector<int64_t> loaded;
+  const int64_t count = result.report.num_points;
+  for (int64_t k = 0; k < count; ++k) {
+    if (!result.kept || result.kept->point[k]) loaded.push_back(k);
+  }
+  return loaded;
+}
+
 }  // namespace
 
 void CheckSolveFiles(const SolveOptions& o, const InputSource& input) {
@@ -109,6 +121,7 @@ void CheckSolveFiles(const SolveOptions& o, const InputSource& input) {
   files.Output("--camera-centres", o.geo.camera_centres_path);
   files.Output("--accuracy-report", o.geo.accuracy_report_path);
   files.Output("--covariance", o.covariance_path);
+  files.Output("--point-covariance", o.point_covariance_path);
   files.AllowInPlace("-o", "INPUT");
   files.AllowInPlace("--checkpoint", "--resume");
   files.Check();
@@ -156,6 +169,12 @@ void WriteSolveOutputs(const SolveOptions& options, int ranks, const Timer& sinc
     const double scale = report.covariance.unit ? 1.0 : report.covariance.variance_factor;
     WriteFileAtomically(options.covariance_path, CovarianceCsv(*result->covariance, result->names.problem,
                                                                result->gauge_moved, scale));
+  }
+  if (!options.point_covariance_path.empty()) {
+    const double scale = report.covariance.unit ? 1.0 : report.covariance.variance_factor;
+    WriteFileAtomically(options.point_covariance_path,
+                        PointCovarianceCsv(result->point_covariance, LoadedPointIndices(*result),
+                                           result->gauge_moved, scale));
   }
   report.write_seconds = write_timer.Seconds();
   report.peak_memory_bytes = PeakResidentBytes();

@@ -13,6 +13,7 @@
 #include "dba/cluster/distributed_solve.h"
 #include "dba/lm/memory_estimate.h"
 #include "dba/lm/outlier_rejection.h"
+#include "dba/precision/camera_covariance.h"
 #include "dba/problem/parameter_blocks.h"
 #include "dba/problem/problem.h"
 #include "dba/synthetic/ground_truth.h"
@@ -92,6 +93,9 @@ struct SolveReport {
     double inversion_flops = 0.0;
     double factor_seconds = 0.0;  // of `seconds`: to the factor and the datum's solves
     double seconds = 0.0;
+    // Each intrinsic group with free parameters: its covariance, scaled as
+    // the file's (precision/camera_covariance.h).
+    std::vector<IntrinsicsCovariance> intrinsics;
   } covariance;
   bool has_truth = false;
   GroundTruthErrors truth;        // against a generated problem's ground truth

@@ -81,6 +81,9 @@ struct SolveResult {
   // --covariance: the images' pose covariances at the optimum, in the
   // solve's frame before the gauge's hold moved it by `gauge_moved`.
   std::optional<CameraCovariances> covariance;
+  // --point-covariance: each point's 3×3 (the points solved last, loaded
+  // order; control points last), in the same frame.
+  std::vector<Eigen::Matrix3d> point_covariance;
   Similarity gauge_moved;
   bool ranks_read_file = false;  // SolveInput::ranks_read_file
 };

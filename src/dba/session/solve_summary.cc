@@ -238,6 +238,21 @@ Json SolveSummary(const SolveReport& r) {
                        {"inversion_flops", c.inversion_flops},
                        {"factor_seconds", c.factor_seconds},
                        {"seconds", c.seconds}};
+    Json groups = Json::array();
+    for (const IntrinsicsCovariance& g : c.intrinsics) {
+      const Eigen::VectorXd sigma = g.covariance.diagonal().cwiseSqrt();
+      Json correlation = Json::array();
+      for (Eigen::Index a = 0; a < sigma.size(); ++a) {
+        Json row = Json::array();
+        for (Eigen::Index b = 0; b < sigma.size(); ++b) row.push_back(g.covariance(a, b) / (sigma[a] * sigma[b]));
+        correlation.push_back(row);
+      }
+      groups.push_back({{"group", g.group},
+                        {"parameters", g.parameters},
+                        {"sigma", std::vector<double>(sigma.data(), sigma.data() + sigma.size())},
+                        {"correlation", correlation}});
+    }
+    j["covariance"]["intrinsics"] = groups;
   }
   SolverFigures(r, j);
   MemoryFigures(r, j);

@@ -1,0 +1,188 @@
+// Σ_c by selected inversion under the solve's datum; see
+// camera_side_inverse.h (docs/design.md §8).
+#include "dba/precision/camera_side_inverse.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "dba/bsmc/symmetric_multiply.h"
+#include "dba/camera/pose_step.h"
+#include "dba/common/timer.h"
+#include "dba/solver/sparse_cholesky.h"
+
+namespace dba {
+namespace {
+
+// The centre of camera row r (a pose (ω, t) where the row's parameters start).
+Vec3 RowCentre(const CameraSide& side, const UnknownLayout& layout, int32_t r) {
+  return CameraCentre(side.cameras.data() + layout.param_offset(r));
+}
+
+// The unknowns pinned to make S positive definite under `freedom`: row 0's
+// six (7 free) and the coordinate along which the camera row farthest from
+// row 0's centre (1 free: from the held image's) lies farthest.
+std::vector<int64_t> PinnedUnknowns(const CameraSide& side, const UnknownLayout& layout,
+                                    const GaugeFreedom& freedom) {
+  std::vector<int64_t> pins;
+  if (freedom.free == 0) return pins;
+  if (layout.num_camera_rows() < 2) {
+    throw std::runtime_error("--covariance: fewer than two free images, nothing fixes the frame");
+  }
+  const Vec3 origin = freedom.free == 7 ? RowCentre(side, layout, 0) : *freedom.scale_centre;
+  if (freedom.free == 7) {
+    for (int j = 0; j < kPoseSize; ++j) pins.push_back(layout.row_offset(0) + j);
+  }
+  int32_t far = -1;
+  double far_distance = 0.0;
+  for (int32_t r = 0; r < layout.num_camera_rows(); ++r) {
+    const double d = (RowCentre(side, layout, r) - origin).norm();
+    if (d > far_distance) far_distance = d, far = r;
+  }
+  if (far < 0) throw std::runtime_error("--covariance: every image at one centre, no scale to hold");
+  Eigen::Index axis;
+  (RowCentre(side, layout, far) - origin).cwiseAbs().maxCoeff(&axis);
+  pins.push_back(layout.row_offset(far) + 3 + axis);
+  return pins;
+}
+
+// The null space of S the pins remove: g_k = e_k − S_h⁻¹ S e_k (pins zero in
+// S e_k), checked to be one (gᵀ S g against Σ S_ii g_i²).
+Eigen::MatrixXd GaugeNullSpace(const BsmcMatrix& S, SparseCholeskySolver* held,
+                               const std::vector<int64_t>& pins, const std::vector<uint8_t>& pinned) {
+  const int64_t n = S.num_rows();
+  Eigen::MatrixXd G(n, static_cast<Eigen::Index>(pins.size()));
+  Eigen::VectorXd e(n), column(n), y(n);
+  for (size_t k = 0; k < pins.size(); ++k) {
+    e.setZero();
+    e[pins[k]] = 1.0;
+    SymmetricMultiplySerial(S, e.data(), column.data());
+    for (int64_t i = 0; i < n; ++i) {
+      if (pinned[i]) column[i] = 0.0;
+    }
+    held->SolveFactored(column.data(), y.data());
+    G.col(k) = e - y;
+    SymmetricMultiplySerial(S, G.col(k).data(), column.data());
+    double diagonal = 0.0;
+    for (int32_t b = 0; b < S.num_block_rows(); ++b) {
+      const double* v = S.block_values(S.diagonal_block(b));
+      for (int a = 0; a < S.block_size(b); ++a) {
+        const double g = G(S.scalar_offset(b) + a, k);
+        diagonal += v[a * S.block_size(b) + a] * g * g;
+      }
+    }
+    if (std::abs(G.col(k).dot(column)) > 1e-8 * diagonal) {
+      throw std::runtime_error("--covariance: the data hold more of the frame than the gauge says "
+                               "(a similarity direction costs " +
+                               std::to_string(G.col(k).dot(column) / diagonal) + " of its scale)");
+    }
+  }
+  return G;
+}
+
+struct InnerDatum {
+  Eigen::MatrixXd G, Y, K, N;
+};
+
+InnerDatum InnerCentreDatum(const UnknownLayout& layout, Eigen::MatrixXd G, SparseCholeskySolver* held,
+                            const std::vector<uint8_t>& pinned) {
+  InnerDatum d;
+  Eigen::MatrixXd WG = Eigen::MatrixXd::Zero(G.rows(), G.cols());
+  for (int32_t r = 0; r < layout.num_camera_rows(); ++r) {
+    WG.middleRows(layout.row_offset(r) + 3, 3) = G.middleRows(layout.row_offset(r) + 3, 3);
+  }
+  // Σ_h W G: solves with pins zero on the right (their rows of Σ_h are zero).
+  d.Y.resize(G.rows(), G.cols());
+  for (Eigen::Index k = 0; k < G.cols(); ++k) {
+    Eigen::VectorXd b = WG.col(k);
+    for (Eigen::Index i = 0; i < G.rows(); ++i) {
+      if (pinned[i]) b[i] = 0.0;
+    }
+    held->SolveFactored(b.data(), d.Y.col(k).data());
+  }
+  const Eigen::MatrixXd M = G.transpose() * WG;
+  const Eigen::MatrixXd M_inv = M.inverse();
+  d.K = M_inv.transpose();
+  d.N = M_inv * (WG.transpose() * d.Y) * M_inv.transpose();
+  d.G = std::move(G);
+  return d;
+}
+
+// S with the pins made the identity's, factored.
+std::unique_ptr<SparseCholeskySolver> FactorPinned(const BsmcMatrix& S, const std::vector<uint8_t>& pinned,
+                                                   int threads) {
+  auto held = std::make_unique<SparseCholeskySolver>(S, threads, BlockOrdering::kNestedDissection);
+  if (!held->FactorizeWithIdentityRows(S, pinned)) {
+    throw std::runtime_error("--covariance: the normal matrix at the optimum is not positive definite: "
+                             "the data do not determine every camera unknown");
+  }
+  return held;
+}
+
+}  // namespace
+
+CameraSideInverse::CameraSideInverse(const CameraSide& side, const RcsSystem& rcs,
+                                     const GaugeFreedom& freedom, int threads)
+    : free_(freedom.free) {
+  const Timer timer;
+  const std::vector<int64_t> pins = PinnedUnknowns(side, rcs.layout, freedom);
+  pinned_.assign(rcs.S.num_rows(), 0);
+  for (int64_t p : pins) pinned_[p] = 1;
+  std::unique_ptr<SparseCholeskySolver> held = FactorPinned(rcs.S, pinned_, threads);
+  if (!pins.empty()) {
+    InnerDatum d = InnerCentreDatum(rcs.layout, GaugeNullSpace(rcs.S, held.get(), pins, pinned_),
+                                    held.get(), pinned_);
+    G_ = std::move(d.G), Y_ = std::move(d.Y), K_ = std::move(d.K), N_ = std::move(d.N);
+  }
+  SupernodalFactor factor = held->TakeFactor();
+  held.reset();
+  factor_values_ = static_cast<int64_t>(factor.values.size());
+  inversion_flops_ = InversionFlops(factor);
+  factor_seconds_ = timer.Seconds();
+  InvertOnPattern(&factor, threads);
+  z_.emplace(std::move(factor));
+}
+
+Eigen::MatrixXd CameraSideInverse::Held(std::span<const int64_t> rows) const {
+  const Eigen::Index n = static_cast<Eigen::Index>(rows.size());
+  Eigen::MatrixXd held(n, n);
+  for (Eigen::Index a = 0; a < n; ++a) {
+    for (Eigen::Index b = 0; b <= a; ++b) {
+      const bool pin = pinned_[rows[a]] || pinned_[rows[b]];
+      held(a, b) = held(b, a) = pin ? 0.0 : z_->At(rows[a], rows[b]);
+    }
+  }
+  return held;
+}
+
+Eigen::MatrixXd CameraSideInverse::DatumTerms(const Eigen::MatrixXd& g, const Eigen::MatrixXd& y) const {
+  const Eigen::MatrixXd yk = y * K_ * g.transpose();
+  return -yk - yk.transpose() + g * N_ * g.transpose();
+}
+
+Eigen::MatrixXd CameraSideInverse::Block(std::span<const int64_t> rows) const {
+  Eigen::MatrixXd sigma = Held(rows);
+  if (free_ == 0) return sigma;
+  const Eigen::Index n = static_cast<Eigen::Index>(rows.size());
+  Eigen::MatrixXd g(n, G_.cols()), y(n, G_.cols());
+  for (Eigen::Index a = 0; a < n; ++a) g.row(a) = G_.row(rows[a]), y.row(a) = Y_.row(rows[a]);
+  return sigma + DatumTerms(g, y);
+}
+
+Eigen::Matrix3d CameraSideInverse::PointBlock(std::span<const int64_t> rows, const Eigen::MatrixXd& W,
+                                              const Eigen::Matrix3d& V) const {
+  const Eigen::Matrix3d v_inv = V.inverse();
+  const Eigen::MatrixXd T = v_inv * W.transpose();  // 3 × |rows|
+  Eigen::Matrix3d sigma = v_inv + T * Held(rows) * T.transpose();
+  if (free_ == 0) return sigma;
+  const Eigen::Index n = static_cast<Eigen::Index>(rows.size());
+  Eigen::MatrixXd g(n, G_.cols()), y(n, G_.cols());
+  for (Eigen::Index a = 0; a < n; ++a) g.row(a) = G_.row(rows[a]), y.row(a) = Y_.row(rows[a]);
+  // The point's rows of G and Y: −V⁻¹ Wᵀ times its unknowns'.
+  sigma += DatumTerms(-T * g, -T * y);
+  return sigma;
+}
+
+}  // namespace dba
