@@ -121,7 +121,49 @@ TEST(CameraCovariance, OneHeldImageLeavesTheScaleToTheInnerConstraint) {
 TEST(CameraCovariance, AFreeNetworkTakenAsHeldIsRefused) {
   const Problem problem = testing::MakeSyntheticBal(Geometry()).problem;
   const RcsSystem sys = FormedAt(problem);
-  EXPECT_THROW(ComputeCameraCovariances(problem, sys, {0, {}}), std::runtime_error);
+  try {
+    ComputeCameraCovariances(problem, sys, {0, {}});
+    ADD_FAILURE() << "not refused";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("the data do not determine every camera unknown (first: image "),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// A camera whose observations cannot determine its pose (two points: four
+// equations for six unknowns): refused, naming it. Image 5 keeps two of its
+// observations; a point it leaves with fewer than two goes.
+TEST(CameraCovariance, AnUndeterminedCameraIsNamed) {
+  testing::SyntheticPhotoOptions o;
+  o.geometry = Geometry();
+  const Problem problem = testing::MakeSyntheticPhoto(o).problem;
+  Problem cut = problem;
+  cut.points.clear(), cut.point_offsets = {0}, cut.obs_camera.clear(), cut.obs_pixel.clear();
+  int kept = 0;
+  for (int64_t k = 0; k < problem.num_points(); ++k) {
+    std::vector<int64_t> keep;
+    for (int64_t a = problem.point_offsets[k]; a < problem.point_offsets[k + 1]; ++a) {
+      if (problem.obs_camera[a] != 5 || kept < 2) keep.push_back(a);
+    }
+    if (keep.size() < 2) continue;
+    for (int64_t a : keep) {
+      kept += problem.obs_camera[a] == 5;
+      cut.obs_camera.push_back(problem.obs_camera[a]);
+      cut.obs_pixel.insert(cut.obs_pixel.end(), problem.pixel(a), problem.pixel(a) + 2);
+    }
+    cut.points.insert(cut.points.end(), problem.point(k), problem.point(k) + kPointSize);
+    cut.point_offsets.push_back(cut.num_observations());
+  }
+  ASSERT_EQ(kept, 2);
+  const RcsSystem sys = FormedAt(cut);
+  try {
+    ComputeCameraCovariances(cut, sys, {7, {}});
+    ADD_FAILURE() << "not refused";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("(first: image 5 (0-based): too few observations?)"), std::string::npos)
+        << e.what();
+  }
 }
 
 // θ: the camera's attitude error about the world axes. A step δω moves the

@@ -110,13 +110,49 @@ InnerDatum InnerCentreDatum(const UnknownLayout& layout, Eigen::MatrixXd G, Spar
   return d;
 }
 
+// The first block row whose own diagonal block of S is singular (its
+// observations alone cannot determine it: too few, or nothing observes a
+// parameter), or else the block row of the failed pivot `row`; -1: none.
+int32_t UndeterminedRow(const UnknownLayout& layout, const BsmcMatrix& S,
+                        const std::vector<uint8_t>& pinned, int64_t row) {
+  for (int32_t r = 0; r < S.num_block_rows(); ++r) {
+    const int n = S.block_size(r);
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    const Eigen::Map<const RowMajor> stored(S.block_values(S.diagonal_block(r)), n, n);
+    const Eigen::MatrixXd block = stored.selfadjointView<Eigen::Upper>();  // the upper triangle is S's
+    bool pins = false;
+    for (int a = 0; a < n; ++a) pins = pins || pinned[S.scalar_offset(r) + a];
+    const Eigen::VectorXd values = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(block).eigenvalues();
+    if (!pins && !(values[0] > 1e-12 * values[n - 1])) return r;
+  }
+  if (row < 0) return -1;
+  int32_t r = 0;
+  while (r + 1 < layout.num_block_rows() && layout.row_offset(r + 1) <= row) ++r;
+  return r;
+}
+
+// " (first: image 3 (0-based); ...)" for block row r ("" for -1).
+std::string NameOfRow(const UnknownLayout& layout, int32_t r) {
+  if (r < 0) return "";
+  std::string named;
+  const bool camera = r < layout.num_camera_rows();
+  for (int64_t i = 0; i < (camera ? layout.num_images() : layout.num_groups()); ++i) {
+    if ((camera ? layout.camera_row(i) : layout.intrinsics_row(i)) == r) {
+      named += (named.empty() ? "" : ", ") + std::to_string(i);
+    }
+  }
+  return std::string(" (first: ") + (camera ? "image " : "intrinsic group ") + named + " (0-based)" +
+         (camera ? ": too few observations?)" : ": a parameter nothing observes?)");
+}
+
 // S with the pins made the identity's, factored.
-std::unique_ptr<SparseCholeskySolver> FactorPinned(const BsmcMatrix& S, const std::vector<uint8_t>& pinned,
-                                                   int threads) {
+std::unique_ptr<SparseCholeskySolver> FactorPinned(const UnknownLayout& layout, const BsmcMatrix& S,
+                                                   const std::vector<uint8_t>& pinned, int threads) {
   auto held = std::make_unique<SparseCholeskySolver>(S, threads, BlockOrdering::kNestedDissection);
   if (!held->FactorizeWithIdentityRows(S, pinned)) {
     throw std::runtime_error("--covariance: the normal matrix at the optimum is not positive definite: "
-                             "the data do not determine every camera unknown");
+                             "the data do not determine every camera unknown" +
+                             NameOfRow(layout, UndeterminedRow(layout, S, pinned, held->failed_row())));
   }
   return held;
 }
@@ -130,7 +166,7 @@ CameraSideInverse::CameraSideInverse(const CameraSide& side, const RcsSystem& rc
   const std::vector<int64_t> pins = PinnedUnknowns(side, rcs.layout, freedom);
   pinned_.assign(rcs.S.num_rows(), 0);
   for (int64_t p : pins) pinned_[p] = 1;
-  std::unique_ptr<SparseCholeskySolver> held = FactorPinned(rcs.S, pinned_, threads);
+  std::unique_ptr<SparseCholeskySolver> held = FactorPinned(rcs.layout, rcs.S, pinned_, threads);
   if (!pins.empty()) {
     InnerDatum d = InnerCentreDatum(rcs.layout, GaugeNullSpace(rcs.S, held.get(), pins, pinned_),
                                     held.get(), pinned_);

@@ -56,6 +56,9 @@ class UnknownLayout {
   int64_t row_offset(int32_t r) const { return row_offset_[r]; }
   int64_t param_offset(int32_t r) const { return param_offset_[r]; }
 
+  // The images and intrinsic groups the layout was made for.
+  int64_t num_images() const { return static_cast<int64_t>(camera_row_.size()); }
+  int64_t num_groups() const { return static_cast<int64_t>(intrinsics_row_.size()); }
   // Block row of camera i (with rigs: of its frame) / intrinsic group g, or
   // -1 when held fixed.
   int32_t camera_row(int64_t i) const { return camera_row_[i]; }

@@ -258,7 +258,11 @@ bool SparseCholeskySolver::Factorize(const BsmcMatrix& S) {
   PinToIdentity(identity_rows_, m.pattern, static_cast<double*>(m.A->x));
   const BlasThreads blas(blas_threads_);
   const int ok = Cholmod().cholmod_factorize(m.A, m.L, &m.cm.c);
-  if (m.cm.c.status == CHOLMOD_NOT_POSDEF) return false;
+  if (m.cm.c.status == CHOLMOD_NOT_POSDEF) {
+    const int64_t minor = static_cast<int64_t>(m.L->minor);
+    failed_row_ = minor < static_cast<int64_t>(m.L->n) ? static_cast<const int*>(m.L->Perm)[minor] : -1;
+    return false;
+  }
   if (!ok || m.cm.c.status < 0) {
     throw std::runtime_error("sparse Cholesky: factorization failed (CHOLMOD status " +
                              std::to_string(m.cm.c.status) + ")");

@@ -56,6 +56,9 @@ class SparseCholeskySolver : public CholeskySolver {
   // Factorize of S with the rows and columns flagged in `rows` (one flag per
   // scalar row) made the identity's, without a copy of S.
   bool FactorizeWithIdentityRows(const BsmcMatrix& S, std::vector<uint8_t> rows);
+  // After a Factorize that returned false: the row of S whose pivot was not
+  // positive (CHOLMOD's; -1 when unknown).
+  int64_t failed_row() const { return failed_row_; }
   void SolveFactored(const double* b, double* x) override;
   LinearSolverType type() const override { return LinearSolverType::kSparse; }
   int64_t MemoryBytes() const override;
@@ -72,6 +75,7 @@ class SparseCholeskySolver : public CholeskySolver {
   std::unique_ptr<Impl> impl_;
   int blas_threads_ = 1;
   std::vector<uint8_t> identity_rows_;  // FactorizeWithIdentityRows's, while it runs
+  int64_t failed_row_ = -1;
 };
 
 }  // namespace dba
