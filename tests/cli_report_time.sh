@@ -37,7 +37,7 @@ sums() {
 import json, re, sys
 s = json.load(open(sys.argv[1]))["seconds"]
 phases = ["startup", "read", "load", "distribution", "setup", "rcs_formation", "linear_solve",
-          "back_substitution", "write", "other"]
+          "back_substitution", "analysis", "write", "other"]
 ok = abs(sum(s[k] for k in phases) - s["total"]) <= 1e-9 * max(1.0, s["total"])
 ok = ok and all(s[k] >= 0 for k in phases[:-1]) and s["other"] > -1e-3
 text = open(sys.argv[2]).read()
@@ -45,7 +45,7 @@ m = re.search(r"time \(s\) (.*?) total ([0-9.]+) \(wall time from the start\)", 
 if not m:
     sys.exit("no time line in " + sys.argv[2])
 printed = [round(1000 * float(x)) for x in re.findall(r"-?[0-9]+\.[0-9]{3}", m.group(1))]
-ok = ok and len(printed) == 10 and sum(printed) == round(1000 * float(m.group(2)))
+ok = ok and len(printed) == 11 and sum(printed) == round(1000 * float(m.group(2)))
 ok = ok and round(1000 * float(m.group(2))) == round(1000 * s["total"])
 if not ok:
     print(s, printed, m.group(2), file=sys.stderr)

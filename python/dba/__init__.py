@@ -108,7 +108,7 @@ class Summary:
     termination_message: str
     linear_solver: str
     # Wall time per phase from the call's start (startup, read, load, distribution, setup,
-    # rcs_formation, linear_solve, back_substitution, write, other), adding up to total.
+    # rcs_formation, linear_solve, back_substitution, analysis, write, other), adding up to total.
     seconds: dict
     history: list = field(repr=False)  # of Iteration
     report: dict = field(repr=False)

@@ -91,7 +91,8 @@ def plot_report(report, output, title=None):
     ax = axes[1][1]
     phases = [("startup", "start-up"), ("read", "read"), ("load", "checks"), ("setup", "setup"),
               ("rcs_formation", "RCS formation"), ("linear_solve", "linear solve"),
-              ("back_substitution", "back-substitution"), ("write", "write"), ("other", "other")]
+              ("back_substitution", "back-substitution"), ("analysis", "analysis"), ("write", "write"),
+              ("other", "other")]
     values = [seconds.get(k, 0.0) for k, _ in phases]
     ax.barh([name for _, name in phases], values, color="C4")
     for y, v in enumerate(values):

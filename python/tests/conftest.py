@@ -22,7 +22,7 @@ LADYBUG_EXACT_COST = 1.334432e+04
 
 # The report's time phases (summary.seconds), which add up to its total.
 TIME_PHASES = ("startup", "read", "load", "distribution", "setup", "rcs_formation", "linear_solve",
-               "back_substitution", "write", "other")
+               "back_substitution", "analysis", "write", "other")
 
 
 @pytest.fixture(scope="session")

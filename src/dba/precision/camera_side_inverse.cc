@@ -48,35 +48,42 @@ std::vector<int64_t> PinnedUnknowns(const CameraSide& side, const UnknownLayout&
   return pins;
 }
 
+// gᵀ S g against Σ S_ii g_i²: a null direction's cost relative to its
+// scale (S g in `sg`).
+double RelativeCost(const BsmcMatrix& S, const Eigen::VectorXd& g, const Eigen::VectorXd& sg) {
+  double diagonal = 0.0;
+  for (int32_t b = 0; b < S.num_block_rows(); ++b) {
+    const double* v = S.block_values(S.diagonal_block(b));
+    for (int a = 0; a < S.block_size(b); ++a) {
+      const double x = g[S.scalar_offset(b) + a];
+      diagonal += v[a * S.block_size(b) + a] * x * x;
+    }
+  }
+  return std::abs(g.dot(sg)) / diagonal;
+}
+
 // The null space of S the pins remove: g_k = e_k − S_h⁻¹ S e_k (pins zero in
-// S e_k), checked to be one (gᵀ S g against Σ S_ii g_i²).
+// S e_k; the d solves in one pass over the factor), each checked to be one.
 Eigen::MatrixXd GaugeNullSpace(const BsmcMatrix& S, SparseCholeskySolver* held,
                                const std::vector<int64_t>& pins, const std::vector<uint8_t>& pinned) {
   const int64_t n = S.num_rows();
-  Eigen::MatrixXd G(n, static_cast<Eigen::Index>(pins.size()));
-  Eigen::VectorXd e(n), column(n), y(n);
-  for (size_t k = 0; k < pins.size(); ++k) {
-    e.setZero();
-    e[pins[k]] = 1.0;
-    SymmetricMultiplySerial(S, e.data(), column.data());
+  const int d = static_cast<int>(pins.size());
+  Eigen::MatrixXd E = Eigen::MatrixXd::Zero(n, d), columns(n, d), Y(n, d);
+  for (int k = 0; k < d; ++k) {
+    E(pins[k], k) = 1.0;
+    SymmetricMultiplySerial(S, E.col(k).data(), columns.col(k).data());
     for (int64_t i = 0; i < n; ++i) {
-      if (pinned[i]) column[i] = 0.0;
+      if (pinned[i]) columns(i, k) = 0.0;
     }
-    held->SolveFactored(column.data(), y.data());
-    G.col(k) = e - y;
-    SymmetricMultiplySerial(S, G.col(k).data(), column.data());
-    double diagonal = 0.0;
-    for (int32_t b = 0; b < S.num_block_rows(); ++b) {
-      const double* v = S.block_values(S.diagonal_block(b));
-      for (int a = 0; a < S.block_size(b); ++a) {
-        const double g = G(S.scalar_offset(b) + a, k);
-        diagonal += v[a * S.block_size(b) + a] * g * g;
-      }
-    }
-    if (std::abs(G.col(k).dot(column)) > 1e-8 * diagonal) {
+  }
+  held->SolveFactoredColumns(columns.data(), d, Y.data());
+  const Eigen::MatrixXd G = E - Y;
+  Eigen::VectorXd sg(n);
+  for (int k = 0; k < d; ++k) {
+    SymmetricMultiplySerial(S, G.col(k).data(), sg.data());
+    if (const double cost = RelativeCost(S, G.col(k), sg); cost > 1e-8) {
       throw std::runtime_error("--covariance: the data hold more of the frame than the gauge says "
-                               "(a similarity direction costs " +
-                               std::to_string(G.col(k).dot(column) / diagonal) + " of its scale)");
+                               "(a similarity direction costs " + std::to_string(cost) + " of its scale)");
     }
   }
   return G;
@@ -94,14 +101,12 @@ InnerDatum InnerCentreDatum(const UnknownLayout& layout, Eigen::MatrixXd G, Spar
     WG.middleRows(layout.row_offset(r) + 3, 3) = G.middleRows(layout.row_offset(r) + 3, 3);
   }
   // Σ_h W G: solves with pins zero on the right (their rows of Σ_h are zero).
-  d.Y.resize(G.rows(), G.cols());
-  for (Eigen::Index k = 0; k < G.cols(); ++k) {
-    Eigen::VectorXd b = WG.col(k);
-    for (Eigen::Index i = 0; i < G.rows(); ++i) {
-      if (pinned[i]) b[i] = 0.0;
-    }
-    held->SolveFactored(b.data(), d.Y.col(k).data());
+  Eigen::MatrixXd B = WG;
+  for (Eigen::Index i = 0; i < G.rows(); ++i) {
+    if (pinned[i]) B.row(i).setZero();
   }
+  d.Y.resize(G.rows(), G.cols());
+  held->SolveFactoredColumns(B.data(), static_cast<int>(G.cols()), d.Y.data());
   const Eigen::MatrixXd M = G.transpose() * WG;
   const Eigen::MatrixXd M_inv = M.inverse();
   d.K = M_inv.transpose();

@@ -9,7 +9,8 @@ double SolveReport::OtherSeconds() const {
   const PhaseTimes& lm = solve.ba.lm.times;
   return total_seconds - (startup_seconds + read_seconds + load_seconds +
                           solve.distribution_seconds + solve.ba.symbolic_seconds +
-                          lm.rcs_formation + lm.linear_solve + lm.back_substitution + write_seconds);
+                          lm.rcs_formation + lm.linear_solve + lm.back_substitution + analysis_seconds +
+                          write_seconds);
 }
 
 std::string IterationLogHeader() {

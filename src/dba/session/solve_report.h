@@ -54,6 +54,7 @@ struct SolveReport {
   double startup_seconds = 0.0;  // to the solve's first work: exec, libraries, arguments, MPI
   double read_seconds = 0.0;     // reading the input, decompression included
   double load_seconds = 0.0;     // the checks and set-up after reading
+  double analysis_seconds = 0.0; // the analyse stage: S at the optimum, --covariance
   double write_seconds = 0.0;    // the outputs but the report, each on disk
   double total_seconds = 0.0;
   int64_t peak_memory_bytes = 0;  // main rank

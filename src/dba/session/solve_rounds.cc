@@ -80,6 +80,12 @@ void SolveSession::Solve() {
 // analysis sees the RCS there (with the last solve's loss).
 void SolveSession::Analyse() {
   if (!analysis_ && options_.covariance_path.empty()) return;
+  const Timer timer;
+  struct Account {  // the stage's time, however it ends
+    const Timer& timer;
+    double* seconds;
+    ~Account() { *seconds = timer.Seconds(); }
+  } account{timer, &result_.report.analysis_seconds};
   LmOptions o = lm_;
   o.loss = result_.report.final_loss;
   side_->AtOptimum(o, result_.geo.priors, [&](const RcsSystem& rcs) {

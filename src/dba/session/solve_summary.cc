@@ -92,6 +92,7 @@ void SolverFigures(const SolveReport& r, Json& j) {
                   {"rcs_formation", lm.times.rcs_formation},
                   {"linear_solve", lm.times.linear_solve},
                   {"back_substitution", lm.times.back_substitution},
+                  {"analysis", r.analysis_seconds},
                   {"write", r.write_seconds},
                   {"other", r.OtherSeconds()},
                   {"total", r.total_seconds}};

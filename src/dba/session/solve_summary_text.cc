@@ -62,7 +62,8 @@ void PrintTimes(const Json& s, std::ostream& out) {
       {"startup", "start-up", false}, {"read", "read", false}, {"load", "checks", false},
       {"distribution", "distribute", false}, {"setup", "setup", true},
       {"rcs_formation", "rcs", false}, {"linear_solve", "linear solve", false},
-      {"back_substitution", "back-substitution", false}, {"write", "write", false}};
+      {"back_substitution", "back-substitution", false}, {"analysis", "analysis", false},
+      {"write", "write", false}};
   const auto ms = [](double seconds) { return std::llround(1000.0 * seconds); };
   const long long total = ms(s["total"].get<double>());
   long long other = total;

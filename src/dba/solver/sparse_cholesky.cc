@@ -283,6 +283,22 @@ void SparseCholeskySolver::SolveFactored(const double* b, double* x) {
   std::copy(solution, solution + n, x);
 }
 
+void SparseCholeskySolver::SolveFactoredColumns(const double* B, int columns, double* X) {
+  Impl& m = *impl_;
+  const int64_t n = static_cast<int64_t>(m.B->nrow);
+  cholmod_dense* b = Cholmod().cholmod_allocate_dense(n, columns, n, CHOLMOD_REAL, &m.cm.c);
+  if (b == nullptr) throw std::runtime_error("sparse Cholesky: out of memory");
+  std::copy(B, B + n * columns, static_cast<double*>(b->x));
+  cholmod_dense *x = nullptr, *y = nullptr, *e = nullptr;
+  const BlasThreads blas(blas_threads_);
+  const int ok = Cholmod().cholmod_solve2(CHOLMOD_A, m.L, b, nullptr, &x, nullptr, &y, &e, &m.cm.c);
+  if (ok) std::copy(static_cast<const double*>(x->x), static_cast<const double*>(x->x) + n * columns, X);
+  for (cholmod_dense* d : {b, x, y, e}) Cholmod().cholmod_free_dense(&d, &m.cm.c);
+  if (!ok) {
+    throw std::runtime_error("sparse Cholesky: solve failed (CHOLMOD status " + std::to_string(m.cm.c.status) + ")");
+  }
+}
+
 SupernodalFactor SparseCholeskySolver::TakeFactor() {
   Impl& m = *impl_;
   const cholmod_factor& L = *m.L;
@@ -371,6 +387,12 @@ void SparseCholeskySolver::SolveFactored(const double* b, double* x) {
   Eigen::Map<Eigen::VectorXd>(x, n) = impl_->llt.solve(rhs);
 }
 
+
+void SparseCholeskySolver::SolveFactoredColumns(const double* B, int columns, double* X) {
+  const int64_t n = static_cast<int64_t>(impl_->pattern.col_ptr.size()) - 1;
+  const Eigen::MatrixXd rhs = Eigen::Map<const Eigen::MatrixXd>(B, n, columns);
+  Eigen::Map<Eigen::MatrixXd>(X, n, columns) = impl_->llt.solve(rhs);
+}
 
 SupernodalFactor SparseCholeskySolver::TakeFactor() {
   const Eigen::SparseMatrix<double>& L = impl_->llt.matrixL().nestedExpression();

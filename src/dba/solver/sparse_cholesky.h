@@ -60,6 +60,9 @@ class SparseCholeskySolver : public CholeskySolver {
   // positive (CHOLMOD's; -1 when unknown).
   int64_t failed_row() const { return failed_row_; }
   void SolveFactored(const double* b, double* x) override;
+  // X = S⁻¹ B for `columns` right-hand sides at once (column-major n ×
+  // columns): one pass over the factor for all of them.
+  void SolveFactoredColumns(const double* B, int columns, double* X);
   LinearSolverType type() const override { return LinearSolverType::kSparse; }
   int64_t MemoryBytes() const override;
   // Values in the factor as analysed.
