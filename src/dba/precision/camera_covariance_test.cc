@@ -8,7 +8,6 @@
 
 #include <gtest/gtest.h>
 
-#include <Eigen/Dense>
 
 #include "dba/camera/pose_step.h"
 #include "dba/camera/rotation.h"
@@ -42,13 +41,13 @@ RcsSystem FormedAt(const Problem& problem) {
 Eigen::MatrixXd DenseReference(const RcsSystem& sys, int free) {
   const Eigen::MatrixXd S = testing::DenseFromBsmc(sys.S);
   const Eigen::Index n = S.rows();
-  if (free == 0) return S.inverse();
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(S);
-  const Eigen::MatrixXd N = eigen.eigenvectors().leftCols(free);
+  if (free == 0) return testing::Inverse(S);
+  const testing::SymmetricEigen eigen = testing::EigenOfSymmetric(S);
+  const Eigen::MatrixXd N = eigen.vectors.leftCols(free);
   // `free` null directions, far below the smallest determined one.
-  const double null = std::abs(eigen.eigenvalues()[free - 1]);
-  EXPECT_LT(null, 1e-13 * eigen.eigenvalues()[n - 1]);
-  EXPECT_GT(eigen.eigenvalues()[free], 1e4 * null);
+  const double null = std::abs(eigen.values[free - 1]);
+  EXPECT_LT(null, 1e-13 * eigen.values[n - 1]);
+  EXPECT_GT(eigen.values[free], 1e4 * null);
   Eigen::MatrixXd B = Eigen::MatrixXd::Zero(free, n);
   for (int32_t r = 0; r < sys.layout.num_camera_rows(); ++r) {
     const int64_t o = sys.layout.row_offset(r) + 3;
@@ -58,7 +57,7 @@ Eigen::MatrixXd DenseReference(const RcsSystem& sys, int free) {
   bordered.topLeftCorner(n, n) = S;
   bordered.bottomLeftCorner(free, n) = B;
   bordered.topRightCorner(n, free) = B.transpose();
-  return bordered.inverse().topLeftCorner(n, n);
+  return testing::Inverse(bordered).topLeftCorner(n, n);
 }
 
 void ExpectPoseBlocks(const Problem& problem, int free, std::optional<Vec3> centre = {}) {

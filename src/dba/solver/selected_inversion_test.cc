@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include <Eigen/Dense>
+#include <Eigen/Core>
 #include <stdexcept>
 
 #include "dba/solver/sparse_cholesky.h"
@@ -75,7 +75,7 @@ TEST(SelectedInversion, EqualsTheDenseInverseOnTheFactorsPattern) {
     o.seed = seed;
     const BsmcMatrix S = testing::MakeRandomBsmc(o);
     const Eigen::MatrixXd dense = testing::DenseFromBsmc(S);
-    const Eigen::MatrixXd inverse = dense.llt().solve(Eigen::MatrixXd::Identity(dense.rows(), dense.cols()));
+    const Eigen::MatrixXd inverse = testing::Inverse(dense);
     SupernodalFactor f = Factor(S);
     SupernodalFactor columns = ByColumns(f);
     SupernodalFactor threaded = Factor(S);
