@@ -80,6 +80,16 @@ check "one held image: marked held" cov held "$tmp/m6a.csv" l-115.jpg
 check "two held images: absolute" cov valid "$tmp/m6b.csv" 6 absolute
 check "two held images: both marked" cov held "$tmp/m6b.csv" l-537.jpg
 
+# Georeferenced (priors and ground control): absolute; the control points'
+# predicted sigma (unit scale) within their surveyed sigma, which they add to.
+ex=$root/examples/georeferencing
+"$dba" solve "$m6" -q --camera-priors "$ex/mithunnallana_6img.priors" --gcps "$ex/mithunnallana_6img.gcps" \
+  --refine-principal-point --covariance "$tmp/geo.csv" --covariance-scale unit --report "$tmp/geo.json" >/dev/null 2>&1
+check "georeferenced: absolute" cov valid "$tmp/geo.csv" 6 absolute
+sigmas=$(awk '$NF == "control" {print $5, $6}' "$ex/mithunnallana_6img.gcps" | head -1)
+check "georeferenced: the control points' predicted sigma, within the survey's ($sigmas)" json "$tmp/geo.json" \
+  "len(d['covariance']['control_points']) == 3 and all(0 < p['sigma'][0] <= ${sigmas% *} and 0 < p['sigma'][2] <= ${sigmas#* } for p in d['covariance']['control_points'])"
+
 # Refused by name, nothing written.
 "$dba" solve "$p16" -q --covariance "$p16" >"$tmp/out" 2>&1
 check "the input as the covariance file: exit 2" test $? -eq 2

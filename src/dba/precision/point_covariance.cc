@@ -40,10 +40,12 @@ void Coupling(const UnknownLayout& layout, const PointSystem<Model>& sys, std::v
   }
 }
 
+// `which` empty: every point.
 template <class Model>
 void PointsWith(const Problem& problem, const UnknownLayout& layout, const RobustLoss& loss,
-                const CameraSideInverse& inverse, int threads, std::vector<Eigen::Matrix3d>* out) {
-  const int64_t n = problem.num_points();
+                const CameraSideInverse& inverse, int threads, const std::vector<int64_t>& which,
+                std::vector<Eigen::Matrix3d>* out) {
+  const int64_t n = which.empty() ? problem.num_points() : static_cast<int64_t>(which.size());
   out->resize(n);
 #pragma omp parallel num_threads(threads) if (threads > 1)
   {
@@ -52,7 +54,7 @@ void PointsWith(const Problem& problem, const UnknownLayout& layout, const Robus
     Eigen::MatrixXd W;
 #pragma omp for schedule(dynamic, 256)
     for (int64_t k = 0; k < n; ++k) {
-      LinearizePoint(problem, layout, loss, k, &sys);
+      LinearizePoint(problem, layout, loss, which.empty() ? k : which[k], &sys);
       Coupling(layout, sys, &rows, &W);
       (*out)[k] = inverse.PointBlock(rows, W, sys.V);
     }
@@ -61,18 +63,24 @@ void PointsWith(const Problem& problem, const UnknownLayout& layout, const Robus
 
 }  // namespace
 
-std::vector<Eigen::Matrix3d> PointCovariances(const Problem& problem, const UnknownLayout& layout,
-                                              const RobustLoss& loss, const CameraSideInverse& inverse,
-                                              int threads) {
+std::vector<Eigen::Matrix3d> PointCovariancesOf(const Problem& problem, const UnknownLayout& layout,
+                                                const RobustLoss& loss, const CameraSideInverse& inverse,
+                                                const std::vector<int64_t>& which, int threads) {
   std::vector<Eigen::Matrix3d> out;
   if (problem.model == CameraModel::kBal) {
-    PointsWith<BalModel>(problem, layout, loss, inverse, threads, &out);
+    PointsWith<BalModel>(problem, layout, loss, inverse, threads, which, &out);
   } else {
     WithPhotoModel(layout.max_intrinsics_block(), [&]<class M>() {
-      PointsWith<M>(problem, layout, loss, inverse, threads, &out);
+      PointsWith<M>(problem, layout, loss, inverse, threads, which, &out);
     });
   }
   return out;
+}
+
+std::vector<Eigen::Matrix3d> PointCovariances(const Problem& problem, const UnknownLayout& layout,
+                                              const RobustLoss& loss, const CameraSideInverse& inverse,
+                                              int threads) {
+  return PointCovariancesOf(problem, layout, loss, inverse, {}, threads);
 }
 
 }  // namespace dba

@@ -25,5 +25,9 @@ namespace dba {
 std::vector<Eigen::Matrix3d> PointCovariances(const Problem& problem, const UnknownLayout& layout,
                                               const RobustLoss& loss, const CameraSideInverse& inverse,
                                               int threads = 1);
+// The same for the points `which` only (e.g. the control points), in order.
+std::vector<Eigen::Matrix3d> PointCovariancesOf(const Problem& problem, const UnknownLayout& layout,
+                                                const RobustLoss& loss, const CameraSideInverse& inverse,
+                                                const std::vector<int64_t>& which, int threads = 1);
 
 }  // namespace dba

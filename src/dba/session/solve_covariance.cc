@@ -46,6 +46,23 @@ void SolveSession::CheckCovarianceRequest() const {
   }
 }
 
+// The control points' predicted σ (unit pixel variance; scaled with the
+// rest in TakeCovariance): the problem's last points, in the order of the
+// ground control's control points.
+void SolveSession::ControlPointSigmas(const Problem& problem, const UnknownLayout& layout,
+                                      const CameraSideInverse& inverse) {
+  const Georeference& geo = result_.geo;
+  if (geo.control_points == 0) return;
+  std::vector<int64_t> which;
+  for (int64_t c = 0; c < geo.control_points; ++c) which.push_back(problem.num_points() - geo.control_points + c);
+  const std::vector<Eigen::Matrix3d> sigma =
+      PointCovariancesOf(problem, layout, result_.report.final_loss, inverse, which, lm_.num_threads);
+  size_t c = 0;
+  for (const GroundControlPoint& p : geo.gcps.points) {
+    if (p.control && c < sigma.size()) result_.report.covariance.control_points.push_back({p.name, sigma[c++]});
+  }
+}
+
 void SolveSession::TakeCovariance(const Problem& problem, const RcsSystem& rcs) {
   if (!rcs.S.has_values()) {
     throw std::runtime_error("--covariance: the RCS is spread over the ranks; run with --rcs gather");
@@ -63,6 +80,7 @@ void SolveSession::TakeCovariance(const Problem& problem, const RcsSystem& rcs) 
     result_.point_covariance =
         PointCovariances(problem, rcs.layout, result_.report.final_loss, inverse, lm_.num_threads);
   }
+  ControlPointSigmas(problem, rcs.layout, inverse);
   result_.covariance->seconds = timer.Seconds();
   SolveReport& report = result_.report;
   SolveReport::Covariance& c = report.covariance;
@@ -89,6 +107,7 @@ void SolveSession::TakeCovariance(const Problem& problem, const RcsSystem& rcs) 
   for (const IntrinsicsCovariance& g : result_.covariance->intrinsics) {
     c.intrinsics.push_back({g.group, g.parameters, scale * g.covariance});
   }
+  for (auto& point : c.control_points) point.covariance *= scale;
 }
 
 }  // namespace dba

@@ -97,6 +97,13 @@ struct SolveReport {
     // Each intrinsic group with free parameters: its covariance, scaled as
     // the file's (precision/camera_covariance.h).
     std::vector<IntrinsicsCovariance> intrinsics;
+    // The control points' predicted covariance in the solve's frame (the
+    // accuracy report's frame), scaled as the file.
+    struct ControlPoint {
+      std::string name;
+      Eigen::Matrix3d covariance;
+    };
+    std::vector<ControlPoint> control_points;
   } covariance;
   bool has_truth = false;
   GroundTruthErrors truth;        // against a generated problem's ground truth

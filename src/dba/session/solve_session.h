@@ -122,6 +122,8 @@ class SolveSession {
   void Analyse();
   void TakeCovariance(const Problem& problem, const RcsSystem& rcs);
   void CheckCovarianceRequest() const;
+  void ControlPointSigmas(const Problem& problem, const UnknownLayout& layout,
+                          const CameraSideInverse& inverse);
   std::unique_ptr<PointSide> MakePointSide();
   void RejectionRounds(PointSide* side, const IterationHook& log,
                        std::function<void(const RcsSystem&)> check_memory);

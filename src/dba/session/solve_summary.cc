@@ -254,6 +254,12 @@ Json SolveSummary(const SolveReport& r) {
                         {"correlation", correlation}});
     }
     j["covariance"]["intrinsics"] = groups;
+    Json control = Json::array();
+    for (const auto& p : c.control_points) {
+      const Eigen::Vector3d sigma = p.covariance.diagonal().cwiseSqrt();
+      control.push_back({{"name", p.name}, {"sigma", {sigma[0], sigma[1], sigma[2]}}});
+    }
+    if (!control.empty()) j["covariance"]["control_points"] = control;
   }
   SolverFigures(r, j);
   MemoryFigures(r, j);
