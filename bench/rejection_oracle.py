@@ -22,25 +22,13 @@ import numpy as np
 import dba
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "lib"))
-from gauge_check import angle_axis  # noqa: E402  R(ω), Rodrigues
-
-
-def centres(cameras):
-    return np.array([-angle_axis(c[:3]).T @ c[3:6] for c in cameras])
+from gauge_check import centres, onto  # noqa: E402
 
 
 def rms_after_similarity(a, b):
     """RMS of |s R a + t - b| for the similarity that best maps a onto b
     (Umeyama), as dba's --truth reports camera_centre_rms."""
-    ma, mb = a.mean(0), b.mean(0)
-    A, B = a - ma, b - mb
-    U, S, Vt = np.linalg.svd(B.T @ A / len(a))
-    D = np.eye(3)
-    if np.linalg.det(U) * np.linalg.det(Vt) < 0:
-        D[2, 2] = -1
-    R = U @ D @ Vt
-    s = np.trace(np.diag(S) @ D) / (A ** 2).sum(1).mean()
-    return float(np.sqrt((((s * (R @ A.T)).T + mb - b) ** 2).sum(1).mean()))
+    return float(np.sqrt(((onto(a, b) - b) ** 2).sum(1).mean()))
 
 
 def main(work, images, seed, fraction, options):

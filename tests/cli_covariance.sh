@@ -96,6 +96,17 @@ check "the input as the covariance file: exit 2" test $? -eq 2
 check "the input as the covariance file: named" contains "$tmp/out" "--covariance $p16 names INPUT"
 "$dba" solve "$p16" -q -o "$tmp/o.txt" --covariance "$tmp/o.txt" >"$tmp/out" 2>&1
 check "another output as the covariance file: exit 2" test $? -eq 2
+"$dba" solve "$p16" -q --covariance "$tmp/same.csv" --point-covariance "$tmp/same.csv" >"$tmp/out" 2>&1
+check "the covariance files on one path: exit 2" test $? -eq 2
+check "the covariance files on one path: said" contains "$tmp/out" "name one file"
+"$dba" solve "$p16" -q --covariance "$tmp" >"$tmp/out" 2>&1
+check "a directory as the covariance file: exit 2" test $? -eq 2
+"$dba" solve "$p16" -q --covariance '' >"$tmp/out" 2>&1
+check "an empty covariance path: exit 2" test $? -eq 2
+"$dba" solve "$p16" -q -o "$tmp/full_out.txt" --covariance /dev/full >"$tmp/out" 2>&1
+check "a full disk under the covariance file: exit 1" test $? -eq 1
+check "a full disk under the covariance file: said" contains "$tmp/out" "No space left on device"
+check "a full disk under the covariance file: the other outputs not written" test ! -e "$tmp/full_out.txt"
 "$dba" solve "$p16" -q --covariance-scale unit >"$tmp/out" 2>&1
 check "--covariance-scale alone: exit 2" test $? -eq 2
 check "--covariance-scale alone: says what it needs" contains "$tmp/out" "--covariance-scale needs --covariance"

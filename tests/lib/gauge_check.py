@@ -34,6 +34,24 @@ def angle_axis(w):
     return np.eye(3) + np.sin(th) * K + (1 - np.cos(th)) * K @ K
 
 
+def centres(cameras):
+    """C = -R(ω)ᵀ t of each row (ω, t, ...) of a cameras array."""
+    return np.array([-angle_axis(c[:3]).T @ c[3:6] for c in cameras])
+
+
+def onto(a, b):
+    """a mapped onto b by the least-squares similarity (Umeyama)."""
+    ma, mb = a.mean(0), b.mean(0)
+    A, B = a - ma, b - mb
+    U, S, Vt = np.linalg.svd(B.T @ A / len(a))
+    D = np.eye(3)
+    if np.linalg.det(U) * np.linalg.det(Vt) < 0:
+        D[2, 2] = -1
+    R = U @ D @ Vt
+    s = np.trace(np.diag(S) @ D) / (A ** 2).sum(1).mean()
+    return (s * (R @ A.T)).T + mb
+
+
 def bal_poses(path):
     """{camera index: (R, t)} of a BAL problem (.txt or .bz2)."""
     f = bz2.open(path, "rt") if path.endswith(".bz2") else open(path)

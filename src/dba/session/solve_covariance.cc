@@ -63,51 +63,50 @@ void SolveSession::ControlPointSigmas(const Problem& problem, const UnknownLayou
   }
 }
 
-void SolveSession::TakeCovariance(const Problem& problem, const RcsSystem& rcs) {
-  if (!rcs.S.has_values()) {
-    throw std::runtime_error("--covariance: the RCS is spread over the ranks; run with --rcs gather");
-  }
+// The redundancy r and the variance factor σ̂₀² = Σρ / r, before any work:
+// without redundancy a-posteriori has nothing to scale by.
+void SolveSession::VarianceFactor(const UnknownLayout& layout, int free) {
   const Georeference& geo = result_.geo;
-  const GaugeFreedom freedom = FreedomAtOptimum(problem, !geo.priors.empty() || geo.control_points > 0);
-  if (!options_.quiet) out_ << "covariance: selected inversion of S at the optimum\n";
-  const Timer timer;
-  const CameraSideInverse inverse(problem, rcs, freedom, lm_.num_threads);
-  result_.covariance = CameraBlocks(problem, rcs.layout, inverse);
-  result_.covariance->factor_nonzeros = inverse.factor_values();
-  result_.covariance->inversion_flops = inverse.inversion_flops();
-  result_.covariance->factor_seconds = inverse.factor_seconds();
-  if (!options_.point_covariance_path.empty()) {
-    result_.point_covariance =
-        PointCovariances(problem, rcs.layout, result_.report.final_loss, inverse, lm_.num_threads);
-  }
-  ControlPointSigmas(problem, rcs.layout, inverse);
-  result_.covariance->seconds = timer.Seconds();
   SolveReport& report = result_.report;
   SolveReport::Covariance& c = report.covariance;
-  c.computed = true;
-  c.datum = freedom.free == 0 ? "absolute" : "inner";
   c.unit = options_.covariance_unit;
-  c.factor_nonzeros = result_.covariance->factor_nonzeros;
-  c.seconds = result_.covariance->seconds;
-  c.factor_seconds = result_.covariance->factor_seconds;
-  c.inversion_flops = result_.covariance->inversion_flops;
   const int64_t priors = static_cast<int64_t>(geo.priors.priors.size());
   // The points solved last: after rejection rounds, those the last left.
   const int64_t points = rounds_.empty() ? report.num_points : rounds_.back().points_left;
   c.redundancy = 2 * report.solve.ba.lm.num_observations + 3 * (priors + geo.control_points) -
-                 (rcs.layout.num_unknowns() + 3 * (points + geo.control_points)) +
-                 freedom.free;
+                 (layout.num_unknowns() + 3 * (points + geo.control_points)) + free;
   if (c.redundancy > 0) {
     c.variance_factor = 2.0 * report.solve.ba.lm.final_cost / static_cast<double>(c.redundancy);
   } else if (!c.unit) {
     throw std::runtime_error("--covariance: no redundancy (r = " + std::to_string(c.redundancy) +
                              "), no variance factor to scale by; use --covariance-scale unit");
   }
-  const double scale = c.unit ? 1.0 : c.variance_factor;
-  for (const IntrinsicsCovariance& g : result_.covariance->intrinsics) {
-    c.intrinsics.push_back({g.group, g.parameters, scale * g.covariance});
+}
+
+void SolveSession::TakeCovariance(const Problem& problem, const RcsSystem& rcs) {
+  const Georeference& geo = result_.geo;
+  const GaugeFreedom freedom = FreedomAtOptimum(problem, !geo.priors.empty() || geo.control_points > 0);
+  VarianceFactor(rcs.layout, freedom.free);
+  if (!options_.quiet) out_ << "covariance: selected inversion of S at the optimum\n";
+  const Timer timer;
+  const CameraSideInverse inverse(problem, rcs, freedom, lm_.num_threads);
+  result_.covariance = CameraBlocks(problem, rcs.layout, inverse);
+  if (!options_.point_covariance_path.empty()) {
+    result_.point_covariance =
+        PointCovariances(problem, rcs.layout, result_.report.final_loss, inverse, lm_.num_threads);
   }
-  for (auto& point : c.control_points) point.covariance *= scale;
+  ControlPointSigmas(problem, rcs.layout, inverse);
+  SolveReport::Covariance& c = result_.report.covariance;
+  c.computed = true;
+  c.datum = freedom.free == 0 ? "absolute" : "inner";
+  c.factor_nonzeros = result_.covariance->factor_nonzeros = inverse.factor_values();
+  c.inversion_flops = result_.covariance->inversion_flops = inverse.inversion_flops();
+  c.factor_seconds = result_.covariance->factor_seconds = inverse.factor_seconds();
+  c.seconds = result_.covariance->seconds = timer.Seconds();
+  for (const IntrinsicsCovariance& g : result_.covariance->intrinsics) {
+    c.intrinsics.push_back({g.group, g.parameters, c.Scale() * g.covariance});
+  }
+  for (auto& point : c.control_points) point.covariance *= c.Scale();
 }
 
 }  // namespace dba

@@ -166,15 +166,14 @@ void WriteSolveOutputs(const SolveOptions& options, int ranks, const Timer& sinc
     WriteFileAtomically(options.geo.accuracy_report_path, AccuracyReportTable(report.geo.accuracy));
   }
   if (result->covariance) {
-    const double scale = report.covariance.unit ? 1.0 : report.covariance.variance_factor;
+    const double scale = report.covariance.Scale();
     WriteFileAtomically(options.covariance_path, CovarianceCsv(*result->covariance, result->names.problem,
                                                                result->gauge_moved, scale));
   }
   if (!options.point_covariance_path.empty()) {
-    const double scale = report.covariance.unit ? 1.0 : report.covariance.variance_factor;
     WriteFileAtomically(options.point_covariance_path,
                         PointCovarianceCsv(result->point_covariance, LoadedPointIndices(*result),
-                                           result->gauge_moved, scale));
+                                           result->gauge_moved, report.covariance.Scale()));
   }
   report.write_seconds = write_timer.Seconds();
   report.peak_memory_bytes = PeakResidentBytes();

@@ -90,6 +90,7 @@ struct SolveReport {
     // unknowns (camera side and 3 per point) + the datum's free degrees.
     double variance_factor = 0.0;
     int64_t redundancy = 0;
+    double Scale() const { return unit ? 1.0 : variance_factor; }  // the files' factor
     int64_t factor_nonzeros = 0;  // scalars of S's factor, inverted in place
     double inversion_flops = 0.0;
     double factor_seconds = 0.0;  // of `seconds`: to the factor and the datum's solves
