@@ -90,6 +90,22 @@ sigmas=$(awk '$NF == "control" {print $5, $6}' "$ex/mithunnallana_6img.gcps" | h
 check "georeferenced: the control points' predicted sigma, within the survey's ($sigmas)" json "$tmp/geo.json" \
   "len(d['covariance']['control_points']) == 3 and all(0 < p['sigma'][0] <= ${sigmas% *} and 0 < p['sigma'][2] <= ${sigmas#* } for p in d['covariance']['control_points'])"
 
+# Priors along one straight strip hold the frame but the roll about it
+# (only their noise would): named before the solve, nothing written; the
+# whole survey's priors hold it.
+"$dba" generate --model photo --images 100 --seed 3 "$tmp/s100.dba" --priors "$tmp/s100.txt" \
+  --gnss-sigma 0.02,0.02 >/dev/null 2>&1
+awk '!/^#/ && $3 < 5 {printf "%s %s %.4f %s %s %s\n", $1, $2, 0.01 * (NR % 3 - 1), 100, $5, $6}' \
+  "$tmp/s100.txt" >"$tmp/strip.txt"
+"$dba" solve "$tmp/s100.dba" -q --camera-priors "$tmp/strip.txt" --covariance "$tmp/strip.csv" \
+  -o "$tmp/strip_out.dba" >"$tmp/out" 2>&1
+check "priors along one strip: exit 2" test $? -eq 2
+check "priors along one strip: the roll named" contains "$tmp/out" \
+  "lie along one line (0.00813 m RMS off it, sigma 0.02 m): the rotation about it is free"
+check "priors along one strip: nothing written" test ! -e "$tmp/strip.csv" -a ! -e "$tmp/strip_out.dba"
+"$dba" solve "$tmp/s100.dba" -q --camera-priors "$tmp/s100.txt" --covariance "$tmp/all.csv" >/dev/null 2>&1
+check "priors over the whole survey: absolute" cov valid "$tmp/all.csv" 100 absolute
+
 # Refused by name, nothing written.
 "$dba" solve "$p16" -q --covariance "$p16" >"$tmp/out" 2>&1
 check "the input as the covariance file: exit 2" test $? -eq 2

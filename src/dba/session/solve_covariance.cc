@@ -5,6 +5,7 @@
 
 #include "dba/common/error.h"
 #include "dba/common/timer.h"
+#include "dba/precision/external_datum.h"
 #include "dba/precision/point_covariance.h"
 #include "dba/session/solve_session.h"
 
@@ -27,6 +28,23 @@ GaugeFreedom FreedomAtOptimum(const Problem& problem, bool external) {
   }
 }
 
+// Priors and control points that do not hold the frame themselves (along
+// one line, or at one place), when no held image does: named, not inverted.
+void RefuseFrameLeftFree(const Problem& problem, const Georeference& geo) {
+  if (geo.priors.empty() && geo.control_points == 0) return;
+  const GaugeHold held = TakeGaugeReference(problem, GaugeRule::kHold).hold;
+  if (held == GaugeHold::kFixedImages || held == GaugeHold::kFixedImage) return;
+  std::vector<SurveyedPosition> at;
+  for (const CameraCentrePrior& p : geo.priors.priors) at.push_back({p.centre, p.sigma.maxCoeff()});
+  for (const GroundControlPoint& p : geo.gcps.points) {
+    if (p.control) at.push_back({p.position, p.sigma.maxCoeff()});
+  }
+  if (const std::string free = FrameLeftFreeBy(at); !free.empty()) {
+    throw UsageError("--covariance: " + free + " (the data only hold it through the positions' noise); "
+                     "add control points or priors off it, or hold two images (--fix-images)");
+  }
+}
+
 }  // namespace
 
 // Before the solve: what the covariance cannot be taken of, refused by name.
@@ -44,6 +62,7 @@ void SolveSession::CheckCovarianceRequest() const {
     throw UsageError("--covariance on " + std::to_string(comm_->size()) +
                      " ranks needs the RCS on rank 0, where it is factored: add --rcs gather");
   }
+  RefuseFrameLeftFree(result_.problem, result_.geo);
 }
 
 // The control points' predicted σ (unit pixel variance; scaled with the
