@@ -57,6 +57,22 @@ check "problem-16 points: one line per point, positive definite" cov points "$tm
 kept=$(/usr/bin/python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print(d["outlier_rejection"]["rounds"][-1]["points_left"])' "$tmp/p16k.json" 2>/dev/null || echo 0)
 check "problem-16 points after rejection: the kept ones ($kept)" cov points "$tmp/p16k.csv" "$kept"
 check "problem-16 points after rejection: fewer than loaded" test "$kept" -lt 22106 -a "$kept" -gt 20000
+# A point left with one observation: its line empty, counted; the rest
+# computed (the point absorbs its observation).
+bzcat "$p16" | /usr/bin/python3 -c '
+import sys
+lines = sys.stdin.read().split("\n")
+c, p, o = map(int, lines[0].split())
+obs = lines[1:1 + o]
+seven = [x for x in obs if x.split()[1] == "7"]
+keep = [x for x in obs if x.split()[1] != "7" or x == seven[0]]
+print("\n".join([f"{c} {p} {len(keep)}"] + keep + lines[1 + o:]))' >"$tmp/p16_one.txt"
+"$dba" solve "$tmp/p16_one.txt" -q --covariance "$tmp/c.csv" --point-covariance "$tmp/one.csv" \
+  --report "$tmp/one.json" >/dev/null 2>&1
+check "a point seen once: exits 0" test $? -eq 0
+check "a point seen once: its line empty, the others positive definite" cov points "$tmp/one.csv" 22106 7
+check "a point seen once: counted in the report" json "$tmp/one.json" "d['covariance']['undetermined_points'] == 1"
+check "a point seen once: the images' blocks valid" cov valid "$tmp/c.csv" 16 inner
 "$dba" solve "$p16" -q --point-covariance "$tmp/x.csv" >"$tmp/out" 2>&1
 check "--point-covariance alone: says what it needs" contains "$tmp/out" "--point-covariance needs --covariance"
 mpirun_n 2 "$dba" solve "$p16" -q --rcs gather --covariance "$tmp/c2.csv" --point-covariance "$tmp/p2.csv" >"$tmp/out" 2>&1

@@ -94,7 +94,10 @@ def matched(path1, path2, rel):
         assert best <= float(rel), (rb[0], best)
 
 
-def points(path, count):
+def points(path, count, undetermined=""):
+    """count lines, positive definite; `undetermined` (comma-separated
+    indices): exactly those lines empty."""
+    empty = {int(i) for i in undetermined.split(",") if i}
     header, rows = read(path)
     assert header == ["point", "sigma_x", "sigma_y", "sigma_z", "c_xx", "c_xy", "c_xz", "c_yy", "c_yz",
                       "c_zz"], header
@@ -103,6 +106,9 @@ def points(path, count):
     for row in rows:
         assert int(row[0]) > last, row[0]
         last = int(row[0])
+        assert (row[1:] == [""] * 9) == (last in empty), row
+        if last in empty:
+            continue
         c = [float(v) for v in row[4:10]]
         m = np.array([[c[0], c[1], c[2]], [c[1], c[3], c[4]], [c[2], c[4], c[5]]])
         assert np.linalg.eigvalsh(m).min() > 0, row[0]

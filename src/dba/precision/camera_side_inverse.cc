@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -11,6 +12,7 @@
 #include "dba/bsmc/symmetric_multiply.h"
 #include "dba/camera/pose_step.h"
 #include "dba/common/timer.h"
+#include "dba/rcs/eliminate_point.h"
 #include "dba/solver/sparse_cholesky.h"
 
 namespace dba {
@@ -214,6 +216,8 @@ Eigen::MatrixXd CameraSideInverse::Block(std::span<const int64_t> rows) const {
 
 Eigen::Matrix3d CameraSideInverse::PointBlock(std::span<const int64_t> rows, const Eigen::MatrixXd& W,
                                               const Eigen::Matrix3d& V) const {
+  // A point its observations leave undetermined has no covariance: NaN.
+  if (!PointDetermined(V)) return Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   const Eigen::Matrix3d v_inv = V.inverse();
   const Eigen::MatrixXd T = v_inv * W.transpose();  // 3 × |rows|
   Eigen::Matrix3d sigma = v_inv + T * Held(rows) * T.transpose();

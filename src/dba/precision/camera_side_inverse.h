@@ -46,7 +46,8 @@ class CameraSideInverse {
   // pattern: within one block row, or two rows that share a point).
   Eigen::MatrixXd Block(std::span<const int64_t> rows) const;
   // A point's Σ_p, W (|rows| × 3) its coupling Σ_a J_e,aᵀ J_p,a to the
-  // unknowns `rows`, V its Σ_a J_p,aᵀ J_p,a (undamped).
+  // unknowns `rows`, V its Σ_a J_p,aᵀ J_p,a (undamped); NaN when V is
+  // singular (rcs/eliminate_point.h PointDetermined): undetermined.
   Eigen::Matrix3d PointBlock(std::span<const int64_t> rows, const Eigen::MatrixXd& W,
                              const Eigen::Matrix3d& V) const;
 

@@ -54,6 +54,10 @@ std::string PointCovarianceCsv(const std::vector<Eigen::Matrix3d>& points,
   for (size_t k = 0; k < loaded.size() && k < points.size(); ++k) {
     const Eigen::Matrix3d p = scale * (Q * points[k] * Q.transpose());
     std::string line = std::to_string(loaded[k]);
+    if (!p.allFinite()) {  // undetermined by its observations: empty fields
+      text += line + std::string(9, ',') + "\n";
+      continue;
+    }
     for (int a = 0; a < 3; ++a) Append(&line, std::sqrt(p(a, a)));
     for (int a = 0; a < 3; ++a) {
       for (int c = a; c < 3; ++c) Append(&line, p(a, c));

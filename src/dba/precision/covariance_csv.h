@@ -30,7 +30,8 @@ namespace dba {
 // --point-covariance FILE: "point,sigma_x,sigma_y,sigma_z,c_xx,c_xy,c_xz,
 // c_yy,c_yz,c_zz", a line per point: points[k] named loaded[k] (its index in
 // the input), k < loaded.size(), after the gauge's similarity (s² Q Σ Qᵀ),
-// scaled by `scale`.
+// scaled by `scale`. A point its observations do not determine (NaN in
+// `points`) has its line's fields empty.
 std::string PointCovarianceCsv(const std::vector<Eigen::Matrix3d>& points,
                                const std::vector<int64_t>& loaded, const Similarity& moved, double scale);
 

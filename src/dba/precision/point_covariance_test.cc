@@ -113,5 +113,52 @@ TEST(PointCovariance, BalFreeNetworkEqualsTheInnerConstraintsInverse) {
   ExpectEveryBlock(testing::MakeSyntheticBal(Geometry()).problem, 7);
 }
 
+// `problem` with point k's observations cut to its first `keep` (k < 0:
+// none cut, point `drop` left out).
+Problem Cut(const Problem& problem, int64_t k, int keep, int64_t drop = -1) {
+  Problem cut = problem;
+  cut.points.clear(), cut.point_offsets = {0}, cut.obs_camera.clear(), cut.obs_pixel.clear();
+  for (int64_t q = 0; q < problem.num_points(); ++q) {
+    if (q == drop) continue;
+    const int64_t first = problem.point_offsets[q];
+    const int64_t end = q == k ? first + keep : problem.point_offsets[q + 1];
+    for (int64_t a = first; a < end; ++a) {
+      cut.obs_camera.push_back(problem.obs_camera[a]);
+      cut.obs_pixel.insert(cut.obs_pixel.end(), problem.pixel(a), problem.pixel(a) + 2);
+    }
+    cut.points.insert(cut.points.end(), problem.point(q), problem.point(q) + kPointSize);
+    cut.point_offsets.push_back(cut.num_observations());
+  }
+  return cut;
+}
+
+// A point left with one observation (its V singular at the optimum): its
+// line undetermined (NaN), and every other block as if it were absent (it
+// absorbs its one observation, V⁺ in S); no NaN anywhere else.
+TEST(PointCovariance, APointItsObservationsDoNotDetermineIsMarkedAndGivesNothing) {
+  const Problem problem = Photo();
+  const int64_t k = 11;
+  ASSERT_GE(problem.point_offsets[k + 1] - problem.point_offsets[k], 2);
+  const Problem one = Cut(problem, k, 1), absent = Cut(problem, -1, 0, k);
+  const auto covariances = [](const Problem& p) {
+    RcsSystem sys = RcsSystem::ForProblem(p);
+    FormRcs(p, 0.0, DampingBounds{}, 1, &sys);
+    const CameraSideInverse inverse(p, sys, {7, {}}, 2);
+    return std::pair(CameraBlocks(p, sys.layout, inverse),
+                     PointCovariances(p, sys.layout, RobustLoss(), inverse, 2));
+  };
+  const auto [cameras_one, points_one] = covariances(one);
+  const auto [cameras_absent, points_absent] = covariances(absent);
+  for (int64_t i = 0; i < problem.num_images(); ++i) {
+    ASSERT_TRUE(cameras_one.pose[i] && cameras_absent.pose[i]);
+    EXPECT_LE(Relative(*cameras_one.pose[i], *cameras_absent.pose[i]), 1e-8) << "image " << i;
+  }
+  EXPECT_FALSE(points_one[k].allFinite());
+  for (int64_t q = 0; q < problem.num_points(); ++q) {
+    if (q == k) continue;
+    EXPECT_LE(Relative(points_one[q], points_absent[q - (q > k)]), 1e-8) << "point " << q;
+  }
+}
+
 }  // namespace
 }  // namespace dba

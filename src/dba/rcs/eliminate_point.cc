@@ -1,6 +1,7 @@
 // Per-point linearization and elimination; see eliminate_point.h.
 #include "dba/rcs/eliminate_point.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 
 #include "dba/camera/bal_camera_lanes.h"
@@ -165,6 +166,21 @@ void LinearizePoint(const Problem& problem, const UnknownLayout& layout,
 // V_λ⁻¹ of the symmetric V_λ = V + λ clamp(diag V) by cofactors, in
 // scalars: Eigen's 3x3 inverse stored V_λ to the stack element by element
 // and read it back as vectors (failed store forwards, most of its time).
+bool PointDetermined(const Eigen::Matrix3d& V) {
+  const Vec3 values = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(V).eigenvalues();
+  return values[0] > 1e-12 * values[2];
+}
+
+Eigen::Matrix3d GeneralizedInverse(const Eigen::Matrix3d& V) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(V);
+  const Vec3& values = eigen.eigenvalues();
+  Vec3 inverted = Vec3::Zero();
+  for (int a = 0; a < 3; ++a) {
+    if (values[a] > 1e-12 * values[2]) inverted[a] = 1.0 / values[a];
+  }
+  return eigen.eigenvectors() * inverted.asDiagonal() * eigen.eigenvectors().transpose();
+}
+
 template <class Model>
 void InvertDampedV(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys) {
   const Eigen::Matrix3d& V = sys->V;
@@ -174,7 +190,14 @@ void InvertDampedV(double lambda, const DampingBounds& bounds, PointSystem<Model
   const double v10 = V(1, 0), v20 = V(2, 0), v21 = V(2, 1);
   const double c00 = v11 * v22 - v21 * v21, c10 = v20 * v21 - v10 * v22,
                c20 = v10 * v21 - v11 * v20;
-  const double inv_det = 1.0 / (v00 * c00 + v10 * c10 + v20 * c20);
+  const double det = v00 * c00 + v10 * c10 + v20 * c20;
+  if (!(det > 1e-12 * v00 * v11 * v22)) {  // singular or nearly: decided by its eigenvalues
+    Eigen::Matrix3d damped = V;
+    damped.diagonal() = Vec3(v00, v11, v22);
+    sys->V_inv = GeneralizedInverse(damped);
+    return;
+  }
+  const double inv_det = 1.0 / det;
   const double i00 = c00 * inv_det, i10 = c10 * inv_det, i20 = c20 * inv_det;
   const double i11 = (v00 * v22 - v20 * v20) * inv_det;
   const double i21 = (v10 * v20 - v00 * v21) * inv_det;

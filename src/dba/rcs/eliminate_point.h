@@ -151,8 +151,19 @@ void LinearizePoint(const Problem& problem, const UnknownLayout& layout,
                     const RobustLoss& loss, int64_t k, PointSystem<Model>* sys);
 
 // V_λ⁻¹ = (V + λ clamp(diag V))⁻¹ only (all back-substitution needs).
+// Undamped (the analyse stage at the optimum), a V that its observations
+// leave singular (one observation, parallel rays) has the generalized
+// inverse V⁺ instead: the point absorbs what it can of its observations,
+// and its null direction, which nothing determines, gives the cameras
+// nothing (docs/design.md §8).
 template <class Model>
 void InvertDampedV(double lambda, const DampingBounds& bounds, PointSystem<Model>* sys);
+
+// Whether V determines its point: every eigenvalue above 1e-12 of the
+// largest (a triangulation angle of 1e-6 rad still is).
+bool PointDetermined(const Eigen::Matrix3d& V);
+// V⁺ over the eigenvalues PointDetermined counts.
+Eigen::Matrix3d GeneralizedInverse(const Eigen::Matrix3d& V);
 
 // InvertDampedV, then K_a = J_p,a V_λ⁻¹ and W_i,a = J_i,aᵀ J_p,a.
 template <class Model>

@@ -113,6 +113,12 @@ void SolveSession::TakeCovariance(const Problem& problem, const RcsSystem& rcs) 
   if (!options_.point_covariance_path.empty()) {
     result_.point_covariance =
         PointCovariances(problem, rcs.layout, result_.report.final_loss, inverse, lm_.num_threads);
+    int64_t& undetermined = result_.report.covariance.undetermined_points = 0;
+    for (const Eigen::Matrix3d& p : result_.point_covariance) undetermined += !p.allFinite();
+    if (undetermined > 0 && !options_.quiet) {
+      out_ << "covariance: " << undetermined << " point(s) their observations do not determine (one "
+           << "observation, or parallel rays): their lines in " << options_.point_covariance_path << " are empty\n";
+    }
   }
   ControlPointSigmas(problem, rcs.layout, inverse);
   SolveReport::Covariance& c = result_.report.covariance;
@@ -126,6 +132,7 @@ void SolveSession::TakeCovariance(const Problem& problem, const RcsSystem& rcs) 
     c.intrinsics.push_back({g.group, g.parameters, c.Scale() * g.covariance});
   }
   for (auto& point : c.control_points) point.covariance *= c.Scale();
+  std::erase_if(c.control_points, [](const auto& p) { return !p.covariance.allFinite(); });
 }
 
 }  // namespace dba

@@ -105,6 +105,9 @@ struct SolveReport {
       Eigen::Matrix3d covariance;
     };
     std::vector<ControlPoint> control_points;
+    // With --point-covariance: the points their observations do not
+    // determine (one observation, parallel rays), whose lines are empty.
+    int64_t undetermined_points = -1;
   } covariance;
   bool has_truth = false;
   GroundTruthErrors truth;        // against a generated problem's ground truth

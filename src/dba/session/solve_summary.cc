@@ -260,6 +260,7 @@ Json SolveSummary(const SolveReport& r) {
       control.push_back({{"name", p.name}, {"sigma", {sigma[0], sigma[1], sigma[2]}}});
     }
     if (!control.empty()) j["covariance"]["control_points"] = control;
+    if (c.undetermined_points >= 0) j["covariance"]["undetermined_points"] = c.undetermined_points;
   }
   SolverFigures(r, j);
   MemoryFigures(r, j);
