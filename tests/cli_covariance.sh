@@ -73,6 +73,28 @@ check "a point seen once: exits 0" test $? -eq 0
 check "a point seen once: its line empty, the others positive definite" cov points "$tmp/one.csv" 22106 7
 check "a point seen once: counted in the report" json "$tmp/one.json" "d['covariance']['undetermined_points'] == 1"
 check "a point seen once: the images' blocks valid" cov valid "$tmp/c.csv" 16 inner
+# An image left with two observations (4 equations, 9 unknowns): marked
+# undetermined, named, the rest computed.
+bzcat "$p16" | /usr/bin/python3 -c '
+import sys
+from collections import Counter
+lines = sys.stdin.read().split("\n")
+c, p, o = map(int, lines[0].split())
+obs = lines[1:1 + o]
+track = Counter(x.split()[1] for x in obs)
+kept, keep = 0, []
+for x in obs:
+    if x.split()[0] == "3" and (kept == 2 or track[x.split()[1]] < 3):
+        continue
+    kept += x.split()[0] == "3"
+    keep.append(x)
+print("\n".join([f"{c} {p} {len(keep)}"] + keep + lines[1 + o:]))' >"$tmp/p16_cam.txt"
+"$dba" solve "$tmp/p16_cam.txt" --covariance "$tmp/cam.csv" --report "$tmp/cam.json" >"$tmp/out" 2>&1
+check "an image seen twice: exits 0" test $? -eq 0
+check "an image seen twice: marked undetermined" cov held "$tmp/cam.csv" 3 undetermined
+check "an image seen twice: the others valid" cov valid "$tmp/cam.csv" 16 inner
+check "an image seen twice: in the report" json "$tmp/cam.json" "d['covariance']['undetermined_images'] == ['3']"
+check "an image seen twice: said" contains "$tmp/out" "1 image(s) the data do not determine (first: 3"
 "$dba" solve "$p16" -q --point-covariance "$tmp/x.csv" >"$tmp/out" 2>&1
 check "--point-covariance alone: says what it needs" contains "$tmp/out" "--point-covariance needs --covariance"
 mpirun_n 2 "$dba" solve "$p16" -q --rcs gather --covariance "$tmp/c2.csv" --point-covariance "$tmp/p2.csv" >"$tmp/out" 2>&1

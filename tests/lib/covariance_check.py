@@ -2,8 +2,9 @@
 
   valid FILE IMAGES DATUM       IMAGES lines after the header, 35 columns, each
                                 pose block symmetric positive semi-definite, its
-                                sigmas the roots of its diagonal, DATUM (or held)
-  held FILE NAME                the image NAME is marked held, no figures
+                                sigmas the roots of its diagonal, DATUM (or held,
+                                or undetermined)
+  held FILE NAME [MARK]         the image NAME is marked held (or MARK), no figures
   same FILE1 FILE2 REL          equal figures (REL of each block's largest
                                 diagonal entry), line by line
   scaled FILE1 FILE2 FACTOR     FILE2's blocks are FILE1's times FACTOR (1e-7: 9 digits written)
@@ -42,7 +43,8 @@ def valid(path, images, datum):
     assert len(rows) == int(images), (len(rows), images)
     for row in rows:
         assert len(row) == 35, row
-        if row[1] == "held":
+        if row[1] in ("held", "undetermined"):
+            assert all(v == "" for v in row[2:]), row
             continue
         assert row[1] == datum, row[:2]
         m = block(row)
@@ -56,10 +58,10 @@ def valid(path, images, datum):
         assert np.allclose(c, [m[3, 3], m[3, 4], m[3, 5], m[4, 4], m[4, 5], m[5, 5]], rtol=1e-6)
 
 
-def held(path, name):
+def held(path, name, mark="held"):
     _, rows = read(path)
     row = next(r for r in rows if r[0] == name)
-    assert row[1] == "held" and all(v == "" for v in row[2:]), row
+    assert row[1] == mark and all(v == "" for v in row[2:]), row
 
 
 def same(path1, path2, rel):

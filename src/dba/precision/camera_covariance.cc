@@ -36,6 +36,10 @@ CameraCovariances CameraBlocks(const CameraSide& side, const UnknownLayout& layo
   for (int64_t image = 0; image < side.num_images(); ++image) {
     const int32_t r = layout.camera_row(image);
     if (r < 0) continue;
+    if (inverse.undetermined(r)) {
+      out.undetermined_images.push_back(image);
+      continue;
+    }
     const PoseCovariance sigma = inverse.Block(RowUnknowns(layout, r, kPoseSize));
     const Eigen::Matrix<double, 6, 6> T = AttitudeCoordinates(side.camera(image));
     out.pose[image] = T * sigma * T.transpose();
@@ -44,6 +48,10 @@ CameraCovariances CameraBlocks(const CameraSide& side, const UnknownLayout& layo
   for (int64_t g = 0; g < side.num_groups(); ++g) {
     const int32_t r = layout.intrinsics_row(g);
     if (r < 0) continue;
+    if (inverse.undetermined(r)) {
+      out.undetermined_groups.push_back(g);
+      continue;
+    }
     IntrinsicsCovariance c;
     c.group = g;
     const int n = layout.intrinsic_unknowns(r);

@@ -33,9 +33,11 @@ struct IntrinsicsCovariance {
 
 struct CameraCovariances {
   int datum_free = 0;  // GaugeFreedom::free the covariances were taken under
-  // Per image; images held fixed have none.
+  // Per image; images held fixed and those the data do not determine
+  // (listed below) have none.
   std::vector<std::optional<PoseCovariance>> pose;
-  std::vector<IntrinsicsCovariance> intrinsics;  // groups with free parameters
+  std::vector<IntrinsicsCovariance> intrinsics;  // determined groups with free parameters
+  std::vector<int64_t> undetermined_images, undetermined_groups;  // ascending
   int64_t factor_nonzeros = 0;  // scalars in S's factor (selected inversion's)
   double inversion_flops = 0.0;  // solver/selected_inversion.h InversionFlops
   double factor_seconds = 0.0;   // to the factor and the datum's solves

@@ -3,6 +3,7 @@
 #include "dba/precision/camera_side_inverse.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -23,25 +24,28 @@ Vec3 RowCentre(const CameraSide& side, const UnknownLayout& layout, int32_t r) {
   return CameraCentre(side.cameras.data() + layout.param_offset(r));
 }
 
-// The unknowns pinned to make S positive definite under `freedom`: row 0's
-// six (7 free) and the coordinate along which the camera row farthest from
-// row 0's centre (1 free: from the held image's) lies farthest.
+// The unknowns pinned to make S positive definite under `freedom`: the
+// first determined camera row's six (7 free) and the coordinate along which
+// the determined camera row farthest from its centre (1 free: from the held
+// image's) lies farthest. `skip`: the undetermined rows.
 std::vector<int64_t> PinnedUnknowns(const CameraSide& side, const UnknownLayout& layout,
-                                    const GaugeFreedom& freedom) {
+                                    const GaugeFreedom& freedom, const std::vector<uint8_t>& skip) {
   std::vector<int64_t> pins;
   if (freedom.free == 0) return pins;
-  if (layout.num_camera_rows() < 2) {
-    throw std::runtime_error("--covariance: fewer than two free images, nothing fixes the frame");
+  int32_t first = 0;
+  while (first < layout.num_camera_rows() && skip[first]) ++first;
+  if (layout.num_camera_rows() - first < 2) {
+    throw std::runtime_error("--covariance: fewer than two determined free images, nothing fixes the frame");
   }
-  const Vec3 origin = freedom.free == 7 ? RowCentre(side, layout, 0) : *freedom.scale_centre;
+  const Vec3 origin = freedom.free == 7 ? RowCentre(side, layout, first) : *freedom.scale_centre;
   if (freedom.free == 7) {
-    for (int j = 0; j < kPoseSize; ++j) pins.push_back(layout.row_offset(0) + j);
+    for (int j = 0; j < kPoseSize; ++j) pins.push_back(layout.row_offset(first) + j);
   }
   int32_t far = -1;
   double far_distance = 0.0;
   for (int32_t r = 0; r < layout.num_camera_rows(); ++r) {
     const double d = (RowCentre(side, layout, r) - origin).norm();
-    if (d > far_distance) far_distance = d, far = r;
+    if (!skip[r] && d > far_distance) far_distance = d, far = r;
   }
   if (far < 0) throw std::runtime_error("--covariance: every image at one centre, no scale to hold");
   Eigen::Index axis;
@@ -95,12 +99,13 @@ struct InnerDatum {
   Eigen::MatrixXd G, Y, K, N;
 };
 
+// The inner constraints over the determined centres (`skip`: undetermined).
 InnerDatum InnerCentreDatum(const UnknownLayout& layout, Eigen::MatrixXd G, SparseCholeskySolver* held,
-                            const std::vector<uint8_t>& pinned) {
+                            const std::vector<uint8_t>& pinned, const std::vector<uint8_t>& skip) {
   InnerDatum d;
   Eigen::MatrixXd WG = Eigen::MatrixXd::Zero(G.rows(), G.cols());
   for (int32_t r = 0; r < layout.num_camera_rows(); ++r) {
-    WG.middleRows(layout.row_offset(r) + 3, 3) = G.middleRows(layout.row_offset(r) + 3, 3);
+    if (!skip[r]) WG.middleRows(layout.row_offset(r) + 3, 3) = G.middleRows(layout.row_offset(r) + 3, 3);
   }
   // Σ_h W G: solves with pins zero on the right (their rows of Σ_h are zero).
   Eigen::MatrixXd B = WG;
@@ -117,21 +122,8 @@ InnerDatum InnerCentreDatum(const UnknownLayout& layout, Eigen::MatrixXd G, Spar
   return d;
 }
 
-// The first block row whose own diagonal block of S is singular (its
-// observations alone cannot determine it: too few, or nothing observes a
-// parameter), or else the block row of the failed pivot `row`; -1: none.
-int32_t UndeterminedRow(const UnknownLayout& layout, const BsmcMatrix& S,
-                        const std::vector<uint8_t>& pinned, int64_t row) {
-  for (int32_t r = 0; r < S.num_block_rows(); ++r) {
-    const int n = S.block_size(r);
-    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-    const Eigen::Map<const RowMajor> stored(S.block_values(S.diagonal_block(r)), n, n);
-    const Eigen::MatrixXd block = stored.selfadjointView<Eigen::Upper>();  // the upper triangle is S's
-    bool pins = false;
-    for (int a = 0; a < n; ++a) pins = pins || pinned[S.scalar_offset(r) + a];
-    const Eigen::VectorXd values = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(block).eigenvalues();
-    if (!pins && !(values[0] > 1e-12 * values[n - 1])) return r;
-  }
+// The block row of S's scalar row `row` (-1: none).
+int32_t BlockRowOf(const UnknownLayout& layout, int64_t row) {
   if (row < 0) return -1;
   int32_t r = 0;
   while (r + 1 < layout.num_block_rows() && layout.row_offset(r + 1) <= row) ++r;
@@ -152,14 +144,15 @@ std::string NameOfRow(const UnknownLayout& layout, int32_t r) {
          (camera ? ": too few observations?)" : ": a parameter nothing observes?)");
 }
 
-// S with the pins made the identity's, factored.
+// S with the pins made the identity's, factored; not positive definite
+// (a degeneracy no single row shows), refused naming the failed pivot's row.
 std::unique_ptr<SparseCholeskySolver> FactorPinned(const UnknownLayout& layout, const BsmcMatrix& S,
                                                    const std::vector<uint8_t>& pinned, int threads) {
   auto held = std::make_unique<SparseCholeskySolver>(S, threads, BlockOrdering::kNestedDissection);
   if (!held->FactorizeWithIdentityRows(S, pinned)) {
     throw std::runtime_error("--covariance: the normal matrix at the optimum is not positive definite: "
                              "the data do not determine every camera unknown" +
-                             NameOfRow(layout, UndeterminedRow(layout, S, pinned, held->failed_row())));
+                             NameOfRow(layout, BlockRowOf(layout, held->failed_row())));
   }
   return held;
 }
@@ -170,13 +163,20 @@ CameraSideInverse::CameraSideInverse(const CameraSide& side, const RcsSystem& rc
                                      const GaugeFreedom& freedom, int threads)
     : free_(freedom.free) {
   const Timer timer;
-  const std::vector<int64_t> pins = PinnedUnknowns(side, rcs.layout, freedom);
+  null_ = FindUndeterminedUnknowns(rcs.S);
+  const UndeterminedUnknowns& undetermined = null_;
+  undetermined_.assign(rcs.S.num_block_rows(), 0);
+  for (int32_t r : undetermined.rows) undetermined_[r] = 1;
+  row_offsets_.resize(rcs.S.num_block_rows());
+  for (int32_t r = 0; r < rcs.S.num_block_rows(); ++r) row_offsets_[r] = rcs.S.scalar_offset(r);
+  const std::vector<int64_t> pins = PinnedUnknowns(side, rcs.layout, freedom, undetermined_);
   pinned_.assign(rcs.S.num_rows(), 0);
   for (int64_t p : pins) pinned_[p] = 1;
+  for (int64_t p : undetermined.pins) pinned_[p] = 1;
   std::unique_ptr<SparseCholeskySolver> held = FactorPinned(rcs.layout, rcs.S, pinned_, threads);
   if (!pins.empty()) {
     InnerDatum d = InnerCentreDatum(rcs.layout, GaugeNullSpace(rcs.S, held.get(), pins, pinned_),
-                                    held.get(), pinned_);
+                                    held.get(), pinned_, undetermined_);
     G_ = std::move(d.G), Y_ = std::move(d.Y), K_ = std::move(d.K), N_ = std::move(d.N);
   }
   SupernodalFactor factor = held->TakeFactor();
@@ -214,10 +214,23 @@ Eigen::MatrixXd CameraSideInverse::Block(std::span<const int64_t> rows) const {
   return sigma + DatumTerms(g, y);
 }
 
+bool CameraSideInverse::MovedByUndetermined(std::span<const int64_t> rows, const Eigen::MatrixXd& W) const {
+  for (size_t u = 0; u < null_.rows.size(); ++u) {
+    const int64_t first = row_offsets_[null_.rows[u]];
+    const auto at = std::lower_bound(rows.begin(), rows.end(), first);
+    if (at == rows.end() || *at != first) continue;
+    const Eigen::Index n = null_.null[u].rows();
+    if (MovedByNullDirections(null_.null[u], W.middleRows(at - rows.begin(), n))) return true;
+  }
+  return false;
+}
+
 Eigen::Matrix3d CameraSideInverse::PointBlock(std::span<const int64_t> rows, const Eigen::MatrixXd& W,
                                               const Eigen::Matrix3d& V) const {
   // A point its observations leave undetermined has no covariance: NaN.
-  if (!PointDetermined(V)) return Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  if (!PointDetermined(V) || MovedByUndetermined(rows, W)) {
+    return Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  }
   const Eigen::Matrix3d v_inv = V.inverse();
   const Eigen::MatrixXd T = v_inv * W.transpose();  // 3 × |rows|
   Eigen::Matrix3d sigma = v_inv + T * Held(rows) * T.transpose();

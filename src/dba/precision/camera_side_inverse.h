@@ -25,6 +25,7 @@
 #include "dba/camera/pose_similarity.h"
 #include "dba/problem/problem.h"
 #include "dba/rcs/form_rcs.h"
+#include "dba/precision/undetermined_unknowns.h"
 #include "dba/solver/selected_inversion.h"
 
 namespace dba {
@@ -38,8 +39,8 @@ struct GaugeFreedom {
 class CameraSideInverse {
  public:
   // Factors and inverts `rcs.S` of `side` at the optimum on `threads`
-  // threads. std::runtime_error when S (with the datum's pins) is not
-  // positive definite: the data do not determine every camera unknown.
+  // threads, the undetermined rows' null directions pinned. std::runtime_error
+  // when S (with the pins) is still not positive definite.
   CameraSideInverse(const CameraSide& side, const RcsSystem& rcs, const GaugeFreedom& freedom,
                     int threads);
   // Σ_c over the camera-side unknowns `rows` (each pair on the factor's
@@ -47,21 +48,30 @@ class CameraSideInverse {
   Eigen::MatrixXd Block(std::span<const int64_t> rows) const;
   // A point's Σ_p, W (|rows| × 3) its coupling Σ_a J_e,aᵀ J_p,a to the
   // unknowns `rows`, V its Σ_a J_p,aᵀ J_p,a (undamped); NaN when V is
-  // singular (rcs/eliminate_point.h PointDetermined): undetermined.
+  // singular (rcs/eliminate_point.h PointDetermined) or an undetermined
+  // row's null directions move it: undetermined.
   Eigen::Matrix3d PointBlock(std::span<const int64_t> rows, const Eigen::MatrixXd& W,
                              const Eigen::Matrix3d& V) const;
 
   int free() const { return free_; }
+  // Block rows the data do not determine (precision/undetermined_unknowns.h):
+  // their own blocks are not covariances; every other block is, with their
+  // undetermined directions marginalized.
+  bool undetermined(int32_t row) const { return undetermined_[row] != 0; }
   int64_t factor_values() const { return factor_values_; }
   double inversion_flops() const { return inversion_flops_; }
   double factor_seconds() const { return factor_seconds_; }  // to the factor and the datum's solves
 
  private:
   Eigen::MatrixXd Held(std::span<const int64_t> rows) const;  // Σ_h over rows
+  // Whether an undetermined row among `rows` (sorted) moves the point W couples.
+  bool MovedByUndetermined(std::span<const int64_t> rows, const Eigen::MatrixXd& W) const;
   // The datum's terms over rows whose G and Y rows are g and y.
   Eigen::MatrixXd DatumTerms(const Eigen::MatrixXd& g, const Eigen::MatrixXd& y) const;
   int free_ = 0;
-  std::vector<uint8_t> pinned_;
+  std::vector<uint8_t> pinned_, undetermined_;
+  UndeterminedUnknowns null_;
+  std::vector<int64_t> row_offsets_;  // S's block rows' first scalar rows
   std::optional<InverseOnPattern> z_;
   Eigen::MatrixXd G_, Y_, K_, N_;  // the datum's (d columns; empty when absolute)
   int64_t factor_values_ = 0;

@@ -1,6 +1,7 @@
 // The --covariance file; see covariance_csv.h.
 #include "dba/precision/covariance_csv.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -71,10 +72,12 @@ std::string CovarianceCsv(const CameraCovariances& covariances, const std::vecto
                           const Similarity& moved, double scale) {
   std::string text = Header();
   const char* datum = covariances.datum_free == 0 ? "absolute" : "inner";
+  const std::vector<int64_t>& undetermined = covariances.undetermined_images;
   for (size_t i = 0; i < covariances.pose.size(); ++i) {
     text += i < names.size() ? CsvField(names[i]) : std::to_string(i);
     if (!covariances.pose[i]) {
-      text += ",held" + std::string(33, ',') + "\n";
+      const bool held = !std::binary_search(undetermined.begin(), undetermined.end(), static_cast<int64_t>(i));
+      text += (held ? ",held" : ",undetermined") + std::string(33, ',') + "\n";
       continue;
     }
     text += ",";

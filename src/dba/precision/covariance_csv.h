@@ -4,7 +4,9 @@
 //   image      the image's name (COLMAP) or 0-based index in the input
 //   datum      inner (the inner constraints over the camera centres) or
 //              absolute (priors, control points or held images fix the
-//              frame); held: the image was held fixed (no covariance)
+//              frame); held: the image was held fixed (no covariance);
+//              undetermined: the data do not determine it (too few
+//              observations; no figures, the others' computed without it)
 //   sigma_x, sigma_y, sigma_z       the centre's standard deviations
 //   c_xx, c_xy, c_xz, c_yy, c_yz, c_zz   the centre's covariance
 //   sigma_omega_deg, sigma_phi_deg, sigma_kappa_deg

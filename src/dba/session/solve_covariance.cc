@@ -7,6 +7,7 @@
 #include "dba/common/timer.h"
 #include "dba/precision/external_datum.h"
 #include "dba/precision/point_covariance.h"
+#include "dba/precision/undetermined_unknowns.h"
 #include "dba/session/solve_session.h"
 
 namespace dba {
@@ -102,14 +103,37 @@ void SolveSession::VarianceFactor(const UnknownLayout& layout, int free) {
   }
 }
 
+// Images and groups the data do not determine: in the report, and said.
+void SolveSession::SayUndetermined(const CameraCovariances& covariances) {
+  SolveReport::Covariance& c = result_.report.covariance;
+  const auto name = [&](int64_t i) {
+    const std::vector<std::string>& names = result_.names.problem;
+    return i < static_cast<int64_t>(names.size()) ? names[i] : std::to_string(i);
+  };
+  for (int64_t i : covariances.undetermined_images) c.undetermined_images.push_back(name(i));
+  c.undetermined_groups = covariances.undetermined_groups;
+  if (options_.quiet || (c.undetermined_images.empty() && c.undetermined_groups.empty())) return;
+  if (!c.undetermined_images.empty()) {
+    out_ << "covariance: " << c.undetermined_images.size() << " image(s) the data do not determine (first: "
+         << c.undetermined_images[0] << ": too few observations?), marked undetermined in "
+         << options_.covariance_path << "; the rest computed without their undetermined directions\n";
+  }
+  if (!c.undetermined_groups.empty()) {
+    out_ << "covariance: " << c.undetermined_groups.size() << " intrinsic group(s) with a parameter nothing "
+         << "observes (first: group " << c.undetermined_groups[0] << " (0-based)), left out of the report\n";
+  }
+}
+
 void SolveSession::TakeCovariance(const Problem& problem, const RcsSystem& rcs) {
   const Georeference& geo = result_.geo;
   const GaugeFreedom freedom = FreedomAtOptimum(problem, !geo.priors.empty() || geo.control_points > 0);
-  VarianceFactor(rcs.layout, freedom.free);
+  // The undetermined directions are free too: r counts the determined.
+  VarianceFactor(rcs.layout, freedom.free + static_cast<int>(FindUndeterminedUnknowns(rcs.S).pins.size()));
   if (!options_.quiet) out_ << "covariance: selected inversion of S at the optimum\n";
   const Timer timer;
   const CameraSideInverse inverse(problem, rcs, freedom, lm_.num_threads);
   result_.covariance = CameraBlocks(problem, rcs.layout, inverse);
+  SayUndetermined(*result_.covariance);
   if (!options_.point_covariance_path.empty()) {
     result_.point_covariance =
         PointCovariances(problem, rcs.layout, result_.report.final_loss, inverse, lm_.num_threads);

@@ -108,6 +108,10 @@ struct SolveReport {
     // With --point-covariance: the points their observations do not
     // determine (one observation, parallel rays), whose lines are empty.
     int64_t undetermined_points = -1;
+    // Images (COLMAP names, else 0-based indices) and intrinsic groups the
+    // data do not determine (precision/undetermined_unknowns.h).
+    std::vector<std::string> undetermined_images;
+    std::vector<int64_t> undetermined_groups;
   } covariance;
   bool has_truth = false;
   GroundTruthErrors truth;        // against a generated problem's ground truth

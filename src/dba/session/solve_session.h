@@ -123,6 +123,7 @@ class SolveSession {
   void TakeCovariance(const Problem& problem, const RcsSystem& rcs);
   void CheckCovarianceRequest() const;
   void VarianceFactor(const UnknownLayout& layout, int free);
+  void SayUndetermined(const CameraCovariances& covariances);
   void ControlPointSigmas(const Problem& problem, const UnknownLayout& layout,
                           const CameraSideInverse& inverse);
   std::unique_ptr<PointSide> MakePointSide();

@@ -261,6 +261,8 @@ Json SolveSummary(const SolveReport& r) {
     }
     if (!control.empty()) j["covariance"]["control_points"] = control;
     if (c.undetermined_points >= 0) j["covariance"]["undetermined_points"] = c.undetermined_points;
+    j["covariance"]["undetermined_images"] = c.undetermined_images;
+    j["covariance"]["undetermined_intrinsic_groups"] = c.undetermined_groups;
   }
   SolverFigures(r, j);
   MemoryFigures(r, j);
