@@ -8,6 +8,7 @@
 #include "dba/common/shared_library.h"
 #include "dba/solver/pcg_rcs_solver.h"
 #include "dba/solver/rcs_solver.h"
+#include "dba/solver/sparse_cholesky.h"
 
 namespace dba {
 
@@ -30,13 +31,15 @@ std::string MemoryEstimate::Describe() const {
          (linear_solver > 0 ? ", " + std::string(LinearSolverName(solver)) + " solver " +
                                   FormatBytes(linear_solver)
                             : std::string()) +
-         ")";
+         (covariance > 0 ? ", covariance " + FormatBytes(covariance) : std::string()) + ")";
 }
 
 void CheckMemoryFits(const MemoryEstimate& estimate, int64_t available_bytes) {
   // Only the growth counts: a higher peak so far is behind us.
   if (available_bytes < 0 || estimate.growth() <= available_bytes) return;
-  throw std::runtime_error("the solve needs about " + estimate.Describe() + " but " +
+  throw std::runtime_error(std::string(estimate.covariance > 0 ? "the solve and --covariance need about "
+                                                               : "the solve needs about ") +
+                           estimate.Describe() + " but " +
                            FormatBytes(estimate.resident + available_bytes) +
                            " is available; --no-memory-check starts it anyway");
 }
@@ -49,6 +52,10 @@ MemoryEstimate EstimateAndCheckMemory(
                           check.role, check.num_observations);
   if (check.role == EstimateRole::kSolves) {
     estimate.messages = structure.S.ValueBytes() / std::max(1, check.forming_ranks);
+  }
+  if (check.covariance) {
+    const SparseFactorEstimate factor = EstimateSparseFactor(structure.S);
+    estimate.covariance = factor.available ? static_cast<int64_t>(2.5 * 8 * factor.factor_values) : 0;
   }
   const int64_t node = AvailableMemoryBytes();
   const int64_t available = node < 0 ? node : node / std::max(1, check.ranks_on_node);

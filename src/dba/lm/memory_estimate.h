@@ -15,6 +15,12 @@
 //                  of its values (supernodes padded, CHOLMOD's workspace, the
 //                  CSC copy of S: 1.8x and 2.25x measured, bench/README.md;
 //                  0 without CHOLMOD: not estimated)
+//   covariance     with --covariance, the analyse stage (docs/design.md §8):
+//                  S again, CHOLMOD's copy and the factor inverted in place,
+//                  2.5x the block estimate of the factor's values (peaks
+//                  measured on generated surveys: 259 MiB against 272
+//                  estimated at 2,500 images, 1.02 GiB against 1.62 GiB at
+//                  10,000, where the factor weighs more than S's copies)
 //
 // Not all of it is held at once: the candidate points from a
 // back-substitution to the step's end, PCG's storage during its solve
@@ -68,8 +74,13 @@ struct MemoryEstimate {
   // then held throughout; 0 where it does not fit.
   int64_t lent = 0;
   bool solve_in_candidate_points() const { return lent > 0; }
-  // What the solve adds to the process: its largest phase.
+  int64_t covariance = 0;
+  // What the solve adds to the process: its largest phase, the analyse
+  // stage's among them.
   int64_t growth() const {
+    return std::max(solve_growth(), covariance > 0 ? lm + rcs + covariance : 0);
+  }
+  int64_t solve_growth() const {
     if (solve_in_candidate_points()) {
       return lm + messages + rcs + candidate + std::max(formation, linear_solver - lent);
     }
@@ -124,6 +135,7 @@ struct MemoryCheckOptions {
   // rank's share of the global RCS.
   int forming_ranks = 1;
   int64_t num_observations = -1;  // EstimateSolveMemory's
+  bool covariance = false;        // --covariance: the analyse stage's factor too
 };
 // The estimate at `structure` with the process's resident and peak memory
 // now; `seen` (if any) hears it and the process's part of the available

@@ -218,6 +218,7 @@ std::function<void(const RcsSystem&)> SolveSession::MemoryCheck() {
   return [this](const RcsSystem& structure) {
     MemoryCheckOptions check;
     check.refuse = options_.memory_check;
+    check.covariance = !options_.covariance_path.empty();
     SolveReport& report = result_.report;
     EstimateAndCheckMemory(result_.problem, structure, lm_, check,
                            [&](const MemoryEstimate& estimate, int64_t have) {
