@@ -37,10 +37,18 @@ check "problem-16: the variance factor is the final cost over the redundancy" js
 mpirun_n 2 "$dba" solve "$p16" -q "${tight[@]}" --rcs gather --covariance "$tmp/p16r.csv" >/dev/null 2>&1
 check "problem-16 on 2 ranks: exits 0" test $? -eq 0
 check "problem-16 on 2 ranks: the blocks of one process (1e-7)" cov same "$tmp/p16.csv" "$tmp/p16r.csv" 1e-7
-mpirun_n 2 "$dba" solve "$p16" -q --covariance "$tmp/p16d.csv" >"$tmp/out" 2>&1
-check "2 ranks with the RCS spread: refused" test $? -ne 0
-check "2 ranks with the RCS spread: says --rcs gather" contains "$tmp/out" "add --rcs gather"
-check "2 ranks with the RCS spread: nothing written" test ! -e "$tmp/p16d.csv"
+# With the defaults the ranks gather S for it (the RCS would be spread):
+# the blocks of one process's default solve (the agreement rule's 1e-5 on
+# the cost: 1e-4 on the blocks).
+"$dba" solve "$p16" -q --covariance "$tmp/p16o.csv" >/dev/null 2>&1
+mpirun_n 2 "$dba" solve "$p16" -q --covariance "$tmp/p16g.csv" --report "$tmp/p16g.json" >/dev/null 2>&1
+check "problem-16 on 2 ranks, defaults: exits 0" test $? -eq 0
+check "problem-16 on 2 ranks, defaults: S gathered" json "$tmp/p16g.json" "d['distributed']['rcs'] == 'gather'"
+check "problem-16 on 2 ranks, defaults: one process's blocks (1e-4)" cov same "$tmp/p16o.csv" "$tmp/p16g.csv" 1e-4
+mpirun_n 2 "$dba" solve "$p16" -q --rcs distributed --covariance "$tmp/p16d.csv" >"$tmp/out" 2>&1
+check "2 ranks with the RCS spread asked for: refused" test $? -ne 0
+check "2 ranks with the RCS spread asked for: said" contains "$tmp/out" "not with --rcs distributed"
+check "2 ranks with the RCS spread asked for: nothing written" test ! -e "$tmp/p16d.csv"
 
 # The input's order does not change the blocks (images named in it).
 "$dba" convert "$p16" "$tmp/s16.txt" --shuffle 3 >/dev/null 2>&1

@@ -57,11 +57,9 @@ void SolveSession::CheckCovarianceRequest() const {
     throw UsageError("--covariance: rig models are not supported yet (the images' covariances "
                      "compose frame and sensor blocks)");
   }
-  DistributedOptions d = options_.distributed;
-  d.lever_arm_row = options_.geo.refine_lever_arm;
-  if (comm_->size() > 1 && ChooseRcsPlacement(d, lm_, comm_->size()) == RcsPlacement::kDistributed) {
+  if (comm_->size() > 1 && options_.distributed.rcs == DistributedOptions::Rcs::kDistributed) {
     throw UsageError("--covariance on " + std::to_string(comm_->size()) +
-                     " ranks needs the RCS on rank 0, where it is factored: add --rcs gather");
+                     " ranks factors S on rank 0: not with --rcs distributed (by default it is gathered there)");
   }
   RefuseFrameLeftFree(result_.problem, result_.geo);
 }

@@ -316,7 +316,8 @@ std::vector<Spec> GeoreferencingOptions() {
                    "frame's x, y, z axes) and the 6x6 (radians, metres), exact, by selected "
                    "inversion of the reduced camera system; the datum named per line: inner "
                    "constraints over the camera centres when nothing holds the frame, else "
-                   "absolute (README.md, Precision); not with rigs",
+                   "absolute; an image the data do not determine marked undetermined; over "
+                   "ranks the RCS is gathered on rank 0 (README.md, Precision); not with rigs",
                    DBA_FIELD(covariance_path), kNotArrays, kNoArrayFiles));
   t.push_back(Path("--point-covariance", "FILE",
                    "with --covariance: every point's covariance, a CSV line per point (its 0-based "

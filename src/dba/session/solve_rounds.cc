@@ -25,11 +25,16 @@ std::vector<double> KeptPoints(const KeptObservations& kept, const std::vector<d
   return points;
 }
 
-// The ranks' options: the fixings of a .dba each rank reads itself.
+// The ranks' options: the fixings of a .dba each rank reads itself, the
+// RCS gathered for a covariance.
 DistributedOptions RanksOptions(const SolveOptions& options, bool ranks_read_file) {
   DistributedOptions d = options.distributed;
   d.memory_check = options.memory_check;
   d.lever_arm_row = options.geo.refine_lever_arm;
+  // The covariance factors S on the main rank: auto gathers it there.
+  if (!options.covariance_path.empty() && d.rcs == DistributedOptions::Rcs::kAuto) {
+    d.rcs = DistributedOptions::Rcs::kGather;
+  }
   if (ranks_read_file) d.fixings = FixingsOf(options.unknowns);
   return d;
 }
