@@ -33,6 +33,7 @@ Ctrl-C stops it: KeyboardInterrupt, with nothing written.
 import json
 import os
 from dataclasses import dataclass, field
+from typing import Optional
 
 import numpy as np
 
@@ -131,11 +132,32 @@ class Summary:
 
 
 @dataclass
+class Covariance:
+    """The covariance of a solve (README.md, "Precision"), as its files give it:
+    `pose` (images x 6 x 6: attitude errors about the frame's x, y, z axes in
+    radians, then the centre) and `state` per image ("inner" or "absolute",
+    the datum; "held" or "undetermined": NaN); with points, `points`
+    (x 3 x 3, NaN where undetermined) and `point_index` (each point's index in
+    the input). Scaled as the report's covariance.scale says."""
+    pose: np.ndarray
+    state: list
+    points: Optional[np.ndarray] = None
+    point_index: Optional[np.ndarray] = None
+
+    @property
+    def centre_sigma(self):
+        """Each image's centre sigmas (x, y, z), images x 3."""
+        return np.sqrt(np.diagonal(self.pose[:, 3:, 3:], axis1=1, axis2=2))
+
+
+@dataclass
 class Result:
-    """The adjusted problem, the summary and the printed text of a solve."""
+    """The adjusted problem, the summary and the printed text of a solve; with
+    covariance=... its Covariance."""
     problem: Problem
     summary: Summary
     log: str = field(repr=False)
+    covariance: Optional[Covariance] = field(default=None, repr=False)
 
     @property
     def cameras(self):
@@ -228,9 +250,9 @@ def solve_options():
 
 
 def _result(outcome):
-    report, arrays, log = outcome
+    report, arrays, log, covariance = outcome
     return Result(problem=Problem(**arrays), summary=Summary.from_report(json.loads(report)),
-                  log=log)
+                  log=log, covariance=None if covariance is None else Covariance(**covariance))
 
 
 def solve(path, *, verbose=False, **options) -> Result:
@@ -247,12 +269,31 @@ def solve_arrays(cameras, points, observations, camera_indices, point_indices, *
                  **options) -> Result:
     """Bundle-adjusts a problem given as arrays (see Problem; observations in
     any order). The inputs are not modified; the Result holds the adjusted
-    cameras, intrinsics and points (observations sorted by point)."""
+    cameras, intrinsics and points (observations sorted by point).
+    covariance=True: the images' Covariance in the Result (point_covariance=True:
+    the points' too), as dba solve --covariance writes it; with
+    covariance_scale="unit" for a pixel sigma of 1."""
+    wanted = _covariance_wanted(options)
     return _result(_dba.solve_arrays(camera_model, cameras, points, observations,
                                      camera_indices, point_indices, intrinsics,
                                      camera_intrinsics, fixed_cameras, fixed_intrinsics,
                                      lens_models, _arguments(options, "arrays"), verbose,
-                                     frame_indices, rig_from_world, sensor_from_rig, sensor_kinds))
+                                     frame_indices, rig_from_world, sensor_from_rig, sensor_kinds,
+                                     wanted))
+
+
+def _covariance_wanted(options):
+    """solve_arrays's covariance=True / point_covariance=True (taken out of
+    `options`): 0, 1 (the images') or 2 (and the points')."""
+    wanted = []
+    for name in ("covariance", "point_covariance"):
+        value = options.pop(name, False)
+        if not isinstance(value, (bool, np.bool_)):
+            raise TypeError(f"{name}: solve_arrays returns it: expected True or False, got {value!r}")
+        wanted.append(bool(value))
+    if wanted[1] and not wanted[0]:
+        raise ValueError("point_covariance needs covariance=True")
+    return wanted[0] + wanted[1]
 
 
 def read_problem(path) -> Problem:

@@ -14,6 +14,7 @@
 // -> ValueError, other errors -> RuntimeError.
 #include <algorithm>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -28,6 +29,7 @@
 #include "dba/common/memory.h"
 #include "dba/common/timer.h"
 #include "dba/io/read_problem.h"
+#include "dba/precision/covariance_csv.h"
 #include "dba/session/solve_option_table.h"
 #include "dba/session/solve_options.h"
 #include "dba/session/solve_outputs.h"
@@ -39,10 +41,47 @@ namespace py = pybind11;
 namespace dba::python {
 namespace {
 
+// The covariance as the files hold it (README.md, Precision), as arrays:
+// None without one; else "pose" (images × 6 × 6, NaN where "state" says
+// held or undetermined), "state" and, with points, "points" (× 3 × 3, NaN
+// where undetermined) and "point_index" (each one's index in the input).
+py::object CovarianceArrays(const SolveResult& result) {
+  if (!result.covariance) return py::none();
+  const CameraCovariances& c = *result.covariance;
+  const double scale = result.report.covariance.Scale();
+  const py::ssize_t n = static_cast<py::ssize_t>(c.pose.size());
+  py::array_t<double> pose({n, py::ssize_t{6}, py::ssize_t{6}});
+  py::list state;
+  for (py::ssize_t i = 0; i < n; ++i) {
+    Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>> out(pose.mutable_data(i));
+    const bool undetermined =
+        std::binary_search(c.undetermined_images.begin(), c.undetermined_images.end(), int64_t{i});
+    state.append(c.pose[i] ? result.report.covariance.datum : undetermined ? "undetermined" : "held");
+    out = c.pose[i] ? PoseInOutputFrame(*c.pose[i], result.gauge_moved, scale)
+                    : PoseCovariance::Constant(std::numeric_limits<double>::quiet_NaN());
+  }
+  py::dict d;
+  d["pose"] = pose, d["state"] = state;
+  if (result.point_covariance.empty()) return d;
+  const std::vector<int64_t> loaded = LoadedPointIndices(result);
+  const py::ssize_t m = static_cast<py::ssize_t>(std::min(loaded.size(), result.point_covariance.size()));
+  py::array_t<double> points({m, py::ssize_t{3}, py::ssize_t{3}});
+  py::array_t<int64_t> index(m);
+  for (py::ssize_t k = 0; k < m; ++k) {
+    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(points.mutable_data(k)) =
+        PointInOutputFrame(result.point_covariance[k], result.gauge_moved, scale);
+    index.mutable_at(k) = loaded[k];
+  }
+  d["points"] = points, d["point_index"] = index;
+  return d;
+}
+
 // What solve and solve_arrays return: the JSON report (as `dba solve
-// --report` writes it), the adjusted problem's arrays, and the printed text.
-py::tuple Outcome(const SolveReport& report, const Problem& problem, const std::string& log) {
-  return py::make_tuple(SolveReportJson(report), ProblemToArrays(problem), log);
+// --report` writes it), the adjusted problem's arrays, the printed text and
+// the covariance's arrays (CovarianceArrays).
+py::tuple Outcome(const SolveResult& result, const std::string& log) {
+  return py::make_tuple(SolveReportJson(result.report), ProblemToArrays(result.problem), log,
+                        CovarianceArrays(result));
 }
 
 // Ctrl-C during a solve (common/interrupt.h): the solve polls on this
@@ -107,17 +146,21 @@ py::tuple Solve(const std::vector<std::string>& args, bool verbose) {
     if (verbose) std::cout.flush();
     return r;
   });
-  return Outcome(result.report, result.problem, log.str());
+  return Outcome(result, log.str());
 }
 
 // dba.solve_arrays: the session of `dba solve` on a problem given as arrays;
 // every option but the file outputs (the result is returned) and a COLMAP
 // input's own.
 py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string>& option_args,
-                      bool verbose) {
+                      bool verbose, int covariance) {
   const Timer since_call;  // the report's phases: from the call's start
   std::vector<std::string> args = {"<arrays>"};
   args.insert(args.end(), option_args.begin(), option_args.end());
+  // covariance=True (2: and points): computed and returned, not written
+  // (no file outputs here: the names are placeholders, never checked).
+  if (covariance > 0) args.insert(args.end(), {"--covariance", "<arrays>"});
+  if (covariance > 1) args.insert(args.end(), {"--point-covariance", "<arrays: points>"});
   SolveOptions options = Parse(args);
   options.progress = verbose;
   // What solve_arrays has no place for (the file outputs, a COLMAP input's
@@ -138,7 +181,9 @@ py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string
   input.read_seconds = read.Seconds();
   std::ostringstream log;
   const SolveResult result = Interruptible([&] {
-    CheckSolveFiles(options, InputSource());  // arrays: no input file
+    SolveOptions checked = options;
+    checked.covariance_path.clear(), checked.point_covariance_path.clear();
+    CheckSolveFiles(checked, InputSource());  // arrays: no input file
     Communicator comm(Communicator::SingleRank{});
     std::ostream& out = verbose ? std::cout : log;
     SolveResult r = SolveSession(options, &comm, out).Run(std::move(input));
@@ -149,7 +194,7 @@ py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string
     out.flush();
     return r;
   });
-  return Outcome(result.report, result.problem, log.str());
+  return Outcome(result, log.str());
 }
 
 // An optional argument of solve_arrays: None, or the array `as` makes of it.
@@ -222,7 +267,8 @@ PYBIND11_MODULE(_dba, m) {
   py::register_exception_translator(&TranslateInputError);
 
   m.def("solve", &Solve, py::arg("args"), py::arg("verbose") = false,
-        "dba solve ARGS in this process: (report JSON, adjusted problem arrays, printed text)");
+        "dba solve ARGS in this process: (report JSON, adjusted problem arrays, printed text, "
+        "covariance arrays or None)");
   m.def(
       "solve_arrays",
       [](const std::string& camera_model, py::object cameras, py::object points,
@@ -230,7 +276,7 @@ PYBIND11_MODULE(_dba, m) {
          py::object intrinsics, py::object camera_intrinsics, py::object fixed_cameras,
          py::object fixed_intrinsics, std::optional<std::vector<std::string>> lens_models,
          const std::vector<std::string>& args, bool verbose, py::object frame_indices,
-         py::object rig_from_world, py::object sensor_from_rig, py::object sensor_kinds) {
+         py::object rig_from_world, py::object sensor_from_rig, py::object sensor_kinds, int covariance) {
         ProblemArrays a;
         a.camera_model = camera_model;
         a.cameras = AsDoubleArray(cameras, "cameras");
@@ -247,7 +293,7 @@ PYBIND11_MODULE(_dba, m) {
         a.rig_from_world = Optional(rig_from_world, "rig_from_world", AsDoubleArray);
         a.sensor_from_rig = Optional(sensor_from_rig, "sensor_from_rig", AsDoubleArray);
         a.sensor_kinds = Optional(sensor_kinds, "sensor_kinds", AsIndexArray);
-        return SolveArrays(a, args, verbose);
+        return SolveArrays(a, args, verbose, covariance);
       },
       py::arg("camera_model"), py::arg("cameras"), py::arg("points"), py::arg("observations"),
       py::arg("camera_indices"), py::arg("point_indices"), py::arg("intrinsics"),
@@ -255,7 +301,9 @@ PYBIND11_MODULE(_dba, m) {
       py::arg("lens_models"), py::arg("args"), py::arg("verbose") = false,
       py::arg("frame_indices") = py::none(), py::arg("rig_from_world") = py::none(),
       py::arg("sensor_from_rig") = py::none(), py::arg("sensor_kinds") = py::none(),
-      "the solve of dba solve on arrays: (report JSON, adjusted problem arrays, printed text)");
+      py::arg("covariance") = 0,
+      "the solve of dba solve on arrays: (report JSON, adjusted problem arrays, printed text, "
+      "covariance arrays or None); covariance 1: the images', 2: and the points'");
   m.def("solve_options", &SolveOptionList,
         "dba solve's options as the option table declares them (one dict per option)");
   m.def("solve_options_markdown", []() -> std::string { return dba::OptionsMarkdown(dba::SolveOptionTable(), dba::SolveOptions()); },

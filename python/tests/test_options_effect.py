@@ -168,12 +168,16 @@ EFFECTS = {
     "no_memory_check": (lambda d: dict(no_memory_check=True),
                         lambda r, b, d: not rep(r)["memory_check"]),
     "quiet": (lambda d: dict(quiet=True), lambda r, b, d: "iter " not in r.log),
+    "covariance_scale": (lambda d: dict(covariance=True, covariance_scale="unit"),
+                         lambda r, b, d: rep(r)["covariance"]["scale"] == "unit"
+                         and r.covariance.pose.shape == (40, 6, 6)),
 }
 
 
 # Options whose keyword is an argument of solve_arrays that carries the
-# same thing as arrays (--intrinsics FILE is `intrinsics=`).
-ARRAY_ARGUMENTS = {"intrinsics"}
+# same thing as arrays (--intrinsics FILE is `intrinsics=`; --covariance
+# FILE is `covariance=True`, returned: tests/test_covariance.py).
+ARRAY_ARGUMENTS = {"intrinsics", "covariance", "point_covariance"}
 
 
 def test_every_option_has_its_effect_or_is_refused(survey, monkeypatch):

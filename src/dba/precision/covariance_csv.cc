@@ -48,12 +48,16 @@ std::string PoseLine(const PoseCovariance& p) {
 
 }  // namespace
 
+Eigen::Matrix3d PointInOutputFrame(const Eigen::Matrix3d& point, const Similarity& moved, double scale) {
+  const Eigen::Matrix3d Q = moved.scale * moved.rotation;
+  return scale * (Q * point * Q.transpose());
+}
+
 std::string PointCovarianceCsv(const std::vector<Eigen::Matrix3d>& points,
                                const std::vector<int64_t>& loaded, const Similarity& moved, double scale) {
   std::string text = "point,sigma_x,sigma_y,sigma_z,c_xx,c_xy,c_xz,c_yy,c_yz,c_zz\n";
-  const Eigen::Matrix3d Q = moved.scale * moved.rotation;
   for (size_t k = 0; k < loaded.size() && k < points.size(); ++k) {
-    const Eigen::Matrix3d p = scale * (Q * points[k] * Q.transpose());
+    const Eigen::Matrix3d p = PointInOutputFrame(points[k], moved, scale);
     std::string line = std::to_string(loaded[k]);
     if (!p.allFinite()) {  // undetermined by its observations: empty fields
       text += line + std::string(9, ',') + "\n";
@@ -66,6 +70,10 @@ std::string PointCovarianceCsv(const std::vector<Eigen::Matrix3d>& points,
     text += line + "\n";
   }
   return text;
+}
+
+PoseCovariance PoseInOutputFrame(const PoseCovariance& pose, const Similarity& moved, double scale) {
+  return scale * MovePoseCovariance(moved, pose);
 }
 
 std::string CovarianceCsv(const CameraCovariances& covariances, const std::vector<std::string>& names,
@@ -82,7 +90,7 @@ std::string CovarianceCsv(const CameraCovariances& covariances, const std::vecto
     }
     text += ",";
     text += datum;
-    text += PoseLine(scale * MovePoseCovariance(moved, *covariances.pose[i])) + "\n";
+    text += PoseLine(PoseInOutputFrame(*covariances.pose[i], moved, scale)) + "\n";
   }
   return text;
 }

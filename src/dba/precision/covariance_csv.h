@@ -34,6 +34,11 @@ namespace dba {
 // the input), k < loaded.size(), after the gauge's similarity (s² Q Σ Qᵀ),
 // scaled by `scale`. A point its observations do not determine (NaN in
 // `points`) has its line's fields empty.
+// The figures the files hold, as matrices: a pose's or a point's block
+// after the gauge's similarity, scaled.
+PoseCovariance PoseInOutputFrame(const PoseCovariance& pose, const Similarity& moved, double scale);
+Eigen::Matrix3d PointInOutputFrame(const Eigen::Matrix3d& point, const Similarity& moved, double scale);
+
 std::string PointCovarianceCsv(const std::vector<Eigen::Matrix3d>& points,
                                const std::vector<int64_t>& loaded, const Similarity& moved, double scale);
 

@@ -317,7 +317,8 @@ std::vector<Spec> GeoreferencingOptions() {
                    "inversion of the reduced camera system; the datum named per line: inner "
                    "constraints over the camera centres when nothing holds the frame, else "
                    "absolute; an image the data do not determine marked undetermined; over "
-                   "ranks the RCS is gathered on rank 0 (README.md, Precision); not with rigs",
+                   "ranks the RCS is gathered on rank 0 (README.md, Precision); not with rigs; "
+                   "Python: Result.covariance holds it as arrays (solve_arrays: covariance=True)",
                    DBA_FIELD(covariance_path), kNotArrays, kNoArrayFiles));
   t.push_back(Path("--point-covariance", "FILE",
                    "with --covariance: every point's covariance, a CSV line per point (its 0-based "
@@ -332,8 +333,6 @@ std::vector<Spec> GeoreferencingOptions() {
       "sigma of 1 (Ceres's and COLMAP's convention)",
       [](SolveOptions& o, size_t i) { o.covariance_unit = i == 1; },
       [](const SolveOptions& o) { return std::string(o.covariance_unit ? "unit" : "a-posteriori"); }));
-  t.back().modes = kNotArrays;
-  t.back().not_here = kNoArrayFiles;
   SetNeeds(&t.back(), "--covariance", [](const SolveOptions& o) { return !o.covariance_path.empty(); });
   t.push_back(Path("--accuracy-report", "FILE",
                    "with --camera-priors or --gcps: the figures as a table, and each prior's, "

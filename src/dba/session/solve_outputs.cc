@@ -88,9 +88,8 @@ void CheckColmapVersion(const SolveOptions& options, const CameraSide& side) {
   }
 }
 
-// The loaded index of each point the solve ended with (the loaded points
-// alone, not the control points after them): after rejection rounds the
-// kept ones, in order.
+}  // namespace
+
 std::vector<int64_t> LoadedPointIndices(const SolveResult& result) {
   std::vector<int64_t> loaded;
   const int64_t count = result.report.num_points;
@@ -99,8 +98,6 @@ std::vector<int64_t> LoadedPointIndices(const SolveResult& result) {
   }
   return loaded;
 }
-
-}  // namespace
 
 void CheckSolveFiles(const SolveOptions& o, const InputSource& input) {
   RunFiles files;

@@ -23,6 +23,11 @@ namespace dba {
 // `input`: what options.input holds.
 void CheckSolveFiles(const SolveOptions& options, const InputSource& input);
 
+// The loaded index of each point the solve ended with (the loaded points
+// alone, not the control points after them): after rejection rounds the
+// kept ones, in order (--point-covariance's numbering).
+std::vector<int64_t> LoadedPointIndices(const SolveResult& result);
+
 // The outputs' kinds against the loaded input (CheckOutput), before the
 // solve.
 void CheckSolveOutputs(const SolveOptions& options, const SolveInput& input,
