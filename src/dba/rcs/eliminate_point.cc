@@ -190,19 +190,17 @@ void InvertDampedV(double lambda, const DampingBounds& bounds, PointSystem<Model
   const double v10 = V(1, 0), v20 = V(2, 0), v21 = V(2, 1);
   const double c00 = v11 * v22 - v21 * v21, c10 = v20 * v21 - v10 * v22,
                c20 = v10 * v21 - v11 * v20;
-  const double det = v00 * c00 + v10 * c10 + v20 * c20;
-  if (!(det > 1e-12 * v00 * v11 * v22)) {  // singular or nearly: decided by its eigenvalues
-    Eigen::Matrix3d damped = V;
-    damped.diagonal() = Vec3(v00, v11, v22);
-    sys->V_inv = GeneralizedInverse(damped);
-    return;
-  }
-  const double inv_det = 1.0 / det;
+  const double inv_det = 1.0 / (v00 * c00 + v10 * c10 + v20 * c20);
   const double i00 = c00 * inv_det, i10 = c10 * inv_det, i20 = c20 * inv_det;
   const double i11 = (v00 * v22 - v20 * v20) * inv_det;
   const double i21 = (v10 * v20 - v00 * v21) * inv_det;
   const double i22 = (v00 * v11 - v10 * v10) * inv_det;
   sys->V_inv << i00, i10, i20, i10, i11, i21, i20, i21, i22;
+  // Undamped (the analyse stage: LM's λ is never 0), a V singular or
+  // nearly has V⁺ instead, decided by its eigenvalues.
+  if (lambda == 0.0 && !(inv_det > 0 && 1.0 / inv_det > 1e-12 * v00 * v11 * v22)) {
+    sys->V_inv = GeneralizedInverse(V);
+  }
 }
 
 template <class Model>
