@@ -103,6 +103,28 @@ check "an image seen twice: marked undetermined" cov held "$tmp/cam.csv" 3 undet
 check "an image seen twice: the others valid" cov valid "$tmp/cam.csv" 16 inner
 check "an image seen twice: in the report" json "$tmp/cam.json" "d['covariance']['undetermined_images'] == ['3']"
 check "an image seen twice: said" contains "$tmp/out" "1 image(s) the data do not determine (first: 3"
+# --ply-colour sigma: each point on the ramp by its sigma, sqrt(trace/3):
+# the largest red, the smallest blue, the colours not the heights'.
+"$dba" solve "$p16" -q --covariance "$tmp/c.csv" --point-covariance "$tmp/ps.csv" --ply "$tmp/s.ply" \
+  --ply-colour sigma >/dev/null 2>&1
+check "--ply-colour sigma: exits 0" test $? -eq 0
+check "--ply-colour sigma: red at the largest sigma, blue at the smallest" /usr/bin/python3 -c '
+import csv, math, struct, sys
+data = open(sys.argv[1], "rb").read()
+head, body = data.split(b"end_header\n", 1)
+n = int(head.split(b"element vertex ")[1].split()[0])
+rgb = [struct.unpack_from("<3d3B", body, 27 * k)[3:] for k in range(n)]
+rows = list(csv.reader(open(sys.argv[2])))[1:]
+assert len(rows) == n == 22106, (len(rows), n)
+sigma = [math.sqrt((float(r[4]) + float(r[7]) + float(r[9])) / 3) for r in rows]
+top, low = max(range(n), key=sigma.__getitem__), min(range(n), key=sigma.__getitem__)
+assert rgb[top] == (255, 0, 0) and rgb[low] == (0, 0, 255), (rgb[top], rgb[low])
+assert len(set(rgb)) > 100' "$tmp/s.ply" "$tmp/ps.csv"
+"$dba" solve "$p16" -q --covariance "$tmp/c.csv" --ply "$tmp/s2.ply" --ply-colour sigma >"$tmp/out" 2>&1
+check "--ply-colour sigma without --point-covariance: exit 2" test $? -eq 2
+check "--ply-colour sigma without --point-covariance: said" contains "$tmp/out" \
+  "--ply-colour sigma needs --point-covariance"
+check "--ply-colour sigma without --point-covariance: nothing written" test ! -e "$tmp/s2.ply"
 "$dba" solve "$p16" -q --point-covariance "$tmp/x.csv" >"$tmp/out" 2>&1
 check "--point-covariance alone: says what it needs" contains "$tmp/out" "--point-covariance needs --covariance"
 mpirun_n 2 "$dba" solve "$p16" -q --rcs gather --covariance "$tmp/c2.csv" --point-covariance "$tmp/p2.csv" >"$tmp/out" 2>&1

@@ -2,17 +2,25 @@
 against time and against LM iteration, the linear solver's iterations per LM
 iteration (why each stopped), and the time per phase; for a generated
 problem solved with --truth, also a top view of the camera-centre errors
-over the survey (after the similarity alignment).
+over the survey (after the similarity alignment); with the --covariance
+file, the camera map with each centre's horizontal error ellipse (95%,
+magnified, coloured by sigma_z) as photogrammetric quality reports draw it,
+and the sigmas' distribution.
 
-    python3 -m dba.plot REPORT.json -o FILE.png
-    dba.plot.plot_report("report.json", "run.png")
+    python3 -m dba.plot REPORT.json -o FILE.png [--covariance FILE.csv]
+    dba.plot.plot_report("report.json", "run.png", covariance="cov.csv")
 
 Needs matplotlib (Debian: python3-matplotlib); drawn off screen (Agg).
 """
 
 import argparse
+import csv
 import json
+import math
 import sys
+
+# The 95% ellipse of a 2D normal: sqrt of chi-square(2)'s 0.95 quantile.
+_ELLIPSE_95 = math.sqrt(5.991464547107979)
 
 
 def _load(report):
@@ -22,8 +30,85 @@ def _load(report):
         return json.load(f)
 
 
-def plot_report(report, output, title=None):
-    """Draws `report` (a path to the JSON or its dict) into `output` (PNG)."""
+def read_covariance(path):
+    """The --covariance file's images with figures: x, y, the horizontal
+    2x2 (c_xx, c_xy, c_yy) and sigma_z per image; held and undetermined
+    images left out (counted in `skipped`)."""
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    if not rows or "c_xx" not in rows[0] or "x" not in rows[0]:
+        raise ValueError(f"{path}: not a dba solve --covariance file (no c_xx, x columns)")
+    out = {"x": [], "y": [], "c_xx": [], "c_xy": [], "c_yy": [], "sigma_z": [], "skipped": 0,
+           "datum": rows[0]["datum"]}
+    for row in rows:
+        if row["c_xx"] == "":
+            out["skipped"] += 1
+            continue
+        out["datum"] = row["datum"]
+        for key in ("x", "y", "c_xx", "c_xy", "c_yy", "sigma_z"):
+            out[key].append(float(row[key]))
+    if not out["x"]:
+        raise ValueError(f"{path}: no image with a covariance")
+    return out
+
+
+def _ellipses(cov):
+    """Each image's 95% ellipse: full widths, heights and angles (degrees)."""
+    widths, heights, angles = [], [], []
+    for a, b, d in zip(cov["c_xx"], cov["c_xy"], cov["c_yy"]):
+        mean, half = (a + d) / 2, math.hypot((a - d) / 2, b)
+        major, minor = math.sqrt(max(mean + half, 0.0)), math.sqrt(max(mean - half, 0.0))
+        widths.append(2 * _ELLIPSE_95 * major)
+        heights.append(2 * _ELLIPSE_95 * minor)
+        angles.append(math.degrees(0.5 * math.atan2(2 * b, a - d)))
+    return widths, heights, angles
+
+
+def _magnification(cov, widths):
+    """A round factor (1, 2 or 5 times a power of ten) that makes the median
+    ellipse at most about the images' spacing."""
+    n = len(cov["x"])
+    area = (max(cov["x"]) - min(cov["x"])) * (max(cov["y"]) - min(cov["y"]))
+    spacing = math.sqrt(area / n) if area > 0 else 1.0
+    median = sorted(widths)[n // 2]
+    if median <= 0:
+        return 1.0
+    want = 0.9 * spacing / median
+    power = 10 ** math.floor(math.log10(want))
+    return max(f * power for f in (1, 2, 5) if f * power <= want)
+
+
+def _plot_covariance(fig, top, bottom, cov):
+    from matplotlib.collections import EllipseCollection
+    widths, heights, angles = _ellipses(cov)
+    k = _magnification(cov, widths)
+    offsets = list(zip(cov["x"], cov["y"]))
+    ellipses = EllipseCollection([k * w for w in widths], [k * h for h in heights], angles, units="xy",
+                                 offsets=offsets, offset_transform=top.transData, cmap="plasma")
+    ellipses.set_array(cov["sigma_z"])
+    top.add_collection(ellipses)
+    if len(offsets) <= 200:
+        top.scatter(cov["x"], cov["y"], s=1, color="k")
+    top.autoscale_view()
+    top.set_aspect("equal", adjustable="datalim")
+    fig.colorbar(ellipses, ax=top, label="sigma_z")
+    top.set_xlabel("x")
+    top.set_ylabel("y")
+    skipped = f', {cov["skipped"]} held or undetermined' if cov["skipped"] else ""
+    top.set_title(f'camera centres ({cov["datum"]}): 95% error ellipses x{k:g}{skipped}')
+    sigma_x = [math.sqrt(v) for v in cov["c_xx"]]
+    sigma_y = [math.sqrt(v) for v in cov["c_yy"]]
+    bottom.hist([sigma_x, sigma_y, cov["sigma_z"]], bins=40, label=["sigma_x", "sigma_y", "sigma_z"])
+    bottom.legend()
+    bottom.set_xlabel("camera-centre sigma")
+    bottom.set_ylabel("images")
+    bottom.set_title(f'{len(sigma_x)} images: median sigma x {sorted(sigma_x)[len(sigma_x) // 2]:.3g}, '
+                     f'z {sorted(cov["sigma_z"])[len(sigma_x) // 2]:.3g}')
+
+
+def plot_report(report, output, title=None, covariance=None):
+    """Draws `report` (a path to the JSON or its dict) into `output` (PNG);
+    `covariance`: the path of its --covariance file, for the ellipse map."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -46,7 +131,8 @@ def plot_report(report, output, title=None):
     rms = [it["rms_px"] for it in history]
 
     cameras = r.get("ground_truth", {}).get("cameras")
-    columns = 3 if cameras else 2
+    cov = read_covariance(covariance) if covariance is not None else None
+    columns = 2 + (1 if cameras else 0) + (1 if cov else 0)
     fig, axes = plt.subplots(2, columns, figsize=(6 * columns, 8))
     fig.suptitle(title or f'{r.get("input", "")}: {r.get("num_images", r.get("num_cameras"))} images, '
                  f'{r.get("num_points")} points, {r.get("num_observations")} observations, '
@@ -122,6 +208,9 @@ def plot_report(report, output, title=None):
         ax.set_title(f'RMS to noise-free observations {gt["rms_to_noise_free_px"]:.4f} px, '
                      f'points {gt["point_rms"]:.4g}')
 
+    if cov:
+        _plot_covariance(fig, axes[0][columns - 1], axes[1][columns - 1], cov)
+
     fig.tight_layout()
     fig.savefig(output, dpi=100)
     plt.close(fig)
@@ -132,9 +221,10 @@ def main(argv=None):
                                      description="Plots a dba solve --report JSON.")
     parser.add_argument("report", help="the JSON written by dba solve --report")
     parser.add_argument("-o", "--output", required=True, help="the PNG to write")
+    parser.add_argument("--covariance", help="the solve's --covariance file: the error-ellipse map")
     args = parser.parse_args(argv)
     try:
-        plot_report(args.report, args.output)
+        plot_report(args.report, args.output, covariance=args.covariance)
     except (OSError, ValueError, KeyError) as e:
         print(f"dba.plot: {args.report}: {e}", file=sys.stderr)
         return 1

@@ -1,6 +1,6 @@
 """Checks of `dba solve --covariance FILE` outputs (tests/cli_covariance.sh).
 
-  valid FILE IMAGES DATUM       IMAGES lines after the header, 35 columns, each
+  valid FILE IMAGES DATUM       IMAGES lines after the header, 38 columns, each
                                 pose block symmetric positive semi-definite, its
                                 sigmas the roots of its diagonal, DATUM (or held,
                                 or undetermined)
@@ -39,12 +39,14 @@ def block(row):
 
 def valid(path, images, datum):
     header, rows = read(path)
-    assert len(header) == 35 and header[:3] == ["image", "datum", "sigma_x"], header
+    assert len(header) == 38 and header[:3] == ["image", "datum", "sigma_x"], header
+    assert header[35:] == ["x", "y", "z"], header
     assert len(rows) == int(images), (len(rows), images)
     for row in rows:
-        assert len(row) == 35, row
+        assert len(row) == 38, row
+        assert all(math.isfinite(float(v)) for v in row[35:]), row  # the centre, always
         if row[1] in ("held", "undetermined"):
-            assert all(v == "" for v in row[2:]), row
+            assert all(v == "" for v in row[2:35]), row
             continue
         assert row[1] == datum, row[:2]
         m = block(row)
@@ -61,7 +63,7 @@ def valid(path, images, datum):
 def held(path, name, mark="held"):
     _, rows = read(path)
     row = next(r for r in rows if r[0] == name)
-    assert row[1] == mark and all(v == "" for v in row[2:]), row
+    assert row[1] == mark and all(v == "" for v in row[2:35]), row
 
 
 def same(path1, path2, rel):

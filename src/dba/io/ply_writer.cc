@@ -49,6 +49,25 @@ std::array<uint8_t, 3> HeightColour(double t) {
   return {255, level(4 - s), 0};                       // yellow -> red
 }
 
+std::vector<uint8_t> RampColours(std::span<const double> values) {
+  std::vector<double> finite;
+  for (double v : values) {
+    if (std::isfinite(v)) finite.push_back(v);
+  }
+  std::sort(finite.begin(), finite.end());
+  const double lo = finite.empty() ? 0.0 : Quantile(finite, 0.01);
+  const double hi = finite.empty() ? 0.0 : Quantile(finite, 0.99);
+  std::vector<uint8_t> rgb;
+  rgb.reserve(3 * values.size());
+  for (double v : values) {
+    const std::array<uint8_t, 3> c = !std::isfinite(v) ? HeightColour(0)
+                                     : !(hi > lo)      ? HeightColour(0.5)
+                                                       : HeightColour((v - lo) / (hi - lo));
+    rgb.insert(rgb.end(), c.begin(), c.end());
+  }
+  return rgb;
+}
+
 void WritePointCloudPly(const std::string& path, std::span<const double> xyz,
                         std::span<const uint8_t> rgb) {
   if (xyz.size() % 3 != 0) {
@@ -60,27 +79,15 @@ void WritePointCloudPly(const std::string& path, std::span<const double> xyz,
                                 " values for " + std::to_string(xyz.size() / 3) + " points");
   }
   const size_t n = xyz.size() / 3;
-
-  // Height colours: z between the 1st and 99th percentiles.
-  double z_lo = 0, z_hi = 0;
-  if (rgb.empty()) {
-    std::vector<double> z;
-    z.reserve(n);
-    for (size_t k = 0; k < n; ++k) {
-      if (std::isfinite(xyz[3 * k + 2])) z.push_back(xyz[3 * k + 2]);
-    }
-    std::sort(z.begin(), z.end());
-    if (!z.empty()) {
-      z_lo = Quantile(z, 0.01);
-      z_hi = Quantile(z, 0.99);
-    }
+  std::vector<uint8_t> height;
+  if (rgb.empty()) {  // height colours
+    std::vector<double> z(n);
+    for (size_t k = 0; k < n; ++k) z[k] = xyz[3 * k + 2];
+    height = RampColours(z);
+    rgb = height;
   }
   auto colour = [&](size_t k) -> std::array<uint8_t, 3> {
-    if (!rgb.empty()) return {rgb[3 * k], rgb[3 * k + 1], rgb[3 * k + 2]};
-    const double z = xyz[3 * k + 2];
-    if (!std::isfinite(z)) return HeightColour(0);
-    if (!(z_hi > z_lo)) return HeightColour(0.5);
-    return HeightColour((z - z_lo) / (z_hi - z_lo));
+    return {rgb[3 * k], rgb[3 * k + 1], rgb[3 * k + 2]};
   };
 
   AtomicOutputFile out(path);

@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace dba {
 
@@ -35,6 +36,10 @@ namespace dba {
 // (0, 0, 255), 1/4 cyan (0, 255, 255), 1/2 green (0, 255, 0), 3/4 yellow
 // (255, 255, 0), 1 red (255, 0, 0), linear in between, rounded to nearest.
 std::array<uint8_t, 3> HeightColour(double t);
+
+// The colours of `values` on that ramp over the range between their 1st and
+// 99th percentiles (as the heights above; non-finite: blue), 3 per value.
+std::vector<uint8_t> RampColours(std::span<const double> values);
 
 // Writes the points (x, y, z per point) with their colours (r, g, b per
 // point), or height colours when `rgb` is empty. Atomic: the file is written

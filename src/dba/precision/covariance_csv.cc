@@ -30,7 +30,7 @@ std::string Header() {
   for (int a = 1; a <= 6; ++a) {
     for (int c = a; c <= 6; ++c) h += ",p" + std::to_string(a) + std::to_string(c);
   }
-  return h + "\n";
+  return h + ",x,y,z\n";
 }
 
 std::string PoseLine(const PoseCovariance& p) {
@@ -77,7 +77,7 @@ PoseCovariance PoseInOutputFrame(const PoseCovariance& pose, const Similarity& m
 }
 
 std::string CovarianceCsv(const CameraCovariances& covariances, const std::vector<std::string>& names,
-                          const Similarity& moved, double scale) {
+                          const std::vector<Vec3>& centres, const Similarity& moved, double scale) {
   std::string text = Header();
   const char* datum = covariances.datum_free == 0 ? "absolute" : "inner";
   const std::vector<int64_t>& undetermined = covariances.undetermined_images;
@@ -85,12 +85,14 @@ std::string CovarianceCsv(const CameraCovariances& covariances, const std::vecto
     text += i < names.size() ? CsvField(names[i]) : std::to_string(i);
     if (!covariances.pose[i]) {
       const bool held = !std::binary_search(undetermined.begin(), undetermined.end(), static_cast<int64_t>(i));
-      text += (held ? ",held" : ",undetermined") + std::string(33, ',') + "\n";
-      continue;
+      text += (held ? ",held" : ",undetermined") + std::string(33, ',');
+    } else {
+      text += ",";
+      text += datum;
+      text += PoseLine(PoseInOutputFrame(*covariances.pose[i], moved, scale));
     }
-    text += ",";
-    text += datum;
-    text += PoseLine(PoseInOutputFrame(*covariances.pose[i], moved, scale)) + "\n";
+    for (int a = 0; a < 3; ++a) Append(&text, i < centres.size() ? centres[i][a] : NAN);
+    text += "\n";
   }
   return text;
 }

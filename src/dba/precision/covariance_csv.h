@@ -14,6 +14,7 @@
 //              rotations of the camera about the frame's x, y, z axes
 //   p11 ... p66  the pose's 6×6 covariance (upper triangle, row by row) in
 //              (θx, θy, θz radians, x, y, z), the same rotations and centre
+//   x, y, z    the centre itself
 //
 // in the output's frame (the solve's; the local east-north-up frame of the
 // report when georeferenced), after the gauge's similarity, scaled by
@@ -29,20 +30,22 @@
 
 namespace dba {
 
-// --point-covariance FILE: "point,sigma_x,sigma_y,sigma_z,c_xx,c_xy,c_xz,
-// c_yy,c_yz,c_zz", a line per point: points[k] named loaded[k] (its index in
-// the input), k < loaded.size(), after the gauge's similarity (s² Q Σ Qᵀ),
-// scaled by `scale`. A point its observations do not determine (NaN in
-// `points`) has its line's fields empty.
 // The figures the files hold, as matrices: a pose's or a point's block
 // after the gauge's similarity, scaled.
 PoseCovariance PoseInOutputFrame(const PoseCovariance& pose, const Similarity& moved, double scale);
 Eigen::Matrix3d PointInOutputFrame(const Eigen::Matrix3d& point, const Similarity& moved, double scale);
 
+// --point-covariance FILE: "point,sigma_x,sigma_y,sigma_z,c_xx,c_xy,c_xz,
+// c_yy,c_yz,c_zz", a line per point: points[k] named loaded[k] (its index in
+// the input), k < loaded.size(), after the gauge's similarity (s² Q Σ Qᵀ),
+// scaled by `scale`. A point its observations do not determine (NaN in
+// `points`) has its line's fields empty.
 std::string PointCovarianceCsv(const std::vector<Eigen::Matrix3d>& points,
                                const std::vector<int64_t>& loaded, const Similarity& moved, double scale);
 
+// FILE's text; `centres`: each image's centre in the output's frame (the
+// last columns x, y, z, also for held and undetermined images).
 std::string CovarianceCsv(const CameraCovariances& covariances, const std::vector<std::string>& names,
-                          const Similarity& moved, double scale);
+                          const std::vector<Vec3>& centres, const Similarity& moved, double scale);
 
 }  // namespace dba

@@ -50,6 +50,9 @@ void RefuseFrameLeftFree(const Problem& problem, const Georeference& geo) {
 
 // Before the solve: what the covariance cannot be taken of, refused by name.
 void SolveSession::CheckCovarianceRequest() const {
+  if (options_.ply_sigma && options_.point_covariance_path.empty()) {
+    throw UsageError("--ply-colour sigma needs --point-covariance (the points' sigmas)");
+  }
   if (!options_.point_covariance_path.empty() && comm_->size() > 1) {
     throw UsageError("--point-covariance: one process only (over ranks the points stay on their ranks)");
   }

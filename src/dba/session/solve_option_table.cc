@@ -327,6 +327,16 @@ std::vector<Spec> GeoreferencingOptions() {
                    DBA_FIELD(point_covariance_path), kNotArrays, kNoArrayFiles));
   SetNeeds(&t.back(), "--covariance", [](const SolveOptions& o) { return !o.covariance_path.empty(); });
   t.push_back(Choice(
+      "--ply-colour", {"input", "sigma"},
+      "the --ply points' colours: input (a COLMAP model's, else by height); sigma: by each "
+      "point's sigma, sqrt(trace/3) of its --point-covariance block, blue (low) to red (high) "
+      "over its 1st-99th percentiles, undetermined points blue",
+      [](SolveOptions& o, size_t i) { o.ply_sigma = i == 1; },
+      [](const SolveOptions& o) { return std::string(o.ply_sigma ? "sigma" : "input"); }));
+  t.back().modes = kNotArrays;
+  t.back().not_here = kNoArrayFiles;
+  SetNeeds(&t.back(), "--ply", [](const SolveOptions& o) { return !o.ply_path.empty(); });
+  t.push_back(Choice(
       "--covariance-scale", {"a-posteriori", "unit"},
       "a-posteriori: the covariances times the variance factor (the residuals' estimate of the "
       "pixel noise, squared: they hold whatever the images' real noise); unit: for a pixel "

@@ -49,6 +49,7 @@ std::vector<std::string> Companions(const OptionSpec<SolveOptions>& s) {
       {"--prior-crs or --gcp-crs", {"--camera-priors", "p", "--prior-crs", "EPSG:4979"}},
       {"--reject-outliers", {"--reject-outliers", "3"}},
       {"--covariance", {"--covariance", "c.csv"}},
+      {"--ply", {"--ply", "x.ply"}},
       {"--linear-solver pcg or auto", {}},
       {"--preconditioner two-level, with --linear-solver pcg or auto", {}},
   };

@@ -26,6 +26,7 @@ struct SolveOptions {
   std::string truth_path;   // empty: no ground-truth comparison
   bool truth_absolute = false;  // compare with no similarity alignment
   std::string ply_path;     // empty: no point cloud
+  bool ply_sigma = false;   // --ply-colour sigma: the points coloured by their sigma
   // io/checkpoint.h: written after accepted iterations (at most every
   // checkpoint_every_s seconds; 0: after each), and a solve resumed from one.
   std::string checkpoint_path;

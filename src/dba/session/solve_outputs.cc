@@ -1,7 +1,9 @@
 // What a solve writes; see solve_outputs.h.
 #include "dba/session/solve_outputs.h"
 
+#include <cmath>
 #include <iostream>
+#include <limits>
 #include <ostream>
 
 #include "dba/common/error.h"
@@ -19,11 +21,23 @@
 namespace dba {
 namespace {
 
-// --ply: the points left, with a COLMAP input's colours.
+// --ply-colour sigma: each point's sqrt(trace/3) on the ramp (control
+// points after the loaded ones, and undetermined points: NaN, blue).
+std::vector<uint8_t> SigmaColours(const SolveResult& result) {
+  std::vector<double> sigma(result.problem.num_points(), std::numeric_limits<double>::quiet_NaN());
+  for (size_t k = 0; k < result.point_covariance.size() && k < sigma.size(); ++k) {
+    sigma[k] = std::sqrt(result.point_covariance[k].trace() / 3.0);
+  }
+  return RampColours(sigma);
+}
+
+// --ply: the points left, with a COLMAP input's colours or by sigma.
 void WritePointCloud(const SolveOptions& options, const SolveResult& result,
                      const std::optional<ColmapInput>& colmap) {
   std::vector<uint8_t> rgb;
-  if (colmap) {
+  if (options.ply_sigma) {
+    rgb = SigmaColours(result);
+  } else if (colmap) {
     rgb = PointColours(*colmap);
     if (result.kept) {  // the colours of the points left
       std::vector<uint8_t> left;
@@ -164,8 +178,12 @@ void WriteSolveOutputs(const SolveOptions& options, int ranks, const Timer& sinc
   }
   if (result->covariance) {
     const double scale = report.covariance.Scale();
+    std::vector<Vec3> centres;
+    for (int64_t i = 0; i < result->problem.num_images(); ++i) {
+      centres.push_back(CameraCentre(result->problem.camera(i)));
+    }
     WriteFileAtomically(options.covariance_path, CovarianceCsv(*result->covariance, result->names.problem,
-                                                               result->gauge_moved, scale));
+                                                               centres, result->gauge_moved, scale));
   }
   if (!options.point_covariance_path.empty()) {
     WriteFileAtomically(options.point_covariance_path,
