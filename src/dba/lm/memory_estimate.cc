@@ -55,7 +55,8 @@ MemoryEstimate EstimateAndCheckMemory(
   }
   if (check.covariance) {
     const SparseFactorEstimate factor = EstimateSparseFactor(structure.S);
-    estimate.covariance = factor.available ? static_cast<int64_t>(2.5 * 8 * factor.factor_values) : 0;
+    estimate.covariance =
+        factor.available ? static_cast<int64_t>(1.5 * 8 * factor.factor_values) + 3 * structure.S.ValueBytes() : 0;
   }
   const int64_t node = AvailableMemoryBytes();
   const int64_t available = node < 0 ? node : node / std::max(1, check.ranks_on_node);

@@ -15,12 +15,13 @@
 //                  of its values (supernodes padded, CHOLMOD's workspace, the
 //                  CSC copy of S: 1.8x and 2.25x measured, bench/README.md;
 //                  0 without CHOLMOD: not estimated)
-//   covariance     with --covariance, the analyse stage (docs/design.md §8):
-//                  S again, CHOLMOD's copy and the factor inverted in place,
-//                  2.5x the block estimate of the factor's values (peaks
-//                  measured on generated surveys: 259 MiB against 272
-//                  estimated at 2,500 images, 1.02 GiB against 1.62 GiB at
-//                  10,000, where the factor weighs more than S's copies)
+//   covariance     with --covariance, the analyse stage (docs/design.md §8),
+//                  on top of what the solve holds: S again and CHOLMOD's
+//                  copies of it (3x S's values) and the factor inverted in
+//                  place (1.5x the block estimate of its values, 8 bytes
+//                  each; peaks measured on generated surveys: 259 MiB
+//                  against 258 estimated at 2,500 images, 1.02 GiB against
+//                  1.29 GiB at 10,000)
 //
 // Not all of it is held at once: the candidate points from a
 // back-substitution to the step's end, PCG's storage during its solve
@@ -75,11 +76,9 @@ struct MemoryEstimate {
   int64_t lent = 0;
   bool solve_in_candidate_points() const { return lent > 0; }
   int64_t covariance = 0;
-  // What the solve adds to the process: its largest phase, the analyse
-  // stage's among them.
-  int64_t growth() const {
-    return std::max(solve_growth(), covariance > 0 ? lm + rcs + covariance : 0);
-  }
+  // What the solve adds to the process: its largest phase, then the
+  // analyse stage's covariance on top.
+  int64_t growth() const { return solve_growth() + covariance; }
   int64_t solve_growth() const {
     if (solve_in_candidate_points()) {
       return lm + messages + rcs + candidate + std::max(formation, linear_solver - lent);
