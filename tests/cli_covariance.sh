@@ -192,6 +192,18 @@ done
 check "the covariance's memory refused up front where the solve alone fits ($refused_up_front of 3)" \
   test "$refused_up_front" -ge 1
 
+# A covariance that fails after the solve does not take the solve with it:
+# the other outputs written (the report says why), no covariance file, exit 1.
+DBA_INJECT_FAULT=0:covariance:1 "$dba" solve "$p16" -q --covariance "$tmp/f.csv" --point-covariance "$tmp/fp.csv" \
+  -o "$tmp/f_out.txt" --report "$tmp/f.json" >"$tmp/out" 2>&1
+check "a covariance failing after the solve: exit 1" test $? -eq 1
+check "a covariance failing after the solve: said, the outputs written" contains "$tmp/out" \
+  "injected fault (DBA_INJECT_FAULT=0:covariance:1) at covariance 1 (the solve's other outputs are written; no covariance file)"
+check "a covariance failing after the solve: -o and --report written" test -s "$tmp/f_out.txt" -a -s "$tmp/f.json"
+check "a covariance failing after the solve: no covariance files" test ! -e "$tmp/f.csv" -a ! -e "$tmp/fp.csv"
+check "a covariance failing after the solve: the report says why" json "$tmp/f.json" \
+  "'injected fault' in d['covariance']['error'] and d['final_cost'] > 0"
+
 # Refused by name, nothing written.
 "$dba" solve "$p16" -q --covariance "$p16" >"$tmp/out" 2>&1
 check "the input as the covariance file: exit 2" test $? -eq 2

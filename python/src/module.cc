@@ -194,6 +194,11 @@ py::tuple SolveArrays(const ProblemArrays& arrays, const std::vector<std::string
     out.flush();
     return r;
   });
+  // No outputs to keep here: a covariance that failed after the solve is
+  // said, and the solve returned without it.
+  if (!result.covariance_error.empty()) {
+    py::module_::import("warnings").attr("warn")(result.covariance_error, py::module_::import("builtins").attr("RuntimeWarning"));
+  }
   return Outcome(result, log.str());
 }
 

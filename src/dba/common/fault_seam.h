@@ -8,7 +8,8 @@
 // Points (`step`, each counted from 1 per rank): read (a rank's share of a
 // .dba), form (sub-RCS formation), step (back-substitution and step
 // evaluation), finish (accept or drop the step), end (the final reports),
-// write (rank 0's outputs after a distributed solve).
+// write (rank 0's outputs after a distributed solve), covariance (the main
+// rank's analyse stage, --covariance).
 //
 // Thread safety: set the hook before the ranks start; FaultPoint may be
 // called from any thread then.

@@ -185,7 +185,7 @@ void WriteSolveOutputs(const SolveOptions& options, int ranks, const Timer& sinc
     WriteFileAtomically(options.covariance_path, CovarianceCsv(*result->covariance, result->names.problem,
                                                                centres, result->gauge_moved, scale));
   }
-  if (!options.point_covariance_path.empty()) {
+  if (!options.point_covariance_path.empty() && result->covariance) {
     WriteFileAtomically(options.point_covariance_path,
                         PointCovarianceCsv(result->point_covariance, LoadedPointIndices(*result),
                                            result->gauge_moved, report.covariance.Scale()));
@@ -219,6 +219,9 @@ SolveResult RunSolve(const SolveOptions& options, Communicator* comm, std::ostre
   SolveResult result = SolveSession(options, comm, out).Run(std::move(input));
   result.report.startup_seconds = startup_seconds;
   if (comm->is_main()) WriteSolveOutputs(options, comm->size(), since_start, &result, out);
+  if (!result.covariance_error.empty()) {
+    throw std::runtime_error(result.covariance_error + " (the solve's other outputs are written; no covariance file)");
+  }
   return result;
 }
 

@@ -112,6 +112,7 @@ struct SolveReport {
     // data do not determine (precision/undetermined_unknowns.h).
     std::vector<std::string> undetermined_images;
     std::vector<int64_t> undetermined_groups;
+    std::string error;  // why it failed after the solve (computed false)
   } covariance;
   bool has_truth = false;
   GroundTruthErrors truth;        // against a generated problem's ground truth

@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "dba/common/fault_seam.h"
 #include "dba/common/memory.h"
 #include "dba/lm/local_point_side.h"
 #include "dba/lm/memory_estimate.h"
@@ -94,7 +95,19 @@ void SolveSession::Analyse() {
   LmOptions o = lm_;
   o.loss = result_.report.final_loss;
   side_->AtOptimum(o, result_.geo.priors, [&](const RcsSystem& rcs) {
-    if (!options_.covariance_path.empty()) TakeCovariance(result_.problem, rcs);
+    if (!options_.covariance_path.empty()) {
+      // A covariance that fails does not take the solve with it: the
+      // solve's outputs are written, the run fails after them.
+      try {
+        FaultPoint(0, "covariance", 1);
+        TakeCovariance(result_.problem, rcs);
+      } catch (const std::runtime_error& e) {
+        result_.covariance.reset();
+        result_.point_covariance.clear();
+        result_.report.covariance = SolveReport::Covariance();
+        result_.report.covariance.error = result_.covariance_error = e.what();
+      }
+    }
     if (analysis_) analysis_(OptimumView{result_.problem, rcs});
   });
 }

@@ -84,6 +84,9 @@ struct SolveResult {
   // --point-covariance: each point's 3×3 (the points solved last, loaded
   // order; control points last), in the same frame.
   std::vector<Eigen::Matrix3d> point_covariance;
+  // Why --covariance failed after the solve (the solve's own outputs are
+  // still written; RunSolve then fails with it); empty: it did not.
+  std::string covariance_error;
   Similarity gauge_moved;
   bool ranks_read_file = false;  // SolveInput::ranks_read_file
 };

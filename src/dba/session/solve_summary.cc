@@ -228,6 +228,7 @@ Json SolveSummary(const SolveReport& r) {
   j["ranks"] = r.solve.ranks;
   CostFigures(r, j);
   j["gauge"] = r.gauge;
+  if (!r.covariance.error.empty()) j["covariance"] = {{"error", r.covariance.error}};
   if (r.covariance.computed) {
     const SolveReport::Covariance& c = r.covariance;
     j["covariance"] = {{"datum", c.datum},

@@ -214,7 +214,9 @@ void PrintSolveSummary(const Json& j, std::ostream& out) {
   out << "\nSummary\n";
   PrintCosts(j, out);
   out << "  gauge held by       " << j["gauge"].get<std::string>() << "\n";
-  if (j.contains("covariance")) {
+  if (j.contains("covariance") && j["covariance"].contains("error")) {
+    out << "  covariance          failed: " << j["covariance"]["error"].get<std::string>() << "\n";
+  } else if (j.contains("covariance")) {
     const Json& c = j["covariance"];
     out << "  covariance          " << (c["datum"] == "inner" ? "inner constraints over the centres" : "absolute")
         << ", " << c["scale"].get<std::string>() << ", sigma0 " << c["sigma0_px"].get<double>()
