@@ -54,9 +54,7 @@ py::object CovarianceArrays(const SolveResult& result) {
   py::list state;
   for (py::ssize_t i = 0; i < n; ++i) {
     Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>> out(pose.mutable_data(i));
-    const bool undetermined =
-        std::binary_search(c.undetermined_images.begin(), c.undetermined_images.end(), int64_t{i});
-    state.append(c.pose[i] ? result.report.covariance.datum : undetermined ? "undetermined" : "held");
+    state.append(PoseState(c, static_cast<size_t>(i)));
     out = c.pose[i] ? PoseInOutputFrame(*c.pose[i], result.gauge_moved, scale)
                     : PoseCovariance::Constant(std::numeric_limits<double>::quiet_NaN());
   }

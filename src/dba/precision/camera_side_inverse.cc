@@ -3,12 +3,12 @@
 #include "dba/precision/camera_side_inverse.h"
 
 #include <Eigen/Dense>
-#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "dba/bsmc/symmetric_multiply.h"
 #include "dba/camera/pose_step.h"
@@ -161,14 +161,20 @@ std::unique_ptr<SparseCholeskySolver> FactorPinned(const UnknownLayout& layout, 
 
 CameraSideInverse::CameraSideInverse(const CameraSide& side, const RcsSystem& rcs,
                                      const GaugeFreedom& freedom, int threads)
-    : free_(freedom.free) {
+    : CameraSideInverse(side, rcs, freedom, threads, FindUndeterminedUnknowns(rcs.S)) {}
+
+CameraSideInverse::CameraSideInverse(const CameraSide& side, const RcsSystem& rcs,
+                                     const GaugeFreedom& freedom, int threads,
+                                     UndeterminedUnknowns undetermined_unknowns)
+    : free_(freedom.free), null_(std::move(undetermined_unknowns)) {
   const Timer timer;
-  null_ = FindUndeterminedUnknowns(rcs.S);
   const UndeterminedUnknowns& undetermined = null_;
   undetermined_.assign(rcs.S.num_block_rows(), 0);
-  for (int32_t r : undetermined.rows) undetermined_[r] = 1;
-  row_offsets_.resize(rcs.S.num_block_rows());
-  for (int32_t r = 0; r < rcs.S.num_block_rows(); ++r) row_offsets_[r] = rcs.S.scalar_offset(r);
+  null_of_.assign(rcs.S.num_rows(), -1);
+  for (size_t u = 0; u < undetermined.rows.size(); ++u) {
+    undetermined_[undetermined.rows[u]] = 1;
+    null_of_[rcs.S.scalar_offset(undetermined.rows[u])] = static_cast<int32_t>(u);
+  }
   const std::vector<int64_t> pins = PinnedUnknowns(side, rcs.layout, freedom, undetermined_);
   pinned_.assign(rcs.S.num_rows(), 0);
   for (int64_t p : pins) pinned_[p] = 1;
@@ -215,12 +221,10 @@ Eigen::MatrixXd CameraSideInverse::Block(std::span<const int64_t> rows) const {
 }
 
 bool CameraSideInverse::MovedByUndetermined(std::span<const int64_t> rows, const Eigen::MatrixXd& W) const {
-  for (size_t u = 0; u < null_.rows.size(); ++u) {
-    const int64_t first = row_offsets_[null_.rows[u]];
-    const auto at = std::lower_bound(rows.begin(), rows.end(), first);
-    if (at == rows.end() || *at != first) continue;
-    const Eigen::Index n = null_.null[u].rows();
-    if (MovedByNullDirections(null_.null[u], W.middleRows(at - rows.begin(), n))) return true;
+  if (null_.rows.empty()) return false;
+  for (size_t i = 0; i < rows.size(); ++i) {  // a block row's unknowns lie together in `rows`
+    const int32_t u = null_of_[rows[i]];
+    if (u >= 0 && MovedByNullDirections(null_.null[u], W.middleRows(i, null_.null[u].rows()))) return true;
   }
   return false;
 }

@@ -43,6 +43,10 @@ class CameraSideInverse {
   // when S (with the pins) is still not positive definite.
   CameraSideInverse(const CameraSide& side, const RcsSystem& rcs, const GaugeFreedom& freedom,
                     int threads);
+  // With the undetermined unknowns already found (FindUndeterminedUnknowns
+  // of rcs.S).
+  CameraSideInverse(const CameraSide& side, const RcsSystem& rcs, const GaugeFreedom& freedom,
+                    int threads, UndeterminedUnknowns undetermined);
   // Σ_c over the camera-side unknowns `rows` (each pair on the factor's
   // pattern: within one block row, or two rows that share a point).
   Eigen::MatrixXd Block(std::span<const int64_t> rows) const;
@@ -71,7 +75,7 @@ class CameraSideInverse {
   int free_ = 0;
   std::vector<uint8_t> pinned_, undetermined_;
   UndeterminedUnknowns null_;
-  std::vector<int64_t> row_offsets_;  // S's block rows' first scalar rows
+  std::vector<int32_t> null_of_;  // per scalar row: its null_ entry where an undetermined row starts, else -1
   std::optional<InverseOnPattern> z_;
   Eigen::MatrixXd G_, Y_, K_, N_;  // the datum's (d columns; empty when absolute)
   int64_t factor_values_ = 0;

@@ -76,21 +76,21 @@ PoseCovariance PoseInOutputFrame(const PoseCovariance& pose, const Similarity& m
   return scale * MovePoseCovariance(moved, pose);
 }
 
+std::string PoseState(const CameraCovariances& covariances, size_t image) {
+  if (covariances.pose[image]) return covariances.datum_free == 0 ? "absolute" : "inner";
+  const std::vector<int64_t>& undetermined = covariances.undetermined_images;
+  const bool held = !std::binary_search(undetermined.begin(), undetermined.end(), static_cast<int64_t>(image));
+  return held ? "held" : "undetermined";
+}
+
 std::string CovarianceCsv(const CameraCovariances& covariances, const std::vector<std::string>& names,
                           const std::vector<Vec3>& centres, const Similarity& moved, double scale) {
   std::string text = Header();
-  const char* datum = covariances.datum_free == 0 ? "absolute" : "inner";
-  const std::vector<int64_t>& undetermined = covariances.undetermined_images;
   for (size_t i = 0; i < covariances.pose.size(); ++i) {
     text += i < names.size() ? CsvField(names[i]) : std::to_string(i);
-    if (!covariances.pose[i]) {
-      const bool held = !std::binary_search(undetermined.begin(), undetermined.end(), static_cast<int64_t>(i));
-      text += (held ? ",held" : ",undetermined") + std::string(33, ',');
-    } else {
-      text += ",";
-      text += datum;
-      text += PoseLine(PoseInOutputFrame(*covariances.pose[i], moved, scale));
-    }
+    text += "," + PoseState(covariances, i);
+    text += covariances.pose[i] ? PoseLine(PoseInOutputFrame(*covariances.pose[i], moved, scale))
+                                : std::string(33, ',');
     for (int a = 0; a < 3; ++a) Append(&text, i < centres.size() ? centres[i][a] : NAN);
     text += "\n";
   }

@@ -43,6 +43,10 @@ Eigen::Matrix3d PointInOutputFrame(const Eigen::Matrix3d& point, const Similarit
 std::string PointCovarianceCsv(const std::vector<Eigen::Matrix3d>& points,
                                const std::vector<int64_t>& loaded, const Similarity& moved, double scale);
 
+// An image's `datum` column: inner or absolute (the datum), held or
+// undetermined (no figures).
+std::string PoseState(const CameraCovariances& covariances, size_t image);
+
 // FILE's text; `centres`: each image's centre in the output's frame (the
 // last columns x, y, z, also for held and undetermined images).
 std::string CovarianceCsv(const CameraCovariances& covariances, const std::vector<std::string>& names,

@@ -11,6 +11,7 @@ namespace dba {
 
 std::string FrameLeftFreeBy(const std::vector<SurveyedPosition>& positions) {
   const size_t n = positions.size();
+  if (n == 0) return "";
   Vec3 mean = Vec3::Zero();
   for (const SurveyedPosition& p : positions) mean += p.position / static_cast<double>(n);
   Mat3 spread = Mat3::Zero();
@@ -19,7 +20,6 @@ std::string FrameLeftFreeBy(const std::vector<SurveyedPosition>& positions) {
     spread += (p.position - mean) * (p.position - mean).transpose();
     sigma.push_back(p.sigma);
   }
-  if (n == 0) return "";
   std::nth_element(sigma.begin(), sigma.begin() + n / 2, sigma.end());
   const double median_sigma = sigma[n / 2];
   // Ascending: the two smallest are the spread off the principal line.

@@ -2,6 +2,7 @@
 // gauge leaves, the pose covariances (precision/camera_covariance.h) and
 // the variance factor, on the main rank at the optimum.
 #include <stdexcept>
+#include <utility>
 
 #include "dba/common/error.h"
 #include "dba/common/timer.h"
@@ -129,10 +130,11 @@ void SolveSession::TakeCovariance(const Problem& problem, const RcsSystem& rcs) 
   const Georeference& geo = result_.geo;
   const GaugeFreedom freedom = FreedomAtOptimum(problem, !geo.priors.empty() || geo.control_points > 0);
   // The undetermined directions are free too: r counts the determined.
-  VarianceFactor(rcs.layout, freedom.free + static_cast<int>(FindUndeterminedUnknowns(rcs.S).pins.size()));
+  UndeterminedUnknowns undetermined = FindUndeterminedUnknowns(rcs.S);
+  VarianceFactor(rcs.layout, freedom.free + static_cast<int>(undetermined.pins.size()));
   if (!options_.quiet) out_ << "covariance: selected inversion of S at the optimum\n";
   const Timer timer;
-  const CameraSideInverse inverse(problem, rcs, freedom, lm_.num_threads);
+  const CameraSideInverse inverse(problem, rcs, freedom, lm_.num_threads, std::move(undetermined));
   result_.covariance = CameraBlocks(problem, rcs.layout, inverse);
   SayUndetermined(*result_.covariance);
   if (!options_.point_covariance_path.empty()) {
